@@ -1,0 +1,53 @@
+"""The one exception family of vkgl.
+
+The front end collects `Diagnostic`s and raises a single `CompileError` carrying
+all of them; the back ends raise the other subclasses with a message that says
+what to change. The CLI turns them into one-line errors and exit codes.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from vkgl.lang.diagnostics import Diagnostic
+
+
+class VkgError(Exception):
+    """Base of every error vkgl raises on purpose. `exit_code` is what `vkgc` exits with."""
+
+    exit_code = 4
+
+
+class InputError(VkgError):
+    """The user's input (a file, an option, a dataset) is wrong; the message says where and what to change."""
+
+    exit_code = 1
+
+
+class CompileError(InputError):
+    """A `.vkg` program has errors; `diagnostics` holds all of them, sorted by position."""
+
+    def __init__(self, diagnostics: list[Diagnostic]) -> None:
+        self.diagnostics = diagnostics
+        first = diagnostics[0].headline() if diagnostics else "compilation failed"
+        more = f" (and {len(diagnostics) - 1} more)" if len(diagnostics) > 1 else ""
+        super().__init__(first + more)
+
+
+class SimulationError(VkgError):
+    """The simulator could not run what was asked (e.g. DART rejected a mesh)."""
+
+    exit_code = 1
+
+
+class NoPlanError(VkgError):
+    """No plan exists within the search limits; the message says why."""
+
+    exit_code = 2
+
+
+class PlanTimeout(VkgError):
+    """The search ran out of time before finding a plan or proving there is none."""
+
+    exit_code = 3

@@ -1,0 +1,65 @@
+"""Diagnostics: errors and warnings with a stable code and a source span.
+
+Rendering follows LANGUAGE.md §9:
+
+    path:line:col: error[E201]: message
+        <source line>
+        ^^^^^
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+from vkgl.lang.ir import Span
+
+Severity = Literal["error", "warning"]
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One error or warning. `span` may be None only for problems with no place (e.g. a missing file given on the command line)."""
+
+    code: str
+    message: str
+    span: Span | None
+    severity: Severity = "error"
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def is_error(self) -> bool:
+        """True for errors, False for warnings."""
+        return self.severity == "error"
+
+    def location(self) -> str:
+        """`path:line:col`, or `<input>` when there is no span."""
+        return str(self.span) if self.span is not None else "<input>"
+
+    def headline(self) -> str:
+        """The first line: `path:line:col: error[CODE]: message`."""
+        return f"{self.location()}: {self.severity}[{self.code}]: {self.message}"
+
+    def sort_key(self) -> tuple[str, int, int, str]:
+        """Order by file, then position, then code."""
+        if self.span is None:
+            return ("", 0, 0, self.code)
+        return (self.span.file, self.span.line, self.span.col, self.code)
+
+
+def render(diag: Diagnostic, source: str | None) -> str:
+    """The full rendering: headline, the source line, carets under the span, then notes."""
+    lines = [diag.headline()]
+    if diag.span is not None and source is not None:
+        src_lines = source.splitlines()
+        if 1 <= diag.span.line <= len(src_lines):
+            text = src_lines[diag.span.line - 1].expandtabs(1)
+            start = max(diag.span.col - 1, 0)
+            if diag.span.end_line == diag.span.line:
+                end = max(diag.span.end_col - 1, start + 1)
+            else:
+                end = max(len(text), start + 1)
+            lines.append("    " + text)
+            lines.append("    " + " " * start + "^" * (end - start))
+    lines.extend(f"    note: {n}" for n in diag.notes)
+    return "\n".join(lines)

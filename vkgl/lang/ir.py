@@ -1,0 +1,441 @@
+"""The typed intermediate representation (IR) of VKG programs.
+
+The IR is the only thing the back ends (sim, infer, plan) see. Every node is a
+frozen pydantic model with a source span. All physical values are stored in SI
+units (m, rad, kg, N, s); the unit the user wrote is kept as a display hint
+(`unit`) so that the printer can give back what the user wrote.
+
+Equality ignores source spans, so `parse(print(ir)) == ir` is meaningful.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field
+from scipy.spatial.transform import Rotation
+
+
+class Span(BaseModel):
+    """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    file: str
+    line: int
+    col: int
+    end_line: int
+    end_col: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.col}"
+
+
+class Node(BaseModel):
+    """Base of every IR node: frozen, no extra fields, a span that equality ignores."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    span: Span | None = Field(default=None, exclude=True, repr=False)
+
+    def __eq__(self, other: object) -> bool:
+        # Spans are where a node was written, not what it means.
+        if not isinstance(other, Node) or type(self) is not type(other):
+            return NotImplemented
+        return self.model_dump() == other.model_dump()
+
+    def __hash__(self) -> int:
+        return hash(repr(self.model_dump()))
+
+
+# ---------------------------------------------------------------- values
+
+
+class Quantity(Node):
+    """A scalar with a dimension. `value` is SI; `unit` is how it was written (e.g. "cm")."""
+
+    value: float
+    unit: str = ""
+
+
+class Vector(Node):
+    """2 or 3 components in SI, one unit for all (`unit == ""` for dimensionless)."""
+
+    values: tuple[float, ...]
+    unit: str = ""
+
+    def array(self) -> np.ndarray:
+        """The components as a float numpy array."""
+        return np.asarray(self.values, dtype=float)
+
+
+class Pose(Node):
+    """A position, optionally with a yaw or a roll-pitch-yaw orientation.
+
+    At most one of `yaw` and `rpy` is set; neither means identity rotation.
+    """
+
+    position: Vector
+    yaw: Quantity | None = None
+    rpy: Vector | None = None
+
+    def rotation(self) -> Rotation:
+        """The orientation as a scipy Rotation (extrinsic xyz = roll, pitch, yaw)."""
+        if self.rpy is not None:
+            return Rotation.from_euler("xyz", self.rpy.values)
+        if self.yaw is not None:
+            return Rotation.from_euler("z", self.yaw.value)
+        return Rotation.identity()
+
+    def matrix(self) -> np.ndarray:
+        """The pose as a 4x4 homogeneous transform (position padded with z = 0 if 2-d)."""
+        m = np.eye(4)
+        m[:3, :3] = self.rotation().as_matrix()
+        p = list(self.position.values) + [0.0] * (3 - len(self.position.values))
+        m[:3, 3] = p
+        return m
+
+
+class Ref(Node):
+    """A reference to a declared name (resolved by the checker)."""
+
+    name: str
+
+
+class FrameRef(Node):
+    """`Body.frame` (used in correspondences)."""
+
+    body: str
+    frame: str
+
+
+# ---------------------------------------------------------------- shapes
+
+
+class BoxShape(Node):
+    """`box (x, y, z) UNIT`: a box centred on the body frame."""
+
+    kind: Literal["box"] = "box"
+    size: Vector
+
+
+class CylinderShape(Node):
+    """`cylinder radius Q height Q`: axis along the body's z, centred on the body frame."""
+
+    kind: Literal["cylinder"] = "cylinder"
+    radius: Quantity
+    height: Quantity
+
+
+class MeshShape(Node):
+    """`mesh "file.stl" [scale K]`; `path` as written, `resolved` absolute (set by the checker)."""
+
+    kind: Literal["mesh"] = "mesh"
+    path: str
+    scale: float = 1.0
+    resolved: str | None = None
+
+
+class ShapePart(Node):
+    """One member of a union: a shape placed at a pose in the body frame."""
+
+    shape: Shape
+    pose: Pose
+
+
+class UnionShape(Node):
+    """`union { SHAPE at POSE ... }`."""
+
+    kind: Literal["union"] = "union"
+    parts: list[ShapePart]
+
+
+Shape = Annotated[
+    Union[BoxShape, CylinderShape, MeshShape, UnionShape], Field(discriminator="kind")
+]
+
+
+# ---------------------------------------------------------------- bodies
+
+
+class Frame(Node):
+    """`frame NAME = POSE`: a named frame in the body frame."""
+
+    name: str
+    pose: Pose
+    name_span: Span | None = Field(default=None, exclude=True, repr=False)
+
+
+class Joint(Node):
+    """`joint prismatic|revolute axis V [through P] limits (lo, hi) UNIT`: a physical joint to the world."""
+
+    type: Literal["prismatic", "revolute"]
+    axis: Vector
+    through: Vector | None = None
+    lower: Quantity
+    upper: Quantity
+
+
+class ContactSpec(Node):
+    """`contacts on faces +x, -x steps K`."""
+
+    faces: list[str]
+    steps: int
+
+
+class ForceSpec(Node):
+    """`force normal Q` or `force directions I x J x K Q`."""
+
+    mode: Literal["normal", "directions"]
+    grid: tuple[int, int, int] | None = None
+    magnitude: Quantity
+
+
+class Explore(Node):
+    """`explore NAME { ... }`: a grid-search exploration policy."""
+
+    name: str
+    contacts: ContactSpec | None = None
+    grasp: Ref | None = None
+    force: ForceSpec | None = None
+    duration: Quantity | None = None
+
+
+class Body(Node):
+    """`body NAME { ... }`."""
+
+    kind: Literal["body"] = "body"
+    name: str
+    shape: Shape
+    mass: Quantity
+    friction: float | None = None
+    frames: list[Frame] = []
+    joint: Joint | None = None
+    explores: list[Explore] = []
+    name_span: Span | None = Field(default=None, exclude=True, repr=False)
+
+    def frame(self, name: str) -> Frame | None:
+        """The frame called `name`, or None."""
+        return next((f for f in self.frames if f.name == name), None)
+
+
+# ---------------------------------------------------------------- robots
+
+
+class Effector(Node):
+    """`effector NAME = link L offset POSE`."""
+
+    name: str
+    link: str
+    offset: Pose
+
+
+class Robot(Node):
+    """`robot NAME { urdf "..."; effector ... }`."""
+
+    kind: Literal["robot"] = "robot"
+    name: str
+    urdf: str
+    urdf_resolved: str | None = None
+    effectors: list[Effector] = []
+    name_span: Span | None = Field(default=None, exclude=True, repr=False)
+
+    def effector(self, name: str) -> Effector | None:
+        """The effector called `name`, or None."""
+        return next((e for e in self.effectors if e.name == name), None)
+
+
+# ---------------------------------------------------------------- affordances
+
+
+class FixedC(Node):
+    """`fixed [at POSE]`: rigid; the pose (if given) is the effector frame in the body frame."""
+
+    type: Literal["fixed"] = "fixed"
+    pose: Pose | None = None
+
+
+class PrismaticC(Node):
+    """`prismatic along DIR [from POINT]`: translation along a unit direction."""
+
+    type: Literal["prismatic"] = "prismatic"
+    axis: Vector
+    origin: Vector | None = None
+
+
+class RevoluteC(Node):
+    """`revolute about POINT axis DIR`: rotation about a line."""
+
+    type: Literal["revolute"] = "revolute"
+    center: Vector
+    axis: Vector
+
+
+class FreeC(Node):
+    """`free`: no constraint."""
+
+    type: Literal["free"] = "free"
+
+
+Constraint = Annotated[Union[FixedC, PrismaticC, RevoluteC, FreeC], Field(discriminator="type")]
+
+
+class Evidence(Node):
+    """`evidence trials N loglik L posterior P`: how an affordance was inferred."""
+
+    trials: int
+    loglik: float
+    posterior: float
+
+
+class Affordance(Node):
+    """`affordance NAME { action C; motion C; [evidence ...] }`."""
+
+    name: str
+    action: Constraint
+    motion: Constraint
+    evidence: Evidence | None = None
+
+
+class AffordanceSet(Node):
+    """`affordances BODY { affordance ... }`."""
+
+    kind: Literal["affordances"] = "affordances"
+    body: Ref
+    affordances: list[Affordance]
+
+
+# ---------------------------------------------------------------- correspondences
+
+
+class Correspondence(Node):
+    """`Body.frame ~ effector`."""
+
+    frame: FrameRef
+    effector: Ref
+
+
+class Correspondences(Node):
+    """`correspondences { ... }`."""
+
+    kind: Literal["correspondences"] = "correspondences"
+    items: list[Correspondence]
+
+
+# ---------------------------------------------------------------- scenes
+
+
+class Table(Node):
+    """`table size (x, y) UNIT at (x, y, z) UNIT`: the support surface; its top is at the given z."""
+
+    size: Vector
+    position: Vector
+
+
+class Placement(Node):
+    """Where a scene body starts: `on table at (x, y) UNIT [yaw Q]` or `at POSE`."""
+
+    on_table: bool
+    pose: Pose
+
+
+class SceneRobot(Node):
+    """`robot NAME : TYPE at POSE`."""
+
+    name: str
+    type: Ref
+    pose: Pose
+
+
+class SceneBody(Node):
+    """`NAME : TYPE on table at (x, y) UNIT yaw Q` or `NAME : TYPE at POSE`."""
+
+    name: str
+    type: Ref
+    placement: Placement
+
+
+class Scene(Node):
+    """`scene NAME { table ...; robot ...; bodies... }`."""
+
+    kind: Literal["scene"] = "scene"
+    name: str
+    table: Table | None = None
+    robots: list[SceneRobot] = []
+    bodies: list[SceneBody] = []
+    name_span: Span | None = Field(default=None, exclude=True, repr=False)
+
+
+# ---------------------------------------------------------------- tasks
+
+
+DEFAULT_TOL_POSITION = 0.01
+DEFAULT_TOL_YAW = 0.05235987755982988  # 3 deg
+
+
+class Goal(Node):
+    """`B at POSE within Q_len[, Q_ang]` or `B yaw Q within Q_ang`.
+
+    `position` None = position free; `yaw` None = heading free. A tolerance left
+    out (None) means the default: 1 cm for position, 3 deg for yaw (see
+    `DEFAULT_TOL_POSITION`, `DEFAULT_TOL_YAW`).
+    """
+
+    body: Ref
+    position: Vector | None = None
+    yaw: Quantity | None = None
+    tol_position: Quantity | None = None
+    tol_yaw: Quantity | None = None
+
+
+class SearchSpec(Node):
+    """`search { max_depth N  timeout Q }`."""
+
+    max_depth: int | None = None
+    timeout: Quantity | None = None
+
+
+class Task(Node):
+    """`task NAME { scene S; goal ...; [search {...}] }`."""
+
+    kind: Literal["task"] = "task"
+    name: str
+    scene: Ref
+    goals: list[Goal]
+    search: SearchSpec | None = None
+    name_span: Span | None = Field(default=None, exclude=True, repr=False)
+
+
+# ---------------------------------------------------------------- modules
+
+
+class Use(Node):
+    """`use a.b.c` (dotted) or `use "path.vkg"` (path)."""
+
+    target: str
+    by_path: bool
+    resolved: str | None = None
+
+
+Decl = Annotated[
+    Union[Body, Robot, AffordanceSet, Correspondences, Scene, Task], Field(discriminator="kind")
+]
+
+
+class Module(Node):
+    """One `.vkg` file: its leading doc comment, its imports and its declarations."""
+
+    path: str
+    doc: str | None = None
+    uses: list[Use] = []
+    decls: list[Decl] = []
+
+
+ShapePart.model_rebuild()
+UnionShape.model_rebuild()
+
+
+def dump(node: Node) -> dict[str, Any]:
+    """A plain-data view of a node without spans (for tests and JSON)."""
+    return node.model_dump()
