@@ -214,6 +214,7 @@ class Body(Node):
     joint: Joint | None = None
     explores: list[Explore] = []
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
+    friction_span: Span | None = Field(default=None, exclude=True, repr=False)
 
     def frame(self, name: str) -> Frame | None:
         """The frame called `name`, or None."""
@@ -240,6 +241,7 @@ class Robot(Node):
     urdf_resolved: str | None = None
     effectors: list[Effector] = []
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
+    urdf_span: Span | None = Field(default=None, exclude=True, repr=False)
 
     def effector(self, name: str) -> Effector | None:
         """The effector called `name`, or None."""

@@ -1,0 +1,308 @@
+"""Hypothesis strategies that generate valid IR modules (as the parser would build them).
+
+Every value a strategy draws is one the parser can produce: SI floats that are
+the conversion of some decimal in the display unit (any finite float is, with
+the exact conversion), display units of the right dimension, names that are
+not keywords, 2-vectors where a planar position is meant. Spans are left None
+(equality ignores them).
+"""
+
+from __future__ import annotations
+
+import string
+
+from hypothesis import strategies as st
+
+from vkgl.lang import ir
+from vkgl.lang.printer import to_si
+
+PATH = "generated.vkg"
+
+UNITS = {
+    "length": ["m", "cm", "mm"],
+    "angle": ["deg", "rad"],
+    "mass": ["kg", "g"],
+    "force": ["N"],
+    "time": ["s", "ms"],
+}
+
+KEYWORDS = frozenset(
+    """use body shape mass friction frame joint prismatic revolute axis through limits explore
+    contacts on faces steps force normal directions x grasp duration box cylinder radius height
+    mesh scale union at yaw rpy robot urdf effector link offset affordances affordance action
+    motion evidence trials loglik posterior fixed along from about free correspondences scene
+    table size task goal and within search max_depth timeout m cm mm deg rad kg g N s ms""".split()
+)
+
+FACES = ["+x", "-x", "+y", "-y", "+z", "-z"]
+
+# Names that start like a keyword or a unit: the lexer must not split them.
+TRICKY_NAMES = ["mass1", "box_", "cm2", "deg_", "at_", "x1", "rad90", "Stick", "tip", "_a", "goals", "uses"]
+
+
+# ---------------------------------------------------------------- leaves
+
+
+def names() -> st.SearchStrategy[str]:
+    """Identifiers `[A-Za-z_][A-Za-z0-9_]*` that are not keywords or units."""
+    generated = st.from_regex(r"[A-Za-z_][A-Za-z0-9_]{0,8}", fullmatch=True).filter(lambda s: s not in KEYWORDS)
+    return st.one_of(st.sampled_from(TRICKY_NAMES), generated)
+
+
+def refs() -> st.SearchStrategy[ir.Ref]:
+    return st.builds(ir.Ref, name=names())
+
+
+def file_paths(ext: str) -> st.SearchStrategy[str]:
+    """Relative paths without quotes, backslashes or newlines (string literals have no escapes)."""
+    part = st.text(alphabet=string.ascii_letters + string.digits + "_- .", min_size=1, max_size=8)
+    return st.lists(part, min_size=1, max_size=3).map(lambda parts: "/".join(parts) + ext)
+
+
+def counts(low: int = 1, high: int = 50) -> st.SearchStrategy[int]:
+    return st.integers(min_value=low, max_value=high)
+
+
+def plain_floats() -> st.SearchStrategy[float]:
+    """Dimensionless numbers: short decimals, integers, negative ones, and any finite float."""
+    short = st.builds(lambda n, k: float(f"{n}e-{k}"), st.integers(-100000, 100000), st.integers(0, 6))
+    return st.one_of(short, st.floats(allow_nan=False, allow_infinity=False))
+
+
+def si_values(unit: str) -> st.SearchStrategy[float]:
+    """SI values as the parser computes them from a number written in `unit`."""
+    written = st.builds(lambda n, k: to_si(f"{n}e-{k}", unit), st.integers(-100000, 100000), st.integers(0, 5))
+    anything = st.floats(allow_nan=False, allow_infinity=False)
+    return st.one_of(written, written, anything)
+
+
+def units(dimension: str) -> st.SearchStrategy[str]:
+    return st.sampled_from(UNITS[dimension])
+
+
+def quantities(dimension: str) -> st.SearchStrategy[ir.Quantity]:
+    return units(dimension).flatmap(lambda u: st.builds(ir.Quantity, value=si_values(u), unit=st.just(u)))
+
+
+def vectors(dimension: str | None, n: int) -> st.SearchStrategy[ir.Vector]:
+    """`n` components in one unit of `dimension`, or unitless (directions) when None."""
+    if dimension is None:
+        return st.builds(ir.Vector, values=st.tuples(*[plain_floats()] * n), unit=st.just(""))
+    return units(dimension).flatmap(
+        lambda u: st.builds(ir.Vector, values=st.tuples(*[si_values(u)] * n), unit=st.just(u))
+    )
+
+
+def poses(n: int = 3, rpy: bool = True) -> st.SearchStrategy[ir.Pose]:
+    """A position with no rotation, a yaw or (if `rpy`) roll-pitch-yaw angles."""
+    position = vectors("length", n)
+    options = [
+        st.builds(ir.Pose, position=position),
+        st.builds(ir.Pose, position=position, yaw=quantities("angle")),
+    ]
+    if rpy:
+        options.append(st.builds(ir.Pose, position=position, rpy=vectors("angle", 3)))
+    return st.one_of(options)
+
+
+# ---------------------------------------------------------------- shapes and bodies
+
+
+def simple_shapes() -> st.SearchStrategy[ir.Shape]:
+    return st.one_of(
+        st.builds(ir.BoxShape, size=vectors("length", 3)),
+        st.builds(ir.CylinderShape, radius=quantities("length"), height=quantities("length")),
+        st.builds(ir.MeshShape, path=file_paths(".stl"), scale=st.one_of(st.just(1.0), plain_floats())),
+    )
+
+
+def shapes() -> st.SearchStrategy[ir.Shape]:
+    """Boxes, cylinders, meshes and unions of them, nested up to a few levels."""
+
+    def unions(children: st.SearchStrategy[ir.Shape]) -> st.SearchStrategy[ir.Shape]:
+        part = st.builds(ir.ShapePart, shape=children, pose=poses())
+        return st.builds(ir.UnionShape, parts=st.lists(part, min_size=1, max_size=3))
+
+    return st.recursive(simple_shapes(), unions, max_leaves=6)
+
+
+def joints() -> st.SearchStrategy[ir.Joint]:
+    def joint(kind: str, unit: str) -> st.SearchStrategy[ir.Joint]:
+        limit = st.builds(ir.Quantity, value=si_values(unit), unit=st.just(unit))
+        return st.builds(
+            ir.Joint,
+            type=st.just(kind),
+            axis=vectors(None, 3),
+            through=st.none() | vectors("length", 3),
+            lower=limit,
+            upper=limit,
+        )
+
+    return st.one_of(
+        units("length").flatmap(lambda u: joint("prismatic", u)),
+        units("angle").flatmap(lambda u: joint("revolute", u)),
+    )
+
+
+def force_specs() -> st.SearchStrategy[ir.ForceSpec]:
+    return st.one_of(
+        st.builds(ir.ForceSpec, mode=st.just("normal"), magnitude=quantities("force")),
+        st.builds(
+            ir.ForceSpec,
+            mode=st.just("directions"),
+            grid=st.tuples(counts(1, 9), counts(1, 9), counts(1, 9)),
+            magnitude=quantities("force"),
+        ),
+    )
+
+
+def explores() -> st.SearchStrategy[ir.Explore]:
+    contacts = st.builds(
+        ir.ContactSpec, faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4), steps=counts()
+    )
+    return st.builds(
+        ir.Explore,
+        name=names(),
+        contacts=st.none() | contacts,
+        grasp=st.none() | refs(),
+        force=st.none() | force_specs(),
+        duration=st.none() | quantities("time"),
+    )
+
+
+def bodies() -> st.SearchStrategy[ir.Body]:
+    frame = st.builds(ir.Frame, name=names(), pose=poses())
+    return st.builds(
+        ir.Body,
+        name=names(),
+        shape=shapes(),
+        mass=quantities("mass"),
+        friction=st.none() | plain_floats(),
+        frames=st.lists(frame, max_size=3),
+        joint=st.none() | joints(),
+        explores=st.lists(explores(), max_size=2),
+    )
+
+
+# ---------------------------------------------------------------- robots, affordances, correspondences
+
+
+def robots() -> st.SearchStrategy[ir.Robot]:
+    effector = st.builds(ir.Effector, name=names(), link=names(), offset=poses())
+    return st.builds(ir.Robot, name=names(), urdf=file_paths(".urdf"), effectors=st.lists(effector, max_size=3))
+
+
+def constraints() -> st.SearchStrategy[ir.Constraint]:
+    return st.one_of(
+        st.builds(ir.FixedC, pose=st.none() | poses()),
+        st.builds(ir.PrismaticC, axis=vectors(None, 3), origin=st.none() | vectors("length", 3)),
+        st.builds(ir.RevoluteC, center=vectors("length", 3), axis=vectors(None, 3)),
+        st.builds(ir.FreeC),
+    )
+
+
+def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
+    evidence = st.builds(ir.Evidence, trials=counts(0, 1000), loglik=plain_floats(), posterior=plain_floats())
+    affordance = st.builds(
+        ir.Affordance, name=names(), action=constraints(), motion=constraints(), evidence=st.none() | evidence
+    )
+    return st.builds(ir.AffordanceSet, body=refs(), affordances=st.lists(affordance, min_size=1, max_size=3))
+
+
+def correspondence_blocks() -> st.SearchStrategy[ir.Correspondences]:
+    item = st.builds(
+        ir.Correspondence, frame=st.builds(ir.FrameRef, body=names(), frame=names()), effector=refs()
+    )
+    return st.builds(ir.Correspondences, items=st.lists(item, min_size=1, max_size=3))
+
+
+# ---------------------------------------------------------------- scenes, tasks
+
+
+def scenes() -> st.SearchStrategy[ir.Scene]:
+    table = st.builds(ir.Table, size=vectors("length", 2), position=vectors("length", 3))
+    robot = st.builds(ir.SceneRobot, name=names(), type=refs(), pose=poses())
+    placement = st.one_of(
+        st.builds(ir.Placement, on_table=st.just(True), pose=poses(n=2, rpy=False)),
+        st.builds(ir.Placement, on_table=st.just(False), pose=poses()),
+    )
+    body = st.builds(ir.SceneBody, name=names(), type=refs(), placement=placement)
+    return st.builds(
+        ir.Scene,
+        name=names(),
+        table=st.none() | table,
+        robots=st.lists(robot, max_size=2),
+        bodies=st.lists(body, max_size=3),
+    )
+
+
+def goals() -> st.SearchStrategy[ir.Goal]:
+    """Position goals (2- or 3-vectors, with or without yaw) and heading-only goals.
+
+    Tolerances as the syntax can say them: `within L`, `within L, A`, nothing,
+    and `within A` for a heading-only goal.
+    """
+    position_goal = st.builds(
+        ir.Goal,
+        body=refs(),
+        position=st.one_of(vectors("length", 2), vectors("length", 3)),
+        yaw=st.none() | quantities("angle"),
+        tol_position=st.none() | quantities("length"),
+    ).flatmap(
+        lambda g: st.just(g)
+        if g.tol_position is None
+        else st.builds(lambda a: g.model_copy(update={"tol_yaw": a}), st.none() | quantities("angle"))
+    )
+    yaw_goal = st.builds(
+        ir.Goal, body=refs(), yaw=quantities("angle"), tol_yaw=st.none() | quantities("angle")
+    )
+    return st.one_of(position_goal, yaw_goal)
+
+
+def tasks() -> st.SearchStrategy[ir.Task]:
+    search = st.builds(
+        ir.SearchSpec, max_depth=st.none() | counts(0, 20), timeout=st.none() | quantities("time")
+    )
+    return st.builds(
+        ir.Task, name=names(), scene=refs(), goals=st.lists(goals(), min_size=1, max_size=3), search=st.none() | search
+    )
+
+
+# ---------------------------------------------------------------- modules
+
+
+def docs() -> st.SearchStrategy[str | None]:
+    """Doc comments: lines without surrounding spaces; inner lines may be empty (paragraphs)."""
+    line = st.text(alphabet=string.ascii_letters + string.digits + " .,:;()`'#-*", min_size=1, max_size=30).map(
+        str.strip
+    ).filter(bool)
+    inner = st.one_of(line, st.just(""))
+    return st.none() | st.builds(
+        lambda first, middle, last: "\n".join([first, *middle, *last]),
+        line,
+        st.lists(inner, max_size=3),
+        st.lists(line, max_size=1),
+    )
+
+
+def uses() -> st.SearchStrategy[ir.Use]:
+    dotted = st.lists(names(), min_size=1, max_size=3).map(".".join)
+    return st.one_of(
+        st.builds(ir.Use, target=dotted, by_path=st.just(False)),
+        st.builds(ir.Use, target=file_paths(".vkg"), by_path=st.just(True)),
+    )
+
+
+def declarations() -> st.SearchStrategy[ir.Decl]:
+    return st.one_of(bodies(), robots(), affordance_sets(), correspondence_blocks(), scenes(), tasks())
+
+
+def modules() -> st.SearchStrategy[ir.Module]:
+    """Whole modules: a doc comment, uses and declarations of every kind."""
+    return st.builds(
+        ir.Module,
+        path=st.just(PATH),
+        doc=docs(),
+        uses=st.lists(uses(), max_size=3),
+        decls=st.lists(declarations(), max_size=4),
+    )

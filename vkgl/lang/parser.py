@@ -1,0 +1,722 @@
+"""The parser: VKG source text -> IR `Module`, with units checked and converted to SI.
+
+Lark's LALR parser (grammar/vkg.lark) builds a tree; `_Builder` turns it into
+IR nodes that keep their source spans. Problems that need no other module
+(syntax, units, missing or repeated statements) are found here; everything that
+needs names from other modules is the checker's job (vkgl/lang/checks.py).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+from lark import Lark, Token, Transformer, v_args
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+from lark.lexer import PatternStr
+
+from vkgl.errors import CompileError
+from vkgl.lang import ir
+from vkgl.lang.diagnostics import Diagnostic
+from vkgl.lang.units import ARTICLE_NAME, SI_UNIT, dimension_of, to_si, unit_list
+from vkgl.resources import grammar_path
+
+
+@dataclass(frozen=True)
+class Comment:
+    """A `#` comment as lexed: where it starts and its text (including the `#`)."""
+
+    line: int
+    col: int
+    text: str
+
+
+def parse_module(text: str, path: str) -> ir.Module:
+    """Parse one module. Raises CompileError with every diagnostic found in the file."""
+    return parse_module_with_comments(text, path)[0]
+
+
+def parse_module_with_comments(text: str, path: str) -> tuple[ir.Module, list[Comment]]:
+    """Parse one module and return the comments the lexer skipped (for `vkgc fmt`)."""
+    module, comments, diagnostics = parse_collecting(text, path)
+    errors = [d for d in diagnostics if d.is_error]
+    if errors or module is None:
+        raise CompileError(sorted(diagnostics, key=Diagnostic.sort_key))
+    return module, comments
+
+
+def parse_collecting(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
+    """Parse one module without raising: the module (None after a syntax error), comments, diagnostics."""
+    comments: list[Token] = []
+    try:
+        tree = _parse_tree(text, comments)
+    except UnexpectedInput as exc:
+        return None, [], [_syntax_diagnostic(exc, text, path)]
+    builder = _Builder(path)
+    try:
+        module = builder.transform(tree)
+    except VisitError as exc:  # a bug in the builder, not the user's input: keep the real cause
+        raise exc.orig_exc from exc
+    lexed = [Comment(t.line or 0, t.column or 0, str(t)) for t in comments]
+    module = module.model_copy(update={"doc": _doc_comment(text, lexed)})
+    return module, lexed, builder.diagnostics
+
+
+# ---------------------------------------------------------------- the Lark parser
+
+
+# The lexer callback of the one cached parser appends to the list of the parse in progress.
+_COMMENT_SINK: list[list[Token]] = [[]]
+
+
+@lru_cache(maxsize=1)
+def _parser() -> Lark:
+    return Lark(
+        grammar_path().read_text(encoding="utf-8"),
+        parser="lalr",
+        lexer="contextual",
+        propagate_positions=True,
+        maybe_placeholders=False,
+        lexer_callbacks={"COMMENT": lambda token: _COMMENT_SINK[0].append(token)},
+    )
+
+
+def _parse_tree(text: str, comments: list[Token]) -> Any:
+    _COMMENT_SINK[0] = comments
+    try:
+        return _parser().parse(text)
+    finally:
+        _COMMENT_SINK[0] = []
+
+
+def _doc_comment(text: str, comments: list[Comment]) -> str | None:
+    """The file's doc comment: its first block of full-line comments, when a blank line ends it.
+
+    A comment block directly above a statement belongs to that statement instead.
+    """
+    lines: list[str] = []
+    by_line = {c.line: c for c in comments}
+    for number, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped:
+            if lines:
+                return "\n".join(lines)
+            continue
+        comment = by_line.get(number)
+        if comment is None or not stripped.startswith("#"):
+            return None
+        body = comment.text[1:]
+        lines.append((body[1:] if body.startswith(" ") else body).rstrip())
+    return "\n".join(lines) if lines else None
+
+
+def doc_line_count(text: str) -> int:
+    """How many lines at the top of `text` the doc comment spans (0 if none); for `vkgc fmt`."""
+    last = 0
+    for number, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped:
+            if last:
+                return last
+            continue
+        if not stripped.startswith("#"):
+            return 0
+        last = number
+    return last
+
+
+# ---------------------------------------------------------------- syntax errors
+
+_TOKEN_WORDS = {
+    "NAME": "a name",
+    "NUMBER": "a number",
+    "UNIT": "a unit",
+    "FACE": "a face (`+x`, `-x`, `+y`, `-y`, `+z` or `-z`)",
+    "STRING": 'a quoted path such as `"file.vkg"`',
+    "$END": "the end of the file",
+}
+_ALL_UNITS = "`m`, `cm`, `mm`, `deg`, `rad`, `kg`, `g`, `N`, `s` or `ms`"
+
+
+def _syntax_diagnostic(exc: UnexpectedInput, text: str, path: str) -> Diagnostic:
+    if isinstance(exc, UnexpectedToken) and exc.token.type != "$END":
+        return _unexpected_token(exc, text, path)
+    if isinstance(exc, UnexpectedCharacters):
+        return _unexpected_character(exc, text, path)
+    expected = exc.expected if isinstance(exc, (UnexpectedEOF, UnexpectedToken)) else set()
+    line, col = _end_position(text)
+    span = ir.Span(file=path, line=line, col=col, end_line=line, end_col=col + 1)
+    return Diagnostic("E103", f"unexpected end of file; expected {_words(expected)}", span)
+
+
+def _unexpected_token(exc: UnexpectedToken, text: str, path: str) -> Diagnostic:
+    token = exc.token
+    span = _token_span(token, path)
+    before = _text_before(text, token)
+    if token.type == "NAME" and re.search(r"\d\s*$", before) and "UNIT" in exc.expected:
+        return Diagnostic("E105", f"unknown unit `{token}`; units are {_ALL_UNITS}", span)
+    got = "`" + str(token).replace("\n", " ") + "`"
+    return Diagnostic("E101", f"unexpected {got}; expected {_words(exc.expected)}", span)
+
+
+def _unexpected_character(exc: UnexpectedCharacters, text: str, path: str) -> Diagnostic:
+    line, col = exc.line, exc.column
+    span = ir.Span(file=path, line=line, col=col, end_line=line, end_col=col + 1)
+    char = exc.char
+    if char == '"':
+        return Diagnostic("E102", "unterminated string: close it with `\"` on the same line", span)
+    shown = repr(char)[1:-1] if not char.isprintable() else char
+    allowed = {name for name in exc.allowed or set()}
+    return Diagnostic("E102", f"unexpected character `{shown}`; expected {_words(allowed)}", span)
+
+
+def _words(expected: set[str] | frozenset[str]) -> str:
+    """Terminal names as a user reads them: keywords and symbols quoted, classes in words."""
+    parser = _parser()
+    words: set[str] = set()
+    for name in expected:
+        if name in _TOKEN_WORDS:
+            words.add(_TOKEN_WORDS[name])
+            continue
+        try:
+            pattern = parser.get_terminal(name).pattern
+        except KeyError:
+            continue
+        if isinstance(pattern, PatternStr):
+            words.add(f"`{pattern.value}`")
+    ordered = sorted(words, key=lambda w: (not w.startswith("`"), w))
+    if not ordered:
+        return "something else"
+    if len(ordered) > 8:
+        ordered = ordered[:8] + ["..."]
+        return ", ".join(ordered)
+    return ordered[0] if len(ordered) == 1 else ", ".join(ordered[:-1]) + " or " + ordered[-1]
+
+
+def _token_span(token: Token, path: str) -> ir.Span:
+    line, col = token.line or 1, token.column or 1
+    end_line = token.end_line or line
+    end_col = token.end_column or col + max(len(str(token)), 1)
+    return ir.Span(file=path, line=line, col=col, end_line=end_line, end_col=end_col)
+
+
+def _text_before(text: str, token: Token) -> str:
+    start = token.start_pos if token.start_pos is not None else 0
+    return text[:start]
+
+
+def _end_position(text: str) -> tuple[int, int]:
+    lines = text.split("\n")
+    return len(lines), len(lines[-1]) + 1
+
+
+# ---------------------------------------------------------------- raw values (before unit checks)
+
+
+@dataclass
+class _RawQ:
+    """A number as written: its text, its unit ("" if none) and where."""
+
+    text: str
+    unit: str
+    span: ir.Span
+
+    def shown(self) -> str:
+        return f"{self.text} {self.unit}" if self.unit else self.text
+
+
+@dataclass
+class _RawVec:
+    components: list[_RawQ]
+    unit: str | None
+    span: ir.Span
+
+
+@dataclass
+class _RawPose:
+    vector: _RawVec
+    yaw: _RawQ | None
+    rpy: _RawVec | None
+    span: ir.Span
+
+
+@dataclass
+class _Item:
+    """A statement inside a block, before it is assigned to its field."""
+
+    key: str
+    value: Any
+    span: ir.Span
+
+
+# ---------------------------------------------------------------- tree -> IR
+
+
+@v_args(meta=True)
+class _Builder(Transformer):  # type: ignore[type-arg]
+    """Builds IR nodes bottom-up; collects (does not raise) diagnostics about units and statements."""
+
+    def __init__(self, path: str) -> None:
+        super().__init__()
+        self.path = path
+        self.diagnostics: list[Diagnostic] = []
+
+    # ------------------------------------------------------------ helpers
+
+    def span(self, meta: Any) -> ir.Span:
+        if getattr(meta, "empty", True):
+            return ir.Span(file=self.path, line=1, col=1, end_line=1, end_col=1)
+        return ir.Span(file=self.path, line=meta.line, col=meta.column, end_line=meta.end_line, end_col=meta.end_column)
+
+    def tspan(self, token: Token) -> ir.Span:
+        return _token_span(token, self.path)
+
+    def error(self, code: str, message: str, span: ir.Span | None, *notes: str) -> None:
+        self.diagnostics.append(Diagnostic(code, message, span, notes=tuple(notes)))
+
+    def to_quantity(self, raw: _RawQ, dimension: str) -> ir.Quantity:
+        """A quantity of `dimension`, or an error (and 0) when its unit is missing or wrong."""
+        if not self.check_unit(raw, dimension):
+            return ir.Quantity(value=0.0, unit=SI_UNIT[dimension], span=raw.span)
+        return ir.Quantity(value=to_si(raw.text, raw.unit), unit=raw.unit, span=raw.span)
+
+    def check_unit(self, raw: _RawQ, dimension: str, span: ir.Span | None = None) -> bool:
+        got = dimension_of(raw.unit)
+        if got == dimension:
+            return True
+        where = span or raw.span
+        if got == "number":
+            self.error(
+                "E202",
+                f"expected {ARTICLE_NAME[dimension]}, got a plain number `{raw.text}`: add a unit ({unit_list(dimension)})",
+                where,
+            )
+        elif dimension == "number":
+            self.error("E203", f"expected a plain number, got {ARTICLE_NAME[got]} `{raw.shown()}`: remove the unit", where)
+        else:
+            self.error(
+                "E201",
+                f"expected {ARTICLE_NAME[dimension]}, got {ARTICLE_NAME[got]} `{raw.shown()}`: use {unit_list(dimension)}",
+                where,
+            )
+        return False
+
+    def number(self, raw: _RawQ) -> float:
+        return to_si(raw.text, "") if self.check_unit(raw, "number") else 0.0
+
+    def integer(self, raw: _RawQ, what: str) -> int:
+        value = self.number(raw)
+        if value != int(value) or not re.fullmatch(r"[+-]?\d+", raw.text):
+            self.error("E206", f"{what} must be a whole number, got `{raw.text}`", raw.span)
+            return 0
+        return int(value)
+
+    def to_vector(self, raw: _RawVec, dimension: str, sizes: tuple[int, ...], what: str) -> ir.Vector:
+        """A vector of `dimension` with one of `sizes` components (SI values, display unit kept)."""
+        n = len(raw.components)
+        if n not in sizes:
+            want = " or ".join(str(s) for s in sizes)
+            self.error("E204", f"{what} needs {want} components, got {n}", raw.span)
+        values: list[float] = []
+        if raw.unit is not None:
+            for c in raw.components:
+                if c.unit:
+                    self.error("E205", "give the unit once after the vector, or on every component, not both", c.span)
+            whole = _RawQ(raw.components[0].text if raw.components else "0", raw.unit, raw.span)
+            if not self.check_unit(whole, dimension, raw.span):
+                return ir.Vector(values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
+            values = [to_si(c.text, raw.unit) for c in raw.components]
+            return ir.Vector(values=tuple(values), unit=raw.unit, span=raw.span)
+        ok = True
+        for c in raw.components:
+            ok = self.check_unit(c, dimension) and ok
+        if not ok:
+            return ir.Vector(values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
+        units = {c.unit for c in raw.components}
+        unit = units.pop() if len(units) == 1 else SI_UNIT[dimension]
+        values = [to_si(c.text, c.unit) for c in raw.components]
+        return ir.Vector(values=tuple(values), unit=unit, span=raw.span)
+
+    def to_pose(self, raw: _RawPose, sizes: tuple[int, ...] = (3,), rpy_allowed: bool = True) -> ir.Pose:
+        position = self.to_vector(raw.vector, "length", sizes, "a position")
+        yaw = self.to_quantity(raw.yaw, "angle") if raw.yaw is not None else None
+        rpy = None
+        if raw.rpy is not None:
+            if not rpy_allowed:
+                self.error("E207", "a body on the table can only turn about z: give `yaw`, not `rpy`", raw.rpy.span)
+            rpy = self.to_vector(raw.rpy, "angle", (3,), "`rpy`")
+        return ir.Pose(position=position, yaw=yaw, rpy=rpy, span=raw.span)
+
+    def single(self, items: list[_Item], owner: str, required: dict[str, str], where: ir.Span) -> dict[str, Any]:
+        """Fields of a block whose statements may appear once each; reports repeats and missing ones."""
+        seen: dict[str, _Item] = {}
+        for item in items:
+            if item.key in seen:
+                first = seen[item.key].span
+                self.error("E406", f"`{item.key}` given twice in {owner}", item.span, f"first given at {first}")
+                continue
+            seen[item.key] = item
+        for key, example in required.items():
+            if key not in seen:
+                self.error("E407", f"{owner} has no `{key}`: add e.g. `{example}`", where)
+        return {k: v.value for k, v in seen.items()}
+
+    # ------------------------------------------------------------ values
+
+    def quantity(self, meta: Any, children: list[Token]) -> _RawQ:
+        number = children[0]
+        unit = str(children[1]) if len(children) > 1 else ""
+        return _RawQ(str(number), unit, self.span(meta))
+
+    def component(self, meta: Any, children: list[Token]) -> _RawQ:
+        return self.quantity(meta, children)
+
+    def vector(self, meta: Any, children: list[Any]) -> _RawVec:
+        unit = str(children[-1]) if isinstance(children[-1], Token) else None
+        comps = [c for c in children if isinstance(c, _RawQ)]
+        return _RawVec(comps, unit, self.span(meta))
+
+    def yaw(self, meta: Any, children: list[Any]) -> tuple[str, _RawQ]:
+        return ("yaw", children[0])
+
+    def rpy(self, meta: Any, children: list[Any]) -> tuple[str, _RawVec]:
+        return ("rpy", children[0])
+
+    def pose(self, meta: Any, children: list[Any]) -> _RawPose:
+        extra = dict(children[1:])
+        return _RawPose(children[0], extra.get("yaw"), extra.get("rpy"), self.span(meta))
+
+    # ------------------------------------------------------------ module
+
+    def start(self, meta: Any, children: list[Any]) -> ir.Module:
+        uses = [c for c in children if isinstance(c, ir.Use)]
+        decls = [c for c in children if not isinstance(c, ir.Use)]
+        return ir.Module(path=self.path, uses=uses, decls=decls, span=self.span(meta))
+
+    def use(self, meta: Any, children: list[Any]) -> ir.Use:
+        target = children[0]
+        if isinstance(target, Token):
+            return ir.Use(target=str(target)[1:-1], by_path=True, span=self.span(meta))
+        return ir.Use(target=target, by_path=False, span=self.span(meta))
+
+    def dotted(self, meta: Any, children: list[Token]) -> str:
+        return ".".join(str(c) for c in children)
+
+    # ------------------------------------------------------------ bodies
+
+    def body(self, meta: Any, children: list[Any]) -> ir.Body:
+        name, items = children[0], children[1:]
+        owner = f"body `{name}`"
+        singles = [i for i in items if i.key not in ("frame", "explore")]
+        fields = self.single(singles, owner, {"shape": "shape box (10, 10, 10) cm", "mass": "mass 0.5 kg"}, self.tspan(name))
+        spans = {i.key: i.span for i in singles}
+        return ir.Body(
+            name=str(name),
+            shape=fields.get("shape", ir.BoxShape(size=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"))),
+            mass=fields.get("mass", ir.Quantity(value=0.0, unit="kg")),
+            friction=fields.get("friction"),
+            friction_span=spans.get("friction"),
+            frames=[i.value for i in items if i.key == "frame"],
+            joint=fields.get("joint"),
+            explores=[i.value for i in items if i.key == "explore"],
+            span=self.span(meta),
+            name_span=self.tspan(name),
+        )
+
+    def shape_stmt(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("shape", children[0], self.span(meta))
+
+    def box(self, meta: Any, children: list[Any]) -> ir.BoxShape:
+        return ir.BoxShape(size=self.to_vector(children[0], "length", (3,), "a box size"), span=self.span(meta))
+
+    def cylinder(self, meta: Any, children: list[Any]) -> ir.CylinderShape:
+        return ir.CylinderShape(
+            radius=self.to_quantity(children[0], "length"), height=self.to_quantity(children[1], "length"), span=self.span(meta)
+        )
+
+    def mesh(self, meta: Any, children: list[Any]) -> ir.MeshShape:
+        scale = self.number(children[1]) if len(children) > 1 else 1.0
+        return ir.MeshShape(path=str(children[0])[1:-1], scale=scale, span=self.span(meta))
+
+    def union(self, meta: Any, children: list[Any]) -> ir.UnionShape:
+        if not children:
+            self.error("E407", "a union needs at least one `SHAPE at POSE` part", self.span(meta))
+        return ir.UnionShape(parts=children, span=self.span(meta))
+
+    def union_part(self, meta: Any, children: list[Any]) -> ir.ShapePart:
+        return ir.ShapePart(shape=children[0], pose=self.to_pose(children[1]), span=self.span(meta))
+
+    def mass_stmt(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("mass", self.to_quantity(children[0], "mass"), self.span(meta))
+
+    def friction_stmt(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("friction", self.number(children[0]), self.span(meta))
+
+    def frame_stmt(self, meta: Any, children: list[Any]) -> _Item:
+        name = children[0]
+        frame = ir.Frame(name=str(name), pose=self.to_pose(children[1]), span=self.span(meta), name_span=self.tspan(name))
+        return _Item("frame", frame, self.span(meta))
+
+    def joint_type(self, meta: Any, children: list[Token]) -> str:
+        return str(children[0])
+
+    def joint_stmt(self, meta: Any, children: list[Any]) -> _Item:
+        kind = children[0]
+        axis = self.to_vector(children[1], "number", (3,), "a joint axis")
+        through = self.to_vector(children[2], "length", (3,), "`through`") if len(children) == 4 else None
+        limits_raw: _RawVec = children[-1]
+        dimension = "length" if kind == "prismatic" else "angle"
+        limits = self.to_vector(limits_raw, dimension, (2,), "`limits`")
+        values = list(limits.values) + [0.0] * (2 - len(limits.values))
+        joint = ir.Joint(
+            type=kind,
+            axis=axis,
+            through=through,
+            lower=ir.Quantity(value=values[0], unit=limits.unit, span=limits_raw.span),
+            upper=ir.Quantity(value=values[1], unit=limits.unit, span=limits_raw.span),
+            span=self.span(meta),
+        )
+        return _Item("joint", joint, self.span(meta))
+
+    def explore_stmt(self, meta: Any, children: list[Any]) -> _Item:
+        name, items = children[0], children[1:]
+        fields = self.single(items, f"explore `{name}`", {}, self.tspan(name))
+        explore = ir.Explore(
+            name=str(name),
+            contacts=fields.get("contacts"),
+            grasp=fields.get("grasp"),
+            force=fields.get("force"),
+            duration=fields.get("duration"),
+            span=self.span(meta),
+        )
+        return _Item("explore", explore, self.span(meta))
+
+    def contacts(self, meta: Any, children: list[Any]) -> _Item:
+        faces = [str(c) for c in children[:-1]]
+        spec = ir.ContactSpec(faces=faces, steps=self.integer(children[-1], "`steps`"), span=self.span(meta))
+        return _Item("contacts", spec, self.span(meta))
+
+    def force_normal(self, meta: Any, children: list[Any]) -> _Item:
+        spec = ir.ForceSpec(mode="normal", magnitude=self.to_quantity(children[0], "force"), span=self.span(meta))
+        return _Item("force", spec, self.span(meta))
+
+    def force_directions(self, meta: Any, children: list[Any]) -> _Item:
+        counts = [self.integer(_RawQ(str(t), "", self.tspan(t)), "a grid size") for t in children[:3]]
+        spec = ir.ForceSpec(
+            mode="directions",
+            grid=(counts[0], counts[1], counts[2]),
+            magnitude=self.to_quantity(children[3], "force"),
+            span=self.span(meta),
+        )
+        return _Item("force", spec, self.span(meta))
+
+    def grasp(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("grasp", ir.Ref(name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
+
+    def duration(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("duration", self.to_quantity(children[0], "time"), self.span(meta))
+
+    # ------------------------------------------------------------ robots
+
+    def robot(self, meta: Any, children: list[Any]) -> ir.Robot:
+        name, items = children[0], children[1:]
+        urdfs = [i for i in items if i.key == "urdf"]
+        fields = self.single(urdfs, f"robot `{name}`", {"urdf": 'urdf "arm.urdf"'}, self.tspan(name))
+        return ir.Robot(
+            name=str(name),
+            urdf=fields.get("urdf", ""),
+            urdf_span=urdfs[0].span if urdfs else None,
+            effectors=[i.value for i in items if i.key == "effector"],
+            span=self.span(meta),
+            name_span=self.tspan(name),
+        )
+
+    def urdf(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("urdf", str(children[0])[1:-1], self.span(meta))
+
+    def effector(self, meta: Any, children: list[Any]) -> _Item:
+        name, link, offset = children
+        effector = ir.Effector(name=str(name), link=str(link), offset=self.to_pose(offset), span=self.span(meta))
+        return _Item("effector", effector, self.span(meta))
+
+    # ------------------------------------------------------------ affordances
+
+    def affordances(self, meta: Any, children: list[Any]) -> ir.AffordanceSet:
+        body = children[0]
+        return ir.AffordanceSet(
+            body=ir.Ref(name=str(body), span=self.tspan(body)), affordances=children[1:], span=self.span(meta)
+        )
+
+    def affordance(self, meta: Any, children: list[Any]) -> ir.Affordance:
+        name, items = children[0], children[1:]
+        fields = self.single(items, f"affordance `{name}`", {"action": "action fixed", "motion": "motion free"}, self.tspan(name))
+        return ir.Affordance(
+            name=str(name),
+            action=fields.get("action", ir.FreeC()),
+            motion=fields.get("motion", ir.FreeC()),
+            evidence=fields.get("evidence"),
+            span=self.span(meta),
+        )
+
+    def action(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("action", children[0], self.span(meta))
+
+    def motion(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("motion", children[0], self.span(meta))
+
+    def fixed(self, meta: Any, children: list[Any]) -> ir.FixedC:
+        pose = self.to_pose(children[0]) if children else None
+        return ir.FixedC(pose=pose, span=self.span(meta))
+
+    def prismatic(self, meta: Any, children: list[Any]) -> ir.PrismaticC:
+        axis = self.to_vector(children[0], "number", (3,), "a direction")
+        origin = self.to_vector(children[1], "length", (3,), "`from`") if len(children) > 1 else None
+        return ir.PrismaticC(axis=axis, origin=origin, span=self.span(meta))
+
+    def revolute(self, meta: Any, children: list[Any]) -> ir.RevoluteC:
+        center = self.to_vector(children[0], "length", (3,), "`about`")
+        axis = self.to_vector(children[1], "number", (3,), "an axis")
+        return ir.RevoluteC(center=center, axis=axis, span=self.span(meta))
+
+    def free(self, meta: Any, children: list[Any]) -> ir.FreeC:
+        return ir.FreeC(span=self.span(meta))
+
+    def evidence(self, meta: Any, children: list[Any]) -> _Item:
+        trials, loglik, posterior = children
+        evidence = ir.Evidence(
+            trials=self.integer(trials, "`trials`"),
+            loglik=self.number(loglik),
+            posterior=self.number(posterior),
+            span=self.span(meta),
+        )
+        return _Item("evidence", evidence, self.span(meta))
+
+    # ------------------------------------------------------------ correspondences
+
+    def correspondences(self, meta: Any, children: list[Any]) -> ir.Correspondences:
+        return ir.Correspondences(items=children, span=self.span(meta))
+
+    def correspondence(self, meta: Any, children: list[Token]) -> ir.Correspondence:
+        body, frame, effector = children
+        frame_span = ir.Span(
+            file=self.path, line=body.line or 1, col=body.column or 1, end_line=frame.end_line or 1, end_col=frame.end_column or 1
+        )
+        return ir.Correspondence(
+            frame=ir.FrameRef(body=str(body), frame=str(frame), span=frame_span),
+            effector=ir.Ref(name=str(effector), span=self.tspan(effector)),
+            span=self.span(meta),
+        )
+
+    # ------------------------------------------------------------ scenes
+
+    def scene(self, meta: Any, children: list[Any]) -> ir.Scene:
+        name, items = children[0], children[1:]
+        tables = [i for i in items if isinstance(i, ir.Table)]
+        if len(tables) > 1:
+            self.error("E406", f"`table` given twice in scene `{name}`", tables[1].span, f"first given at {tables[0].span}")
+        return ir.Scene(
+            name=str(name),
+            table=tables[0] if tables else None,
+            robots=[i for i in items if isinstance(i, ir.SceneRobot)],
+            bodies=[i for i in items if isinstance(i, ir.SceneBody)],
+            span=self.span(meta),
+            name_span=self.tspan(name),
+        )
+
+    def table(self, meta: Any, children: list[Any]) -> ir.Table:
+        size = self.to_vector(children[0], "length", (2,), "a table size")
+        position = self.to_vector(children[1], "length", (3,), "the table position")
+        return ir.Table(size=size, position=position, span=self.span(meta))
+
+    def scene_robot(self, meta: Any, children: list[Any]) -> ir.SceneRobot:
+        name, kind, pose = children
+        return ir.SceneRobot(
+            name=str(name), type=ir.Ref(name=str(kind), span=self.tspan(kind)), pose=self.to_pose(pose), span=self.span(meta)
+        )
+
+    def scene_on_table(self, meta: Any, children: list[Any]) -> ir.SceneBody:
+        name, kind, raw = children
+        pose = self.to_pose(raw, sizes=(2,), rpy_allowed=False)
+        return ir.SceneBody(
+            name=str(name),
+            type=ir.Ref(name=str(kind), span=self.tspan(kind)),
+            placement=ir.Placement(on_table=True, pose=pose, span=raw.span),
+            span=self.span(meta),
+        )
+
+    def scene_at(self, meta: Any, children: list[Any]) -> ir.SceneBody:
+        name, kind, raw = children
+        return ir.SceneBody(
+            name=str(name),
+            type=ir.Ref(name=str(kind), span=self.tspan(kind)),
+            placement=ir.Placement(on_table=False, pose=self.to_pose(raw), span=raw.span),
+            span=self.span(meta),
+        )
+
+    # ------------------------------------------------------------ tasks
+
+    def task(self, meta: Any, children: list[Any]) -> ir.Task:
+        name, items = children[0], children[1:]
+        owner = f"task `{name}`"
+        fields = self.single([i for i in items if i.key != "goal"], owner, {"scene": "scene tabletop"}, self.tspan(name))
+        goals = [g for i in items if i.key == "goal" for g in i.value]
+        if not goals:
+            self.error("E410", f"{owner} has no goal: add e.g. `goal block at (0.6, 0) m within 1 cm`", self.tspan(name))
+        return ir.Task(
+            name=str(name),
+            scene=fields.get("scene", ir.Ref(name="")),
+            goals=goals,
+            search=fields.get("search"),
+            span=self.span(meta),
+            name_span=self.tspan(name),
+        )
+
+    def task_scene(self, meta: Any, children: list[Token]) -> _Item:
+        return _Item("scene", ir.Ref(name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
+
+    def task_goal(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("goal", children, self.span(meta))
+
+    def goal_at(self, meta: Any, children: list[Any]) -> ir.Goal:
+        body, vector = children[0], children[1]
+        rest = children[2:]
+        yaw = self.to_quantity(rest.pop(0), "angle") if rest and isinstance(rest[0], _RawQ) else None
+        tolerances: list[_RawQ] = rest[0] if rest else []
+        tol_position = self.to_quantity(tolerances[0], "length") if tolerances else None
+        tol_yaw = self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None
+        return ir.Goal(
+            body=ir.Ref(name=str(body), span=self.tspan(body)),
+            position=self.to_vector(vector, "length", (2, 3), "a goal position"),
+            yaw=yaw,
+            tol_position=tol_position,
+            tol_yaw=tol_yaw,
+            span=self.span(meta),
+        )
+
+    def goal_yaw(self, meta: Any, children: list[Any]) -> ir.Goal:
+        body, yaw = children[0], children[1]
+        tolerances: list[_RawQ] = children[2] if len(children) > 2 else []
+        if len(tolerances) > 1:
+            self.error("E204", "a heading goal takes one tolerance, an angle: `within 3 deg`", tolerances[1].span)
+        return ir.Goal(
+            body=ir.Ref(name=str(body), span=self.tspan(body)),
+            yaw=self.to_quantity(yaw, "angle"),
+            tol_yaw=self.to_quantity(tolerances[0], "angle") if tolerances else None,
+            span=self.span(meta),
+        )
+
+    def within(self, meta: Any, children: list[_RawQ]) -> list[_RawQ]:
+        return children
+
+    def task_search(self, meta: Any, children: list[Any]) -> _Item:
+        fields = self.single(children, "`search`", {}, self.span(meta))
+        spec = ir.SearchSpec(max_depth=fields.get("max_depth"), timeout=fields.get("timeout"), span=self.span(meta))
+        return _Item("search", spec, self.span(meta))
+
+    def max_depth(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("max_depth", self.integer(children[0], "`max_depth`"), self.span(meta))
+
+    def timeout(self, meta: Any, children: list[Any]) -> _Item:
+        return _Item("timeout", self.to_quantity(children[0], "time"), self.span(meta))

@@ -1,0 +1,154 @@
+"""Import resolution: load a root module and everything it `use`s, once each.
+
+Dotted names (`use stdlib.bodies.block`) are looked up under, in order: the
+importing file's directory, each directory of `VKG_PATH`, and the directory
+that holds the installed `stdlib/`. String paths are relative to the importing
+file. Modules are identified by their resolved absolute path; a cycle is an
+error that prints the cycle.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from vkgl.lang import ir
+from vkgl.lang.diagnostics import Diagnostic
+from vkgl.lang.parser import parse_collecting
+from vkgl.resources import stdlib_dir
+
+
+@dataclass
+class LoadedProgram:
+    """Every module of one compilation, dependencies before the modules that use them."""
+
+    root: str
+    modules: dict[str, ir.Module] = field(default_factory=dict)
+    sources: dict[str, str] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+
+def import_roots(importing_file: str) -> list[Path]:
+    """Where a dotted `use` from `importing_file` is looked up, in order."""
+    roots = [Path(importing_file).resolve().parent]
+    for entry in os.environ.get("VKG_PATH", "").split(os.pathsep):
+        if entry.strip():
+            roots.append(Path(entry).expanduser().resolve())
+    roots.append(stdlib_dir().resolve().parent)
+    return roots
+
+
+def load_program(path: str) -> LoadedProgram:
+    """Read, parse and resolve `path` and its imports; problems become diagnostics."""
+    loaded = LoadedProgram(root=_display_path(Path(path)))
+    _Loader(loaded).load(Path(path), via=None, stack=[])
+    return loaded
+
+
+class _Loader:
+    def __init__(self, loaded: LoadedProgram) -> None:
+        self.out = loaded
+        self.by_real: dict[Path, str] = {}
+
+    def load(self, path: Path, via: ir.Use | None, stack: list[Path]) -> str | None:
+        """Load `path` (if not yet loaded) and its imports; return its key in `modules`."""
+        real = path.resolve()
+        if real in stack:
+            self._report_cycle(stack[stack.index(real):] + [real], via)
+            return None
+        if real in self.by_real:
+            return self.by_real[real]
+        shown = _display_path(path)
+        source = self._read(path, shown, via)
+        if source is None:
+            return None
+        module, _, diagnostics = parse_collecting(source, shown)
+        self.out.sources[shown] = source
+        self.out.diagnostics.extend(diagnostics)
+        if module is None:
+            return None
+        self.by_real[real] = shown
+        uses = [self._resolve_use(use, real, stack + [real]) for use in module.uses]
+        self.out.modules[shown] = module.model_copy(update={"uses": uses})
+        return shown
+
+    def _read(self, path: Path, shown: str, via: ir.Use | None) -> str | None:
+        try:
+            return path.read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            reason = f"not UTF-8 text ({exc.reason} at byte {exc.start})"
+        except OSError as exc:
+            reason = exc.strerror or str(exc)
+        span = via.span if via is not None else ir.Span(file=shown, line=1, col=1, end_line=1, end_col=1)
+        self.out.diagnostics.append(Diagnostic("E505", f"cannot read `{shown}`: {reason}", span))
+        return None
+
+    def _resolve_use(self, use: ir.Use, importer: Path, stack: list[Path]) -> ir.Use:
+        target = _find_module(use, importer)
+        if target is None:
+            self.out.diagnostics.append(_missing_module(use, importer))
+            return use
+        self.load(target, use, stack)
+        return use.model_copy(update={"resolved": str(target.resolve())})
+
+    def _report_cycle(self, cycle: list[Path], via: ir.Use | None) -> None:
+        chain = " -> ".join(_display_path(p) for p in cycle)
+        self.out.diagnostics.append(
+            Diagnostic("E502", f"import cycle: {chain}", via.span if via else None, ("remove one of these `use` lines",))
+        )
+
+
+def _find_module(use: ir.Use, importer: Path) -> Path | None:
+    if use.by_path:
+        candidate = importer.parent / use.target
+        return candidate if candidate.is_file() else None
+    relative = Path(*use.target.split(".")).with_suffix(".vkg")
+    for root in import_roots(str(importer)):
+        candidate = root / relative
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
+    if use.by_path:
+        message = f"no file `{use.target}` (relative to {_display_path(importer.parent)})"
+        suggestion = _close_file(importer.parent / use.target)
+    else:
+        roots = import_roots(str(importer))
+        message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_display_path(r) for r in roots)
+        suggestion = _close_module(use.target, roots)
+    notes = (f"did you mean `{suggestion}`?",) if suggestion else ()
+    return Diagnostic("E501", message, use.span, notes)
+
+
+def _close_module(dotted: str, roots: list[Path]) -> str | None:
+    """A module name one typo away from `dotted`, found among the files beside where it was looked for."""
+    parts = dotted.split(".")
+    names: set[str] = set()
+    for root in roots:
+        folder = root.joinpath(*parts[:-1])
+        if folder.is_dir():
+            names.update(p.stem for p in folder.glob("*.vkg"))
+    match = difflib.get_close_matches(parts[-1], sorted(names), n=1, cutoff=0.6)
+    return ".".join(parts[:-1] + match) if match else None
+
+
+def _close_file(target: Path) -> str | None:
+    if not target.parent.is_dir():
+        return None
+    names = sorted(p.name for p in target.parent.glob("*.vkg"))
+    match = difflib.get_close_matches(target.name, names, n=1, cutoff=0.6)
+    return match[0] if match else None
+
+
+def _display_path(path: Path) -> str:
+    """A path as users like to read it: relative to the working directory when inside it."""
+    real = path.resolve()
+    try:
+        relative = os.path.relpath(real)
+    except ValueError:  # another drive on Windows
+        return str(real)
+    return str(real) if relative.startswith("..") else relative

@@ -1,0 +1,59 @@
+"""Units and dimensions: the one table the parser, checker and printer share.
+
+Every physical value in the IR is SI. Conversion goes through exact fractions
+so that the printer can find, for any SI float, the shortest decimal that the
+parser converts back to the very same float.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+DIMENSION: dict[str, str] = {
+    "m": "length", "cm": "length", "mm": "length",
+    "rad": "angle", "deg": "angle",
+    "kg": "mass", "g": "mass",
+    "N": "force",
+    "s": "time", "ms": "time",
+    "": "number",
+}
+SI_UNIT: dict[str, str] = {
+    "length": "m", "angle": "rad", "mass": "kg", "force": "N", "time": "s", "number": "",
+}
+SCALE: dict[str, Fraction] = {
+    "m": Fraction(1), "cm": Fraction(1, 100), "mm": Fraction(1, 1000),
+    "rad": Fraction(1), "deg": Fraction(math.pi) / 180,
+    "kg": Fraction(1), "g": Fraction(1, 1000), "N": Fraction(1),
+    "s": Fraction(1), "ms": Fraction(1, 1000), "": Fraction(1),
+}
+# How a dimension is named in messages ("expected a length").
+ARTICLE_NAME: dict[str, str] = {
+    "length": "a length", "angle": "an angle", "mass": "a mass", "force": "a force",
+    "time": "a time", "number": "a plain number",
+}
+UNITS_BY_DIMENSION: dict[str, tuple[str, ...]] = {
+    "length": ("m", "cm", "mm"), "angle": ("deg", "rad"), "mass": ("kg", "g"),
+    "force": ("N",), "time": ("s", "ms"),
+}
+
+
+def to_si(text: str, unit: str) -> float:
+    """The SI value of the number `text` written in `unit`, correctly rounded."""
+    scale = SCALE[unit]
+    if scale == 1:
+        return float(text)
+    return float(Fraction(text) * scale)
+
+
+def dimension_of(unit: str) -> str:
+    """The dimension of a unit ("" is a plain number)."""
+    return DIMENSION[unit]
+
+
+def unit_list(dimension: str) -> str:
+    """The units of a dimension, for messages: "m, cm or mm"."""
+    units = [f"`{u}`" for u in UNITS_BY_DIMENSION.get(dimension, ())]
+    if len(units) <= 1:
+        return "".join(units)
+    return ", ".join(units[:-1]) + " or " + units[-1]
