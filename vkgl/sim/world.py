@@ -1,0 +1,222 @@
+"""DART worlds built from the IR: the table, and bodies with their shapes, mass and joints.
+
+Used by exploration (`vkgl.sim.explore`) and by plan execution
+(`vkgl.sim.replay`), so that a body behaves the same wherever it is simulated.
+
+Choices (docs/exploration.md explains them):
+- time step 1 ms, gravity -9.81 m/s^2 along z;
+- collision detection by ODE's detector: it gives multi-point contact
+  manifolds for box, cylinder and mesh pairs (DART's own detector and FCL let
+  a cylinder sink into the table, see the docs);
+- contacts and joint limits by DART's boxed-LCP solver (Dantzig, PGS as fallback);
+- friction: DART pairs two surfaces with the smaller of their coefficients; the
+  table's is 1.0, so a body slides on the table with exactly the coefficient it
+  declares (`friction`, default 0.5).
+
+Bodies: shapes become DART shapes (box, cylinder, mesh, or one shape node per
+part of a union); the mass properties come from the body's triangle mesh
+(trimesh) scaled to the declared mass. A body without a joint hangs on a free
+joint; a body with `joint prismatic|revolute` hangs on that joint, anchored to
+the world where the body stands, with its limits enforced.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+from xml.sax.saxutils import quoteattr
+
+import dartpy as dart
+import numpy as np
+import trimesh
+
+from vkgl.errors import InputError, SimulationError
+from vkgl.lang.geometry import shape_mesh
+from vkgl.lang.ir import Body, BoxShape, CylinderShape, MeshShape, Shape, Table, UnionShape
+
+TIME_STEP = 0.001  # s
+GRAVITY = (0.0, 0.0, -9.81)  # m/s^2
+DEFAULT_FRICTION = 0.5  # for bodies that declare none
+TABLE_FRICTION = 1.0  # >= any sensible body coefficient: the body's own coefficient governs
+TABLE_THICKNESS = 0.05  # m
+EXPLORATION_TABLE_SIZE = (2.0, 2.0)  # m, centred under the explored body
+JOINT_CLEARANCE = 0.001  # m a jointed body is lifted so that it hangs on its joint, not on the table
+
+
+def isometry(matrix: np.ndarray) -> Any:
+    """A 4x4 numpy pose as a dartpy Isometry3."""
+    iso = dart.math.Isometry3()
+    iso.set_matrix(np.asarray(matrix, dtype=float))
+    return iso
+
+
+def translation(p: np.ndarray) -> np.ndarray:
+    """The 4x4 pose that translates by `p`."""
+    m = np.eye(4)
+    m[:3, 3] = p
+    return m
+
+
+def new_world(time_step: float = TIME_STEP) -> Any:
+    """An empty DART world with the project's gravity, collision detector and constraint solver."""
+    world = dart.simulation.World()
+    world.setTimeStep(time_step)
+    world.setGravity(np.array(GRAVITY))
+    world.setCollisionDetector(dart.collision.OdeCollisionDetector())
+    # The constraint solver is DART's default: boxed LCP, Dantzig with PGS as fallback, one thread.
+    return world
+
+
+def add_table(world: Any, table: Table | None = None) -> tuple[Any, Any]:
+    """Add a static table (a box whose top is the table's z) and return (skeleton, body node).
+
+    Without a `Table`, the exploration table: 2 x 2 m, top at z = 0, centred on the origin.
+    """
+    if table is None:
+        size, centre = EXPLORATION_TABLE_SIZE, (0.0, 0.0, 0.0)
+    else:
+        size = tuple(table.size.values[:2])
+        values = list(table.position.values) + [0.0] * (3 - len(table.position.values))
+        centre = tuple(values[:3])
+    skeleton = dart.dynamics.Skeleton("table")
+    joint, node = skeleton.createWeldJointAndBodyNodePair()
+    joint.setTransformFromParentBodyNode(isometry(translation(
+        np.array([centre[0], centre[1], centre[2] - TABLE_THICKNESS / 2]))))
+    node.setName("table")
+    shape = node.createShapeNode(dart.dynamics.BoxShape(np.array([size[0], size[1], TABLE_THICKNESS])))
+    shape.createVisualAspect()
+    shape.createCollisionAspect()
+    shape.createDynamicsAspect().setFrictionCoeff(TABLE_FRICTION)
+    world.addSkeleton(skeleton)
+    return skeleton, node
+
+
+def add_body(world: Any, name: str, body: Body, pose: np.ndarray) -> tuple[Any, Any]:
+    """Add `body` standing at the 4x4 world `pose`; return (skeleton, body node).
+
+    The body node's frame is the body frame. A body with a physical joint is
+    anchored to the world at `pose` (joint position 0), lifted by
+    JOINT_CLEARANCE so that it does not rub on the table it stands on.
+    """
+    skeleton = dart.dynamics.Skeleton(name)
+    pose = np.asarray(pose, dtype=float)
+    if body.joint is None:
+        joint, node = skeleton.createFreeJointAndBodyNodePair()
+        joint.setPositions(dart.dynamics.FreeJoint.convertToPositions(isometry(pose)))
+    else:
+        joint, node = _add_jointed(skeleton, body, translation(np.array([0.0, 0.0, JOINT_CLEARANCE])) @ pose)
+    node.setName(name)
+    dress_body_node(node, body)
+    world.addSkeleton(skeleton)
+    return skeleton, node
+
+
+def _add_jointed(skeleton: Any, body: Body, anchor: np.ndarray) -> tuple[Any, Any]:
+    spec = body.joint
+    assert spec is not None
+    axis = spec.axis.array()
+    norm = float(np.linalg.norm(axis))
+    if norm == 0.0:
+        raise InputError(f"{spec.axis.span or body.name}: the joint axis of {body.name} is zero; give a direction")
+    through = spec.through.array() if spec.through is not None else np.zeros(3)
+    if spec.type == "prismatic":
+        joint, node = skeleton.createPrismaticJointAndBodyNodePair()
+    else:
+        joint, node = skeleton.createRevoluteJointAndBodyNodePair()
+    # The joint frame sits on the axis (at `through`), in the body's orientation.
+    joint.setTransformFromParentBodyNode(isometry(anchor @ translation(through)))
+    joint.setTransformFromChildBodyNode(isometry(translation(through)))
+    joint.setAxis(axis / norm)
+    lower, upper = spec.lower.value, spec.upper.value
+    if lower > upper:
+        raise InputError(f"{spec.span or body.name}: the joint limits of {body.name} are reversed "
+                         f"({lower:g} > {upper:g}); write them as (lower, upper)")
+    joint.setPositionLowerLimit(0, lower)
+    joint.setPositionUpperLimit(0, upper)
+    joint.setLimitEnforcement(True)
+    joint.setPosition(0, min(max(0.0, lower), upper))  # the declared pose, or the nearest limit
+    return joint, node
+
+
+def dress_body_node(node: Any, body: Body) -> None:
+    """Give a DART body node the body's collision shapes, friction and mass properties."""
+    friction = body.friction if body.friction is not None else DEFAULT_FRICTION
+    for shape, pose in dart_shapes(body.shape):
+        shape_node = node.createShapeNode(shape)
+        shape_node.setRelativeTransform(isometry(pose))
+        shape_node.createVisualAspect()
+        shape_node.createCollisionAspect()
+        shape_node.createDynamicsAspect().setFrictionCoeff(friction)
+    mass, com, inertia = mass_properties(body)
+    node.setInertia(dart.dynamics.Inertia(mass, com, inertia))
+
+
+def dart_shapes(shape: Shape, pose: np.ndarray | None = None) -> list[tuple[Any, np.ndarray]]:
+    """The DART shapes of an IR shape, each with its 4x4 pose in the body frame."""
+    pose = np.eye(4) if pose is None else pose
+    if isinstance(shape, BoxShape):
+        return [(dart.dynamics.BoxShape(shape.size.array()), pose)]
+    if isinstance(shape, CylinderShape):
+        return [(dart.dynamics.CylinderShape(shape.radius.value, shape.height.value), pose)]
+    if isinstance(shape, MeshShape):
+        return [(load_mesh_shape(shape), pose)]
+    if isinstance(shape, UnionShape):
+        return [item for part in shape.parts for item in dart_shapes(part.shape, pose @ part.pose.matrix())]
+    raise TypeError(f"unknown shape {shape!r}")
+
+
+def load_mesh_shape(shape: MeshShape) -> Any:
+    """DART's MeshShape of a mesh file (through DART's own loader, assimp).
+
+    dartpy cannot build a MeshShape from vertices, so the file is loaded the
+    way DART loads URDF meshes. A file DART cannot read is a SimulationError
+    that names it.
+    """
+    path = Path(shape.resolved or shape.path).resolve()
+    if not path.is_file():
+        raise InputError(f"{path}: no such mesh file")
+    scale = f"{shape.scale!r} {shape.scale!r} {shape.scale!r}"
+    uri = dart.common.Uri.createFromPath(str(path)).toString()
+    urdf = (
+        '<robot name="mesh"><link name="mesh"><collision><geometry>'
+        f"<mesh filename={quoteattr(uri)} scale={quoteattr(scale)}/>"
+        "</geometry></collision></link></robot>"
+    )
+    skeleton = dart.utils.DartLoader().parseSkeletonString(urdf, dart.common.Uri.createFromPath(str(path.parent) + "/"))
+    node = skeleton.getBodyNode(0) if skeleton is not None and skeleton.getNumBodyNodes() else None
+    if node is None or node.getNumShapeNodes() == 0:
+        raise SimulationError(
+            f"{path}: DART cannot load this mesh (its mesh importer rejected the file); "
+            "export it as a binary STL or OBJ and point the body's `mesh` at that file"
+        )
+    mesh_shape = node.getShapeNode(0).getShape()
+    extents = np.asarray(mesh_shape.getBoundingBox().computeFullExtents(), dtype=float)
+    if not np.all(np.isfinite(extents)) or float(extents.max()) <= 0.0:
+        raise SimulationError(f"{path}: DART loaded this mesh but it has no extent (degenerate triangles?)")
+    return mesh_shape
+
+
+def mass_properties(body: Body) -> tuple[float, np.ndarray, np.ndarray]:
+    """(mass, centre of mass, inertia tensor about the centre of mass), body frame, SI.
+
+    Uniform density over the body's solid (trimesh); a mesh that does not
+    enclose a volume is replaced by its convex hull for this purpose.
+    """
+    mass = float(body.mass.value)
+    if not np.isfinite(mass) or mass <= 0.0:
+        raise InputError(f"{body.mass.span or body.name}: the mass of {body.name} must be positive")
+    mesh = solid_mesh(shape_mesh(body.shape), f"{body.span or body.name}: the shape of body `{body.name}`")
+    volume = float(mesh.volume)
+    mesh.density = mass / volume
+    inertia = np.asarray(mesh.moment_inertia, dtype=float)
+    return mass, np.asarray(mesh.center_mass, dtype=float), 0.5 * (inertia + inertia.T)
+
+
+def solid_mesh(mesh: trimesh.Trimesh, what: str = "the shape") -> trimesh.Trimesh:
+    """The mesh if it encloses a volume, else its convex hull; `what` names it in the error if neither does."""
+    if mesh.is_volume and mesh.volume > 0.0:
+        return mesh
+    hull = mesh.convex_hull
+    if hull.volume <= 0.0:
+        raise InputError(f"{what} encloses no volume (it is flat or degenerate), so it cannot carry a mass")
+    return hull
