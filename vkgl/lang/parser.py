@@ -8,13 +8,14 @@ needs names from other modules is the checker's job (vkgl/lang/checks.py).
 
 from __future__ import annotations
 
+import gc
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import Any, TypeVar
 
-from lark import Lark, Token, Transformer, v_args
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from lark.lexer import PatternStr
 
 from vkgl.errors import CompileError
@@ -22,6 +23,8 @@ from vkgl.lang import ir
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.units import ARTICLE_NAME, SI_UNIT, dimension_of, to_si, unit_list
 from vkgl.resources import grammar_path
+
+_N = TypeVar("_N", bound=ir.Node)
 
 
 @dataclass(frozen=True)
@@ -49,16 +52,36 @@ def parse_module_with_comments(text: str, path: str) -> tuple[ir.Module, list[Co
 
 def parse_collecting(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
     """Parse one module without raising: the module (None after a syntax error), comments, diagnostics."""
+    module, comments, diagnostics = _parse_cached(text, path)
+    return module, list(comments), list(diagnostics)
+
+
+@lru_cache(maxsize=512)
+def _parse_cached(text: str, path: str) -> tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]:
+    # A compilation parses each imported module once; checking many files that share
+    # imports (vkgc check examples/ stdlib/) parses each shared module once per process.
+    module, comments, diagnostics = _parse_uncached(text, path)
+    return module, tuple(comments), tuple(diagnostics)
+
+
+def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
     comments: list[Token] = []
+    builder = _builder()
+    builder.start_file(path)
+    _COMMENT_SINK[0] = comments
+    # The parse allocates a few objects per character and frees none of them until
+    # the end; pausing the cyclic garbage collector meanwhile halves the time.
+    collecting = gc.isenabled()
+    gc.disable()
     try:
-        tree = _parse_tree(text, comments)
+        tree = _parser().parse(text)
+        module = builder.build(tree)
     except UnexpectedInput as exc:
         return None, [], [_syntax_diagnostic(exc, text, path)]
-    builder = _Builder(path)
-    try:
-        module = builder.transform(tree)
-    except VisitError as exc:  # a bug in the builder, not the user's input: keep the real cause
-        raise exc.orig_exc from exc
+    finally:
+        _COMMENT_SINK[0] = []
+        if collecting:
+            gc.enable()
     lexed = [Comment(t.line or 0, t.column or 0, str(t)) for t in comments]
     module = module.model_copy(update={"doc": _doc_comment(text, lexed)})
     return module, lexed, builder.diagnostics
@@ -72,6 +95,11 @@ _COMMENT_SINK: list[list[Token]] = [[]]
 
 
 @lru_cache(maxsize=1)
+def _builder() -> _Builder:
+    return _Builder("<input>")
+
+
+@lru_cache(maxsize=1)
 def _parser() -> Lark:
     return Lark(
         grammar_path().read_text(encoding="utf-8"),
@@ -81,14 +109,6 @@ def _parser() -> Lark:
         maybe_placeholders=False,
         lexer_callbacks={"COMMENT": lambda token: _COMMENT_SINK[0].append(token)},
     )
-
-
-def _parse_tree(text: str, comments: list[Token]) -> Any:
-    _COMMENT_SINK[0] = comments
-    try:
-        return _parser().parse(text)
-    finally:
-        _COMMENT_SINK[0] = []
 
 
 def _doc_comment(text: str, comments: list[Comment]) -> str | None:
@@ -147,7 +167,7 @@ def _syntax_diagnostic(exc: UnexpectedInput, text: str, path: str) -> Diagnostic
         return _unexpected_character(exc, text, path)
     expected = exc.expected if isinstance(exc, (UnexpectedEOF, UnexpectedToken)) else set()
     line, col = _end_position(text)
-    span = ir.Span(file=path, line=line, col=col, end_line=line, end_col=col + 1)
+    span = _new(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + 1)
     return Diagnostic("E103", f"unexpected end of file; expected {_words(expected)}", span)
 
 
@@ -163,7 +183,7 @@ def _unexpected_token(exc: UnexpectedToken, text: str, path: str) -> Diagnostic:
 
 def _unexpected_character(exc: UnexpectedCharacters, text: str, path: str) -> Diagnostic:
     line, col = exc.line, exc.column
-    span = ir.Span(file=path, line=line, col=col, end_line=line, end_col=col + 1)
+    span = _new(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + 1)
     char = exc.char
     if char == '"':
         return Diagnostic("E102", "unterminated string: close it with `\"` on the same line", span)
@@ -199,7 +219,7 @@ def _token_span(token: Token, path: str) -> ir.Span:
     line, col = token.line or 1, token.column or 1
     end_line = token.end_line or line
     end_col = token.end_column or col + max(len(str(token)), 1)
-    return ir.Span(file=path, line=line, col=col, end_line=end_line, end_col=end_col)
+    return _new(ir.Span, file=path, line=line, col=col, end_line=end_line, end_col=end_col)
 
 
 def _text_before(text: str, token: Token) -> str:
@@ -213,6 +233,16 @@ def _end_position(text: str) -> tuple[int, int]:
 
 
 # ---------------------------------------------------------------- raw values (before unit checks)
+
+
+def _new(cls: type[_N], **fields: Any) -> _N:
+    """An IR node built from values the builder already typed: pydantic's validation skipped.
+
+    Validation is a third of the front end's time on large files, and the
+    builder only ever passes values of the declared types (the hypothesis
+    round trip in tests/lang compares against validated nodes).
+    """
+    return cls.model_construct(**fields)
 
 
 @dataclass
@@ -254,12 +284,23 @@ class _Item:
 # ---------------------------------------------------------------- tree -> IR
 
 
-@v_args(meta=True)
-class _Builder(Transformer):  # type: ignore[type-arg]
-    """Builds IR nodes bottom-up; collects (does not raise) diagnostics about units and statements."""
+class _Builder:
+    """Builds IR nodes bottom-up; collects (does not raise) diagnostics about units and statements.
+
+    Each grammar rule has a method of the same name taking (meta, children).
+    """
 
     def __init__(self, path: str) -> None:
-        super().__init__()
+        self.start_file(path)
+
+    def build(self, tree: Tree) -> Any:
+        """The value of `tree`: its children built first, then its rule's method."""
+        # A plain walk: Lark's Transformer with v_args(meta=True) costs 3x more per node.
+        children = [self.build(c) if isinstance(c, Tree) else c for c in tree.children]
+        return getattr(self, str(tree.data))(tree.meta, children)
+
+    def start_file(self, path: str) -> None:
+        """Reset for a new file (one builder serves every parse)."""
         self.path = path
         self.diagnostics: list[Diagnostic] = []
 
@@ -267,8 +308,8 @@ class _Builder(Transformer):  # type: ignore[type-arg]
 
     def span(self, meta: Any) -> ir.Span:
         if getattr(meta, "empty", True):
-            return ir.Span(file=self.path, line=1, col=1, end_line=1, end_col=1)
-        return ir.Span(file=self.path, line=meta.line, col=meta.column, end_line=meta.end_line, end_col=meta.end_column)
+            return _new(ir.Span, file=self.path, line=1, col=1, end_line=1, end_col=1)
+        return _new(ir.Span, file=self.path, line=meta.line, col=meta.column, end_line=meta.end_line, end_col=meta.end_column)
 
     def tspan(self, token: Token) -> ir.Span:
         return _token_span(token, self.path)
@@ -279,8 +320,8 @@ class _Builder(Transformer):  # type: ignore[type-arg]
     def to_quantity(self, raw: _RawQ, dimension: str) -> ir.Quantity:
         """A quantity of `dimension`, or an error (and 0) when its unit is missing or wrong."""
         if not self.check_unit(raw, dimension):
-            return ir.Quantity(value=0.0, unit=SI_UNIT[dimension], span=raw.span)
-        return ir.Quantity(value=to_si(raw.text, raw.unit), unit=raw.unit, span=raw.span)
+            return _new(ir.Quantity, value=0.0, unit=SI_UNIT[dimension], span=raw.span)
+        return _new(ir.Quantity, value=to_si(raw.text, raw.unit), unit=raw.unit, span=raw.span)
 
     def check_unit(self, raw: _RawQ, dimension: str, span: ir.Span | None = None) -> bool:
         got = dimension_of(raw.unit)
@@ -326,18 +367,18 @@ class _Builder(Transformer):  # type: ignore[type-arg]
                     self.error("E205", "give the unit once after the vector, or on every component, not both", c.span)
             whole = _RawQ(raw.components[0].text if raw.components else "0", raw.unit, raw.span)
             if not self.check_unit(whole, dimension, raw.span):
-                return ir.Vector(values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
+                return _new(ir.Vector, values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
             values = [to_si(c.text, raw.unit) for c in raw.components]
-            return ir.Vector(values=tuple(values), unit=raw.unit, span=raw.span)
+            return _new(ir.Vector, values=tuple(values), unit=raw.unit, span=raw.span)
         ok = True
         for c in raw.components:
             ok = self.check_unit(c, dimension) and ok
         if not ok:
-            return ir.Vector(values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
+            return _new(ir.Vector, values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
         units = {c.unit for c in raw.components}
         unit = units.pop() if len(units) == 1 else SI_UNIT[dimension]
         values = [to_si(c.text, c.unit) for c in raw.components]
-        return ir.Vector(values=tuple(values), unit=unit, span=raw.span)
+        return _new(ir.Vector, values=tuple(values), unit=unit, span=raw.span)
 
     def to_pose(self, raw: _RawPose, sizes: tuple[int, ...] = (3,), rpy_allowed: bool = True) -> ir.Pose:
         position = self.to_vector(raw.vector, "length", sizes, "a position")
@@ -347,7 +388,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
             if not rpy_allowed:
                 self.error("E207", "a body on the table can only turn about z: give `yaw`, not `rpy`", raw.rpy.span)
             rpy = self.to_vector(raw.rpy, "angle", (3,), "`rpy`")
-        return ir.Pose(position=position, yaw=yaw, rpy=rpy, span=raw.span)
+        return _new(ir.Pose, position=position, yaw=yaw, rpy=rpy, span=raw.span)
 
     def single(self, items: list[_Item], owner: str, required: dict[str, str], where: ir.Span) -> dict[str, Any]:
         """Fields of a block whose statements may appear once each; reports repeats and missing ones."""
@@ -393,13 +434,13 @@ class _Builder(Transformer):  # type: ignore[type-arg]
     def start(self, meta: Any, children: list[Any]) -> ir.Module:
         uses = [c for c in children if isinstance(c, ir.Use)]
         decls = [c for c in children if not isinstance(c, ir.Use)]
-        return ir.Module(path=self.path, uses=uses, decls=decls, span=self.span(meta))
+        return _new(ir.Module, path=self.path, uses=uses, decls=decls, span=self.span(meta))
 
     def use(self, meta: Any, children: list[Any]) -> ir.Use:
         target = children[0]
         if isinstance(target, Token):
-            return ir.Use(target=str(target)[1:-1], by_path=True, span=self.span(meta))
-        return ir.Use(target=target, by_path=False, span=self.span(meta))
+            return _new(ir.Use, target=str(target)[1:-1], by_path=True, span=self.span(meta))
+        return _new(ir.Use, target=target, by_path=False, span=self.span(meta))
 
     def dotted(self, meta: Any, children: list[Token]) -> str:
         return ".".join(str(c) for c in children)
@@ -412,10 +453,10 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         singles = [i for i in items if i.key not in ("frame", "explore")]
         fields = self.single(singles, owner, {"shape": "shape box (10, 10, 10) cm", "mass": "mass 0.5 kg"}, self.tspan(name))
         spans = {i.key: i.span for i in singles}
-        return ir.Body(
+        return _new(ir.Body, 
             name=str(name),
-            shape=fields.get("shape", ir.BoxShape(size=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"))),
-            mass=fields.get("mass", ir.Quantity(value=0.0, unit="kg")),
+            shape=fields.get("shape", _new(ir.BoxShape, size=_new(ir.Vector, values=(0.0, 0.0, 0.0), unit="m"))),
+            mass=fields.get("mass", _new(ir.Quantity, value=0.0, unit="kg")),
             friction=fields.get("friction"),
             friction_span=spans.get("friction"),
             frames=[i.value for i in items if i.key == "frame"],
@@ -429,24 +470,24 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         return _Item("shape", children[0], self.span(meta))
 
     def box(self, meta: Any, children: list[Any]) -> ir.BoxShape:
-        return ir.BoxShape(size=self.to_vector(children[0], "length", (3,), "a box size"), span=self.span(meta))
+        return _new(ir.BoxShape, size=self.to_vector(children[0], "length", (3,), "a box size"), span=self.span(meta))
 
     def cylinder(self, meta: Any, children: list[Any]) -> ir.CylinderShape:
-        return ir.CylinderShape(
+        return _new(ir.CylinderShape, 
             radius=self.to_quantity(children[0], "length"), height=self.to_quantity(children[1], "length"), span=self.span(meta)
         )
 
     def mesh(self, meta: Any, children: list[Any]) -> ir.MeshShape:
         scale = self.number(children[1]) if len(children) > 1 else 1.0
-        return ir.MeshShape(path=str(children[0])[1:-1], scale=scale, span=self.span(meta))
+        return _new(ir.MeshShape, path=str(children[0])[1:-1], scale=scale, span=self.span(meta))
 
     def union(self, meta: Any, children: list[Any]) -> ir.UnionShape:
         if not children:
             self.error("E407", "a union needs at least one `SHAPE at POSE` part", self.span(meta))
-        return ir.UnionShape(parts=children, span=self.span(meta))
+        return _new(ir.UnionShape, parts=children, span=self.span(meta))
 
     def union_part(self, meta: Any, children: list[Any]) -> ir.ShapePart:
-        return ir.ShapePart(shape=children[0], pose=self.to_pose(children[1]), span=self.span(meta))
+        return _new(ir.ShapePart, shape=children[0], pose=self.to_pose(children[1]), span=self.span(meta))
 
     def mass_stmt(self, meta: Any, children: list[Any]) -> _Item:
         return _Item("mass", self.to_quantity(children[0], "mass"), self.span(meta))
@@ -456,7 +497,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
 
     def frame_stmt(self, meta: Any, children: list[Any]) -> _Item:
         name = children[0]
-        frame = ir.Frame(name=str(name), pose=self.to_pose(children[1]), span=self.span(meta), name_span=self.tspan(name))
+        frame = _new(ir.Frame, name=str(name), pose=self.to_pose(children[1]), span=self.span(meta), name_span=self.tspan(name))
         return _Item("frame", frame, self.span(meta))
 
     def joint_type(self, meta: Any, children: list[Token]) -> str:
@@ -470,12 +511,12 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         dimension = "length" if kind == "prismatic" else "angle"
         limits = self.to_vector(limits_raw, dimension, (2,), "`limits`")
         values = list(limits.values) + [0.0] * (2 - len(limits.values))
-        joint = ir.Joint(
+        joint = _new(ir.Joint, 
             type=kind,
             axis=axis,
             through=through,
-            lower=ir.Quantity(value=values[0], unit=limits.unit, span=limits_raw.span),
-            upper=ir.Quantity(value=values[1], unit=limits.unit, span=limits_raw.span),
+            lower=_new(ir.Quantity, value=values[0], unit=limits.unit, span=limits_raw.span),
+            upper=_new(ir.Quantity, value=values[1], unit=limits.unit, span=limits_raw.span),
             span=self.span(meta),
         )
         return _Item("joint", joint, self.span(meta))
@@ -483,7 +524,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
     def explore_stmt(self, meta: Any, children: list[Any]) -> _Item:
         name, items = children[0], children[1:]
         fields = self.single(items, f"explore `{name}`", {}, self.tspan(name))
-        explore = ir.Explore(
+        explore = _new(ir.Explore, 
             name=str(name),
             contacts=fields.get("contacts"),
             grasp=fields.get("grasp"),
@@ -495,16 +536,16 @@ class _Builder(Transformer):  # type: ignore[type-arg]
 
     def contacts(self, meta: Any, children: list[Any]) -> _Item:
         faces = [str(c) for c in children[:-1]]
-        spec = ir.ContactSpec(faces=faces, steps=self.integer(children[-1], "`steps`"), span=self.span(meta))
+        spec = _new(ir.ContactSpec, faces=faces, steps=self.integer(children[-1], "`steps`"), span=self.span(meta))
         return _Item("contacts", spec, self.span(meta))
 
     def force_normal(self, meta: Any, children: list[Any]) -> _Item:
-        spec = ir.ForceSpec(mode="normal", magnitude=self.to_quantity(children[0], "force"), span=self.span(meta))
+        spec = _new(ir.ForceSpec, mode="normal", magnitude=self.to_quantity(children[0], "force"), span=self.span(meta))
         return _Item("force", spec, self.span(meta))
 
     def force_directions(self, meta: Any, children: list[Any]) -> _Item:
         counts = [self.integer(_RawQ(str(t), "", self.tspan(t)), "a grid size") for t in children[:3]]
-        spec = ir.ForceSpec(
+        spec = _new(ir.ForceSpec, 
             mode="directions",
             grid=(counts[0], counts[1], counts[2]),
             magnitude=self.to_quantity(children[3], "force"),
@@ -513,7 +554,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         return _Item("force", spec, self.span(meta))
 
     def grasp(self, meta: Any, children: list[Any]) -> _Item:
-        return _Item("grasp", ir.Ref(name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
+        return _Item("grasp", _new(ir.Ref, name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
 
     def duration(self, meta: Any, children: list[Any]) -> _Item:
         return _Item("duration", self.to_quantity(children[0], "time"), self.span(meta))
@@ -524,7 +565,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         name, items = children[0], children[1:]
         urdfs = [i for i in items if i.key == "urdf"]
         fields = self.single(urdfs, f"robot `{name}`", {"urdf": 'urdf "arm.urdf"'}, self.tspan(name))
-        return ir.Robot(
+        return _new(ir.Robot, 
             name=str(name),
             urdf=fields.get("urdf", ""),
             urdf_span=urdfs[0].span if urdfs else None,
@@ -538,24 +579,24 @@ class _Builder(Transformer):  # type: ignore[type-arg]
 
     def effector(self, meta: Any, children: list[Any]) -> _Item:
         name, link, offset = children
-        effector = ir.Effector(name=str(name), link=str(link), offset=self.to_pose(offset), span=self.span(meta))
+        effector = _new(ir.Effector, name=str(name), link=str(link), offset=self.to_pose(offset), span=self.span(meta))
         return _Item("effector", effector, self.span(meta))
 
     # ------------------------------------------------------------ affordances
 
     def affordances(self, meta: Any, children: list[Any]) -> ir.AffordanceSet:
         body = children[0]
-        return ir.AffordanceSet(
-            body=ir.Ref(name=str(body), span=self.tspan(body)), affordances=children[1:], span=self.span(meta)
+        return _new(ir.AffordanceSet, 
+            body=_new(ir.Ref, name=str(body), span=self.tspan(body)), affordances=children[1:], span=self.span(meta)
         )
 
     def affordance(self, meta: Any, children: list[Any]) -> ir.Affordance:
         name, items = children[0], children[1:]
         fields = self.single(items, f"affordance `{name}`", {"action": "action fixed", "motion": "motion free"}, self.tspan(name))
-        return ir.Affordance(
+        return _new(ir.Affordance, 
             name=str(name),
-            action=fields.get("action", ir.FreeC()),
-            motion=fields.get("motion", ir.FreeC()),
+            action=fields.get("action", _new(ir.FreeC, )),
+            motion=fields.get("motion", _new(ir.FreeC, )),
             evidence=fields.get("evidence"),
             span=self.span(meta),
         )
@@ -568,24 +609,24 @@ class _Builder(Transformer):  # type: ignore[type-arg]
 
     def fixed(self, meta: Any, children: list[Any]) -> ir.FixedC:
         pose = self.to_pose(children[0]) if children else None
-        return ir.FixedC(pose=pose, span=self.span(meta))
+        return _new(ir.FixedC, pose=pose, span=self.span(meta))
 
     def prismatic(self, meta: Any, children: list[Any]) -> ir.PrismaticC:
         axis = self.to_vector(children[0], "number", (3,), "a direction")
         origin = self.to_vector(children[1], "length", (3,), "`from`") if len(children) > 1 else None
-        return ir.PrismaticC(axis=axis, origin=origin, span=self.span(meta))
+        return _new(ir.PrismaticC, axis=axis, origin=origin, span=self.span(meta))
 
     def revolute(self, meta: Any, children: list[Any]) -> ir.RevoluteC:
         center = self.to_vector(children[0], "length", (3,), "`about`")
         axis = self.to_vector(children[1], "number", (3,), "an axis")
-        return ir.RevoluteC(center=center, axis=axis, span=self.span(meta))
+        return _new(ir.RevoluteC, center=center, axis=axis, span=self.span(meta))
 
     def free(self, meta: Any, children: list[Any]) -> ir.FreeC:
-        return ir.FreeC(span=self.span(meta))
+        return _new(ir.FreeC, span=self.span(meta))
 
     def evidence(self, meta: Any, children: list[Any]) -> _Item:
         trials, loglik, posterior = children
-        evidence = ir.Evidence(
+        evidence = _new(ir.Evidence, 
             trials=self.integer(trials, "`trials`"),
             loglik=self.number(loglik),
             posterior=self.number(posterior),
@@ -596,16 +637,16 @@ class _Builder(Transformer):  # type: ignore[type-arg]
     # ------------------------------------------------------------ correspondences
 
     def correspondences(self, meta: Any, children: list[Any]) -> ir.Correspondences:
-        return ir.Correspondences(items=children, span=self.span(meta))
+        return _new(ir.Correspondences, items=children, span=self.span(meta))
 
     def correspondence(self, meta: Any, children: list[Token]) -> ir.Correspondence:
         body, frame, effector = children
-        frame_span = ir.Span(
+        frame_span = _new(ir.Span, 
             file=self.path, line=body.line or 1, col=body.column or 1, end_line=frame.end_line or 1, end_col=frame.end_column or 1
         )
-        return ir.Correspondence(
-            frame=ir.FrameRef(body=str(body), frame=str(frame), span=frame_span),
-            effector=ir.Ref(name=str(effector), span=self.tspan(effector)),
+        return _new(ir.Correspondence, 
+            frame=_new(ir.FrameRef, body=str(body), frame=str(frame), span=frame_span),
+            effector=_new(ir.Ref, name=str(effector), span=self.tspan(effector)),
             span=self.span(meta),
         )
 
@@ -616,7 +657,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         tables = [i for i in items if isinstance(i, ir.Table)]
         if len(tables) > 1:
             self.error("E406", f"`table` given twice in scene `{name}`", tables[1].span, f"first given at {tables[0].span}")
-        return ir.Scene(
+        return _new(ir.Scene, 
             name=str(name),
             table=tables[0] if tables else None,
             robots=[i for i in items if isinstance(i, ir.SceneRobot)],
@@ -628,30 +669,30 @@ class _Builder(Transformer):  # type: ignore[type-arg]
     def table(self, meta: Any, children: list[Any]) -> ir.Table:
         size = self.to_vector(children[0], "length", (2,), "a table size")
         position = self.to_vector(children[1], "length", (3,), "the table position")
-        return ir.Table(size=size, position=position, span=self.span(meta))
+        return _new(ir.Table, size=size, position=position, span=self.span(meta))
 
     def scene_robot(self, meta: Any, children: list[Any]) -> ir.SceneRobot:
         name, kind, pose = children
-        return ir.SceneRobot(
-            name=str(name), type=ir.Ref(name=str(kind), span=self.tspan(kind)), pose=self.to_pose(pose), span=self.span(meta)
+        return _new(ir.SceneRobot, 
+            name=str(name), type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)), pose=self.to_pose(pose), span=self.span(meta)
         )
 
     def scene_on_table(self, meta: Any, children: list[Any]) -> ir.SceneBody:
         name, kind, raw = children
         pose = self.to_pose(raw, sizes=(2,), rpy_allowed=False)
-        return ir.SceneBody(
+        return _new(ir.SceneBody, 
             name=str(name),
-            type=ir.Ref(name=str(kind), span=self.tspan(kind)),
-            placement=ir.Placement(on_table=True, pose=pose, span=raw.span),
+            type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)),
+            placement=_new(ir.Placement, on_table=True, pose=pose, span=raw.span),
             span=self.span(meta),
         )
 
     def scene_at(self, meta: Any, children: list[Any]) -> ir.SceneBody:
         name, kind, raw = children
-        return ir.SceneBody(
+        return _new(ir.SceneBody, 
             name=str(name),
-            type=ir.Ref(name=str(kind), span=self.tspan(kind)),
-            placement=ir.Placement(on_table=False, pose=self.to_pose(raw), span=raw.span),
+            type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)),
+            placement=_new(ir.Placement, on_table=False, pose=self.to_pose(raw), span=raw.span),
             span=self.span(meta),
         )
 
@@ -664,9 +705,9 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         goals = [g for i in items if i.key == "goal" for g in i.value]
         if not goals:
             self.error("E410", f"{owner} has no goal: add e.g. `goal block at (0.6, 0) m within 1 cm`", self.tspan(name))
-        return ir.Task(
+        return _new(ir.Task, 
             name=str(name),
-            scene=fields.get("scene", ir.Ref(name="")),
+            scene=fields.get("scene", _new(ir.Ref, name="")),
             goals=goals,
             search=fields.get("search"),
             span=self.span(meta),
@@ -674,7 +715,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         )
 
     def task_scene(self, meta: Any, children: list[Token]) -> _Item:
-        return _Item("scene", ir.Ref(name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
+        return _Item("scene", _new(ir.Ref, name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
 
     def task_goal(self, meta: Any, children: list[Any]) -> _Item:
         return _Item("goal", children, self.span(meta))
@@ -686,8 +727,8 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         tolerances: list[_RawQ] = rest[0] if rest else []
         tol_position = self.to_quantity(tolerances[0], "length") if tolerances else None
         tol_yaw = self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None
-        return ir.Goal(
-            body=ir.Ref(name=str(body), span=self.tspan(body)),
+        return _new(ir.Goal, 
+            body=_new(ir.Ref, name=str(body), span=self.tspan(body)),
             position=self.to_vector(vector, "length", (2, 3), "a goal position"),
             yaw=yaw,
             tol_position=tol_position,
@@ -700,8 +741,8 @@ class _Builder(Transformer):  # type: ignore[type-arg]
         tolerances: list[_RawQ] = children[2] if len(children) > 2 else []
         if len(tolerances) > 1:
             self.error("E204", "a heading goal takes one tolerance, an angle: `within 3 deg`", tolerances[1].span)
-        return ir.Goal(
-            body=ir.Ref(name=str(body), span=self.tspan(body)),
+        return _new(ir.Goal, 
+            body=_new(ir.Ref, name=str(body), span=self.tspan(body)),
             yaw=self.to_quantity(yaw, "angle"),
             tol_yaw=self.to_quantity(tolerances[0], "angle") if tolerances else None,
             span=self.span(meta),
@@ -712,7 +753,7 @@ class _Builder(Transformer):  # type: ignore[type-arg]
 
     def task_search(self, meta: Any, children: list[Any]) -> _Item:
         fields = self.single(children, "`search`", {}, self.span(meta))
-        spec = ir.SearchSpec(max_depth=fields.get("max_depth"), timeout=fields.get("timeout"), span=self.span(meta))
+        spec = _new(ir.SearchSpec, max_depth=fields.get("max_depth"), timeout=fields.get("timeout"), span=self.span(meta))
         return _Item("search", spec, self.span(meta))
 
     def max_depth(self, meta: Any, children: list[Any]) -> _Item:
