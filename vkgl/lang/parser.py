@@ -67,7 +67,7 @@ def _parse_cached(text: str, path: str) -> tuple[ir.Module | None, tuple[Comment
 def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
     comments: list[Token] = []
     builder = _builder()
-    builder.start_file(path)
+    builder.start_file(path, text)
     _COMMENT_SINK[0] = comments
     # The parse allocates a few objects per character and frees none of them until
     # the end; pausing the cyclic garbage collector meanwhile halves the time.
@@ -247,14 +247,12 @@ def _new(cls: type[_N], **fields: Any) -> _N:
 
 @dataclass
 class _RawQ:
-    """A number as written: its text, its unit ("" if none) and where."""
+    """A number as written: its text, its unit ("" if none), where, and the source text."""
 
     text: str
     unit: str
     span: ir.Span
-
-    def shown(self) -> str:
-        return f"{self.text} {self.unit}" if self.unit else self.text
+    written: str
 
 
 @dataclass
@@ -262,6 +260,7 @@ class _RawVec:
     components: list[_RawQ]
     unit: str | None
     span: ir.Span
+    written: str
 
 
 @dataclass
@@ -299,9 +298,10 @@ class _Builder:
         children = [self.build(c) if isinstance(c, Tree) else c for c in tree.children]
         return getattr(self, str(tree.data))(tree.meta, children)
 
-    def start_file(self, path: str) -> None:
+    def start_file(self, path: str, text: str = "") -> None:
         """Reset for a new file (one builder serves every parse)."""
         self.path = path
+        self.text = text
         self.diagnostics: list[Diagnostic] = []
 
     # ------------------------------------------------------------ helpers
@@ -310,6 +310,12 @@ class _Builder:
         if getattr(meta, "empty", True):
             return _new(ir.Span, file=self.path, line=1, col=1, end_line=1, end_col=1)
         return _new(ir.Span, file=self.path, line=meta.line, col=meta.column, end_line=meta.end_line, end_col=meta.end_column)
+
+    def written(self, meta: Any) -> str:
+        """The source text of a rule, whitespace runs shown as one space."""
+        if getattr(meta, "empty", True):
+            return ""
+        return " ".join(self.text[meta.start_pos : meta.end_pos].split())
 
     def tspan(self, token: Token) -> ir.Span:
         return _token_span(token, self.path)
@@ -324,24 +330,18 @@ class _Builder:
         return _new(ir.Quantity, value=to_si(raw.text, raw.unit), unit=raw.unit, span=raw.span)
 
     def check_unit(self, raw: _RawQ, dimension: str, span: ir.Span | None = None) -> bool:
+        """True if `raw` has `dimension`; otherwise an error that says what was expected and got."""
         got = dimension_of(raw.unit)
         if got == dimension:
             return True
         where = span or raw.span
+        message = f"expected {ARTICLE_NAME[dimension]}, got {ARTICLE_NAME[got]} `{raw.written}`"
         if got == "number":
-            self.error(
-                "E202",
-                f"expected {ARTICLE_NAME[dimension]}, got a plain number `{raw.text}`: add a unit ({unit_list(dimension)})",
-                where,
-            )
+            self.error("E202", message, where, f"add a unit: {unit_list(dimension)}")
         elif dimension == "number":
-            self.error("E203", f"expected a plain number, got {ARTICLE_NAME[got]} `{raw.shown()}`: remove the unit", where)
+            self.error("E203", message, where, "remove the unit: this value has no dimension")
         else:
-            self.error(
-                "E201",
-                f"expected {ARTICLE_NAME[dimension]}, got {ARTICLE_NAME[got]} `{raw.shown()}`: use {unit_list(dimension)}",
-                where,
-            )
+            self.error("E201", message, where, f"use {unit_list(dimension)}")
         return False
 
     def number(self, raw: _RawQ) -> float:
@@ -360,25 +360,36 @@ class _Builder:
         if n not in sizes:
             want = " or ".join(str(s) for s in sizes)
             self.error("E204", f"{what} needs {want} components, got {n}", raw.span)
-        values: list[float] = []
+        zeros = _new(ir.Vector, values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
         if raw.unit is not None:
-            for c in raw.components:
-                if c.unit:
-                    self.error("E205", "give the unit once after the vector, or on every component, not both", c.span)
-            whole = _RawQ(raw.components[0].text if raw.components else "0", raw.unit, raw.span)
-            if not self.check_unit(whole, dimension, raw.span):
-                return _new(ir.Vector, values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
-            values = [to_si(c.text, raw.unit) for c in raw.components]
-            return _new(ir.Vector, values=tuple(values), unit=raw.unit, span=raw.span)
+            return self._vector_with_unit(raw, dimension, zeros)
         ok = True
         for c in raw.components:
             ok = self.check_unit(c, dimension) and ok
         if not ok:
-            return _new(ir.Vector, values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
+            return zeros
         units = {c.unit for c in raw.components}
         unit = units.pop() if len(units) == 1 else SI_UNIT[dimension]
         values = [to_si(c.text, c.unit) for c in raw.components]
         return _new(ir.Vector, values=tuple(values), unit=unit, span=raw.span)
+
+    def _vector_with_unit(self, raw: _RawVec, dimension: str, zeros: ir.Vector) -> ir.Vector:
+        """`(a, b, c) UNIT`: components must be plain numbers."""
+        ok = True
+        for c in raw.components:
+            if not c.unit:
+                continue
+            ok = False
+            if dimension_of(c.unit) == dimension:
+                self.error("E205", "the unit is given twice: after the vector and on this component", c.span,
+                           "write the unit once after the vector, or on every component")
+            else:
+                self.check_unit(c, dimension)
+        whole = _RawQ("", raw.unit or "", raw.span, raw.written)
+        if not self.check_unit(whole, dimension, raw.span) or not ok:
+            return zeros
+        values = [to_si(c.text, raw.unit or "") for c in raw.components]
+        return _new(ir.Vector, values=tuple(values), unit=raw.unit, span=raw.span)
 
     def to_pose(self, raw: _RawPose, sizes: tuple[int, ...] = (3,), rpy_allowed: bool = True) -> ir.Pose:
         position = self.to_vector(raw.vector, "length", sizes, "a position")
@@ -409,7 +420,7 @@ class _Builder:
     def quantity(self, meta: Any, children: list[Token]) -> _RawQ:
         number = children[0]
         unit = str(children[1]) if len(children) > 1 else ""
-        return _RawQ(str(number), unit, self.span(meta))
+        return _RawQ(str(number), unit, self.span(meta), self.written(meta))
 
     def component(self, meta: Any, children: list[Token]) -> _RawQ:
         return self.quantity(meta, children)
@@ -417,7 +428,7 @@ class _Builder:
     def vector(self, meta: Any, children: list[Any]) -> _RawVec:
         unit = str(children[-1]) if isinstance(children[-1], Token) else None
         comps = [c for c in children if isinstance(c, _RawQ)]
-        return _RawVec(comps, unit, self.span(meta))
+        return _RawVec(comps, unit, self.span(meta), self.written(meta))
 
     def yaw(self, meta: Any, children: list[Any]) -> tuple[str, _RawQ]:
         return ("yaw", children[0])
@@ -544,7 +555,7 @@ class _Builder:
         return _Item("force", spec, self.span(meta))
 
     def force_directions(self, meta: Any, children: list[Any]) -> _Item:
-        counts = [self.integer(_RawQ(str(t), "", self.tspan(t)), "a grid size") for t in children[:3]]
+        counts = [self.integer(_RawQ(str(t), "", self.tspan(t), str(t)), "a grid size") for t in children[:3]]
         spec = _new(ir.ForceSpec, 
             mode="directions",
             grid=(counts[0], counts[1], counts[2]),
