@@ -11,6 +11,7 @@ CODES: dict[str, str] = {
     "E101": "unexpected token",
     "E102": "unexpected character or unterminated string",
     "E103": "unexpected end of file",
+    "E104": "nesting too deep",
     "E105": "unknown unit",
     # units and values as written (vkgl/lang/parser.py)
     "E201": "wrong dimension of a unit",

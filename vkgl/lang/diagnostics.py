@@ -47,6 +47,11 @@ class Diagnostic:
         return (self.span.file, self.span.line, self.span.col, self.code)
 
 
+# Longer source lines are shown as a window around the span, so one huge generated
+# line does not flood the terminal.
+MAX_SHOWN = 120
+
+
 def render(diag: Diagnostic, source: str | None) -> str:
     """The full rendering: headline, the source line, carets under the span, then notes."""
     lines = [diag.headline()]
@@ -59,7 +64,22 @@ def render(diag: Diagnostic, source: str | None) -> str:
                 end = max(diag.span.end_col - 1, start + 1)
             else:
                 end = max(len(text), start + 1)
+            text, start, end = _window(text, start, end)
             lines.append("    " + text)
             lines.append("    " + " " * start + "^" * (end - start))
     lines.extend(f"    note: {n}" for n in diag.notes)
     return "\n".join(lines)
+
+
+def _window(text: str, start: int, end: int) -> tuple[str, int, int]:
+    """At most MAX_SHOWN characters of `text` around [start, end), with `...` where cut."""
+    if len(text) <= MAX_SHOWN:
+        return text, start, end
+    left = max(0, min(start - 20, len(text) - MAX_SHOWN))
+    right = left + MAX_SHOWN
+    prefix = "..." if left > 0 else ""
+    suffix = "..." if right < len(text) else ""
+    shown = prefix + text[left:right] + suffix
+    new_start = start - left + len(prefix)
+    new_end = min(end, right) - left + len(prefix)
+    return shown, new_start, max(new_end, new_start + 1)
