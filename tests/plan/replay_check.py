@@ -1,0 +1,160 @@
+"""An independent check of a `vkg-plan/1` plan: recompute everything from the JSON, the program and the URDF.
+
+Nothing here imports the planner. Poses are recomposed from the affordances
+(scipy for the rotations), the arm's forward kinematics comes from DART
+loading the URDF named in the plan, with the base and effector offset the plan
+states. `check_plan` returns a list of problems (empty when the plan is right).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.lang.geometry import scene_body_pose
+from vkgl.lang.ir import DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW, FixedC, PrismaticC, RevoluteC
+from vkgl.lang.program import Program
+
+POSE_TOL = 1e-6  # m / rad: recomposed poses agree with the plan's to this
+HAND_TOL = 2e-3  # m: FK of the plan's joints puts the hand this close to where it must be
+AXIS_TOL = np.radians(1.0)  # the hand's z axis is this close to where it must point
+
+
+class DartFK:
+    """Forward kinematics of the plan's robot: DART loads the URDF; base and offset as the plan states."""
+
+    def __init__(self, robot: dict[str, Any]) -> None:
+        import dartpy as dart
+
+        loader = dart.utils.DartLoader()
+        options = dart.utils.DartLoaderOptions()
+        options.mDefaultRootJointType = dart.utils.DartLoaderRootJointType.FIXED
+        loader.setOptions(options)
+        self.skeleton = loader.parseSkeleton(robot["urdf"])
+        self.link = self.skeleton.getBodyNode(robot["effector_link"])
+        self.joints = [self.skeleton.getJoint(name) for name in robot["joints"]]
+        self.base = np.array(robot["base"])
+        self.offset = np.array(robot["effector_offset"])
+        self.lower = np.array([j.getPositionLowerLimit(0) for j in self.joints])
+        self.upper = np.array([j.getPositionUpperLimit(0) for j in self.joints])
+
+    def __call__(self, q: list[float]) -> np.ndarray:
+        for joint, value in zip(self.joints, q):
+            joint.setPosition(0, value)
+        return self.base @ self.link.getWorldTransform().matrix() @ self.offset
+
+
+def motion(constraint: Any, value: float) -> np.ndarray:
+    """The affordance's motion by `value`, in the body's frame, composed independently of the planner."""
+    m = np.eye(4)
+    axis = np.asarray(constraint.axis.values, dtype=float)
+    axis /= np.linalg.norm(axis)
+    if isinstance(constraint, PrismaticC):
+        m[:3, 3] = value * axis
+    elif isinstance(constraint, RevoluteC):
+        rotation = Rotation.from_rotvec(value * axis).as_matrix()
+        center = np.asarray(constraint.center.values, dtype=float)
+        m[:3, :3] = rotation
+        m[:3, 3] = center - rotation @ center
+    return m
+
+
+def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
+    """Every way the plan breaks its promises (see the module docstring); empty when it keeps them."""
+    plan = json.loads(json.dumps(plan_json))  # only what survives JSON
+    task = program.tasks[plan["task"]]
+    scene = program.scenes[task.scene.name]
+    types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
+    poses = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
+    fk = DartFK(plan["robot"])
+    robot_effector = f"{plan['robot']['name']}.{plan['robot']['effector']}"
+    problems: list[str] = []
+    held: dict[str, np.ndarray] = {}  # tool -> grasp (hand in the tool's frame)
+    for k, step in enumerate(plan["steps"], start=1):
+        start = {n: np.array(m) for n, m in step["poses_start"].items()}
+        end = {n: np.array(m) for n, m in step["poses_end"].items()}
+        for name, pose in poses.items():  # continuity: only held tools move between steps
+            if name not in held and not np.allclose(start[name], pose, atol=POSE_TOL):
+                problems.append(f"step {k}: {name} jumps between steps")
+        for q in (step["q_start"], step["q_end"]):
+            if np.any(np.array(q) < fk.lower - 1e-9) or np.any(np.array(q) > fk.upper + 1e-9):
+                problems.append(f"step {k}: joints outside the URDF limits")
+        type_name, _, aff_name = step["affordance"].partition(".")
+        aff = next(a for a in program.affordances[type_name] if a.name == aff_name)
+        action = aff.action.pose.matrix() if isinstance(aff.action, FixedC) and aff.action.pose else np.eye(4)
+        problems += _check_step(k, step, aff, action, start, end, held, types, fk, robot_effector)
+        for name in poses:
+            if name not in held and name != step["body"] and not np.allclose(start[name], end[name], atol=POSE_TOL):
+                problems.append(f"step {k}: {name} moves though the step does not move it")
+        if aff.motion.type == "free":
+            if step["op"] == "add":
+                held[step["body"]] = action
+            else:
+                held.pop(step["body"], None)
+        poses = end
+    final = {n: np.array(m) for n, m in plan["final"].items()}
+    problems += _check_goals(task, final)
+    return problems
+
+
+def _check_step(k: int, step: dict[str, Any], aff: Any, action: np.ndarray, start: dict[str, np.ndarray],
+                end: dict[str, np.ndarray], held: dict[str, np.ndarray], types: dict[str, Any], fk: DartFK,
+                robot_effector: str) -> list[str]:
+    out = []
+    body, value = step["body"], step["value"]
+    if step["motion"] != aff.motion.type:
+        out.append(f"step {k}: motion {step['motion']} but {step['affordance']} allows {aff.motion.type}")
+    if value < 0:
+        out.append(f"step {k}: negative motion value {value}")
+    moves = step["op"] == "add" and aff.motion.type in ("prismatic", "revolute")
+    expected = start[body] @ motion(aff.motion, value) if moves else start[body]
+    if body not in held and not np.allclose(end[body], expected, atol=POSE_TOL):
+        out.append(f"step {k}: {body} does not end where {step['affordance']} by {value} puts it")
+    for name, grasp in held.items():  # held tools stay in the hand (a released one only until it is let go)
+        released = step["op"] == "remove" and name == body
+        for pose, q in ((start[name], step["q_start"]), *(() if released else ((end[name], step["q_end"]),))):
+            out += _hand_at(k, f"holding {name}", fk(q), pose @ grasp, yaw_matters=True)
+    if step["op"] != "add":
+        return out
+    owner, _, frame = step["effector"].partition(".")
+    for pose, q in ((start[body], step["q_start"]), (expected, step["q_end"])):
+        contact = pose @ action
+        if step["effector"] == robot_effector:
+            out += _hand_at(k, f"touching {body}", fk(q), contact, yaw_matters=aff.motion.type == "free")
+        else:
+            tool_frame = types[owner].frame(frame).pose.matrix()
+            tool_pose = start[owner] if pose is start[body] else end[owner]
+            if not np.allclose(tool_pose @ tool_frame, contact, atol=1e-6):
+                out.append(f"step {k}: {step['effector']} does not touch {body} where {step['affordance']} says")
+    return out
+
+
+def _hand_at(k: int, what: str, hand: np.ndarray, target: np.ndarray, *, yaw_matters: bool) -> list[str]:
+    error = np.linalg.norm(hand[:3, 3] - target[:3, 3])
+    if error > HAND_TOL:
+        return [f"step {k}: the hand is {error * 1000:.1f} mm away while {what}"]
+    if yaw_matters:
+        angle = Rotation.from_matrix(hand[:3, :3].T @ target[:3, :3]).magnitude()
+    else:
+        angle = np.arccos(np.clip(hand[:3, 2] @ target[:3, 2], -1, 1))
+    return [f"step {k}: the hand is turned {np.degrees(angle):.1f} deg off while {what}"] if angle > AXIS_TOL else []
+
+
+def _check_goals(task: Any, final: dict[str, np.ndarray]) -> list[str]:
+    out = []
+    for goal in task.goals:
+        pose = final[goal.body.name]
+        tol_p = goal.tol_position.value if goal.tol_position else DEFAULT_TOL_POSITION
+        tol_y = goal.tol_yaw.value if goal.tol_yaw else DEFAULT_TOL_YAW
+        if goal.position is not None:
+            target = np.asarray(goal.position.values)
+            if np.linalg.norm(pose[: len(target), 3] - target) > tol_p:
+                out.append(f"{goal.body.name} misses its goal position")
+        if goal.yaw is not None:
+            yaw = np.arctan2(pose[1, 0], pose[0, 0])
+            if abs((yaw - goal.yaw.value + np.pi) % (2 * np.pi) - np.pi) > tol_y:
+                out.append(f"{goal.body.name} misses its goal heading")
+    return out

@@ -1,0 +1,89 @@
+"""Kinematic graphs and the search's transitions: G0, ADD/REMOVE, and the pruning rules that keep solutions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from plan_programs import compiled  # noqa: F401 (fixture)
+
+from vkgl.plan.closed_form import Rejection, closed_form
+from vkgl.plan.graph import Action, Engagement, edges, g0, successors, to_networkx
+from vkgl.plan.model import build_problem
+from vkgl.plan.rollout import extend, rollout, start_sequence
+
+
+@pytest.fixture(scope="module")
+def problem(compiled):
+    program = compiled("d_rotate_push")
+    return build_problem(program, program.task())
+
+
+def add(effector: str, body: str, affordance: str) -> Action:
+    return Action("add", Engagement(effector, body, affordance))
+
+
+def labels(actions: list[Action]) -> list[str]:
+    return [f"{a.op} {a.engagement.body}.{a.engagement.affordance} {a.engagement.effector}" for a in actions]
+
+
+def test_g0_has_every_body_at_rest_and_the_robot_free(problem):
+    assert edges(problem, g0()) == [("block", "world", "fixed"), ("stick", "world", "fixed"),
+                                    ("hook", "world", "fixed"), ("arm", "world", "free")]
+    assert to_networkx(problem, g0()).number_of_edges() == 4
+
+
+def test_from_g0_only_the_hand_acts_and_nothing_can_be_removed(problem):
+    found = labels(successors(problem, g0(), None))
+    assert len(found) == 6 + 2  # the block's six affordances, and grasping either tool
+    assert all(a.startswith("add") and a.endswith("arm.fingertip") for a in found)
+    assert "add stick.wield arm.fingertip" in found and "add hook.wield arm.fingertip" in found
+
+
+def test_a_held_tool_becomes_an_effector_and_stays_in_hand_while_it_acts(problem):
+    grasp = add("arm.fingertip", "stick", "wield")
+    holding = g0().apply(grasp)
+    found = labels(successors(problem, holding, grasp))
+    assert found == [f"add block.{a.name} stick.tip" for a in problem.bodies["block"].affordances]  # no re-release
+    push = add("stick.tip", "block", "push_center_px")
+    pushing = holding.apply(push)
+    assert edges(problem, pushing)[-2:] == [("arm", "stick", "fixed"), ("stick", "block", "fixed")]
+    assert labels(successors(problem, pushing, push)) == ["remove block.push_center_px stick.tip"]
+
+
+def test_the_engagement_just_removed_is_not_added_again(problem):
+    push = add("arm.fingertip", "block", "push_center_px")
+    removed = Action("remove", push.engagement)
+    after = g0().apply(push).apply(removed)
+    found = labels(successors(problem, after, removed))
+    assert "add block.push_center_px arm.fingertip" not in found
+    assert "add block.turn_px_left arm.fingertip" in found
+
+
+def test_rollout_composes_the_affordances_motions(problem):
+    seq = start_sequence(problem)
+    for action in (add("arm.fingertip", "block", "turn_px_left"),
+                   Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
+                   add("arm.fingertip", "block", "push_center_px")):
+        seq, _ = extend(problem, seq, action)
+    traces = rollout(problem, seq, np.array([math.radians(30), 0.10]))
+    final = traces[-1].end["block"]
+    assert np.allclose(final[:2, 3], (0.5933, -0.0384), atol=1e-4)  # turned about its far corner, then slid
+    assert math.isclose(math.atan2(final[1, 0], final[0, 0]), math.radians(-30), abs_tol=1e-9)
+    hand = traces[-1].hand
+    assert len(hand) == 5 and np.allclose(hand[-1][:3, 3], (final @ problem.action("block", "push_center_px"))[:3, 3])
+
+
+def test_closed_form_rejects_a_turn_the_wrong_way_and_pins_the_right_one(problem):
+    wrong, _ = extend(problem, start_sequence(problem), add("arm.fingertip", "block", "turn_px_right"))
+    rejected = closed_form(problem, wrong)
+    assert isinstance(rejected, Rejection) and rejected.kind == "yaw"
+    seq = start_sequence(problem)
+    for action in (add("arm.fingertip", "block", "turn_px_left"),
+                   Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
+                   add("arm.fingertip", "block", "push_center_px")):
+        seq, _ = extend(problem, seq, action)
+    values, pinned = closed_form(problem, seq)
+    assert pinned and np.allclose(values, (math.radians(30), 0.10), atol=1e-3)

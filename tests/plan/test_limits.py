@@ -1,0 +1,93 @@
+"""What `vkgc solve` says when there is no plan: infeasible goals (exit 2) and timeouts (exit 3), and input errors."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pytest
+
+from plan_programs import compiled  # noqa: F401 (fixture)
+
+from vkgl.cli import main
+from vkgl.errors import InputError
+from vkgl.plan.solve import solve
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "tabletop.vkg"
+
+HEADER = f'''use "{SCENES}"
+use stdlib.affordances.block
+use stdlib.affordances.stick
+use stdlib.affordances.hook
+use stdlib.tools
+'''
+
+
+def task_file(tmp_path: Path, body: str, name: str = "t") -> str:
+    path = tmp_path / f"{name}.vkg"
+    path.write_text(HEADER + body, encoding="utf-8")
+    return str(path)
+
+
+def test_goal_off_the_table_is_infeasible_at_once_and_says_why(tmp_path):
+    path = task_file(tmp_path, "task off { scene tabletop  goal block at (2.0, 0.0) m within 1 cm }\n")
+    plan = solve(path)
+    assert plan.status == "infeasible"
+    assert "off the table" in plan.reason and "block" in plan.reason
+    assert plan.stats["solve_time_s"] < 0.5
+
+
+def test_goal_beyond_the_sticks_reach_is_infeasible_and_names_the_reach(tmp_path):
+    path = task_file(tmp_path, "task far { scene tabletop_mid  goal block at (1.25, 0.0) m yaw 0deg within 1 cm, 3 deg"
+                               "  search { max_depth 6  timeout 20 s } }\n")
+    started = time.perf_counter()
+    plan = solve(path)
+    assert plan.status == "infeasible"
+    assert "reach" in plan.reason and "no sequence of at most 6 graphs" in plan.reason
+    assert time.perf_counter() - started < 5.0
+    out = plan.to_json()
+    assert out["status"] == "infeasible" and out["depth"] is None and out["steps"] == [] and out["reason"]
+
+
+def test_a_short_timeout_on_a_deep_search_stops_in_about_that_time(tmp_path):
+    # the goal is unreachable, so the search would run through every sequence of up to 9 graphs
+    path = task_file(tmp_path, "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
+                               "  search { max_depth 9  timeout 1 s } }\n")
+    started = time.perf_counter()
+    plan = solve(path)
+    elapsed = time.perf_counter() - started
+    assert plan.status == "timeout", plan.reason
+    assert "timeout of 1 s" in plan.reason
+    assert elapsed < 1.6
+
+
+def test_command_line_exit_codes(tmp_path, capsys):
+    ok = task_file(tmp_path, "task ok { scene tabletop  goal block at (0.55, 0.0) m yaw 0deg within 1 cm, 3 deg }\n",
+                   "ok")
+    off = task_file(tmp_path, "task off { scene tabletop  goal block at (2.0, 0.0) m within 1 cm }\n", "off")
+    deep = task_file(tmp_path, "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
+                               "  search { max_depth 9  timeout 60 s } }\n", "deep")
+    out_json, out_png = tmp_path / "plan.json", tmp_path / "plan.png"
+    assert main(["solve", ok, "--json", str(out_json), "--plot", str(out_png)]) == 0
+    assert out_json.read_text().startswith("{") and out_png.stat().st_size > 10_000
+    assert main(["solve", off]) == 2
+    assert main(["solve", deep, "--timeout", "0.5"]) == 3
+    assert main(["solve", deep, "--max-depth", "3"]) == 2
+    assert main(["solve", str(tmp_path / "missing.vkg")]) == 1
+    err = capsys.readouterr().out
+    assert "off the table" in err
+
+
+def test_task_naming_a_body_the_scene_lacks_is_an_input_error(compiled):
+    program = compiled("a_push")
+    with pytest.raises(InputError, match="no task `nope`"):
+        solve((program, "nope"))
+    with pytest.raises(InputError, match="max_depth must be at least 1"):
+        solve(program, max_depth=0)
+
+
+def test_max_depth_bounds_the_graphs_of_a_plan(compiled):
+    program = compiled("b_stick_push")
+    short = solve(program, max_depth=2)
+    assert short.status == "infeasible" and "at most 2 graphs" in short.reason
+    assert solve(program, max_depth=3).depth == 3

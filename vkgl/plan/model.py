@@ -1,0 +1,279 @@
+"""The planning problem: what the search needs to know about a task, read once from the IR.
+
+`build_problem(program, task)` gathers the scene's bodies with their resting
+poses and usable affordances, the robot's arm (URDF, effector, base), the
+effectors (the robot's own and every tool frame with a correspondence), the
+goals in SI and the table. Everything here is plain numpy; the search and the
+feasibility checks never look at the IR again.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vkgl.errors import InputError
+from vkgl.lang.geometry import resting_height, scene_body_pose, table_top
+from vkgl.lang.ir import (
+    DEFAULT_TOL_POSITION,
+    DEFAULT_TOL_YAW,
+    Affordance,
+    Body,
+    FixedC,
+    Goal,
+    Robot,
+    Scene,
+    SceneBody,
+    Task,
+)
+from vkgl.lang.program import Program
+from vkgl.robot import Arm
+
+DEFAULT_MAX_DEPTH = 6
+"""Graphs in the longest sequence searched (G0 included) when the task says nothing."""
+
+DEFAULT_TIMEOUT = 60.0
+"""s: the search gives up after this long when the task says nothing."""
+
+_ARMS: dict[tuple[str, str, bytes], Arm] = {}  # loaded arms, per URDF, effector and base: loading costs ~0.5 s
+
+
+@dataclass(frozen=True)
+class PlanBody:
+    """A scene body as the planner sees it.
+
+    `rest`: world pose at the start; `rest_z`: the height of its frame when it
+    lies on the table (where a released tool is put down); `affordances`: the
+    affordances of its type with a fixed action (the only ones an effector can
+    enact); `joint`: the type of its physical joint to the world, if any, with
+    `joint_axis` (body frame) and `joint_limits`.
+    """
+
+    name: str
+    type: Body
+    rest: np.ndarray
+    rest_z: float
+    on_table: bool
+    affordances: tuple[Affordance, ...]
+    joint: str | None = None
+    joint_axis: np.ndarray | None = None
+    joint_limits: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class EffectorSpec:
+    """Something that can enact an affordance: the robot's effector, or a tool frame (`Stick.tip ~ fingertip`).
+
+    `name` is what plans print (`arm.fingertip`, `stick.tip`); `tool` is the
+    scene body that carries the frame (None for the robot); `frame` is the
+    frame in the tool's body frame (identity for the robot).
+    """
+
+    name: str
+    tool: str | None
+    frame: np.ndarray
+
+    @property
+    def frame_inverse(self) -> np.ndarray:
+        """The inverse of `frame` (cached: rollouts use it in every evaluation)."""
+        cached = self.__dict__.get("_inverse")
+        if cached is None:
+            cached = np.linalg.inv(self.frame)
+            object.__setattr__(self, "_inverse", cached)
+        return cached
+
+
+@dataclass(frozen=True)
+class GoalSpec:
+    """One goal in SI: `position` (2 or 3 components, or None), `yaw` (rad, or None) and the tolerances."""
+
+    body: str
+    position: np.ndarray | None
+    yaw: float | None
+    tol_position: float
+    tol_yaw: float
+
+
+@dataclass
+class Problem:
+    """Everything the search and the feasibility checks need about one task."""
+
+    program: Program
+    task: Task
+    scene: Scene
+    bodies: dict[str, PlanBody]
+    robot_name: str
+    arm: Arm
+    effectors: list[EffectorSpec]
+    goals: list[GoalSpec]
+    table_center: np.ndarray | None
+    table_size: np.ndarray | None
+    table_z: float
+    max_depth: int
+    timeout: float
+    _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
+    _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
+    _actions: dict[tuple[str, str], np.ndarray] = field(default_factory=dict, repr=False)
+
+    @property
+    def robot_effector(self) -> EffectorSpec:
+        """The robot's own effector (always the first)."""
+        return self.effectors[0]
+
+    def affordance(self, body: str, name: str) -> Affordance:
+        """The affordance `name` of scene body `body`."""
+        key = (body, name)
+        if key not in self._affordances:  # looked up in every rollout: keep it a dict access
+            self._affordances[key] = next(a for a in self.bodies[body].affordances if a.name == name)
+        return self._affordances[key]
+
+    def effector(self, name: str) -> EffectorSpec:
+        """The effector called `name`."""
+        if name not in self._effectors:
+            self._effectors[name] = next(e for e in self.effectors if e.name == name)
+        return self._effectors[name]
+
+    def action(self, body: str, name: str) -> np.ndarray:
+        """The effector frame in `body`'s frame while its affordance `name` holds (read-only)."""
+        key = (body, name)
+        if key not in self._actions:
+            self._actions[key] = action_pose(self.affordance(body, name))
+        return self._actions[key]
+
+
+def build_problem(program: Program, task: Task, *, max_depth: int | None = None,
+                  timeout: float | None = None) -> Problem:
+    """The planning problem of `task` in `program`; command-line limits override the task's `search` block.
+
+    Raises InputError (saying where and what to change) when the task's scene,
+    robot or a goal body does not exist, or a limit is not positive.
+    """
+    scene = program.scenes.get(task.scene.name)
+    if scene is None:
+        raise InputError(f"{_where(task)}task {task.name}: no scene `{task.scene.name}` in the program")
+    if not scene.robots:
+        raise InputError(f"{_where(scene)}scene {scene.name} has no robot: add `robot arm : Panda at (0, 0, 0) m`")
+    placed = scene.robots[0]
+    robot = program.robots.get(placed.type.name)
+    if robot is None:
+        raise InputError(f"{_where(placed)}robot {placed.name} has the unknown type `{placed.type.name}`")
+    effector_name = _robot_effector_name(program, robot)
+    arm = _load_arm(robot, effector_name, placed.pose.matrix())
+    bodies = {sb.name: _plan_body(program, scene, sb) for sb in scene.bodies}
+    effectors = [EffectorSpec(f"{placed.name}.{effector_name}", None, np.eye(4))]
+    effectors += _tool_effectors(program, scene, effector_name)
+    goals = [_goal_spec(task, g, bodies) for g in task.goals]
+    search = task.search
+    depth = max_depth if max_depth is not None else (search.max_depth if search and search.max_depth else None)
+    limit = timeout if timeout is not None else (search.timeout.value if search and search.timeout else None)
+    depth = DEFAULT_MAX_DEPTH if depth is None else int(depth)
+    limit = DEFAULT_TIMEOUT if limit is None else float(limit)
+    if depth < 1:
+        raise InputError(f"max_depth must be at least 1 (graphs in a sequence, G0 included), got {depth}")
+    if not limit > 0:
+        raise InputError(f"the timeout must be positive, got {limit} s")
+    center, size = _table(scene)
+    return Problem(program, task, scene, bodies, placed.name, arm, effectors, goals, center, size,
+                   table_top(scene), depth, limit)
+
+
+def _where(node: object) -> str:
+    span = getattr(node, "span", None)
+    return f"{span}: " if span is not None else ""
+
+
+def _robot_effector_name(program: Program, robot: Robot) -> str:
+    """The effector the plans use: the first one that tools correspond to, else the robot's first."""
+    names = [e.name for e in robot.effectors]
+    if not names:
+        raise InputError(f"{_where(robot)}robot {robot.name} declares no effector")
+    for corr in program.correspondences:
+        if corr.effector.name in names:
+            return corr.effector.name
+    return names[0]
+
+
+def _load_arm(robot: Robot, effector: str, base: np.ndarray) -> Arm:
+    """The arm of `robot` at `base`, loaded once per process (per URDF, effector and base)."""
+    key = (robot.urdf_resolved or robot.urdf, effector, base.tobytes())
+    if key not in _ARMS:
+        _ARMS[key] = Arm.load(robot, effector, base)
+    return _ARMS[key]
+
+
+def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBody:
+    body = program.bodies.get(scene_body.type.name)
+    if body is None:
+        raise InputError(f"{_where(scene_body)}scene body {scene_body.name} has the unknown type "
+                         f"`{scene_body.type.name}`")
+    rest = scene_body_pose(scene, scene_body, body)
+    yaw = math.atan2(rest[1, 0], rest[0, 0])
+    usable = tuple(a for a in program.affordances.get(body.name, []) if isinstance(a.action, FixedC))
+    joint = body.joint
+    return PlanBody(
+        name=scene_body.name,
+        type=body,
+        rest=rest,
+        rest_z=resting_height(body, yaw, table_top(scene)),
+        on_table=scene_body.placement.on_table,
+        affordances=usable,
+        joint=None if joint is None else joint.type,
+        joint_axis=None if joint is None else joint.axis.array() / np.linalg.norm(joint.axis.array()),
+        joint_limits=None if joint is None else (joint.lower.value, joint.upper.value),
+    )
+
+
+def action_pose(affordance: Affordance) -> np.ndarray:
+    """The effector frame in the body's frame of a fixed action (identity when it gives no pose)."""
+    pose = affordance.action.pose  # type: ignore[union-attr]
+    return np.eye(4) if pose is None else pose.matrix()
+
+
+def _tool_effectors(program: Program, scene: Scene, effector_name: str) -> list[EffectorSpec]:
+    """Every scene body frame with a correspondence to the robot's effector, in correspondence then scene order."""
+    out = []
+    for corr in program.correspondences:
+        if corr.effector.name != effector_name:
+            continue
+        body_type = program.bodies.get(corr.frame.body)
+        if body_type is None:
+            continue
+        frame = body_type.frame(corr.frame.frame)
+        if frame is None:
+            raise InputError(f"{_where(corr)}correspondence {corr.frame.body}.{corr.frame.frame}: "
+                             f"body {corr.frame.body} has no frame `{corr.frame.frame}`")
+        for sb in scene.bodies:
+            if sb.type.name == corr.frame.body:
+                out.append(EffectorSpec(f"{sb.name}.{corr.frame.frame}", sb.name, frame.pose.matrix()))
+    return out
+
+
+def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
+    name = goal.body.name
+    if name not in bodies:
+        known = ", ".join(bodies) or "none"
+        raise InputError(f"{_where(goal)}task {task.name}: the goal names `{name}`, which is not a body of the "
+                         f"scene (its bodies: {known})")
+    position = goal.position.array() if goal.position is not None else None
+    yaw = goal.yaw.value if goal.yaw is not None else None
+    tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
+    tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
+    return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
+
+
+def _table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
+    if scene.table is None:
+        return None, None
+    return np.asarray(scene.table.position.values[:2], dtype=float), np.asarray(scene.table.size.values[:2], dtype=float)
+
+
+def yaw_of(pose: np.ndarray) -> float:
+    """The heading (rad) of a pose: the angle of its x axis about the world z axis."""
+    return math.atan2(pose[1, 0], pose[0, 0])
+
+
+def wrap_angle(angle: float) -> float:
+    """`angle` wrapped into [-pi, pi)."""
+    return (angle + math.pi) % (2 * math.pi) - math.pi

@@ -1,0 +1,184 @@
+"""Algorithm 1 of the paper: breadth-first search over graph sequences, first feasible sequence returned.
+
+Sequences are extended one transition at a time (`successors` in
+`vkgl.plan.graph`) and checked as they are generated, level by level, so the
+first feasible sequence found is a shortest one. What never loses a solution:
+
+- a sequence is only checked when its last mode moves a goal body: otherwise
+  its final poses are those of a shorter prefix, which was checked before;
+  for the same reason the last level only generates such sequences;
+- a transition whose hand pose no motion value can change (e.g. touching a
+  body still at rest, or grasping a tool where it lies) is checked against the
+  arm's reach at once, and when it is out of reach the whole subtree goes;
+- the task-space check starts with exact reasoning (`closed_form`) and runs
+  the optimiser only when that cannot decide; joint space only after task space.
+
+Each sequence carries what its prefix knows (`Sequence`: graphs, variables,
+poses with the values at zero), so no work is repeated along a branch.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections import Counter, deque
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from vkgl.plan.feasible import Counters, JointSolution, TaskSolution, goal_holds, joint_space, task_space
+from vkgl.plan.graph import successors
+from vkgl.plan.model import Problem
+from vkgl.plan.reach import Rejection, unreachable
+from vkgl.plan.rollout import Sequence, extend, rollout, start_sequence
+
+
+@dataclass
+class SearchStats:
+    """Counters of one search (reported in the plan and by bench/bench_solve.py)."""
+
+    graphs_expanded: int = 0
+    sequences: int = 0
+    pruned: int = 0
+    task_space_checks: int = 0
+    joint_space_checks: int = 0
+    work: Counters = field(default_factory=Counters)
+    depth_reached: int = 1
+    rejections: Counter = field(default_factory=Counter)
+    examples: dict[str, tuple[float, str]] = field(default_factory=dict)
+
+    def reject(self, rejection: Rejection, label: str) -> None:
+        """Count a rejection; keep the closest miss of each kind (the first among equals) as its example."""
+        self.rejections[rejection.kind] += 1
+        kept = self.examples.get(rejection.kind)
+        if kept is None or rejection.excess < kept[0]:
+            self.examples[rejection.kind] = (rejection.excess, f"{label}: {rejection.why}")
+
+
+@dataclass
+class SearchResult:
+    """What the search ended with: `status` solved/infeasible/timeout, and for solved the sequence and its solutions."""
+
+    status: str
+    reason: str
+    stats: SearchStats
+    sequence: Sequence | None = None
+    task: TaskSolution | None = None
+    joints: JointSolution | None = None
+
+
+def search(problem: Problem, *, deadline: float, progress: bool = False) -> SearchResult:
+    """Breadth-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs)."""
+    stats = SearchStats()
+    reporter = _Progress(progress)
+    root = start_sequence(problem)
+    if goal_holds(problem, root.zero_poses):
+        return _check(problem, root, stats, deadline) or SearchResult("infeasible", "", stats)
+    queue: deque[Sequence] = deque([root])
+    try:
+        while queue:
+            seq = queue.popleft()
+            if seq.depth >= problem.max_depth:
+                continue
+            stats.graphs_expanded += 1
+            stats.depth_reached = max(stats.depth_reached, seq.depth + 1)
+            reporter.show(stats)
+            for action in successors(problem, seq.graphs[-1], seq.last):
+                if time.perf_counter() > deadline:
+                    return SearchResult("timeout", _timeout_reason(problem, stats), stats)
+                child, hand = extend(problem, seq, action)
+                stats.sequences += 1
+                if hand is not None and (rejection := unreachable(problem, hand)) is not None:
+                    stats.pruned += 1
+                    stats.reject(rejection, action.label(problem))
+                    continue
+                if _moves_goal_body(problem, child):
+                    found = _check(problem, child, stats, deadline)
+                    if found is not None:
+                        return found
+                if child.depth < problem.max_depth:
+                    queue.append(child)
+    finally:
+        reporter.done()
+    if time.perf_counter() > deadline:
+        return SearchResult("timeout", _timeout_reason(problem, stats), stats)
+    return SearchResult("infeasible", _infeasible_reason(problem, stats), stats)
+
+
+def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
+    """Whether the last mode of `seq` moves a body that a goal names."""
+    mode = seq.depth - 1
+    goal_bodies = {g.body for g in problem.goals}
+    return any(m == mode and e.body in goal_bodies for m, e in seq.variables)
+
+
+def _check(problem: Problem, seq: Sequence, stats: SearchStats, deadline: float) -> SearchResult | None:
+    """Task space, then joint space; a SearchResult when both hold, else None (rejection counted)."""
+    label = " -> ".join(a.label(problem) for a in seq.actions) or "G0"
+    if seq.variables or seq.actions:
+        stats.task_space_checks += 1
+        solution = task_space(problem, seq, deadline, stats.work)
+    else:
+        solution = TaskSolution(np.zeros(0), rollout(problem, seq, np.zeros(0)))
+    if isinstance(solution, Rejection):
+        stats.reject(solution, label)
+        return None
+    stats.joint_space_checks += 1
+    joints = joint_space(problem, solution, deadline, stats.work)
+    if isinstance(joints, Rejection):
+        stats.reject(joints, label)
+        return None
+    return SearchResult("solved", "", stats, seq, solution, joints)
+
+
+_KIND_WORDS = {
+    "reach": "needed the hand out of the arm's reach",
+    "yaw": "cannot give the goal heading",
+    "position": "cannot bring a body to its goal position",
+    "goal": "found no motion values reaching the goal",
+    "table": "would push a body off the table or past its joint's limits",
+    "ik": "failed inverse kinematics",
+    "timeout": "ran out of time",
+}
+
+
+def _summary(stats: SearchStats) -> str:
+    parts = [f"{n} {_KIND_WORDS.get(kind, kind)} (closest: {stats.examples[kind][1]})"
+             for kind, n in stats.rejections.most_common()]
+    return "; ".join(parts)
+
+
+def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
+    head = (f"no sequence of at most {problem.max_depth} graphs reaches the goal "
+            f"({stats.sequences} sequences tried, {stats.task_space_checks} task-space checks)")
+    detail = _summary(stats)
+    return f"{head}: {detail}" if detail else head
+
+
+def _timeout_reason(problem: Problem, stats: SearchStats) -> str:
+    return (f"no plan within the timeout of {problem.timeout:g} s (searched up to depth "
+            f"{min(stats.depth_reached, problem.max_depth)}, {stats.sequences} sequences tried); "
+            f"raise `timeout` in the task's search block or pass --timeout")
+
+
+class _Progress:
+    """A one-line progress report on stderr, on a terminal only, at most ten times a second."""
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self._next = 0.0
+        self._shown = False
+
+    def show(self, stats: SearchStats) -> None:
+        if not self.enabled or time.perf_counter() < self._next:
+            return
+        self._next = time.perf_counter() + 0.1
+        self._shown = True
+        sys.stderr.write(f"\rsearching: depth {stats.depth_reached}, {stats.sequences} sequences, "
+                         f"{stats.task_space_checks} task-space checks, {stats.joint_space_checks} IK checks ")
+        sys.stderr.flush()
+
+    def done(self) -> None:
+        if self._shown:
+            sys.stderr.write("\r\033[K")
+            sys.stderr.flush()

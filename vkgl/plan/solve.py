@@ -1,0 +1,146 @@
+"""`solve(task)`: plan for a task, the library entry point behind `vkgc solve`.
+
+    from vkgl.plan.solve import solve
+    plan = solve("examples/tasks/b_stick_push.vkg")
+    print(plan.text())
+
+The task may be a path (compiled here), a Program (its first task) or a
+`(Program, task name)` pair. Input errors raise `vkgl.errors.InputError`; a
+goal that no plan can reach or a search that runs out of time are results, not
+errors: `plan.status` is "infeasible" or "timeout" and `plan.reason` says why.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vkgl.errors import InputError
+from vkgl.lang.ir import Task
+from vkgl.lang.program import Program
+from vkgl.plan.model import Problem, build_problem
+from vkgl.plan.plan import Plan, PlanStep, graph_edges, robot_entry
+from vkgl.plan.rollout import ModeTrace
+from vkgl.plan.search import SearchResult, SearchStats, search
+
+
+def solve(task: Any, *, max_depth: int | None = None, timeout: float | None = None,
+          progress: bool = False) -> Plan:
+    """Plan for `task` (path | Program | (Program, task name)); `max_depth`/`timeout` override its `search` block.
+
+    Breadth-first search over graph sequences (`vkgl.plan.search`) with
+    task-space and joint-space feasibility checks (`vkgl.plan.feasible`).
+    `progress` shows the search on stderr. Deterministic: the same input gives
+    the same plan.
+    """
+    program, task_ir = _program_and_task(task)
+    started = time.perf_counter()
+    problem = build_problem(program, task_ir, max_depth=max_depth, timeout=timeout)
+    deadline = started + problem.timeout
+    why = _hopeless(problem)
+    if why is not None:
+        return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
+    return _plan(problem, search(problem, deadline=deadline, progress=progress), started)
+
+
+def _program_and_task(task: Any) -> tuple[Program, Task]:
+    if isinstance(task, (str, Path)):
+        from vkgl.lang.compiler import compile_file
+
+        program = compile_file(str(task))
+        return program, _task_of(program, None, str(task))
+    if isinstance(task, Program):
+        return task, _task_of(task, None, "the program")
+    if isinstance(task, tuple) and len(task) == 2 and isinstance(task[0], Program):
+        return task[0], _task_of(task[0], task[1], "the program")
+    raise InputError(f"solve() takes a task file, a Program or (Program, task name), not {type(task).__name__}")
+
+
+def _task_of(program: Program, name: str | None, where: str) -> Task:
+    try:
+        return program.task(name)
+    except KeyError:
+        known = ", ".join(program.tasks) or "none"
+        what = f"no task `{name}`" if name is not None else "no task"
+        raise InputError(f"{where} declares {what} (tasks: {known})") from None
+
+
+def _hopeless(problem: Problem) -> str | None:
+    """Why no search can succeed, found without searching (goal off the table, nothing moves the body), or None."""
+    for goal in problem.goals:
+        body = problem.bodies[goal.body]
+        movers = [a for a in body.affordances if a.motion.type in ("prismatic", "revolute")]
+        if goal.position is not None and problem.table_center is not None and body.on_table:
+            low = problem.table_center - problem.table_size / 2  # type: ignore[operator]
+            high = problem.table_center + problem.table_size / 2  # type: ignore[operator]
+            x, y = goal.position[:2]
+            if not (low[0] <= x <= high[0] and low[1] <= y <= high[1]):
+                return (f"the goal puts {goal.body} at ({x:.3f}, {y:.3f}) m, off the table "
+                        f"(x from {low[0]:.2f} to {high[0]:.2f} m, y from {low[1]:.2f} to {high[1]:.2f} m)")
+        if not movers and not _at_goal(problem, goal):
+            if body.affordances:
+                names = ", ".join(a.name for a in body.affordances)
+                return (f"no affordance moves {goal.body}: the affordances of {body.type.name} ({names}) only let "
+                        f"it be held or touched, not slid or turned to a goal")
+            return (f"no affordance moves {goal.body}: its type {body.type.name} has no affordance in the program "
+                    f"(is `use stdlib.affordances.{body.type.name.lower()}` missing?)")
+    return None
+
+
+def _at_goal(problem: Problem, goal: Any) -> bool:
+    from vkgl.plan.feasible import goal_holds
+
+    return goal_holds(problem, {n: b.rest for n, b in problem.bodies.items()}, [goal])
+
+
+def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
+    stats = {
+        "solve_time_s": round(time.perf_counter() - started, 4),
+        "graphs_expanded": result.stats.graphs_expanded,
+        "task_space_checks": result.stats.task_space_checks,
+        "joint_space_checks": result.stats.joint_space_checks,
+    }
+    rest = {n: b.rest.copy() for n, b in problem.bodies.items()}
+    details = {
+        "sequences": result.stats.sequences,
+        "pruned": result.stats.pruned,
+        "optimisations": result.stats.work.optimisations,
+        "ik_calls": result.stats.work.ik_calls,
+        "rejections": dict(result.stats.rejections),
+    }
+    plan = Plan(problem.task.name, result.status, result.reason, stats, robot_entry(problem), start=rest,
+                problem=problem, details=details)
+    if result.status != "solved":
+        return plan
+    seq, task, joints = result.sequence, result.task, result.joints
+    assert seq is not None and task is not None and joints is not None
+    plan.graphs = graph_edges(problem, list(seq.graphs))
+    plan.steps = [_step(problem, action, task.traces[k], joints.q_start[k], joints.q_end[k])
+                  for k, action in enumerate(seq.actions, start=1)]
+    plan.final = dict(task.traces[-1].end)
+    return plan
+
+
+def _step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarray, q_end: np.ndarray) -> PlanStep:
+    e = action.engagement
+    aff = problem.affordance(e.body, e.affordance)
+    value = trace.values.get(e, 0.0) if action.op == "add" else 0.0
+    return PlanStep(
+        op=action.op,
+        affordance=f"{problem.bodies[e.body].type.name}.{e.affordance}",
+        body=e.body,
+        effector=e.effector,
+        motion=aff.motion.type,
+        value=float(max(0.0, value)),
+        poses_start=dict(trace.start),
+        poses_end=dict(trace.end),
+        q_start=np.asarray(q_start, dtype=float),
+        q_end=np.asarray(q_end, dtype=float),
+        hand=list(trace.hand),
+    )
+
+
+__all__ = ["solve", "Plan"]

@@ -1,0 +1,166 @@
+"""Pictures of plans (matplotlib): `plot_plan(plan, path)` for `vkgc solve --plot F.png`.
+
+One column per mode of the plan (G0, G1, ...): on top a top view of the
+table with the arm's reach at the hand's height (the annulus computed from the
+URDF), every body where the mode starts (dashed) and ends (filled), the hand's
+path during the mode and the goal (red outline); below it the mode's kinematic
+graph (networkx), each edge labelled with its type.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from vkgl.errors import InputError
+
+_COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
+_EDGE_STYLE = {"fixed": "solid", "prismatic": "dashed", "revolute": "dashdot", "free": "dotted"}
+
+
+def plot_plan(plan: Any, path: str | Path) -> None:
+    """Draw a solved plan (one panel per mode, with its graph) to `path` (PNG, SVG, PDF: by extension)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    if plan.status != "solved":
+        raise InputError(f"task {plan.task} has no plan to draw ({plan.status}: {plan.reason})")
+    modes = _modes(plan)
+    fig, axes = plt.subplots(2, len(modes), figsize=(3.6 * len(modes), 6.4), squeeze=False,
+                             gridspec_kw={"height_ratios": [3, 2]})
+    colors = {name: _COLORS[i % len(_COLORS)] for i, name in enumerate(plan.start)}
+    outlines = _outlines(plan)
+    limits = _limits(plan, modes)
+    for k, (title, start, end, hand) in enumerate(modes):
+        ax = axes[0][k]
+        _draw_scene(ax, plan, start, end, hand, colors, outlines, limits)
+        ax.set_title(title, fontsize=9)
+        _draw_graph(axes[1][k], plan.graphs[k], colors)
+    fig.suptitle(f"{plan.task}: {plan.depth} graphs, {len(plan.steps)} steps", fontsize=11)
+    fig.tight_layout()
+    try:
+        fig.savefig(str(path), dpi=110)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot write the picture {path}: {exc}") from None
+    finally:
+        plt.close(fig)
+
+
+def _modes(plan: Any) -> list[tuple[str, dict, dict, list]]:
+    """(title, poses at start, poses at end, hand poses) of every mode; G0 is the scene at rest."""
+    out = [("G0: start", plan.start, plan.start, [])]
+    for k, step in enumerate(plan.steps, start=1):
+        what = f"{step.op} {step.affordance}\nwith {step.effector}"
+        if step.op == "add" and step.motion == "prismatic":
+            what += f", slide {step.value * 100:.1f} cm"
+        elif step.op == "add" and step.motion == "revolute":
+            what += f", turn {math.degrees(step.value):.1f} deg"
+        out.append((f"G{k}: {what}", step.poses_start, step.poses_end, step.hand))
+    return out
+
+
+def _outlines(plan: Any) -> dict[str, list[np.ndarray]]:
+    """Each body's footprint seen from above, in its own frame: the convex hull of each part of its shape."""
+    from scipy.spatial import ConvexHull
+
+    from vkgl.lang.geometry import shape_mesh
+    from vkgl.lang.ir import UnionShape
+
+    out: dict[str, list[np.ndarray]] = {}
+    problem = plan.problem
+    if problem is None:
+        return out
+    for name, body in problem.bodies.items():
+        shape = body.type.shape
+        parts = [(p.shape, p.pose.matrix()) for p in shape.parts] if isinstance(shape, UnionShape) else [(shape, None)]
+        out[name] = []
+        for part, pose in parts:
+            mesh = shape_mesh(part)
+            if pose is not None:
+                mesh.apply_transform(pose)
+            points = mesh.vertices[:, :2]
+            out[name].append(points[ConvexHull(points).vertices])
+    return out
+
+
+def _limits(plan: Any, modes: list) -> tuple[tuple[float, float], tuple[float, float]]:
+    """A common view for every panel: the table, or everything drawn, with a margin."""
+    problem = plan.problem
+    if problem is not None and problem.table_center is not None:
+        low = problem.table_center - problem.table_size / 2
+        high = problem.table_center + problem.table_size / 2
+        base = problem.arm.base[:2, 3]
+        low, high = np.minimum(low, base), np.maximum(high, base)
+    else:
+        points = np.array([p[:2, 3] for _, s, e, _ in modes for p in (*s.values(), *e.values())])
+        low, high = points.min(axis=0) - 0.3, points.max(axis=0) + 0.3
+    return (low[0] - 0.05, high[0] + 0.05), (low[1] - 0.05, high[1] + 0.05)
+
+
+def _draw_scene(ax: Any, plan: Any, start: dict, end: dict, hand: list, colors: dict, outlines: dict,
+                limits: tuple) -> None:
+    from matplotlib.patches import Circle, Polygon, Rectangle
+
+    problem = plan.problem
+    if problem is not None and problem.table_center is not None:
+        corner = problem.table_center - problem.table_size / 2
+        ax.add_patch(Rectangle(corner, *problem.table_size, facecolor="0.93", edgecolor="0.6"))
+        height = float(hand[0][2, 3]) if hand else 0.025
+        r_min, r_max = problem.arm.reach(height)
+        base = problem.arm.base[:2, 3]
+        ax.add_patch(Circle(base, r_max, fill=False, linestyle=":", color="0.45"))
+        ax.add_patch(Circle(base, r_min, fill=False, linestyle=":", color="0.45"))
+        ax.plot(*base, marker="s", color="0.3")
+        for goal in problem.goals:
+            if goal.position is not None and goal.body in outlines:
+                pose = np.eye(4)
+                yaw = goal.yaw if goal.yaw is not None else 0.0
+                pose[:2, :2] = [[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]
+                pose[:2, 3] = goal.position[:2]
+                for part in outlines[goal.body]:
+                    ax.add_patch(Polygon(_placed(part, pose), fill=False, edgecolor="red", linestyle="--"))
+    for name in end:
+        if name in outlines:
+            moved = np.abs(start[name] - end[name]).max() > 1e-9
+            for part in outlines[name]:
+                if moved:
+                    ax.add_patch(Polygon(_placed(part, start[name]), fill=False, edgecolor=colors[name],
+                                         linestyle="--"))
+                ax.add_patch(Polygon(_placed(part, end[name]), facecolor=colors[name], alpha=0.6,
+                                     edgecolor=colors[name]))
+    if hand:
+        path = np.array([p[:2, 3] for p in hand])
+        ax.plot(path[:, 0], path[:, 1], "k.-", markersize=3, linewidth=1)
+        ax.plot(*path[-1], marker="o", color="k", markersize=4)
+    ax.set_xlim(*limits[0])
+    ax.set_ylim(*limits[1])
+    ax.set_aspect("equal")
+    ax.tick_params(labelsize=7)
+
+
+def _placed(outline: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    return outline @ pose[:2, :2].T + pose[:2, 3]
+
+
+def _draw_graph(ax: Any, edges: list, colors: dict) -> None:
+    import networkx as nx
+
+    graph = nx.MultiDiGraph()
+    for parent, child, kind in edges:
+        graph.add_edge(parent, child, type=kind)
+    positions = nx.circular_layout(sorted(graph.nodes))
+    node_colors = [colors.get(n, "0.75") for n in graph.nodes]
+    nx.draw_networkx_nodes(graph, positions, ax=ax, node_color=node_colors, node_size=500, alpha=0.8)
+    nx.draw_networkx_labels(graph, positions, ax=ax, font_size=7)
+    for kind, style in _EDGE_STYLE.items():
+        chosen = [(u, v) for u, v, d in graph.edges(data=True) if d["type"] == kind]
+        nx.draw_networkx_edges(graph, positions, edgelist=chosen, ax=ax, style=style, arrows=True,
+                               node_size=500, width=1.2)
+    labels = {(u, v): d["type"] for u, v, d in graph.edges(data=True)}
+    nx.draw_networkx_edge_labels(graph, positions, edge_labels=labels, ax=ax, font_size=6)
+    ax.set_axis_off()
