@@ -191,6 +191,8 @@ def cmd_solve(args: argparse.Namespace) -> int:
         progress=_is_terminal(sys.stderr),
     )
     print(plan.text())
+    if args.verbose:
+        print(_search_details(plan.details))
     if args.json:
         Path(args.json).write_text(json.dumps(plan.to_json(), indent=1) + "\n", encoding="utf-8")
         print(f"{args.json}: plan as vkg-plan/1")
@@ -199,7 +201,44 @@ def cmd_solve(args: argparse.Namespace) -> int:
 
         plot_plan(plan, args.plot)
         print(f"{args.plot}: picture of the plan")
+    if plan.status == "solved" and (args.execute or args.replan or args.animate or args.execution_json):
+        _execute(args, plan.to_json())
     return {"solved": EXIT_OK, "infeasible": EXIT_NO_PLAN, "timeout": EXIT_TIMEOUT}[plan.status]
+
+
+def _search_details(details: dict[str, Any]) -> str:
+    """`solve -v`: the search's counters, one per line."""
+    lines = ["search:"]
+    for key, value in details.items():
+        if isinstance(value, dict):
+            lines.append(f"  {key}:")
+            lines.extend(f"    {k}: {v}" for k, v in value.items())
+        else:
+            lines.append(f"  {key}: {value}")
+    return "\n".join(lines)
+
+
+def _execute(args: argparse.Namespace, plan_json: dict[str, Any]) -> None:
+    """`solve --execute`: replay the plan in DART, print the report, write what was asked for."""
+    import json
+
+    from vkgl.sim.execute import execute_file
+
+    if args.animate:
+        from vkgl.sim.animate import check_animation_path
+
+        check_animation_path(args.animate)  # refuse a bad file name before minutes of simulation
+    report = execute_file(args.taskfile, plan_json, replan=args.replan, max_replans=args.max_replans,
+                          record=bool(args.animate))
+    print(report.text())
+    if args.execution_json:
+        Path(args.execution_json).write_text(json.dumps(report.to_json(), indent=1) + "\n", encoding="utf-8")
+        print(f"{args.execution_json}: execution as vkg-execution/1")
+    if args.animate:
+        from vkgl.sim.animate import animate
+
+        animate(report, args.animate)
+        print(f"{args.animate}: animation of the execution")
 
 
 # ---------------------------------------------------------------- arguments
@@ -259,6 +298,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--max-depth", type=int, metavar="N", help="override the task's search max_depth")
     p.add_argument("--timeout", type=float, metavar="S", help="override the task's search timeout (s)")
     p.add_argument("-v", "--verbose", action="store_true", help="say more about the search")
+    p.add_argument("--execute", action="store_true", help="replay the plan in DART physics and report the goal error")
+    p.add_argument("--replan", action="store_true",
+                   help="closed loop: re-solve from the observed scene when a body strays (implies --execute)")
+    p.add_argument("--max-replans", type=int, default=3, metavar="N", help="give up after N re-solves (default 3)")
+    p.add_argument("--animate", metavar="F.gif", help="write a top-view animation of the execution (implies --execute)")
+    p.add_argument("--execution-json", metavar="F",
+                   help="write the execution report as vkg-execution/1 JSON (implies --execute)")
     return parser
 
 
