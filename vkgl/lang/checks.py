@@ -9,6 +9,8 @@ URDF paths.
 from __future__ import annotations
 
 import difflib
+import os
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -29,6 +31,26 @@ KIND_WORD = {"body": "a body", "robot": "a robot", "scene": "a scene", "task": "
 class _Context:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     names: dict[str, tuple[Named, str]] = field(default_factory=dict)
+    sources: dict[str, str] = field(default_factory=dict)
+
+    def narrow(self, span: ir.Span | None, pattern: str) -> ir.Span | None:
+        """The span of `pattern`'s first group inside `span` (e.g. one value of a statement), else `span` itself.
+
+        The IR keeps spans of statements, not of every word; the source text finds the word.
+        """
+        source = self.sources.get(span.file) if span is not None else None
+        if span is None or source is None:
+            return span
+        lines = source.split("\n")
+        if not 1 <= span.line <= len(lines):
+            return span
+        line = lines[span.line - 1]
+        end = span.end_col - 1 if span.end_line == span.line else len(line)
+        match = re.search(pattern, line[span.col - 1 : end])
+        if match is None:
+            return span
+        start = span.col + match.start(1)
+        return ir.Span(file=span.file, line=span.line, col=start, end_line=span.line, end_col=start + len(match.group(1)))
 
     def error(self, code: str, message: str, span: ir.Span | None, *notes: str) -> None:
         self.diagnostics.append(Diagnostic(code, message, span, notes=tuple(n for n in notes if n)))
@@ -39,7 +61,7 @@ class _Context:
 
 def check_program(modules: dict[str, ir.Module], root: str, sources: dict[str, str]) -> tuple[Program, list[Diagnostic]]:
     """Check every module and assemble the Program (valid only when no error is returned)."""
-    ctx = _Context()
+    ctx = _Context(sources=sources)
     resolved = {key: _resolve_files(module, ctx) for key, module in modules.items()}
     for key, module in resolved.items():
         _declare(module, key, ctx)
@@ -48,6 +70,7 @@ def check_program(modules: dict[str, ir.Module], root: str, sources: dict[str, s
         for decl in module.decls:
             _check_decl(decl, program, ctx)
     _check_tasks_can_move(program, ctx)
+    _check_tools_have_correspondences(program, ctx)
     return program, ctx.diagnostics
 
 
@@ -157,7 +180,7 @@ def _check_body(body: ir.Body, ctx: _Context) -> None:
         ctx.error("E401", f"the mass of `{body.name}` must be positive, got {_shown(body.mass)}", body.mass.span)
     _check_shape(body.shape, ctx)
     if body.friction is not None and body.friction < 0:
-        ctx.error("E403", f"friction must not be negative, got {body.friction:g}", body.friction_span or body.span)
+        ctx.error("E403", f"friction must not be negative, got `{body.friction:g}`", ctx.narrow(body.friction_span or body.span, r"friction\s+(\S+)"))
     _duplicates(body.frames, "frame", ctx)
     if body.joint is not None:
         _check_joint(body.joint, ctx)
@@ -176,7 +199,7 @@ def _check_shape(shape: Any, ctx: _Context) -> None:
                 ctx.error("E402", f"the cylinder's {what} must be positive, got {_shown(q)}", q.span)
     elif isinstance(shape, ir.MeshShape):
         if shape.scale <= 0:
-            ctx.error("E402", f"a mesh scale must be positive, got {shape.scale:g}", shape.span)
+            ctx.error("E402", f"a mesh scale must be positive, got `{shape.scale:g}`", ctx.narrow(shape.span, r"scale\s+(\S+)"))
         _check_mesh_file(shape, ctx)
     elif isinstance(shape, ir.UnionShape):
         for part in shape.parts:
@@ -186,7 +209,20 @@ def _check_shape(shape: Any, ctx: _Context) -> None:
 def _check_mesh_file(shape: ir.MeshShape, ctx: _Context) -> None:
     problem = _mesh_problem(shape.resolved or shape.path)
     if problem:
-        ctx.error("E503", f"cannot use mesh `{shape.path}`: {problem}", shape.span)
+        ctx.error("E503", f"cannot use mesh `{shape.path}`: {problem}", ctx.narrow(shape.span, r'mesh\s+("[^"]*")'),
+                  _looked_for(shape.resolved, problem))
+
+
+def _looked_for(resolved: str | None, problem: str) -> str:
+    """For a missing file: where it was looked for (paths are relative to the module that names them)."""
+    if problem != "no such file" or not resolved:
+        return ""
+    try:
+        relative = os.path.relpath(resolved)
+    except ValueError:  # another drive on Windows
+        relative = resolved
+    shown = resolved if relative.startswith("..") else relative
+    return f"looked for `{shown}`: the path is relative to the module's file"
 
 
 @lru_cache(maxsize=64)
@@ -224,7 +260,7 @@ def _check_explore(explore: ir.Explore, body: ir.Body, ctx: _Context) -> None:
     if explore.grasp is not None and body.frame(explore.grasp.name) is None:
         _unknown_frame(body, explore.grasp.name, explore.grasp.span, ctx)
     if explore.contacts is not None and explore.contacts.steps <= 0:
-        ctx.error("E411", f"`steps` must be at least 1, got {explore.contacts.steps}", explore.contacts.span)
+        ctx.error("E411", f"`steps` must be at least 1, got {explore.contacts.steps}", ctx.narrow(explore.contacts.span, r"steps\s+(\S+)"))
     if explore.force is not None:
         if explore.force.magnitude.value <= 0:
             ctx.error("E411", f"the force must be positive, got {_shown(explore.force.magnitude)}", explore.force.magnitude.span)
@@ -248,14 +284,15 @@ def _check_robot(robot: ir.Robot, ctx: _Context) -> None:
     path = robot.urdf_resolved or robot.urdf
     links, problem = _urdf_links(path)
     if problem:
-        ctx.error("E504", f"cannot use URDF `{robot.urdf}`: {problem}", robot.urdf_span or robot.span)
+        ctx.error("E504", f"cannot use URDF `{robot.urdf}`: {problem}", ctx.narrow(robot.urdf_span or robot.span, r'urdf\s+("[^"]*")'),
+                  _looked_for(robot.urdf_resolved, problem))
         return
     for effector in robot.effectors:
         if effector.link not in links:
             ctx.error(
                 "E307",
                 f"the URDF of `{robot.name}` has no link `{effector.link}`",
-                effector.span,
+                ctx.narrow(effector.span, rf"link\s+({re.escape(effector.link)})\b"),
                 _did_you_mean(effector.link, sorted(links)),
             )
 
@@ -291,8 +328,9 @@ def _check_affordances(block: ir.AffordanceSet, ctx: _Context) -> None:
         for constraint in (affordance.action, affordance.motion):
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 _check_direction(constraint.axis, "an axis", ctx)
-        if affordance.evidence is not None and not 0 <= affordance.evidence.posterior <= 1:
-            ctx.error("E412", f"a posterior is a probability in [0, 1], got {affordance.evidence.posterior:g}", affordance.evidence.span)
+        posterior = affordance.evidence.posterior if affordance.evidence is not None else 0.5
+        if posterior < 0 or posterior > 1:  # (NaN, a value already reported, fails both)
+            ctx.error("E412", f"a posterior is a probability in [0, 1], got `{affordance.evidence.posterior:g}`", ctx.narrow(affordance.evidence.span, r"posterior\s+(\S+)"))
     del body
 
 
@@ -339,7 +377,7 @@ def _check_task(task: ir.Task, ctx: _Context) -> None:
                 ctx.error("E411", f"a tolerance must be positive, got {_shown(tol)}", tol.span)
     if task.search is not None:
         if task.search.max_depth is not None and task.search.max_depth < 1:
-            ctx.error("E411", f"`max_depth` must be at least 1, got {task.search.max_depth}", task.search.span)
+            ctx.error("E411", f"`max_depth` must be at least 1, got {task.search.max_depth}", ctx.narrow(task.search.span, r"max_depth\s+(\S+)"))
         if task.search.timeout is not None and task.search.timeout.value <= 0:
             ctx.error("E411", f"the timeout must be positive, got {_shown(task.search.timeout)}", task.search.timeout.span)
 
@@ -359,6 +397,30 @@ def _check_tasks_can_move(program: Program, ctx: _Context) -> None:
                     f"no affordance of `{kind}` is imported, so nothing can move `{goal.body.name}`",
                     goal.body.span,
                     f"add `use stdlib.affordances.{kind.lower()}` or learn one with `vkgc learn`",
+                )
+
+
+def _check_tools_have_correspondences(program: Program, ctx: _Context) -> None:
+    """Warn about tools (bodies explored while grasped) in a task's scene that no correspondence names.
+
+    Without `Tool.frame ~ effector` the planner can pick the tool up but never use it.
+    """
+    with_correspondence = {c.frame.body for c in program.correspondences}
+    scenes = {task.scene.name for task in program.tasks.values()}
+    for name in sorted(scenes):
+        scene = program.scenes.get(name)
+        if scene is None:
+            continue
+        for placed in scene.bodies:
+            body = program.bodies.get(placed.type.name)
+            grasps = [e.grasp.name for e in body.explores if e.grasp is not None] if body is not None else []
+            if grasps and body.name not in with_correspondence:
+                ctx.warn(
+                    "W602",
+                    f"`{placed.name}` is a tool (`{body.name}` is explored held by `{grasps[0]}`), but no correspondence "
+                    f"names a frame of `{body.name}`, so no task can use it",
+                    placed.type.span,
+                    f"add e.g. `correspondences {{ {body.name}.tip ~ fingertip }}`, or `use stdlib.tools`",
                 )
 
 

@@ -21,6 +21,7 @@ CODES: dict[str, str] = {
     "E205": "unit both after the vector and on its components",
     "E206": "not a whole number",
     "E207": "rpy on a body placed on the table",
+    "E208": "number too large",
     # names (vkgl/lang/checks.py)
     "E301": "unknown name",
     "E302": "duplicate name",

@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from vkgl.errors import CompileError
@@ -51,7 +52,21 @@ def _compile(path: str) -> tuple[Program | None, list[Diagnostic]]:
     if loaded.root not in loaded.modules:
         return _empty(loaded.root, loaded.sources), sorted(loaded.diagnostics, key=Diagnostic.sort_key)
     program, diagnostics = check_program(loaded.modules, loaded.root, loaded.sources)
+    if any(d.code in _UNLOADED for d in loaded.diagnostics):
+        diagnostics = [_maybe_in_unloaded_module(d) for d in diagnostics]
     return program, sorted(loaded.diagnostics + diagnostics, key=Diagnostic.sort_key)
+
+
+# A module that could not be found, read or parsed, or that closes a cycle: its names are missing.
+_UNLOADED = {"E501", "E502", "E505"} | {f"E10{i}" for i in range(1, 6)}
+
+
+def _maybe_in_unloaded_module(diag: Diagnostic) -> Diagnostic:
+    """An unknown name may be declared in a module that failed to load: say so, so the user fixes that first."""
+    if diag.code != "E301":
+        return diag
+    note = "a module of this compilation could not be loaded (see its error); the name may be declared there"
+    return replace(diag, notes=(*diag.notes, note))
 
 
 def _empty(root: str, sources: dict[str, str]) -> Program:

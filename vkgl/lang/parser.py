@@ -9,6 +9,7 @@ needs names from other modules is the checker's job (vkgl/lang/checks.py).
 from __future__ import annotations
 
 import gc
+import math
 import re
 from dataclasses import dataclass
 from functools import lru_cache
@@ -77,7 +78,7 @@ def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Commen
         tree = _parser().parse(text)
         module = builder.build(tree)
     except UnexpectedInput as exc:
-        return None, [], [_syntax_diagnostic(exc, text, path)]
+        return None, [], _syntax_diagnostics(exc, text, path)
     except RecursionError:
         span = _new(ir.Span, file=path, line=1, col=1, end_line=1, end_col=2)
         message = f"shapes nest too deeply to read; unions may nest at most {MAX_UNION_DEPTH} levels"
@@ -164,25 +165,139 @@ _TOKEN_WORDS = {
 _ALL_UNITS = "`m`, `cm`, `mm`, `deg`, `rad`, `kg`, `g`, `N`, `s` or `ms`"
 
 
+# A declaration that starts a line: where the parser resumes after a syntax error.
+_DECLARATION_START = re.compile(r"^(?:use|body|robot|affordances|correspondences|scene|task)\b", re.MULTILINE)
+MAX_SYNTAX_ERRORS = 20
+
+
+def _syntax_diagnostics(first: UnexpectedInput, text: str, path: str) -> list[Diagnostic]:
+    """The first syntax error, then the first error of each later declaration that does not parse either.
+
+    After an error the parser resumes at the next declaration keyword in column 1
+    (`body`, `scene`, ...), with all text before it blanked out (newlines kept, so
+    positions stay true). One mistake gives one error, not a cascade, and every
+    broken declaration of the file is reported in one run.
+    """
+    diagnostics = [_syntax_diagnostic(first, text, path)]
+    search_from = _error_offset(first)
+    # Each resumption parses to the end of the file: bound the extra work on huge files.
+    budget = 2 * len(text) + 20_000
+    while search_from is not None and len(diagnostics) < MAX_SYNTAX_ERRORS:
+        match = _DECLARATION_START.search(text, search_from)
+        budget -= len(text) - match.start() if match is not None else 0
+        if match is None or budget < 0:
+            break
+        rest = re.sub(r"[^\n]", " ", text[: match.start()]) + text[match.start():]
+        try:
+            _parser().parse(rest)
+            break
+        except UnexpectedInput as exc:
+            diagnostics.append(_syntax_diagnostic(exc, rest, path))
+            offset = _error_offset(exc)
+            search_from = None if offset is None else max(offset, match.start() + 1)
+    return diagnostics
+
+
+def _error_offset(exc: UnexpectedInput) -> int | None:
+    """Where in the text a syntax error is (None at the end of the file: nothing follows to resume at)."""
+    if isinstance(exc, UnexpectedToken) and exc.token.type != "$END":
+        return exc.token.start_pos
+    if isinstance(exc, UnexpectedCharacters):
+        return exc.pos_in_stream
+    return None
+
+
 def _syntax_diagnostic(exc: UnexpectedInput, text: str, path: str) -> Diagnostic:
     if isinstance(exc, UnexpectedToken) and exc.token.type != "$END":
         return _unexpected_token(exc, text, path)
     if isinstance(exc, UnexpectedCharacters):
         return _unexpected_character(exc, text, path)
-    expected = exc.expected if isinstance(exc, (UnexpectedEOF, UnexpectedToken)) else set()
+    expected = _expected(exc) if isinstance(exc, (UnexpectedEOF, UnexpectedToken)) else set()
     line, col = _end_position(text)
     span = _new(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + 1)
-    return Diagnostic("E103", f"unexpected end of file; expected {_words(expected)}", span)
+    opened = _unclosed_brace(text)
+    notes = (f"the `{{` at {path}:{opened[0]}:{opened[1]} is never closed: add `}}`",) if opened else ()
+    return Diagnostic("E103", f"unexpected end of file; expected {_words(expected)}", span, notes=notes)
+
+
+def _expected(exc: UnexpectedToken | UnexpectedEOF) -> set[str]:
+    """The terminals the parser really accepts where it stopped.
+
+    LALR's default reductions run before the error is noticed, so `exc.expected`
+    may be the follow set of a value in every context (`,`, `and`, `at`, ...);
+    the interactive parser replays the lookahead and knows the actual choices.
+    """
+    interactive = getattr(exc, "interactive_parser", None)
+    if interactive is not None:
+        try:
+            return set(interactive.accepts())
+        except Exception:  # the replay is a refinement only; fall back to Lark's set
+            pass
+    return set(exc.expected)
 
 
 def _unexpected_token(exc: UnexpectedToken, text: str, path: str) -> Diagnostic:
     token = exc.token
     span = _token_span(token, path)
     before = _text_before(text, token)
-    if token.type == "NAME" and re.search(r"\d\s*$", before) and "UNIT" in exc.expected:
+    if token.type == "NAME" and _looks_like_unit(str(token), before):
         return Diagnostic("E105", f"unknown unit `{token}`; units are {_ALL_UNITS}", span)
     got = "`" + str(token).replace("\n", " ") + "`"
-    return Diagnostic("E101", f"unexpected {got}; expected {_words(exc.expected)}", span)
+    keyword = _keyword_read_as_name(exc)
+    notes: tuple[str, ...] = ()
+    if keyword:
+        notes = (f"`{keyword}` before it was read as a name; is something missing before `{keyword}`?",)
+    elif token.column == 1 and _DECLARATION_START.match(str(token)) and (opened := _unclosed_brace(before)):
+        notes = (f"the `{{` at {path}:{opened[0]}:{opened[1]} is never closed: add `}}` before this declaration",)
+    return Diagnostic("E101", f"unexpected {got}; expected {_words(_expected(exc))}", span, notes=notes)
+
+
+def _keyword_read_as_name(exc: UnexpectedToken) -> str | None:
+    """The keyword just before the error if the parser took it as a name (`scene goal b ...`: `goal` named a scene)."""
+    state = getattr(getattr(exc, "interactive_parser", None), "parser_state", None)
+    stack = getattr(state, "value_stack", None) or []
+    last = stack[-1] if stack else None
+    if isinstance(last, Token) and last.type == "NAME" and str(last) in _keywords():
+        return str(last)
+    return None
+
+
+@lru_cache(maxsize=1)
+def _keywords() -> frozenset[str]:
+    """The grammar's keywords (`body`, `goal`, ...): the string terminals made of letters."""
+    words = set()
+    for terminal in _parser().terminals:
+        if isinstance(terminal.pattern, PatternStr) and terminal.pattern.value.isidentifier():
+            words.add(terminal.pattern.value)
+    return frozenset(words)
+
+
+# Unit-like words a user may write after a number; any short word directly after a number counts too.
+_FOREIGN_UNITS = {"lb", "lbs", "oz", "in", "inch", "ft", "km", "um", "mg", "kN", "mN", "min", "h", "hr", "sec", "degree",
+                  "degrees", "radian", "radians", "meter", "meters", "metre", "metres", "newton", "newtons", "gram",
+                  "grams", "mins", "minute", "minutes", "hour", "hours", "inches", "feet", "pound", "pounds", "lbf", "kgf"}
+
+
+_ENDS_WITH_NUMBER = re.compile(r"(?:^|[^\w.])[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*$")
+
+
+def _looks_like_unit(word: str, before: str) -> bool:
+    """True for a name right after a number that is meant as a unit (`500 lb`, `3sec`), not a keyword."""
+    if not _ENDS_WITH_NUMBER.search(before):
+        return False
+    return word in _FOREIGN_UNITS or not before[-1:].isspace() or len(word) <= 3
+
+
+def _unclosed_brace(text: str) -> tuple[int, int] | None:
+    """Line and column of the innermost `{` that is never closed (comments and strings skipped)."""
+    stack: list[tuple[int, int]] = []
+    for number, line in enumerate(text.split("\n"), start=1):
+        for match in re.finditer(r'"[^"\n]*"?|#.*|[{}]', line):
+            if match.group() == "{":
+                stack.append((number, match.start() + 1))
+            elif match.group() == "}" and stack:
+                stack.pop()
+    return stack[-1] if stack else None
 
 
 def _unexpected_character(exc: UnexpectedCharacters, text: str, path: str) -> Diagnostic:
@@ -191,6 +306,8 @@ def _unexpected_character(exc: UnexpectedCharacters, text: str, path: str) -> Di
     char = exc.char
     if char == '"':
         return Diagnostic("E102", "unterminated string: close it with `\"` on the same line", span)
+    if char == ";":
+        return Diagnostic("E102", "unexpected `;`: VKG statements need no separator; remove it", span)
     shown = repr(char)[1:-1] if not char.isprintable() else char
     allowed = {name for name in exc.allowed or set()}
     return Diagnostic("E102", f"unexpected character `{shown}`; expected {_words(allowed)}", span)
@@ -213,8 +330,8 @@ def _words(expected: set[str] | frozenset[str]) -> str:
     ordered = sorted(words, key=lambda w: (not w.startswith("`"), w))
     if not ordered:
         return "something else"
-    if len(ordered) > 8:
-        ordered = ordered[:8] + ["..."]
+    if len(ordered) > 10:  # the top level has 9 choices (8 keywords and the end): show them all
+        ordered = ordered[:10] + ["..."]
         return ", ".join(ordered)
     return ordered[0] if len(ordered) == 1 else ", ".join(ordered[:-1]) + " or " + ordered[-1]
 
@@ -232,8 +349,13 @@ def _text_before(text: str, token: Token) -> str:
 
 
 def _end_position(text: str) -> tuple[int, int]:
+    """Just after the last character that is not blank or a comment, so the rendering can show that line."""
     lines = text.split("\n")
-    return len(lines), len(lines[-1]) + 1
+    for number in range(len(lines), 0, -1):
+        code = re.sub(r'#.*', "", lines[number - 1]) if '"' not in lines[number - 1] else lines[number - 1]
+        if code.strip():
+            return number, len(code.rstrip()) + 1
+    return 1, 1
 
 
 # ---------------------------------------------------------------- raw values (before unit checks)
@@ -285,6 +407,13 @@ class _Item:
 
 
 # ---------------------------------------------------------------- tree -> IR
+
+# The value of something already reported (bad unit, missing statement): NaN fails every
+# comparison, so the checker's range checks (mass > 0, lo <= hi, ...) stay quiet about it
+# instead of piling a second, confusing error on the first.
+_INVALID = float("nan")
+# The count that stands in for a count already reported as not a whole number.
+_VALID_COUNT = 1
 
 # Deeper unions are almost certainly generated by mistake, and every later stage walks them recursively.
 MAX_UNION_DEPTH = 32
@@ -340,8 +469,8 @@ class _Builder:
     def to_quantity(self, raw: _RawQ, dimension: str) -> ir.Quantity:
         """A quantity of `dimension`, or an error (and 0) when its unit is missing or wrong."""
         if not self.check_unit(raw, dimension):
-            return _new(ir.Quantity, value=0.0, unit=SI_UNIT[dimension], span=raw.span)
-        return _new(ir.Quantity, value=to_si(raw.text, raw.unit), unit=raw.unit, span=raw.span)
+            return _new(ir.Quantity, value=_INVALID, unit=SI_UNIT[dimension], span=raw.span)
+        return _new(ir.Quantity, value=self.si(raw, raw.unit), unit=raw.unit, span=raw.span)
 
     def check_unit(self, raw: _RawQ, dimension: str, span: ir.Span | None = None) -> bool:
         """True if `raw` has `dimension`; otherwise an error that says what was expected and got."""
@@ -358,15 +487,27 @@ class _Builder:
             self.error("E201", message, where, f"use {unit_list(dimension)}")
         return False
 
+    def si(self, raw: _RawQ, unit: str) -> float:
+        """The SI value of `raw` in `unit`; an error (and NaN) when it is too large for a float."""
+        try:
+            value = to_si(raw.text, unit)
+        except OverflowError:
+            value = math.inf
+        if math.isfinite(value):
+            return value
+        self.error("E208", f"`{raw.text}` is too large a number", raw.span, "numbers must stay below about 1e308 in SI units")
+        return _INVALID
+
     def number(self, raw: _RawQ) -> float:
-        return to_si(raw.text, "") if self.check_unit(raw, "number") else 0.0
+        return self.si(raw, "") if self.check_unit(raw, "number") else _INVALID
 
     def integer(self, raw: _RawQ, what: str) -> int:
-        value = self.number(raw)
-        if value != int(value) or not re.fullmatch(r"[+-]?\d+", raw.text):
+        if not self.check_unit(raw, "number"):
+            return _VALID_COUNT
+        if not re.fullmatch(r"[+-]?\d+", raw.text):
             self.error("E206", f"{what} must be a whole number, got `{raw.text}`", raw.span)
-            return 0
-        return int(value)
+            return _VALID_COUNT
+        return int(raw.text)
 
     def to_vector(self, raw: _RawVec, dimension: str, sizes: tuple[int, ...], what: str) -> ir.Vector:
         """A vector of `dimension` with one of `sizes` components (SI values, display unit kept)."""
@@ -374,7 +515,7 @@ class _Builder:
         if n not in sizes:
             want = " or ".join(str(s) for s in sizes)
             self.error("E204", f"{what} needs {want} components, got {n}", raw.span)
-        zeros = _new(ir.Vector, values=tuple(0.0 for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
+        zeros = _new(ir.Vector, values=tuple(_INVALID for _ in raw.components), unit=SI_UNIT[dimension], span=raw.span)
         if raw.unit is not None:
             return self._vector_with_unit(raw, dimension, zeros)
         ok = True
@@ -384,7 +525,7 @@ class _Builder:
             return zeros
         units = {c.unit for c in raw.components}
         unit = units.pop() if len(units) == 1 else SI_UNIT[dimension]
-        values = [to_si(c.text, c.unit) for c in raw.components]
+        values = [self.si(c, c.unit) for c in raw.components]
         return _new(ir.Vector, values=tuple(values), unit=unit, span=raw.span)
 
     def _vector_with_unit(self, raw: _RawVec, dimension: str, zeros: ir.Vector) -> ir.Vector:
@@ -402,7 +543,7 @@ class _Builder:
         whole = _RawQ("", raw.unit or "", raw.span, raw.written)
         if not self.check_unit(whole, dimension, raw.span) or not ok:
             return zeros
-        values = [to_si(c.text, raw.unit or "") for c in raw.components]
+        values = [self.si(c, raw.unit or "") for c in raw.components]
         return _new(ir.Vector, values=tuple(values), unit=raw.unit, span=raw.span)
 
     def to_pose(self, raw: _RawPose, sizes: tuple[int, ...] = (3,), rpy_allowed: bool = True) -> ir.Pose:
@@ -480,8 +621,8 @@ class _Builder:
         spans = {i.key: i.span for i in singles}
         return _new(ir.Body, 
             name=str(name),
-            shape=fields.get("shape", _new(ir.BoxShape, size=_new(ir.Vector, values=(0.0, 0.0, 0.0), unit="m"))),
-            mass=fields.get("mass", _new(ir.Quantity, value=0.0, unit="kg")),
+            shape=fields.get("shape", _new(ir.BoxShape, size=_new(ir.Vector, values=(_INVALID,) * 3, unit="m"))),
+            mass=fields.get("mass", _new(ir.Quantity, value=_INVALID, unit="kg")),
             friction=fields.get("friction"),
             friction_span=spans.get("friction"),
             frames=[i.value for i in items if i.key == "frame"],
@@ -538,7 +679,7 @@ class _Builder:
         limits_raw: _RawVec = children[-1]
         dimension = "length" if kind == "prismatic" else "angle"
         limits = self.to_vector(limits_raw, dimension, (2,), "`limits`")
-        values = list(limits.values) + [0.0] * (2 - len(limits.values))
+        values = list(limits.values) + [_INVALID] * (2 - len(limits.values))
         joint = _new(ir.Joint, 
             type=kind,
             axis=axis,

@@ -75,14 +75,19 @@ class _Loader:
         return shown
 
     def _read(self, path: Path, shown: str, via: ir.Use | None) -> str | None:
+        notes: tuple[str, ...] = ()
         try:
             return path.read_text(encoding="utf-8")
         except UnicodeDecodeError as exc:
             reason = f"not UTF-8 text ({exc.reason} at byte {exc.start})"
+            notes = ("a .vkg file is UTF-8 text; save it as UTF-8",)
+        except IsADirectoryError:
+            reason = "it is a directory"
+            notes = (f"name the .vkg files in it, e.g. `{Path(shown) / '*.vkg'}`",)
         except OSError as exc:
             reason = exc.strerror or str(exc)
         span = via.span if via is not None else ir.Span(file=shown, line=1, col=1, end_line=1, end_col=1)
-        self.out.diagnostics.append(Diagnostic("E505", f"cannot read `{shown}`: {reason}", span))
+        self.out.diagnostics.append(Diagnostic("E505", f"cannot read `{shown}`: {reason}", span, notes=notes))
         return None
 
     def _resolve_use(self, use: ir.Use, importer: Path, stack: list[Path]) -> ir.Use:
@@ -96,7 +101,7 @@ class _Loader:
     def _report_cycle(self, cycle: list[Path], via: ir.Use | None) -> None:
         chain = " -> ".join(_display_path(p) for p in cycle)
         self.out.diagnostics.append(
-            Diagnostic("E502", f"import cycle: {chain}", via.span if via else None, ("remove one of these `use` lines",))
+            Diagnostic("E502", f"import cycle: {chain}", via.span if via else None, notes=("remove one of these `use` lines",))
         )
 
 
@@ -118,10 +123,22 @@ def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
         suggestion = _close_file(importer.parent / use.target)
     else:
         roots = import_roots(str(importer))
-        message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_display_path(r) for r in roots)
+        message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_described_roots(importer))
         suggestion = _close_module(use.target, roots)
     notes = (f"did you mean `{suggestion}`?",) if suggestion else ()
-    return Diagnostic("E501", message, use.span, notes)
+    return Diagnostic("E501", message, use.span, notes=notes)
+
+
+def _described_roots(importer: Path) -> list[str]:
+    """The import roots of `importer`, each with why it is searched (for E501)."""
+    roots = import_roots(str(importer))
+    why = ["this file's directory"] + ["VKG_PATH"] * (len(roots) - 2) + ["the installed stdlib's parent"]
+    return [f"{_display_folder(root)} ({reason})" for root, reason in zip(roots, why)]
+
+
+def _display_folder(path: Path) -> str:
+    shown = _display_path(path)
+    return "./" if shown == "." else shown.rstrip("/") + "/"
 
 
 def _close_module(dotted: str, roots: list[Path]) -> str | None:

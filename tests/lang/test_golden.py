@@ -1,0 +1,96 @@
+"""Golden tests: the exact output of `vkgc check` for one small bad input per diagnostic code.
+
+Each case is tests/lang/golden/<CODE>_<short_name>.vkg with its expected output
+beside it in <same>.expected: every diagnostic as vkgl.lang.diagnostics.render
+shows it (LANGUAGE.md §9) followed by the summary line. Paths in the output are
+relative to the repository root, so the test runs `vkgc check` from there.
+Files in tests/lang/golden/lib/ are helpers the cases `use`, not cases.
+
+To regenerate the .expected files after an intended change of a message, run
+
+    VKG_UPDATE_GOLDEN=1 /tmp/venv/bin/pytest tests/lang/test_golden.py
+
+then review the diff (`git diff tests/lang/golden/`) and refresh docs/errors.md, which
+quotes every output (a test checks it):
+
+    /tmp/venv/bin/python tests/lang/golden/make_errors_doc.py
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import pytest
+
+from vkgl.cli import main
+from vkgl.lang.codes import CODES
+
+REPO = Path(__file__).resolve().parents[2]
+GOLDEN = REPO / "tests" / "lang" / "golden"
+ERRORS_DOC = REPO / "docs" / "errors.md"
+UPDATE = os.environ.get("VKG_UPDATE_GOLDEN", "") not in ("", "0")
+
+CASES = sorted(GOLDEN.glob("*.vkg"))
+
+
+def _code_of(case: Path) -> str:
+    return case.name.split("_", 1)[0]
+
+
+def _run_check(case: Path, capsys: pytest.CaptureFixture[str]) -> tuple[int, str]:
+    status = main(["check", str(case.relative_to(REPO))])
+    return status, capsys.readouterr().out
+
+
+@pytest.fixture
+def at_repo_root(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Paths rendered relative to the repository root; no user VKG_PATH leaking into the output."""
+    monkeypatch.chdir(REPO)
+    monkeypatch.delenv("VKG_PATH", raising=False)
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.stem for c in CASES])
+def test_check_output_matches_golden(case: Path, at_repo_root: None, capsys: pytest.CaptureFixture[str]) -> None:
+    status, out = _run_check(case, capsys)
+    expected_file = case.with_suffix(".expected")
+    if UPDATE:
+        expected_file.write_text(out, encoding="utf-8")
+    assert expected_file.is_file(), f"no {expected_file.name}: run with VKG_UPDATE_GOLDEN=1 to create it"
+    assert out == expected_file.read_text(encoding="utf-8")
+    code = _code_of(case)
+    # The case must really show its own code, and errors (not warnings) must fail the run.
+    assert re.search(rf"(error|warning)\[{code}\]", out), f"{case.name} does not produce {code}"
+    assert status == (1 if code.startswith("E") else 0)
+
+
+def test_every_code_has_a_golden_case() -> None:
+    covered = {_code_of(c) for c in CASES}
+    assert sorted(set(CODES) - covered) == []
+    assert sorted(covered - set(CODES)) == [], "a golden case is named after a code that codes.py does not define"
+
+
+def test_every_code_is_documented_with_an_example() -> None:
+    text = ERRORS_DOC.read_text(encoding="utf-8")
+    for code in CODES:
+        assert re.search(rf"^## {code}\b", text, re.MULTILINE), f"docs/errors.md has no `## {code}` section"
+        assert re.search(rf"(error|warning)\[{code}\]: ", text), f"docs/errors.md shows no rendered example of {code}"
+
+
+def test_golden_inputs_show_one_code_each_where_possible(at_repo_root: None, capsys: pytest.CaptureFixture[str]) -> None:
+    """A case that reports other codes too would hide cascades: each case reports only its own code."""
+    mixed = []
+    for case in CASES:
+        _, out = _run_check(case, capsys)
+        codes = set(re.findall(r"(?:error|warning)\[(\w+)\]", out))
+        if codes != {_code_of(case)}:
+            mixed.append(f"{case.name}: {sorted(codes)}")
+    assert mixed == []
+
+
+def test_docs_show_the_golden_outputs_verbatim() -> None:
+    """docs/errors.md quotes each golden case's output, so the docs cannot drift from what `vkgc check` prints."""
+    text = ERRORS_DOC.read_text(encoding="utf-8")
+    stale = [c.name for c in CASES if c.with_suffix(".expected").read_text(encoding="utf-8").rstrip("\n") not in text]
+    assert stale == [], "update docs/errors.md with the new output of these cases"
