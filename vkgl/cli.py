@@ -16,6 +16,8 @@ from pathlib import Path
 from typing import Any
 
 EXIT_OK, EXIT_INPUT, EXIT_NO_PLAN, EXIT_TIMEOUT, EXIT_INTERNAL = 0, 1, 2, 3, 4
+# `solve --execute` only: a plan was found, but carried out in physics it did not reach the goal.
+EXIT_NOT_REACHED = 5
 
 Command = Callable[[argparse.Namespace], int]
 _COMMANDS: dict[str, Command] = {}
@@ -202,7 +204,8 @@ def cmd_solve(args: argparse.Namespace) -> int:
         plot_plan(plan, args.plot)
         print(f"{args.plot}: picture of the plan")
     if plan.status == "solved" and (args.execute or args.replan or args.animate or args.execution_json):
-        _execute(args, plan.to_json())
+        if not _execute(args, plan.to_json()):
+            return EXIT_NOT_REACHED
     return {"solved": EXIT_OK, "infeasible": EXIT_NO_PLAN, "timeout": EXIT_TIMEOUT}[plan.status]
 
 
@@ -218,8 +221,11 @@ def _search_details(details: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def _execute(args: argparse.Namespace, plan_json: dict[str, Any]) -> None:
-    """`solve --execute`: replay the plan in DART, print the report, write what was asked for."""
+def _execute(args: argparse.Namespace, plan_json: dict[str, Any]) -> bool:
+    """`solve --execute`: replay the plan in DART, print the report, write what was asked for.
+
+    Returns whether the execution reached every goal.
+    """
     import json
 
     from vkgl.sim.execute import execute_file
@@ -239,6 +245,7 @@ def _execute(args: argparse.Namespace, plan_json: dict[str, Any]) -> None:
 
         animate(report, args.animate)
         print(f"{args.animate}: animation of the execution")
+    return report.status == "reached"
 
 
 # ---------------------------------------------------------------- arguments
@@ -249,7 +256,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="vkgc",
         description="Compile, explore, infer and plan with VKG (virtual kinematic graph) programs.",
-        epilog="exit codes: 0 ok, 1 input errors, 2 no plan, 3 timeout, 4 internal error",
+        epilog="exit codes: 0 ok, 1 input errors, 2 no plan, 3 timeout, 4 internal error, "
+        "5 plan executed in physics but the goal was not reached (solve --execute)",
     )
     parser.add_argument("--version", action="version", version="vkgc 0.1.0")
     parser.add_argument("--debug", action="store_true", help="show the traceback of internal errors")

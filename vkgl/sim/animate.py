@@ -1,0 +1,158 @@
+"""A top-view animation of an execution: real bodies filled, planned (ghost) poses dashed.
+
+    report = execute(program, task, plan, record=True)
+    animate(report, "a_push.gif")
+
+GIFs are written with matplotlib's PillowWriter (pillow is a dependency of
+matplotlib); `.mp4` needs ffmpeg on the PATH.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.spatial import ConvexHull
+
+from vkgl.errors import InputError
+from vkgl.lang.geometry import shape_mesh
+from vkgl.lang.ir import Body, UnionShape
+from vkgl.sim.execution_report import ExecutionReport
+
+MAX_FRAMES = 240  # longer executions are sped up to keep the file small
+FPS = 20
+COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]
+
+
+def footprints(body: Body) -> list[np.ndarray]:
+    """The body's outline seen from above, in its own frame: one convex polygon (k, 2) per shape part."""
+    parts = body.shape.parts if isinstance(body.shape, UnionShape) else None
+    meshes = []
+    if parts is None:
+        meshes.append(shape_mesh(body.shape))
+    else:
+        for part in parts:
+            mesh = shape_mesh(part.shape)
+            mesh.apply_transform(part.pose.matrix())
+            meshes.append(mesh)
+    outlines = []
+    for mesh in meshes:
+        xy = mesh.vertices[:, :2]
+        hull = ConvexHull(xy)
+        outlines.append(xy[hull.vertices])
+    return outlines
+
+
+def _place(outline: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    return outline @ pose[:2, :2].T + pose[:2, 3]
+
+
+def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_FRAMES) -> Path:
+    """Write a top-view animation of a recorded execution to `path` (.gif, or .mp4 with ffmpeg).
+
+    The report must come from `execute(..., record=True)`. Executions longer
+    than `max_frames` recorded frames are sped up (every k-th frame is kept).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+    from matplotlib.patches import Polygon, Rectangle
+
+    frames = report.frames
+    if frames is None or not frames.t:
+        raise InputError("the execution was not recorded: call execute(..., record=True) before animate()")
+    path = Path(path)
+    writer = _writer(path, animation)
+    stride = max(1, int(np.ceil(len(frames.t) / max(1, max_frames))))
+    indices = list(range(0, len(frames.t), stride))
+    if indices[-1] != len(frames.t) - 1:
+        indices.append(len(frames.t) - 1)
+
+    fig, ax = plt.subplots(figsize=(7.0, 5.6), dpi=80)
+    _draw_table(ax, report.table, Rectangle)
+    outlines = {name: footprints(report.bodies[name]) for name in frames.bodies}
+    real_patches, ghost_patches = {}, {}
+    for k, name in enumerate(frames.bodies):
+        color = COLORS[k % len(COLORS)]
+        real_patches[name] = [ax.add_patch(Polygon(o, closed=True, fc=color, ec="black", lw=0.8, alpha=0.75,
+                                                   label=name if i == 0 else None))
+                              for i, o in enumerate(outlines[name])]
+        ghost_patches[name] = [ax.add_patch(Polygon(o, closed=True, fill=False, ec=color, lw=1.2, ls="--"))
+                               for o in outlines[name]]
+    (arm_line,) = ax.plot([], [], "-o", color="0.35", lw=3, ms=3, zorder=5)
+    (tip,) = ax.plot([], [], "o", color="black", ms=5, zorder=6)
+    title = ax.set_title("")
+    _frame_limits(ax, report, frames)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.legend(loc="upper right", fontsize=8, title="filled: real, dashed: planned", title_fontsize=7)
+
+    def draw(i: int) -> None:
+        for b, name in enumerate(frames.bodies):
+            for patch, outline in zip(real_patches[name], outlines[name]):
+                patch.set_xy(_place(outline, frames.real[i][b]))
+            for patch, outline in zip(ghost_patches[name], outlines[name]):
+                patch.set_xy(_place(outline, frames.planned[i][b]))
+        links = frames.arm[i]
+        arm_line.set_data(links[:, 0], links[:, 1])
+        tip.set_data([frames.effector[i][0, 3]], [frames.effector[i][1, 3]])
+        status = f"  —  {report.status}" if i == indices[-1] else ""
+        title.set_text(f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{status}")
+
+    # One draw per frame: grab_frame renders the figure itself (FuncAnimation.save would draw twice).
+    with writer.saving(fig, str(path), dpi=fig.dpi):
+        for i in indices:
+            draw(i)
+            writer.grab_frame()
+    plt.close(fig)
+    return path
+
+
+def check_animation_path(path: str | Path) -> None:
+    """Raise InputError unless an animation can be written to `path` (.gif, or .mp4 with ffmpeg)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib import animation
+
+    _writer(Path(path), animation)
+
+
+def _writer(path: Path, animation: Any) -> Any:
+    suffix = path.suffix.lower()
+    if suffix == ".gif":
+        try:
+            import PIL  # noqa: F401  (pillow comes with matplotlib; PillowWriter needs it)
+        except ImportError as exc:
+            raise InputError(f"{path}: writing a GIF needs pillow, which is not installed") from exc
+        return animation.PillowWriter(fps=FPS)
+    if suffix == ".mp4":
+        if not animation.writers.is_available("ffmpeg"):
+            raise InputError(f"{path}: writing an MP4 needs ffmpeg on the PATH; write a .gif instead")
+        return animation.FFMpegWriter(fps=FPS)
+    raise InputError(f"{path}: the animation must be a .gif or .mp4 file")
+
+
+def _draw_table(ax: Any, table: Any, rectangle: Any) -> None:
+    if table is None:
+        return
+    sx, sy = table.size.values[:2]
+    cx, cy = table.position.values[:2]
+    ax.add_patch(rectangle((cx - sx / 2, cy - sy / 2), sx, sy, fc="0.93", ec="0.6", zorder=0))
+
+
+def _frame_limits(ax: Any, report: ExecutionReport, frames: Any) -> None:
+    points = [np.array([[0.0, 0.0]])]
+    if report.table is not None:
+        sx, sy = report.table.size.values[:2]
+        cx, cy = report.table.position.values[:2]
+        points.append(np.array([[cx - sx / 2, cy - sy / 2], [cx + sx / 2, cy + sy / 2]]))
+    points.append(np.array([e[:2, 3] for e in frames.effector]))
+    allp = np.vstack(points)
+    lo, hi = allp.min(axis=0) - 0.05, allp.max(axis=0) + 0.05
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])

@@ -1,0 +1,305 @@
+"""The robot in the execution world: an arm from its URDF, driven kinematically.
+
+The arm is a DART skeleton loaded from the robot's URDF, fixed at its base and
+*kinematically driven*: every control period the target pose of the effector
+frame is turned into joint positions by the arm's inverse kinematics
+(`vkgl.robot.Arm.ik`, warm-started at the current joints), and the joints are
+given the constant velocities that reach them at the end of the period
+(DART's VELOCITY actuators: the arm is not moved by contact forces, it moves
+what it touches, like a stiff position-controlled robot).
+
+What touches the world:
+- the fingertip: the pad of the closed fingers, a capsule 2 cm wide across
+  the push direction (the effector frame's y) with the radius of
+  exploration's fingertip (`vkgl.sim.fingertip`), welded to the effector
+  link so that its front point is the effector frame's origin: the effector
+  frame sits on the contact point as in exploration. A pad rather than a
+  point: a point pushing a flat face is unstable (the face turns away from
+  it), the pad of a real gripper is not;
+- a held tool: the tool's own DART body, switched to a kinematic joint that
+  follows the effector frame rigidly while held (the grasp does not slip), and
+  switched back to a free, dynamic body when released.
+
+The arm's links (their URDF collision shapes) touch the bodies too, but not
+the table (the base stands on it) or a tool they hold.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import dartpy as dart
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.errors import SimulationError
+from vkgl.sim.effector_path import Segment
+from vkgl.sim.fingertip import FINGERTIP_FRICTION, FINGERTIP_RADIUS  # the same fingertip as in exploration
+from vkgl.sim.world import isometry
+CONTROL_PERIOD = 0.02  # s between two IK solutions
+FINGER_PAD_WIDTH = 0.02  # m: the closed fingers of a Panda hand push with a pad about this wide
+MAX_LINK_STEP = 0.03  # m any link may move in one control period; more means IK switched configuration
+JOINT_SPEED = 0.8  # rad/s of the fastest joint in a joint-space move
+
+
+class ArmStuck(Exception):
+    """The arm cannot follow its path (no IK solution, or a jump between configurations)."""
+
+
+def rx_pi() -> np.ndarray:
+    """Rotation by 180 deg about x: turns the link's approach axis (z down) into an effector frame with z up."""
+    m = np.eye(4)
+    m[:3, :3] = Rotation.from_euler("x", np.pi).as_matrix()
+    return m
+
+
+@dataclass
+class HeldTool:
+    """A tool in the hand: its DART body and the effector frame expressed in the tool's frame."""
+
+    name: str
+    skeleton: Any
+    body_node: Any
+    grasp: np.ndarray  # effector frame in the tool frame, as actually grasped
+
+
+class WorldArm:
+    """The arm in a DART world, following effector paths by IK.
+
+    `arm` follows the `vkgl.robot.Arm` contract (`fk`, `ik`, `joint_names`);
+    `link_offset` is the effector frame in the effector link's frame
+    (offset * Rx(180 deg), the LANGUAGE.md convention).
+    """
+
+    def __init__(
+        self,
+        world: Any,
+        arm: Any,
+        skeleton: Any,
+        effector_link: str,
+        link_offset: np.ndarray,
+        base: np.ndarray,
+        q0: np.ndarray,
+        *,
+        table: Any | None = None,
+    ) -> None:
+        self.world = world
+        self.arm = arm
+        self.skeleton = skeleton
+        self.link = skeleton.getBodyNode(effector_link)
+        if self.link is None:
+            raise SimulationError(f"the robot's URDF has no link `{effector_link}` for its effector")
+        self.link_offset = np.asarray(link_offset, dtype=float)
+        self.joints = [skeleton.getJoint(name) for name in arm.joint_names]
+        if any(j is None for j in self.joints):
+            missing = [n for n, j in zip(arm.joint_names, self.joints) if j is None]
+            raise SimulationError(f"the robot's URDF has no joint(s) {', '.join(missing)}")
+        self.dofs = [j.getIndexInSkeleton(0) for j in self.joints]
+        self.held: HeldTool | None = None
+        self.filter = dart.collision.BodyNodeCollisionFilter()
+        world.getConstraintSolver().getCollisionOption().collisionFilter = self.filter
+        self._place_base(base)
+        self._make_kinematic()
+        self.fingertip = self._add_fingertip()
+        world.addSkeleton(skeleton)
+        if table is not None:
+            for i in range(skeleton.getNumBodyNodes()):
+                self.filter.addBodyNodePairToBlackList(skeleton.getBodyNode(i), table)
+        self.set_joints(q0)
+        self._check_agrees_with_arm(q0)
+
+    # ------------------------------------------------------------ setup
+
+    def _place_base(self, base: np.ndarray) -> None:
+        root = self.skeleton.getRootJoint()
+        if isinstance(root, dart.dynamics.FreeJoint):
+            root.setPositions(dart.dynamics.FreeJoint.convertToPositions(isometry(base)))
+            root.setActuatorType(dart.dynamics.ActuatorType.LOCKED)
+        else:
+            root.setTransformFromParentBodyNode(isometry(base))
+
+    def _make_kinematic(self) -> None:
+        for joint in self.joints:
+            joint.setActuatorType(dart.dynamics.ActuatorType.VELOCITY)
+        self.skeleton.setGravity(np.zeros(3))
+
+    def _add_fingertip(self) -> Any:
+        joint, body = self.link.createWeldJointAndBodyNodePair()
+        centre = self.link_offset.copy()
+        centre[:3, 3] = (self.link_offset @ np.array([-FINGERTIP_RADIUS, 0.0, 0.0, 1.0]))[:3]
+        joint.setTransformFromParentBodyNode(isometry(centre))
+        body.setName("fingertip")
+        shape = body.createShapeNode(dart.dynamics.CapsuleShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH))
+        along_y = np.eye(4)  # the capsule's axis (its z) turned onto the effector frame's y
+        along_y[:3, :3] = Rotation.from_euler("x", np.pi / 2).as_matrix()
+        shape.setRelativeTransform(isometry(along_y))
+        shape.createVisualAspect()
+        shape.createCollisionAspect()
+        shape.createDynamicsAspect().setFrictionCoeff(FINGERTIP_FRICTION)
+        inertia = dart.dynamics.Inertia()
+        inertia.setMass(0.01)
+        body.setInertia(inertia)
+        self._fingertip_shape = shape
+        return body
+
+    def _check_agrees_with_arm(self, q: np.ndarray) -> None:
+        ours = self.effector_pose()
+        theirs = self.arm.fk(q)
+        if np.abs(ours - theirs).max() > 1e-6:
+            raise SimulationError(
+                "the arm in the execution world and the arm model disagree on the effector pose "
+                f"by {np.abs(ours - theirs).max():.2e} (same URDF, link and offset expected)"
+            )
+
+    # ------------------------------------------------------------ state
+
+    @property
+    def q(self) -> np.ndarray:
+        """The arm's joint positions, in the order of `arm.joint_names`."""
+        return self.skeleton.getPositions()[self.dofs]
+
+    def set_joints(self, q: np.ndarray) -> None:
+        """Put the arm at joint positions `q` (only before the simulation starts)."""
+        positions = self.skeleton.getPositions()
+        positions[self.dofs] = np.asarray(q, dtype=float)
+        self.skeleton.setPositions(positions)
+        self.skeleton.setVelocities(np.zeros(self.skeleton.getNumDofs()))
+
+    def effector_pose(self) -> np.ndarray:
+        """The world pose of the effector frame, as the simulated arm has it now."""
+        return self.link.getWorldTransform().matrix() @ self.link_offset
+
+    def fingertip_collides(self, on: bool) -> None:
+        """Let the fingertip sphere touch things (pushing) or not (grasping, holding a tool)."""
+        self._fingertip_shape.getCollisionAspect().setCollidable(on)
+
+    # ------------------------------------------------------------ tools
+
+    def grasp(self, name: str, skeleton: Any, body_node: Any) -> None:
+        """Hold a tool as it lies now: it follows the effector rigidly from here on."""
+        tool_pose = body_node.getWorldTransform().matrix()
+        grasp = np.linalg.inv(tool_pose) @ self.effector_pose()
+        joint = skeleton.getRootJoint()
+        joint.setActuatorType(dart.dynamics.ActuatorType.VELOCITY)
+        joint.setCommands(np.zeros(6))
+        skeleton.setVelocities(np.zeros(skeleton.getNumDofs()))
+        for i in range(self.skeleton.getNumBodyNodes()):
+            self.filter.addBodyNodePairToBlackList(self.skeleton.getBodyNode(i), body_node)
+        self.held = HeldTool(name, skeleton, body_node, grasp)
+
+    def release(self) -> None:
+        """Let go of the held tool: it becomes a free dynamic body again."""
+        if self.held is None:
+            return
+        joint = self.held.skeleton.getRootJoint()
+        joint.setActuatorType(dart.dynamics.ActuatorType.FORCE)
+        joint.setCommands(np.zeros(6))
+        self.held.skeleton.setVelocities(np.zeros(self.held.skeleton.getNumDofs()))
+        for i in range(self.skeleton.getNumBodyNodes()):
+            self.filter.removeBodyNodePairFromBlackList(self.skeleton.getBodyNode(i), self.held.body_node)
+        self.held = None
+
+    # ------------------------------------------------------------ motion
+
+    def follow(
+        self,
+        segment: Segment,
+        step: Callable[[int, float], None],
+        q_hint: np.ndarray | None = None,
+    ) -> None:
+        """Carry out one path segment: IK every control period, `step(n, s)` runs n physics steps
+        (s: the phase of the segment reached at their end).
+
+        `q_hint` (e.g. the plan's joints for this pose) seeds the first IK
+        solution. Raises ArmStuck when the arm cannot follow.
+        """
+        dt = self.world.getTimeStep()
+        periods = max(1, int(np.ceil(segment.duration / CONTROL_PERIOD - 1e-9)))
+        substeps = max(1, int(round(CONTROL_PERIOD / dt)))
+        for k in range(1, periods + 1):
+            target = segment.pose(k / periods)
+            q_next = self._solve(target, q_hint if k == 1 else None)
+            self._command(q_next, substeps * dt)
+            step(substeps, k / periods)
+        self._stop()
+
+    def solve(self, target: np.ndarray, seeds: list[np.ndarray | None]) -> np.ndarray:
+        """Joint positions that put the effector at `target`, trying IK from each seed in turn."""
+        for seed in seeds:
+            if seed is None:
+                continue
+            q = self.arm.ik(target, q0=np.asarray(seed, dtype=float))
+            if q is not None:
+                return np.asarray(q, dtype=float)
+        xyz = ", ".join(f"{v:.3f}" for v in target[:3, 3])
+        raise ArmStuck(f"the arm cannot reach the effector pose at ({xyz}) m (no IK solution)")
+
+    def move_joints(self, q_target: np.ndarray, step: Callable[[int, float], None], *,
+                    min_duration: float = 0.0) -> None:
+        """Move to `q_target` along a straight line in joint space (free-space transit)."""
+        dt = self.world.getTimeStep()
+        q_start = self.q
+        duration = max(float(np.abs(q_target - q_start).max()) / JOINT_SPEED, min_duration, CONTROL_PERIOD)
+        periods = max(1, int(np.ceil(duration / CONTROL_PERIOD - 1e-9)))
+        substeps = max(1, int(round(CONTROL_PERIOD / dt)))
+        for k in range(1, periods + 1):
+            self._command(q_start + (q_target - q_start) * k / periods, substeps * dt)
+            step(substeps, k / periods)
+        self._stop()
+
+    def _solve(self, target: np.ndarray, q_hint: np.ndarray | None) -> np.ndarray:
+        q = self.q
+        q_next = self.arm.ik(target, q0=q)
+        if q_next is None and q_hint is not None:
+            q_next = self.arm.ik(target, q0=q_hint)
+        if q_next is None:
+            xyz = ", ".join(f"{v:.3f}" for v in target[:3, 3])
+            raise ArmStuck(f"the arm cannot reach the effector pose at ({xyz}) m (no IK solution)")
+        q_next = np.asarray(q_next, dtype=float)
+        jump = self.link_travel(q, q_next)
+        if jump > MAX_LINK_STEP:
+            raise ArmStuck(f"a link of the arm would jump {jump * 100:.1f} cm in one control period "
+                           "(IK changed configuration)")
+        return q_next
+
+    def link_travel(self, q_a: np.ndarray, q_b: np.ndarray, samples: int = 4) -> float:
+        """How far (m) any link origin moves between two consecutive samples of the joint line from q_a to q_b.
+
+        Measured in space, not in joint angles: near the shoulder singularity
+        (joints 1 and 3 aligned) IK may trade one for the other without any
+        link moving, which is harmless; a switch of configuration moves links.
+        """
+        points = [self._link_points(q_a + (q_b - q_a) * s) for s in np.linspace(0.0, 1.0, samples + 1)]
+        return float(max(np.linalg.norm(b - a, axis=1).max() for a, b in zip(points, points[1:])))
+
+    def _link_points(self, q: np.ndarray) -> np.ndarray:
+        model = getattr(self.arm, "skeleton", None)
+        if model is None:  # an arm model without a skeleton: the effector is all we can see
+            return self.arm.fk(q)[None, :3, 3]
+        self.arm.fk(q)  # sets the model's joints
+        return np.array([model.getBodyNode(i).getWorldTransform().translation()
+                         for i in range(model.getNumBodyNodes())])
+
+    def _command(self, q_next: np.ndarray, period: float) -> None:
+        for joint, velocity in zip(self.joints, (q_next - self.q) / period):
+            joint.setCommand(0, float(velocity))
+        if self.held is not None:
+            hand_next = self.arm.fk(q_next)
+            tool_next = hand_next @ np.linalg.inv(self.held.grasp)
+            drive_body(self.held.skeleton, self.held.body_node, tool_next, period)
+
+    def _stop(self) -> None:
+        for joint in self.joints:
+            joint.setCommand(0, 0.0)
+        if self.held is not None:
+            self.held.skeleton.getRootJoint().setCommands(np.zeros(6))
+
+
+def drive_body(skeleton: Any, body_node: Any, target: np.ndarray, period: float) -> None:
+    """Command a kinematic free body the constant body-frame twist that reaches `target` in `period`."""
+    joint = skeleton.getRootJoint()
+    current = dart.dynamics.FreeJoint.convertToPositions(body_node.getWorldTransform())
+    wanted = dart.dynamics.FreeJoint.convertToPositions(isometry(target))
+    joint.setCommands(joint.getPositionDifferences(wanted, current) / period)

@@ -1,0 +1,184 @@
+"""Task-space paths of the robot's effector, for carrying out a plan in DART.
+
+A path is a list of `Segment`s, each a pose of the robot's effector frame as a
+function of a phase s in [0, 1], run in a fixed duration. Three kinds exist:
+
+- a straight `line` (position interpolated linearly, orientation by slerp):
+  approach, retreat, straight up and down;
+- a `swing` about the vertical axis through the robot's base: transit above
+  the table that keeps its distance from the robot;
+- a `screw` about a fixed world line: the motion of an affordance. When the
+  effector is rigidly in contact with a body whose planned pose goes from
+  B0 to B1, the effector moves by the same rigid motion B1 B0^-1, taken
+  along its screw axis: a pure translation for a prismatic motion and a pure
+  rotation about the revolute axis for a revolute one.
+
+Nothing here touches the simulator: these are the targets the arm follows.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation, Slerp
+
+# Speeds of the effector frame. Slow pushes keep the contact quasi-static, as
+# in exploration; transits are faster because they touch nothing.
+PUSH_SPEED = 0.05  # m/s along the contact path
+APPROACH_SPEED = 0.03  # m/s for the last centimetres before contact
+TRANSIT_SPEED = 0.15  # m/s through free space
+TURN_SPEED = 0.8  # rad/s for turning the effector about z
+MIN_DURATION = 0.05  # s; even a zero-length segment lasts one control period or so
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One piece of effector path: `pose(s)` for s in [0, 1], carried out in `duration` seconds.
+
+    `phase` names what the segment is for ("transit", "approach", "contact",
+    "motion", "retreat", "grasp", "release", "hold"); the report and the
+    animation use it.
+    """
+
+    phase: str
+    start: np.ndarray
+    end: np.ndarray
+    duration: float
+    motion: ScrewMotion | None = None  # the world-frame rigid motion carrying the effector (screws only)
+    pivot: np.ndarray | None = None  # (x, y) of a vertical axis to swing about (arcs only)
+
+    def pose(self, s: float) -> np.ndarray:
+        """The effector pose at phase `s` (clipped to [0, 1])."""
+        s = float(np.clip(s, 0.0, 1.0))
+        if self.motion is not None:
+            return self.motion.at(s) @ self.start
+        if self.pivot is not None:
+            return _swing(self.start, self.end, self.pivot, s)
+        return _interpolate(self.start, self.end, s)
+
+
+def _interpolate(a: np.ndarray, b: np.ndarray, s: float) -> np.ndarray:
+    rotations = Rotation.from_matrix(np.stack([a[:3, :3], b[:3, :3]]))
+    pose = np.eye(4)
+    pose[:3, :3] = Slerp([0.0, 1.0], rotations)(s).as_matrix()
+    pose[:3, 3] = (1.0 - s) * a[:3, 3] + s * b[:3, 3]
+    return pose
+
+
+def _polar(pose: np.ndarray, pivot: np.ndarray) -> tuple[float, float]:
+    offset = pose[:2, 3] - pivot
+    return float(np.hypot(*offset)), float(np.arctan2(offset[1], offset[0]))
+
+
+def _swing(a: np.ndarray, b: np.ndarray, pivot: np.ndarray, s: float) -> np.ndarray:
+    """Interpolate radius, bearing and height about a vertical axis through `pivot` (orientation by slerp)."""
+    pose = _interpolate(a, b, s)
+    (ra, ta), (rb, tb) = _polar(a, pivot), _polar(b, pivot)
+    turn = (tb - ta + np.pi) % (2 * np.pi) - np.pi
+    radius, bearing = (1 - s) * ra + s * rb, ta + s * turn
+    pose[:2, 3] = pivot + radius * np.array([np.cos(bearing), np.sin(bearing)])
+    return pose
+
+
+def rotation_angle(a: np.ndarray, b: np.ndarray) -> float:
+    """The angle of the rotation that takes orientation `a` to orientation `b` (rad)."""
+    return float(Rotation.from_matrix(b[:3, :3] @ a[:3, :3].T).magnitude())
+
+
+def line(phase: str, start: np.ndarray, end: np.ndarray, speed: float = TRANSIT_SPEED) -> Segment:
+    """A straight segment from `start` to `end` at `speed` (m/s) and at most TURN_SPEED."""
+    distance = float(np.linalg.norm(end[:3, 3] - start[:3, 3]))
+    duration = max(distance / speed, rotation_angle(start, end) / TURN_SPEED, MIN_DURATION)
+    return Segment(phase, start.copy(), end.copy(), duration)
+
+
+def swing(phase: str, start: np.ndarray, end: np.ndarray, pivot: np.ndarray,
+          speed: float = TRANSIT_SPEED) -> Segment:
+    """From `start` to `end` around a vertical axis through `pivot` (the robot's base).
+
+    Radius, bearing and height change linearly, so the path stays between
+    the two ends' distances from the robot instead of cutting close to its
+    base as a straight line would.
+    """
+    probe = Segment(phase, start, end, 1.0, pivot=np.asarray(pivot, dtype=float)[:2])
+    points = np.array([probe.pose(s)[:3, 3] for s in np.linspace(0.0, 1.0, 33)])
+    length = float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+    duration = max(length / speed, rotation_angle(start, end) / TURN_SPEED, MIN_DURATION)
+    return Segment(phase, start.copy(), end.copy(), duration, pivot=probe.pivot)
+
+
+def hold(phase: str, pose: np.ndarray, duration: float) -> Segment:
+    """Stay at `pose` for `duration` seconds (lets the bodies settle)."""
+    return Segment(phase, pose.copy(), pose.copy(), max(duration, MIN_DURATION))
+
+
+@dataclass(frozen=True)
+class ScrewMotion:
+    """A world-frame rigid motion as a screw: turn by `rotvec` about the line through `point`, slide `slide` along it.
+
+    `at(s)` is the motion carried out to the fraction s: the interpolation
+    along the screw axis (Chasles), straight for a translation and circular
+    for a rotation about a fixed axis. (Closed form with scipy's Rotation
+    rather than a 4x4 matrix exponential: cheaper, and free of BLAS threads
+    competing with the simulator.)
+    """
+
+    rotvec: np.ndarray
+    point: np.ndarray
+    slide: np.ndarray
+
+    def at(self, s: float = 1.0) -> np.ndarray:
+        """The 4x4 world-frame motion after the fraction `s` of it."""
+        rotation = Rotation.from_rotvec(s * self.rotvec).as_matrix()
+        motion = np.eye(4)
+        motion[:3, :3] = rotation
+        motion[:3, 3] = self.point - rotation @ self.point + s * self.slide
+        return motion
+
+
+def screw_motion(body_start: np.ndarray, body_end: np.ndarray) -> ScrewMotion:
+    """The screw motion taking the pose `body_start` to `body_end` (world frame).
+
+    `screw_motion(a, b).at(s) @ a` interpolates the body's planned motion:
+    along a line for a prismatic affordance, about its axis for a revolute one.
+    """
+    motion = body_end @ np.linalg.inv(body_start)
+    rotvec = Rotation.from_matrix(motion[:3, :3]).as_rotvec()
+    angle = float(np.linalg.norm(rotvec))
+    t = motion[:3, 3]
+    if angle < 1e-9:
+        return ScrewMotion(np.zeros(3), np.zeros(3), t.copy())
+    axis = rotvec / angle
+    slide = float(t @ axis) * axis
+    # a point on the axis: (I - R) p = t - slide, solved in the plane normal to the axis
+    point, *_ = np.linalg.lstsq(np.eye(3) - motion[:3, :3], t - slide, rcond=None)
+    return ScrewMotion(rotvec, point, slide)
+
+
+def screw(phase: str, start: np.ndarray, motion: ScrewMotion, speed: float = PUSH_SPEED) -> Segment:
+    """The effector carried rigidly by the world `motion`, starting at `start`.
+
+    The duration makes the effector's origin travel at `speed` along its
+    (possibly circular) path.
+    """
+    samples = [motion.at(s) @ start for s in np.linspace(0.0, 1.0, 33)]
+    points = np.array([p[:3, 3] for p in samples])
+    length = float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+    angle = rotation_angle(samples[0], samples[-1])
+    duration = max(length / speed, angle / TURN_SPEED, MIN_DURATION)
+    return Segment(phase, start.copy(), samples[-1], duration, motion=motion)
+
+
+def backed_off(pose: np.ndarray, distance: float, direction: np.ndarray | None = None) -> np.ndarray:
+    """`pose` moved back by `distance` against `direction` (default: its own x axis, the way it pushes)."""
+    moved = pose.copy()
+    moved[:3, 3] -= distance * (pose[:3, 0] if direction is None else np.asarray(direction, dtype=float))
+    return moved
+
+
+def at_height(pose: np.ndarray, z: float) -> np.ndarray:
+    """`pose` with its origin at height `z`."""
+    moved = pose.copy()
+    moved[2, 3] = z
+    return moved

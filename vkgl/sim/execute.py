@@ -1,0 +1,371 @@
+"""Execute a plan in DART: `vkgc solve TASK --execute [--replan]`.
+
+    from vkgl.sim.execute import execute
+    report = execute(program, "a_push", plan.to_json(), replan=True)
+    print(report.text())
+
+Open loop (`replan=False`) the plan's steps are carried out one after another
+(`vkgl.sim.replay`) and the bodies end wherever physics puts them. Closed loop
+(`replan=True`), before the first step and after every step the real poses are
+compared with the plan; when a body is off by more than half the goal's
+tolerance the robot lets go, puts down what it holds, and the task is solved
+again from the observed scene (the same task, its scene's start poses replaced
+by the observed ones); after `max_replans` re-solves it gives up and says why.
+If a re-solve finds no plan and nothing was put down, the current plan goes on.
+The report's status is `reached` when every goal of the task holds at the end.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from vkgl.errors import InputError, VkgError
+from vkgl.lang.ir import (
+    DEFAULT_TOL_POSITION,
+    DEFAULT_TOL_YAW,
+    Goal,
+    Placement,
+    Pose,
+    Quantity,
+    Scene,
+    Task,
+    Vector,
+)
+from vkgl.lang.program import Program
+from vkgl.sim.effector import ArmStuck
+from vkgl.sim.effector_path import rotation_angle
+from vkgl.sim.execution_report import (
+    Deviation,
+    ExecutionReport,
+    GoalResult,
+    StepReport,
+    angle_difference,
+    yaw_of,
+)
+from vkgl.sim.replay import PlannedStep, Replay, read_plan
+
+Resolver = Callable[[Program, str], dict[str, Any]]
+"""Re-solves a task of a program; returns a `vkg-plan/1` plan (any status)."""
+
+FINAL_SETTLE = 0.5  # s the world runs after the last step before the goal is checked
+LEVEL_TILT = np.radians(2.0)  # a body tilted less than this still counts as lying on the table
+
+
+def execute(
+    program: Program,
+    task: Task | str | None,
+    plan_json: dict[str, Any],
+    *,
+    replan: bool = False,
+    max_replans: int = 3,
+    record: bool = False,
+    resolve: Resolver | None = None,
+) -> ExecutionReport:
+    """Carry out a `vkg-plan/1` plan for `task` in DART and report how close it got to the goal.
+
+    `task` is the Task IR, its name, or None for the program's first task.
+    With `replan`, re-solve from the observed scene whenever a body strays
+    from the plan by more than half its tolerance (at most `max_replans`
+    times). With `record`, the report keeps frames for `animate`.
+    `resolve(program, task_name) -> vkg-plan/1 dict` re-solves; the default
+    is the planner (`vkgl.plan.solve.solve`).
+    Raises InputError when the plan does not fit the program.
+    """
+    started = time.perf_counter()
+    task = _task(program, task)
+    scene = program.scenes.get(task.scene.name)
+    if scene is None:
+        raise InputError(f"task {task.name}: no scene `{task.scene.name}` in the program")
+    if plan_json.get("task") not in (None, task.name):
+        raise InputError(f"the plan is for task `{plan_json.get('task')}`, not `{task.name}`")
+    steps, robot_entry = read_plan(plan_json)
+    replay = Replay(program, scene, robot_entry, record=record)
+    loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve or solve_with_planner)
+    status, reason = loop.run(steps)
+    return ExecutionReport(
+        task=task.name,
+        status=status,
+        reason=reason,
+        steps=loop.reports,
+        goals=loop.goal_results(),
+        replans=loop.replans,
+        replan_log=loop.log,
+        final=replay.poses(),
+        sim_time=replay.time,
+        wall_time=time.perf_counter() - started,
+        solve_time=loop.solve_time,
+        frames=replay.frames,
+        bodies=dict(replay.types),
+        table=scene.table,
+        closed_loop=replan,
+    )
+
+
+def execute_file(
+    path: str,
+    plan_json: dict[str, Any],
+    *,
+    replan: bool = False,
+    max_replans: int = 3,
+    record: bool = False,
+) -> ExecutionReport:
+    """Compile the task file at `path` and execute `plan_json` for the task the plan names (see `execute`)."""
+    from vkgl.lang.compiler import compile_file
+
+    if max_replans < 0:
+        raise InputError(f"--max-replans must be 0 or more, not {max_replans}")
+    program = compile_file(path)
+    return execute(program, plan_json.get("task"), plan_json, replan=replan, max_replans=max_replans, record=record)
+
+
+def _task(program: Program, task: Task | str | None) -> Task:
+    if isinstance(task, Task):
+        return task
+    try:
+        return program.task(task)
+    except KeyError as exc:
+        known = ", ".join(sorted(program.tasks)) or "none"
+        raise InputError(f"no task `{task}` in the program (tasks: {known})") from exc
+
+
+class _Loop:
+    """The step loop with optional replanning; fills the per-step reports."""
+
+    def __init__(self, program: Program, task: Task, replay: Replay, *, replan: bool, max_replans: int,
+                 resolve: Resolver) -> None:
+        self.resolve = resolve
+        self.program = program
+        self.task = task
+        self.replay = replay
+        self.replan = replan
+        self.max_replans = max_replans
+        self.replans = 0
+        self.plan_no = 0
+        self.solve_time = 0.0
+        self.reports: list[StepReport] = []
+        self.log: list[str] = []
+        self.watching = True  # False while carrying on with a plan that could not be replaced
+
+    def run(self, steps: list[PlannedStep]) -> tuple[str, str]:
+        """Execute `steps` (and the plans that replace them); return (status, reason).
+
+        Closed loop, a step the arm could not carry out (say, a held tool
+        touched a body on its way) is re-solved from the observed scene too:
+        the world may no longer be what the plan assumed.
+        """
+        if self.replan and steps:  # look before the first step too: the world may not be what was planned
+            strays = [d for d in self._deviations(steps[0], steps[0].poses_start) if d.exceeded]
+            if strays:
+                new_steps = self._replan(_stray(f"before step {steps[0].index}", strays[0]), remaining=steps)
+                if isinstance(new_steps, tuple):
+                    return new_steps
+                steps = new_steps
+        while True:
+            outcome = self._run_plan(steps)
+            if outcome is None:  # every step of the plan was carried out
+                try:
+                    self.replay.let_go("end")
+                    self.replay.settle(FINAL_SETTLE, "end")
+                except ArmStuck as exc:
+                    return "failed", f"letting go at the end: {exc}"
+                if all(g.ok for g in self.goal_results()):
+                    return "reached", ""
+                if not self.replan:
+                    return "missed", self._miss_reason()
+                status, why, remaining = "missed", f"at the end of plan {self.plan_no}: {self._miss_reason()}", []
+            elif outcome[0] == "failed" and not self.replan:
+                return outcome[0], outcome[1]
+            else:
+                kind, why, remaining = outcome
+                status = "failed" if kind == "failed" else "missed"
+            new_steps = self._replan(why, status, remaining)
+            if isinstance(new_steps, tuple):
+                return new_steps
+            steps = new_steps
+
+    def _run_plan(self, steps: list[PlannedStep]) -> tuple[str, str, list[PlannedStep]] | None:
+        """Carry out `steps`; None when all were, else (kind, why, the steps not carried out)."""
+        for i, step in enumerate(steps):
+            try:
+                self.replay.run_step(step)
+            except ArmStuck as exc:
+                self._report(step, [])
+                return "failed", f"step {step.index} ({step.title()}): {exc}", []
+            deviations = self._deviations(step)
+            self._report(step, deviations)
+            strays = [d for d in deviations if d.exceeded]
+            if self.replan and self.watching and strays and step is not steps[-1]:
+                return "stray", _stray(f"after step {step.index}", strays[0]), steps[i + 1:]
+        return None
+
+    def _report(self, step: PlannedStep, deviations: list[Deviation]) -> None:
+        self.reports.append(StepReport(self.plan_no, step.index, step.title(), self.replay.time, deviations))
+
+    # ------------------------------------------------------------ comparisons
+
+    def _limits(self, body: str) -> tuple[float, float]:
+        """Half the goal tolerance of `body` (position m, angle rad); defaults for bodies without a goal."""
+        goal = next((g for g in self.task.goals if g.body.name == body), None)
+        tol_p = goal.tol_position.value if goal is not None and goal.tol_position is not None else DEFAULT_TOL_POSITION
+        tol_a = goal.tol_yaw.value if goal is not None and goal.tol_yaw is not None else DEFAULT_TOL_YAW
+        return tol_p / 2, tol_a / 2
+
+    def _deviations(self, step: PlannedStep, planned_poses: dict[str, np.ndarray] | None = None) -> list[Deviation]:
+        """Real vs planned poses (default: the step's end poses) of the bodies that matter: the goal
+        bodies and the step's body."""
+        planned_poses = step.poses_end if planned_poses is None else planned_poses
+        real = self.replay.poses()
+        held = self.replay.holding()
+        names = [g.body.name for g in self.task.goals]
+        if step.body not in names and step.body != held:
+            names.append(step.body)
+        out = []
+        for name in dict.fromkeys(names):
+            if name not in planned_poses or name not in real:
+                continue
+            planned = planned_poses[name]
+            lim_p, lim_a = self._limits(name)
+            out.append(Deviation(name, planned, real[name],
+                                 float(np.linalg.norm(real[name][:3, 3] - planned[:3, 3])),
+                                 rotation_angle(planned, real[name]), lim_p, lim_a))
+        return out
+
+    def goal_results(self) -> list[GoalResult]:
+        """Every goal of the task against the bodies' real poses now."""
+        real = self.replay.poses()
+        return [_check_goal(goal, real[goal.body.name]) for goal in self.task.goals if goal.body.name in real]
+
+    def _miss_reason(self) -> str:
+        parts = []
+        for g in self.goal_results():
+            errors = []
+            if g.position_error is not None and g.position_error > g.tol_position:
+                errors.append(f"{g.position_error * 100:.2f} cm (tolerance {g.tol_position * 100:.2f} cm)")
+            if g.yaw_error is not None and abs(g.yaw_error) > g.tol_yaw:
+                errors.append(f"{np.degrees(abs(g.yaw_error)):.2f} deg (tolerance {np.degrees(g.tol_yaw):.2f} deg)")
+            if errors:
+                parts.append(f"{g.body} is off its goal by {' and '.join(errors)}")
+        return "; ".join(parts)
+
+    # ------------------------------------------------------------ replanning
+
+    def _note(self, text: str) -> None:
+        self.log.append(text)
+        if self.reports:
+            self.reports[-1].replan = text
+
+    def _replan(self, why: str, status: str = "missed",
+                remaining: list[PlannedStep] | None = None) -> list[PlannedStep] | tuple[str, str]:
+        """Put things down, re-solve from the observed scene; the new plan's steps, or (status, reason).
+
+        When no plan is found but the robot held nothing (so nothing of the
+        current plan was undone), it carries on with the `remaining` steps of
+        the current plan, no longer checking them against it: a plan that
+        strays a little may still end within the tolerance, no plan cannot.
+        """
+        if self.replans >= self.max_replans:
+            return status, f"gave up after {self.replans} replan{'s' if self.replans != 1 else ''}: {why}"
+        undoes_plan = self.replay.holding() is not None
+        try:
+            self.replay.let_go("replan")
+            self.replay.put_down("replan")
+            self.replay.settle(0.2, "replan")
+        except ArmStuck as exc:
+            return "failed", f"{why}; then, putting things down to re-solve: {exc}"
+        observed = program_with_observed_scene(self.program, self.task, self.replay.poses())
+        self.replans += 1
+        self.plan_no += 1
+        started = time.perf_counter()
+        try:
+            plan = self.resolve(observed, self.task.name)
+        except VkgError as exc:
+            plan = {"status": "error", "reason": str(exc)}
+        finally:
+            self.solve_time += time.perf_counter() - started
+        if plan.get("status") != "solved":
+            found = f"{plan.get('status')}: {plan.get('reason', '')}"
+            if remaining and not undoes_plan:
+                self.plan_no -= 1  # still the same plan
+                self.watching = False
+                self._note(f"{why}; re-solving found no plan ({found}); carrying on with the current plan")
+                return remaining
+            self._note(f"{why}; re-solving found no plan ({found})")
+            return "missed", f"replan {self.replans} found no plan ({found})"
+        steps, _ = read_plan(plan)
+        self.watching = True
+        self._note(f"{why}; re-solved from the observed scene: {len(steps)} step(s)")
+        return steps
+
+
+def _stray(when: str, deviation: Deviation) -> str:
+    return (f"{when} {deviation.body} is off the plan by {deviation.position * 100:.2f} cm, "
+            f"{np.degrees(deviation.angle):.2f} deg")
+
+
+def solve_with_planner(program: Program, task: str) -> dict[str, Any]:
+    """Re-solve `task` of `program` with the planner; the plan as `vkg-plan/1`."""
+    try:
+        from vkgl.plan.solve import solve
+    except ImportError as exc:  # the planner is a separate stage; execution alone does not need it
+        raise InputError(f"re-solving {task} needs the planner (vkgl.plan.solve), which is not available") from exc
+    plan = solve((program, task))
+    out = plan.to_json()
+    out.setdefault("reason", getattr(plan, "reason", ""))
+    return out
+
+
+def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:
+    tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
+    tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
+    position_error = None
+    parts = [goal.body.name]
+    if goal.position is not None:
+        target = goal.position.array()
+        position_error = float(np.linalg.norm(pose[: len(target), 3] - target))
+        parts.append(f"at ({', '.join(f'{v:.3f}' for v in target)}) m")
+    yaw_error = None
+    if goal.yaw is not None:
+        yaw_error = angle_difference(yaw_of(pose), goal.yaw.value)
+        parts.append(f"yaw {np.degrees(goal.yaw.value):.1f} deg")
+    parts.append(f"within {tol_p * 100:.1f} cm, {np.degrees(tol_y):.1f} deg")
+    return GoalResult(goal.body.name, " ".join(parts), position_error, yaw_error, tol_p, tol_y)
+
+
+def program_with_observed_scene(program: Program, task: Task, poses: dict[str, np.ndarray]) -> Program:
+    """A copy of `program` whose task scene starts where the bodies are now (`poses`).
+
+    A body that lies level on the table is placed `on table at (x, y) yaw`;
+    one that is tilted is placed at its full pose. Everything else (task,
+    goals, affordances, the robot) is the same.
+    """
+    scene: Scene = program.scenes[task.scene.name]
+    bodies = []
+    for scene_body in scene.bodies:
+        pose = poses.get(scene_body.name)
+        if pose is None:
+            bodies.append(scene_body)
+            continue
+        placement = _observed_placement(pose, scene_body.placement.on_table)
+        bodies.append(scene_body.model_copy(update={"placement": placement}))
+    observed = scene.model_copy(update={"bodies": bodies})
+    return dataclasses.replace(program, scenes={**program.scenes, scene.name: observed})
+
+
+def _observed_placement(pose: np.ndarray, was_on_table: bool) -> Placement:
+    yaw = yaw_of(pose)
+    tilt = float(np.arccos(np.clip(pose[2, 2], -1.0, 1.0)))
+    if was_on_table and tilt < LEVEL_TILT:
+        planar = Pose(position=Vector(values=(float(pose[0, 3]), float(pose[1, 3])), unit="m"),
+                      yaw=Quantity(value=yaw, unit="rad"))
+        return Placement(on_table=True, pose=planar)
+    from scipy.spatial.transform import Rotation
+
+    rpy = Rotation.from_matrix(pose[:3, :3]).as_euler("xyz")
+    full = Pose(position=Vector(values=tuple(float(v) for v in pose[:3, 3]), unit="m"),
+                rpy=Vector(values=tuple(float(v) for v in rpy), unit="rad"))
+    return Placement(on_table=False, pose=full)

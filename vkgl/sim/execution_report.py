@@ -1,0 +1,174 @@
+"""What an execution in DART did: per step, real vs planned poses; at the end, the error to the goal.
+
+`ExecutionReport.text()` is what `vkgc solve --execute` prints;
+`ExecutionReport.to_json()` is the `vkg-execution/1` record of the same.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.sim.replay import Frames
+
+FORMAT = "vkg-execution/1"
+
+
+def yaw_of(pose: np.ndarray) -> float:
+    """The heading of a pose: rotation about the world z axis (rad, in (-pi, pi])."""
+    return float(Rotation.from_matrix(pose[:3, :3]).as_euler("ZYX")[0])
+
+
+def angle_difference(a: float, b: float) -> float:
+    """a - b wrapped to (-pi, pi]."""
+    return float((a - b + np.pi) % (2 * np.pi) - np.pi)
+
+
+def _planar(pose: np.ndarray) -> str:
+    return f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}) m yaw {np.degrees(yaw_of(pose)):6.1f} deg"
+
+
+@dataclass
+class Deviation:
+    """How far a body really is from where the plan wanted it: distance (m) and rotation angle (rad)."""
+
+    body: str
+    planned: np.ndarray
+    real: np.ndarray
+    position: float
+    angle: float
+    limit_position: float
+    limit_angle: float
+
+    @property
+    def exceeded(self) -> bool:
+        """True when the deviation is beyond the replanning limits."""
+        return self.position > self.limit_position or self.angle > self.limit_angle
+
+
+@dataclass
+class StepReport:
+    """One executed plan step: which plan it came from and where the bodies ended."""
+
+    plan: int  # 0 = the plan given, 1.. = replans
+    index: int
+    title: str
+    end_time: float
+    deviations: list[Deviation] = field(default_factory=list)
+    replan: str = ""  # set when the loop re-solved after this step: why, and what came of it
+
+
+@dataclass
+class GoalResult:
+    """One goal of the task, checked against the real final pose."""
+
+    body: str
+    text: str  # the goal as written, e.g. "block at (0.600, 0.000) m yaw 0.0 deg within 1.0 cm, 3.0 deg"
+    position_error: float | None  # m, None when the goal does not constrain position
+    yaw_error: float | None  # rad, None when the goal does not constrain heading
+    tol_position: float
+    tol_yaw: float
+
+    @property
+    def ok(self) -> bool:
+        """True when the body is within the goal's tolerance."""
+        pos_ok = self.position_error is None or self.position_error <= self.tol_position
+        yaw_ok = self.yaw_error is None or abs(self.yaw_error) <= self.tol_yaw
+        return pos_ok and yaw_ok
+
+
+@dataclass
+class ExecutionReport:
+    """The outcome of executing a plan in DART.
+
+    `status`: "reached" (every goal within tolerance at the end), "missed" (the
+    plan was carried out, or replanning gave up, and a goal is not met) or
+    "failed" (a step could not be carried out, e.g. the arm could not reach a
+    pose); `reason` says why when not reached.
+    """
+
+    task: str
+    status: str
+    reason: str
+    steps: list[StepReport]
+    goals: list[GoalResult]
+    replans: int
+    replan_log: list[str]
+    final: dict[str, np.ndarray]
+    sim_time: float
+    wall_time: float
+    solve_time: float  # wall time spent re-solving (part of wall_time)
+    frames: Frames | None = None
+    bodies: dict[str, Any] = field(default_factory=dict)  # body name -> Body IR (for drawing)
+    table: Any = None  # the scene's Table IR (for drawing)
+    closed_loop: bool = False
+
+    @property
+    def reached(self) -> bool:
+        """True when the goal was reached."""
+        return self.status == "reached"
+
+    def text(self) -> str:
+        """A human-readable account: steps, deviations, goal errors, status line."""
+        mode = "closed loop (replan)" if self.closed_loop else "open loop"
+        lines = [f"execution of {self.task} in DART, {mode}:"]
+        attached = {step.replan for step in self.steps}
+        lines += [f"  replan: {entry}" for entry in self.replan_log if entry not in attached]  # before any step
+        for step in self.steps:
+            origin = "" if step.plan == 0 else f" [replan {step.plan}]"
+            lines.append(f"  step {step.index}{origin}: {step.title}  (t = {step.end_time:.2f} s)")
+            for dev in step.deviations:
+                flag = "  > half tolerance" if dev.exceeded else ""
+                lines.append(f"      {dev.body:<8} planned {_planar(dev.planned)}   real {_planar(dev.real)}"
+                             f"   off {dev.position * 100:.2f} cm, {np.degrees(dev.angle):.2f} deg{flag}")
+            if step.replan:
+                lines.append(f"    replan: {step.replan}")
+        for goal in self.goals:
+            errors = []
+            if goal.position_error is not None:
+                errors.append(f"{goal.position_error * 100:.2f} cm")
+            if goal.yaw_error is not None:
+                errors.append(f"{np.degrees(abs(goal.yaw_error)):.2f} deg")
+            lines.append(f"  goal {goal.text}: off {', '.join(errors)}  {'ok' if goal.ok else 'NOT MET'}")
+        summary = (f"{self.status}: {self.sim_time:.1f} s simulated in {self.wall_time:.1f} s wall"
+                   f" ({self.replans} replan{'s' if self.replans != 1 else ''})")
+        lines.append(summary if not self.reason else f"{summary}: {self.reason}")
+        return "\n".join(lines)
+
+    def to_json(self) -> dict[str, Any]:
+        """The report as plain data (`vkg-execution/1`)."""
+        return {
+            "format": FORMAT,
+            "task": self.task,
+            "status": self.status,
+            "reason": self.reason,
+            "closed_loop": self.closed_loop,
+            "replans": self.replans,
+            "replan_log": list(self.replan_log),
+            "sim_time_s": round(self.sim_time, 6),
+            "wall_time_s": round(self.wall_time, 3),
+            "solve_time_s": round(self.solve_time, 3),
+            "steps": [
+                {
+                    "plan": s.plan,
+                    "index": s.index,
+                    "step": s.title,
+                    "end_time_s": round(s.end_time, 6),
+                    "bodies": {
+                        d.body: {"planned": d.planned.tolist(), "real": d.real.tolist(),
+                                 "position_error_m": d.position, "angle_error_rad": d.angle}
+                        for d in s.deviations
+                    },
+                }
+                for s in self.steps
+            ],
+            "goals": [
+                {"goal": g.text, "body": g.body, "position_error_m": g.position_error,
+                 "yaw_error_rad": g.yaw_error, "ok": g.ok}
+                for g in self.goals
+            ],
+            "final": {name: pose.tolist() for name, pose in self.final.items()},
+        }
