@@ -1,0 +1,34 @@
+"""Inference on synthetic trials with known ground truth (a fast subset of bench/bench_infer.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vkgl.infer.synthetic import synthetic_trials
+from vkgl.infer.trial import infer_trials
+
+
+def _score(noise_p: float, noise_deg: float) -> tuple[float, float, float, float]:
+    trials, truths = synthetic_trials(11, 3, noise_p=noise_p, noise_r=np.deg2rad(noise_deg))
+    results = infer_trials(trials)
+    motion_ok = np.mean([r.motion.type == t.motion for r, t in zip(results, truths)])
+    action_ok = np.mean([r.action.type == t.action for r, t in zip(results, truths)])
+    axis_err, center_err = [], []
+    for r, t in zip(results, truths):
+        if t.axis is None or r.motion.type != t.motion:
+            continue
+        axis_err.append(np.degrees(np.arccos(np.clip(r.motion.params["axis"] @ t.axis, -1, 1))))
+        if t.center is not None:
+            d = r.motion.params["center"] - t.center
+            center_err.append(np.linalg.norm(d - (d @ t.axis) * t.axis))
+    return motion_ok, action_ok, float(np.median(axis_err)), float(np.median(center_err))
+
+
+@pytest.mark.parametrize("noise_p, noise_deg", [(0.0, 0.0), (0.005, 2.0)])
+def test_types_axes_and_centres_are_recovered(noise_p: float, noise_deg: float) -> None:
+    motion_ok, action_ok, axis_deg, center_m = _score(noise_p, noise_deg)
+    assert motion_ok >= 0.95
+    assert action_ok >= 0.95
+    assert axis_deg < 2.0
+    assert center_m < 0.01

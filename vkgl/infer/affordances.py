@@ -1,0 +1,361 @@
+"""From per-trial graphs to a body's affordances: grouping, naming, IR.
+
+Trials are grouped by where and how the robot acted and by what the body did:
+
+- a PUSH trial (contact on a face, force along its inward normal) is keyed by
+  its push direction (`px` = along +x, ...), where along the face the contact
+  was (`center`, or near the `left` / `right` end, left being the side to the
+  left of the push direction, z up), the action type, the motion type and the
+  sense of rotation. Each group keeps its highest-likelihood trial.
+- a WIELD exploration (one grasp, many force directions: the contact point is
+  shared by trials whose forces differ) is one group whose constraint must
+  explain every trial at once: its models are fitted to all its trials
+  together, so a tool swung in every direction comes out `free`.
+
+Groups whose body did not move (`motion fixed`) are dropped: nothing to plan
+with. Names: `push_center_px`, `push_px_left`, `turn_px_left`, `move_px_right`
+(free), `wield`; a clash gets a numeric suffix.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.infer.data import EdgeData, edge_data, trial_edges
+from vkgl.infer.select import EdgeInference, infer_edge
+from vkgl.infer.trial import TrialInference
+from vkgl.lang.ir import (
+    Affordance,
+    Evidence,
+    FixedC,
+    FreeC,
+    Pose,
+    PrismaticC,
+    Quantity,
+    RevoluteC,
+    Vector,
+)
+from vkgl.lang.printer import to_si
+from vkgl.sim.trials import Trials
+
+_SAME_POINT = 1e-3  # m: contacts closer than this are the same grasp
+_SAME_DIRECTION = np.deg2rad(10.0)
+_AXIS_LABEL = np.deg2rad(30.0)  # a push within this of a body axis is named after it
+_CENTER_FRACTION = 1.0 / 3.0  # |lateral| below this share of the face's explored half-width is "center"
+_SAME_AXIS = np.deg2rad(5.0)  # motions whose axes differ less are one constraint ...
+_SAME_LINE = 0.01  # ... and, for turns, whose axis lines pass within this (m)
+_TIE = 1.0  # nats: log-likelihoods this close are a tie
+_VERBS = {"prismatic": "push", "revolute": "turn", "free": "move"}
+
+
+@dataclass
+class Group:
+    """Trials that make one affordance, and the graph that represents them."""
+
+    name: str
+    members: list[int]
+    action: EdgeInference | None
+    motion: EdgeInference
+    loglik: float
+    posterior: float
+    kept: int | None = None  # the representative trial (None for a joint fit over all members)
+    key: tuple = field(default_factory=tuple)
+
+
+def group_trials(trials: Trials, results: list[TrialInference]) -> list[Group]:
+    """The affordance groups of a dataset, in reading order (see `_reading_order`)."""
+    usable = [r for r in results if r.skipped is None and r.motion is not None]
+    wield_sets, pushes = _split_wield(usable)
+    groups = [_joint_group(trials, members) for members in wield_sets]
+    groups += _push_groups(pushes)
+    groups = [g for g in groups if g.motion.type != "fixed"]
+    groups.sort(key=_reading_order)
+    _name(groups)
+    return groups
+
+
+_DIRECTIONS = ("px", "nx", "py", "ny", "pz", "nz", "any")
+_PLACES = ("center", "left", "right", "")
+_MOTIONS = ("prismatic", "revolute", "free")
+
+
+def _reading_order(g: Group) -> tuple:
+    """Wielding first; then by push direction (+x, -x, ...), motion (push, turn, move), place, first trial."""
+    if g.key == ("wield",):
+        return (0, g.members[0])
+    label, place, _, motion, _ = g.key
+    return (1, _DIRECTIONS.index(label), _MOTIONS.index(motion), _PLACES.index(place), g.members[0])
+
+
+# ---------------------------------------------------------------- wield (one grasp, many directions)
+
+
+def _split_wield(results: list[TrialInference]) -> tuple[list[list[int]], list[TrialInference]]:
+    """Clusters of trials at one contact point with differing forces; the rest are pushes."""
+    clusters: list[list[TrialInference]] = []
+    for r in results:
+        if not np.all(np.isfinite(r.contact)):
+            clusters.append([r])
+            continue
+        for cluster in clusters:
+            head = cluster[0]
+            if np.all(np.isfinite(head.contact)) and np.linalg.norm(head.contact - r.contact) < _SAME_POINT:
+                cluster.append(r)
+                break
+        else:
+            clusters.append([r])
+    wield, pushes = [], []
+    for cluster in clusters:
+        if len(cluster) >= 2 and _directions_differ([r.force for r in cluster]):
+            wield.append([r.index for r in cluster])
+        else:
+            pushes.extend(cluster)
+    pushes.sort(key=lambda r: r.index)
+    return wield, pushes
+
+
+def _directions_differ(forces: list[np.ndarray]) -> bool:
+    units = [f / np.linalg.norm(f) for f in forces if np.all(np.isfinite(f)) and np.linalg.norm(f) > 0]
+    return any(np.arccos(np.clip(u @ v, -1.0, 1.0)) > _SAME_DIRECTION for u in units for v in units)
+
+
+def _joint_group(trials: Trials, members: list[int]) -> Group:
+    """One constraint for all the trials of a grasp: models fitted to their samples together."""
+    edges = [trial_edges(trials, i) for i in members]
+    motion = infer_edge(_stack([e.motion for e in edges]), relative=True)
+    actions = [e.action for e in edges if e.action is not None]
+    action = infer_edge(_stack(actions), relative=False) if len(actions) == len(edges) else None
+    loglik = motion.loglik + (action.loglik if action is not None else 0.0)
+    posterior = motion.posterior[motion.type] * (action.posterior[action.type] if action is not None else 1.0)
+    return Group(
+        name="wield", members=members, action=action, motion=motion, loglik=loglik, posterior=posterior, key=("wield",)
+    )
+
+
+def _stack(parts: list[EdgeData]) -> EdgeData:
+    """Several trajectories as one (each keeps its own start), with the noise re-estimated."""
+    p = np.concatenate([d.p for d in parts])
+    rot = Rotation.concatenate([d.rot for d in parts])
+    has_rot = np.concatenate([d.has_rot for d in parts])
+    return edge_data(p, rot, has_rot)
+
+
+# ---------------------------------------------------------------- pushes
+
+
+def _push_groups(pushes: list[TrialInference]) -> list[Group]:
+    by_direction: dict[str, list[TrialInference]] = defaultdict(list)
+    for r in pushes:
+        by_direction[_direction_label(r.force)].append(r)
+    keyed: dict[tuple, list[TrialInference]] = defaultdict(list)
+    place_of: dict[int, str] = {}
+    for label, members in by_direction.items():
+        for r, place in zip(members, _places(members)):
+            assert r.motion is not None
+            place_of[r.index] = place
+            action_type = r.action.type if r.action is not None else None
+            keyed[(label, place, action_type, r.motion.type, _sense(r.motion))].append(r)
+    groups = []
+    for members in _merge_equivalent(keyed):
+        best = _representative(members)
+        assert best.motion is not None
+        posterior = best.motion.posterior[best.motion.type]
+        if best.action is not None:
+            posterior *= best.action.posterior[best.action.type]
+        label, _, action_type, motion_type, sense = next(k for k, v in keyed.items() if best in v)
+        groups.append(
+            Group(
+                name="",
+                members=sorted(r.index for r in members),
+                action=best.action,
+                motion=best.motion,
+                loglik=best.loglik,
+                posterior=posterior,
+                kept=best.index,
+                key=(label, place_of[best.index], action_type, motion_type, sense),
+            )
+        )
+    return groups
+
+
+def _merge_equivalent(keyed: dict[tuple, list[TrialInference]]) -> list[list[TrialInference]]:
+    """Groups of one push direction that produce the same constraint at different places, merged.
+
+    Pushing a drawer at either end slides it along the same rail, pushing a door
+    anywhere turns it about the same hinge: one affordance, not three. Turns
+    about different centres (the Block's two ends) stay apart.
+    """
+    order = sorted(keyed, key=lambda k: (k[0], str(k[2]), k[3], k[4], _PLACES.index(k[1])))
+    merged: list[tuple[tuple, TrialInference, list[TrialInference]]] = []
+    for key in order:
+        members = keyed[key]
+        head = _representative(members)
+        for other_key, other_head, other_members in merged:
+            same_kind = (other_key[0], other_key[2], other_key[3], other_key[4]) == (key[0], key[2], key[3], key[4])
+            if same_kind and _same_constraint(head.motion, other_head.motion):
+                other_members.extend(members)
+                break
+        else:
+            merged.append((key, head, list(members)))
+    return [members for _, _, members in merged]
+
+
+def _same_constraint(a: EdgeInference | None, b: EdgeInference | None) -> bool:
+    """Whether two MAP motions are one constraint: same axis (5 deg) and, for turns, same axis line (1 cm)."""
+    if a is None or b is None or a.type != b.type:
+        return False
+    if a.type in ("fixed", "free"):
+        return True
+    axis_a, axis_b = np.asarray(a.params["axis"]), np.asarray(b.params["axis"])
+    if np.arccos(np.clip(axis_a @ axis_b, -1.0, 1.0)) > _SAME_AXIS:
+        return False
+    if a.type == "prismatic":
+        return True
+    d = np.asarray(b.params["center"]) - np.asarray(a.params["center"])
+    return bool(np.linalg.norm(d - (d @ axis_a) * axis_a) < _SAME_LINE)
+
+
+def _representative(members: list[TrialInference]) -> TrialInference:
+    """The highest-likelihood trial; among near ties (physics is symmetric) the most central contact."""
+    top = max(r.loglik for r in members)
+    tied = [r for r in members if r.loglik >= top - _TIE]
+    return min(tied, key=lambda r: (_lateral_distance(r), -r.loglik, r.index))
+
+
+def _lateral_distance(r: TrialInference) -> float:
+    ok = np.all(np.isfinite(r.contact)) and np.all(np.isfinite(r.force)) and np.linalg.norm(r.force) > 0
+    return abs(float(r.contact @ _left_of(r.force))) if ok else 0.0
+
+
+def _direction_label(force: np.ndarray) -> str:
+    """`px`, `ny`, ... for a push along a body axis; `any` when unknown or oblique."""
+    norm = float(np.linalg.norm(force)) if np.all(np.isfinite(force)) else 0.0
+    if norm == 0.0:
+        return "any"
+    d = force / norm
+    k = int(np.argmax(np.abs(d)))
+    if np.arccos(min(abs(d[k]), 1.0)) > _AXIS_LABEL:
+        return "any"
+    return ("p" if d[k] > 0 else "n") + "xyz"[k]
+
+
+def _left_of(force: np.ndarray) -> np.ndarray:
+    """The direction to the left of a push (z up); for vertical pushes, +y."""
+    d = force / np.linalg.norm(force)
+    left = np.cross([0.0, 0.0, 1.0], d)
+    n = np.linalg.norm(left)
+    return left / n if n > 0.1 else np.array([0.0, 1.0, 0.0])
+
+
+def _places(members: list[TrialInference]) -> list[str]:
+    """`center`, `left` or `right` of each trial's contact along its face ("" when unknown)."""
+    lateral = []
+    for r in members:
+        ok = np.all(np.isfinite(r.contact)) and np.all(np.isfinite(r.force)) and np.linalg.norm(r.force) > 0
+        lateral.append(float(r.contact @ _left_of(r.force)) if ok else np.nan)
+    known = [abs(s) for s in lateral if np.isfinite(s)]
+    half_width = max(known) if known else 0.0
+    places = []
+    for s in lateral:
+        if not np.isfinite(s):
+            places.append("")
+        elif half_width < _SAME_POINT or abs(s) <= _CENTER_FRACTION * half_width:
+            places.append("center")
+        else:
+            places.append("left" if s > 0 else "right")
+    return places
+
+
+def _sense(motion: EdgeInference) -> int:
+    """The sense of a rotation (sign of its axis' largest component), 0 for other motions."""
+    if motion.type != "revolute":
+        return 0
+    axis = np.asarray(motion.params["axis"])
+    return 1 if axis[int(np.argmax(np.abs(axis)))] > 0 else -1
+
+
+# ---------------------------------------------------------------- names
+
+
+def _name(groups: list[Group]) -> None:
+    taken: dict[str, int] = {}
+    for g in groups:
+        base = g.name if g.key == ("wield",) else _push_name(g)
+        count = taken.get(base, 0) + 1
+        taken[base] = count
+        g.name = base if count == 1 else f"{base}_{count}"
+
+
+def _push_name(g: Group) -> str:
+    label, place = g.key[0], g.key[1]
+    verb = _VERBS.get(g.motion.type, "push")
+    if label == "any":
+        return verb
+    if place == "center":
+        return f"{verb}_center_{label}"
+    if place in ("left", "right"):
+        return f"{verb}_{label}_{place}"
+    return f"{verb}_{label}"
+
+
+# ---------------------------------------------------------------- IR
+
+
+def affordance_ir(g: Group) -> Affordance:
+    """The group as an `affordance NAME { action ...  motion ...  evidence ... }` IR node."""
+    action = constraint_ir(g.action) if g.action is not None else FixedC()
+    evidence = Evidence(trials=len(g.members), loglik=_round(g.loglik, 1), posterior=_round(g.posterior, 3))
+    return Affordance(name=g.name, action=action, motion=constraint_ir(g.motion), evidence=evidence)
+
+
+def constraint_ir(edge: EdgeInference) -> Any:
+    """The MAP constraint of an edge as IR, rounded for reading (0.1 mm, 1e-3 in directions, 0.1 deg)."""
+    params = edge.params
+    if edge.type == "fixed":
+        return FixedC(pose=_pose_ir(np.asarray(params["pose"])))
+    if edge.type == "prismatic":
+        return PrismaticC(axis=_direction_ir(params["axis"]), origin=_point_ir(params["origin"]))
+    if edge.type == "revolute":
+        return RevoluteC(center=_point_ir(params["center"]), axis=_direction_ir(params["axis"]))
+    return FreeC()
+
+
+def _pose_ir(T: np.ndarray) -> Pose:
+    roll, pitch, yaw = Rotation.from_matrix(T[:3, :3]).as_euler("xyz", degrees=True)
+    if round(yaw, 1) <= -180.0:
+        yaw += 360.0  # one way to write a half turn: 180deg
+    position = _point_ir(T[:3, 3])
+    if max(abs(roll), abs(pitch)) < 1.0:  # degrees: the effector frame keeps z up
+        return Pose(position=position, yaw=Quantity(value=_si(yaw, 1, "deg"), unit="deg"))
+    values = tuple(_si(a, 1, "deg") for a in (roll, pitch, yaw))
+    return Pose(position=position, rpy=Vector(values=values, unit="deg"))
+
+
+def _point_ir(p: Any) -> Vector:
+    """A point in cm, to 0.01 cm (0.1 mm)."""
+    return Vector(values=tuple(_si(100.0 * float(x), 2, "cm") for x in p), unit="cm")
+
+
+def _direction_ir(a: Any) -> Vector:
+    """A unit direction to three decimals."""
+    a = np.asarray(a, dtype=float)
+    a = a / np.linalg.norm(a)
+    return Vector(values=tuple(_si(float(x), 3, "") for x in a), unit="")
+
+
+def _si(value_in_unit: float, decimals: int, unit: str) -> float:
+    """`value_in_unit` rounded, as the SI float that the parser reads back from its printed text."""
+    text = f"{value_in_unit:.{decimals}f}"
+    if float(text) == 0.0:
+        text = "0"  # no "-0"
+    return to_si(text, unit)
+
+
+def _round(x: float, decimals: int) -> float:
+    value = float(f"{x:.{decimals}f}")
+    return 0.0 if value == 0.0 else value
