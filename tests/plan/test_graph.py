@@ -70,10 +70,23 @@ def test_rollout_composes_the_affordances_motions(problem):
         seq, _ = extend(problem, seq, action)
     traces = rollout(problem, seq, np.array([math.radians(30), 0.10]))
     final = traces[-1].end["block"]
-    assert np.allclose(final[:2, 3], (0.5933, -0.0384), atol=1e-4)  # turned about its far corner, then slid
+    assert np.allclose(final[:2, 3], _turn_then_slide(problem, math.radians(30), 0.10), atol=1e-9)
     assert math.isclose(math.atan2(final[1, 0], final[0, 0]), math.radians(-30), abs_tol=1e-9)
     hand = traces[-1].hand
     assert len(hand) == 5 and np.allclose(hand[-1][:3, 3], (final @ problem.action("block", "push_center_px"))[:3, 3])
+
+
+def _turn_then_slide(problem, angle: float, slide: float) -> np.ndarray:
+    """Where the block ends, computed by hand from the affordances' source parameters: turn about the
+    turn's centre (in the body frame, axis -z), then slide along the body's new +x."""
+    turn = next(a for a in problem.program.affordances["Block"] if a.name == "turn_px_left")
+    assert turn.motion.type == "revolute" and np.allclose(turn.motion.axis.array(), (0, 0, -1))
+    center_body = turn.motion.center.array()[:2]
+    start = np.array([0.45, 0.0])  # the block in scene `tabletop`, yaw 0
+    center = start + center_body
+    c, s = math.cos(-angle), math.sin(-angle)
+    turned = center + np.array([[c, -s], [s, c]]) @ (start - center)
+    return turned + slide * np.array([c, s])
 
 
 def test_closed_form_rejects_a_turn_the_wrong_way_and_pins_the_right_one(problem):

@@ -50,6 +50,6 @@ CODES: dict[str, str] = {
     "E504": "URDF file missing or unreadable",
     "E505": "source file missing or unreadable",
     # warnings
-    "W601": "a scene body that no imported affordance can move",
+    "W601": "a goal body that no imported affordance can move",
     "W602": "a tool frame with no correspondence in a task's scene",
 }
