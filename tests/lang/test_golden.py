@@ -26,6 +26,7 @@ import pytest
 
 from vkgl.cli import main
 from vkgl.lang.codes import CODES
+from vkgl.resources import stdlib_dir
 
 REPO = Path(__file__).resolve().parents[2]
 GOLDEN = REPO / "tests" / "lang" / "golden"
@@ -41,7 +42,17 @@ def _code_of(case: Path) -> str:
 
 def _run_check(case: Path, capsys: pytest.CaptureFixture[str]) -> tuple[int, str]:
     status = main(["check", str(case.relative_to(REPO))])
-    return status, capsys.readouterr().out
+    return status, _as_from_the_checkout(capsys.readouterr().out)
+
+
+def _as_from_the_checkout(out: str) -> str:
+    """The output as if the stdlib were the checkout's: a non-editable install (CI) shows the
+    installed stdlib's files by their absolute site-packages path, which the golden files cannot know."""
+    installed_parent = stdlib_dir().resolve().parent
+    if installed_parent == REPO:
+        return out
+    shown = f"{installed_parent.as_posix()}/"
+    return out.replace(f"{shown} (the installed", "./ (the installed").replace(shown, "")
 
 
 @pytest.fixture

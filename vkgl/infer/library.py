@@ -134,15 +134,31 @@ def _import_of(body_file: Path, destination: Path) -> tuple[str, str]:
     as `stdlib/bodies/block.vkg`; any other by its path relative to the
     generated file, so the header does not depend on the current directory.
     """
-    from vkgl.resources import stdlib_dir
-
     body_path = body_file.resolve()
-    stdlib = stdlib_dir().resolve()
-    if body_path.is_relative_to(stdlib):
-        relative = body_path.relative_to(stdlib.parent)
+    relative = _stdlib_relative(body_path)
+    if relative is not None:
         return ".".join(relative.with_suffix("").parts), relative.as_posix()
     relative_text = Path(os.path.relpath(body_path, destination.resolve().parent)).as_posix()
     return relative_text, relative_text
+
+
+def _stdlib_relative(body_path: Path) -> Path | None:
+    """`stdlib/bodies/block.vkg` when `body_path` is a stdlib body, else None.
+
+    A stdlib body is one of the installed stdlib, or of a source checkout's
+    `stdlib/` (the repository, whether or not it is installed editable) that
+    the installed stdlib also has: both are imported as `stdlib.bodies.NAME`.
+    """
+    from vkgl.resources import stdlib_dir
+
+    installed = stdlib_dir().resolve()
+    if body_path.is_relative_to(installed):
+        return body_path.relative_to(installed.parent)
+    for folder in body_path.parents:
+        if folder.name == "stdlib":
+            inside = body_path.relative_to(folder)
+            return Path("stdlib") / inside if (installed / inside).is_file() else None
+    return None
 
 
 # ---------------------------------------------------------------- checks and report
