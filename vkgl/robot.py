@@ -351,6 +351,11 @@ class Arm:
         seeds += [self._aimed_home(local[:3, 3], None if yaw_free else local[:3, :3]), self.home, *self._random_seeds]
         return self._solve(local, seeds, yaw_free=yaw_free, tol=tol)
 
+    def spread_seeds(self) -> list[np.ndarray]:
+        """`home` and the fixed random seeds within the joint limits (the same on every run): starting
+        points for IK that should find the arm's other configurations for one pose."""
+        return [self.home.copy(), *(seed.copy() for seed in self._random_seeds)]
+
     def _aimed_home(self, point: np.ndarray, rotation: np.ndarray | None = None) -> np.ndarray:
         """`home` with the first joint turned so that the arm faces `point` (root frame), and with
         the last joint turned toward `rotation` (if given) about its own axis."""

@@ -79,6 +79,6 @@ def test_two_runs_give_identical_json_apart_from_timings(compiled):
 def test_text_shows_the_graph_sequence(plans):
     text = plans["d_rotate_push"].text()
     assert "G0: block-world fixed" in text
-    assert "step 1: add Block.turn_px_left on block with arm.fingertip: turn 30." in text
+    assert "step 1: add Block.turn_px_left on block with arm.fingertip: turn 20." in text
     assert "G1: block-world revolute" in text and "arm-block fixed" in text
     assert "step 3: add Block.push_center_px on block with arm.fingertip: slide 10.0 cm" in text

@@ -68,10 +68,10 @@ def test_rollout_composes_the_affordances_motions(problem):
                    Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
                    add("arm.fingertip", "block", "push_center_px")):
         seq, _ = extend(problem, seq, action)
-    traces = rollout(problem, seq, np.array([math.radians(30), 0.10]))
+    traces = rollout(problem, seq, np.array([math.radians(20), 0.10]))
     final = traces[-1].end["block"]
-    assert np.allclose(final[:2, 3], _turn_then_slide(problem, math.radians(30), 0.10), atol=1e-9)
-    assert math.isclose(math.atan2(final[1, 0], final[0, 0]), math.radians(-30), abs_tol=1e-9)
+    assert np.allclose(final[:2, 3], _turn_then_slide(problem, math.radians(20), 0.10), atol=1e-9)
+    assert math.isclose(math.atan2(final[1, 0], final[0, 0]), math.radians(-20), abs_tol=1e-9)
     hand = traces[-1].hand
     assert len(hand) == 5 and np.allclose(hand[-1][:3, 3], (final @ problem.action("block", "push_center_px"))[:3, 3])
 
@@ -99,4 +99,4 @@ def test_closed_form_rejects_a_turn_the_wrong_way_and_pins_the_right_one(problem
                    add("arm.fingertip", "block", "push_center_px")):
         seq, _ = extend(problem, seq, action)
     values, pinned = closed_form(problem, seq)
-    assert pinned and np.allclose(values, (math.radians(30), 0.10), atol=1e-3)
+    assert pinned and np.allclose(values, (math.radians(20), 0.10), atol=1e-3)

@@ -183,7 +183,17 @@ def test_rotate_then_push_reaches_the_goal():
     plan = scripted_plan(program, "d_rotate_push", EXAMPLE_SCRIPTS["d_rotate_push"])
     report = execute(program, "d_rotate_push", plan)
     assert report.status == "reached", report.text()
-    assert np.degrees(yaw_of(report.final["block"])) == pytest.approx(-30.0, abs=1.5)
+    assert np.degrees(yaw_of(report.final["block"])) == pytest.approx(-20.0, abs=1.5)
+
+
+def test_a_long_stick_push_keeps_one_arm_configuration():
+    """Task (e): the held stick pushes the turned block 45 cm, from near the base to the edge of the
+    reach. Warm-started IK alone runs into a joint limit halfway and would have to switch elbow
+    configuration in contact; the executor picks, before touching, a configuration that lasts."""
+    program = compile_file(str(EXAMPLES / "tasks" / "e_rotate_stick_push.vkg"))
+    plan = scripted_plan(program, "e_rotate_stick_push", EXAMPLE_SCRIPTS["e_rotate_stick_push"])
+    report = execute(program, "e_rotate_stick_push", plan)
+    assert report.status == "reached", report.text()
 
 
 def test_the_planners_plan_reaches_the_goal(task_a):
@@ -233,3 +243,30 @@ def test_when_re_solving_finds_no_plan_the_current_plan_is_carried_on(task_a):
     assert report.replans == 1 and {s.plan for s in report.steps} == {0}
     assert report.status == "reached", report.text()
     assert report.text().splitlines()[1].startswith("  replan: before step 1 block is off the plan by 0.60 cm")
+
+
+def test_a_re_solve_keeps_a_margin_inside_the_tolerance():
+    """From a disturbed start (the block 0.5 cm sideways and 1 deg turned), the first plan that meets
+    the 1 cm tolerance ends 0.9 cm off, which a real push then misses; the closed loop's re-solve asks
+    for half the tolerance first and finds a plan (turn, then push) that ends well inside it."""
+    from scipy.spatial.transform import Rotation
+
+    from vkgl.plan.solve import solve
+    from vkgl.sim.execute import solve_with_planner
+
+    program = compile_file(str(EXAMPLES / "tasks" / "b_stick_push.vkg"))
+    task = program.task("b_stick_push")
+    scene = program.scenes[task.scene.name]
+    block = next(b for b in scene.bodies if b.name == "block")
+    disturbance = np.eye(4)
+    disturbance[:3, :3] = Rotation.from_euler("z", 1.0, degrees=True).as_matrix()
+    disturbance[1, 3] = 0.005
+    pose = scene_body_pose(scene, block, program.bodies["Block"]) @ disturbance
+    world = program_with_observed_scene(program, task, {"block": pose})
+
+    def miss(plan: dict[str, Any]) -> float:
+        end = np.asarray(plan["steps"][-1]["poses_end"]["block"], dtype=float).reshape(4, 4)
+        return float(np.linalg.norm(end[:2, 3] - (0.95, 0.0)))
+
+    assert 0.005 < miss(solve((world, "b_stick_push")).to_json()) <= 0.01
+    assert miss(solve_with_planner(world, "b_stick_push")) <= 0.005

@@ -208,19 +208,26 @@ class WorldArm:
         segment: Segment,
         step: Callable[[int, float], None],
         q_hint: np.ndarray | None = None,
+        q_path: list[np.ndarray] | None = None,
     ) -> None:
         """Carry out one path segment: IK every control period, `step(n, s)` runs n physics steps
         (s: the phase of the segment reached at their end).
 
         `q_hint` (e.g. the plan's joints for this pose) seeds the first IK
-        solution. Raises ArmStuck when the arm cannot follow.
+        solution. `q_path`, joints at evenly spaced phases of the segment
+        (a continuous IK chain solved beforehand), seeds IK wherever warm
+        starting from the current joints fails or would switch configuration.
+        Raises ArmStuck when the arm cannot follow.
         """
         dt = self.world.getTimeStep()
         periods = max(1, int(np.ceil(segment.duration / CONTROL_PERIOD - 1e-9)))
         substeps = max(1, int(round(CONTROL_PERIOD / dt)))
         for k in range(1, periods + 1):
             target = segment.pose(k / periods)
-            q_next = self._solve(target, q_hint if k == 1 else None)
+            hint = q_hint if k == 1 else None
+            if hint is None and q_path:
+                hint = q_path[min(len(q_path) - 1, int(round(k / periods * (len(q_path) - 1))))]
+            q_next = self._solve(target, hint)
             self._command(q_next, substeps * dt)
             step(substeps, k / periods)
         self._stop()
@@ -252,8 +259,9 @@ class WorldArm:
     def _solve(self, target: np.ndarray, q_hint: np.ndarray | None) -> np.ndarray:
         q = self.q
         q_next = self.arm.ik(target, q0=q)
-        if q_next is None and q_hint is not None:
-            q_next = self.arm.ik(target, q0=q_hint)
+        if q_hint is not None and (q_next is None or self.link_travel(q, np.asarray(q_next)) > MAX_LINK_STEP):
+            from_hint = self.arm.ik(target, q0=q_hint)
+            q_next = from_hint if from_hint is not None else q_next
         if q_next is None:
             xyz = ", ".join(f"{v:.3f}" for v in target[:3, 3])
             raise ArmStuck(f"the arm cannot reach the effector pose at ({xyz}) m (no IK solution)")

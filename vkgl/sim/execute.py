@@ -307,16 +307,40 @@ def _stray(when: str, deviation: Deviation) -> str:
             f"{np.degrees(deviation.angle):.2f} deg")
 
 
+RESOLVE_MARGIN = 0.5
+"""A re-solve first asks for this fraction of each goal tolerance, then (if that finds no plan) for all of it."""
+
+
 def solve_with_planner(program: Program, task: str) -> dict[str, Any]:
-    """Re-solve `task` of `program` with the planner; the plan as `vkg-plan/1`."""
+    """Re-solve `task` of `program` with the planner; the plan as `vkg-plan/1`.
+
+    The planner returns the first plan that meets the goal within its
+    tolerance, often at the tolerance's edge; from an observed (already
+    disturbed) scene that leaves physics no margin. So the re-solve first
+    asks for `RESOLVE_MARGIN` of every tolerance and only then for all of it.
+    """
     try:
         from vkgl.plan.solve import solve
     except ImportError as exc:  # the planner is a separate stage; execution alone does not need it
         raise InputError(f"re-solving {task} needs the planner (vkgl.plan.solve), which is not available") from exc
-    plan = solve((program, task))
+    plan = solve((_with_tighter_goals(program, task, RESOLVE_MARGIN), task))
+    if plan.status != "solved":
+        plan = solve((program, task))
     out = plan.to_json()
     out.setdefault("reason", getattr(plan, "reason", ""))
     return out
+
+
+def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Program:
+    """A copy of `program` whose task `task_name` asks for `fraction` of each goal tolerance."""
+    task = program.task(task_name)
+    goals = []
+    for goal in task.goals:
+        tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
+        tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
+        goals.append(goal.model_copy(update={"tol_position": Quantity(value=tol_p * fraction, unit="m"),
+                                             "tol_yaw": Quantity(value=tol_y * fraction, unit="rad")}))
+    return dataclasses.replace(program, tasks={**program.tasks, task_name: task.model_copy(update={"goals": goals})})
 
 
 def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:

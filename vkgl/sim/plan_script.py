@@ -31,7 +31,7 @@ from vkgl.lang.ir import Affordance, FixedC, FreeC, PrismaticC, RevoluteC, Task
 from vkgl.lang.program import Program
 
 PLAN_FORMAT = "vkg-plan/1"
-_TURN = "0.5235987755982988"  # 30 deg
+_TURN = "0.3490658503988659"  # 20 deg
 
 EXAMPLE_SCRIPTS: dict[str, list[str]] = {
     # The plans of the paper's six tasks (examples/tasks/), worked out by hand from

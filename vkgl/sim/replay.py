@@ -38,6 +38,8 @@ CLEARANCE = 0.04  # m above the highest body when travelling
 LIFT = 0.04  # m the effector rises after letting go
 SETTLE = 0.3  # s of stillness after a push, before observing
 MAX_CHAIN_JUMP = 0.05  # m a link may move between IK solutions 2 cm apart on the way down
+CHAIN_SPACING = 0.01  # m of hand travel between two IK solutions of a contact motion solved beforehand
+MOTION_LEVER = 0.2  # m: a turn of the hand counts as this lever arm times its angle, for that spacing
 WAYPOINT_TOL = 0.002  # m the effector may leave its straight way down between two joint waypoints
 WAYPOINT_TOL_ANGLE = np.radians(1.0)  # rad it may turn away from it
 MAX_SPLITS = 5  # halvings of one joint move at most
@@ -210,7 +212,7 @@ class Replay:
             a = _skeleton_name(contact.collisionObject1)
             b = _skeleton_name(contact.collisionObject2)
             for mine, other in ((a, b), (b, a)):
-                if mine in robot and other in self.skeleton_names:
+                if mine in robot and other in self.skeleton_names and other not in robot:  # not arm vs. held tool
                     what = "the fingertip" if mine == self.arm.skeleton.getName() else f"the held {self.holding()}"
                     raise ArmStuck(f"{what} touched {self.skeleton_names[other]} on its way to the contact "
                                    "(the way down from above must be clear: is the body where the plan expects it?)")
@@ -231,7 +233,8 @@ class Replay:
         self._next_frame = self.time + FRAME_PERIOD
 
     def _run(self, segments: list[paths.Segment], label: str, *,
-             ghost: Callable[[float], None] | None = None, q_hint: np.ndarray | None = None) -> None:
+             ghost: Callable[[float], None] | None = None, q_hint: np.ndarray | None = None,
+             q_path: list[np.ndarray] | None = None) -> None:
         for i, segment in enumerate(segments):
             self.label = f"{label} {segment.phase}"
 
@@ -240,7 +243,7 @@ class Replay:
                     _ghost(s)
                 self._step(n)
 
-            self.arm.follow(segment, step, q_hint=q_hint if i == 0 else None)
+            self.arm.follow(segment, step, q_hint=q_hint if i == 0 else None, q_path=q_path if i == 0 else None)
 
     def _travel(self, target: np.ndarray, label: str, seeds: list[np.ndarray | None],
                 contact: np.ndarray | None = None) -> None:
@@ -263,27 +266,47 @@ class Replay:
         self.guarded = True
         try:
             self._lift(safe_z, label)
+            crossed, at_safe_height = False, None
             for extra in RAISED_TOPS:
                 over = paths.at_height(target, max(safe_z, target[2, 3]) + extra)
                 chain = ([contact] if contact is not None else []) + [target] + _steps_up(target, over[2, 3])
-                joints = self._solve_chain(chain, seeds)
+                try:
+                    joints = self._solve_chain(chain, seeds)
+                except ArmStuck:
+                    if extra == 0.0:
+                        raise
+                    break  # higher is out of reach here (close to the base)
+                at_safe_height = at_safe_height or (over, chain, joints)
                 if self._joint_line_clears(self.arm.q, joints[-1], safe_z - CLEARANCE / 2):
                     distance = float(np.linalg.norm(over[:3, 3] - self.arm.effector_pose()[:3, 3]))
                     self.label = f"{label} transit"
                     self.arm.move_joints(joints[-1], lambda n, s: self._step(n),
                                          min_duration=distance / paths.TRANSIT_SPEED)
+                    crossed = True
                     break
-            else:
-                over = paths.at_height(target, max(safe_z, target[2, 3]))
-                chain = ([contact] if contact is not None else []) + [target] + _steps_up(target, over[2, 3])
-                joints = self._solve_chain(chain, seeds)
-                self._swing(over, joints[-1], label)
+            if not crossed:
+                assert at_safe_height is not None
+                over, chain, joints = at_safe_height
+                if not self._cross_via_home(joints[-1], safe_z - CLEARANCE / 2, label):
+                    self._swing(over, joints[-1], label)
             down = len(chain) - (contact is not None)
             self._through(chain[::-1][1:down], joints[::-1][1:down], paths.TRANSIT_SPEED, f"{label} transit")
         finally:
             self.guarded = False
         if contact is not None:
             self._through([contact], [joints[0]], paths.APPROACH_SPEED, f"{label} approach")
+
+    def _cross_via_home(self, q_top: np.ndarray, z_min: float, label: str) -> bool:
+        """Cross through the arm's home configuration (hand high above its base) to `q_top`, when both
+        joint-space lines keep the effector above `z_min`. Returns whether it did."""
+        home = getattr(self.arm_model, "home", None)
+        if home is None or not (self._joint_line_clears(self.arm.q, home, z_min)
+                                and self._joint_line_clears(home, q_top, z_min)):
+            return False
+        self.label = f"{label} transit"
+        for q in (home, q_top):
+            self.arm.move_joints(np.asarray(q, dtype=float), lambda n, s: self._step(n))
+        return True
 
     def _lift(self, safe_z: float, label: str) -> None:
         """Straight up from where the effector is to `safe_z` (nothing if it is higher already)."""
@@ -327,6 +350,41 @@ class Replay:
             return [q_b]
         q_mid = np.asarray(solved, dtype=float)
         return self._straight_waypoints(q_a, q_mid, depth + 1) + self._straight_waypoints(q_mid, q_b, depth + 1)
+
+    def _motion_chain(self, segment: paths.Segment, seeds: list[np.ndarray | None]) -> list[np.ndarray]:
+        """Joints every `CHAIN_SPACING` along a contact motion, without a switch of configuration.
+
+        A long push can carry the hand from near the base to the edge of the
+        workspace; IK warm-started period by period may then run into a joint
+        limit halfway and find only another configuration (a jump the arm
+        cannot make while in contact). Solving the whole path beforehand, from
+        the start or else backwards from the end, picks a configuration at the
+        contact that lasts the whole motion. Raises ArmStuck when none does.
+        """
+        length = float(np.linalg.norm(segment.end[:3, 3] - segment.start[:3, 3]))
+        turn = paths.rotation_angle(segment.start, segment.end)
+        count = max(2, int(np.ceil(max(length, turn * MOTION_LEVER) / CHAIN_SPACING)) + 1)
+        poses = [segment.pose(s) for s in np.linspace(0.0, 1.0, count)]
+        try:
+            return self._solve_chain(poses, seeds)
+        except ArmStuck as stuck:
+            first = stuck
+        # The arm is redundant: another elbow position at the contact may last the whole way.
+        for start in self._other_configurations(poses[0]):
+            try:
+                return self._continue(poses, start)
+            except ArmStuck:
+                continue
+        raise ArmStuck(f"no single arm configuration carries the whole motion ({first})")
+
+    def _other_configurations(self, pose: np.ndarray) -> list[np.ndarray]:
+        """IK solutions of `pose` from the arm model's fixed spread of seeds, distinct from each other."""
+        found: list[np.ndarray] = []
+        for seed in self.arm_model.spread_seeds():
+            q = self.arm_model.ik(pose, q0=seed)
+            if q is not None and all(self.arm.link_travel(q, other) > MAX_CHAIN_JUMP for other in found):
+                found.append(np.asarray(q, dtype=float))
+        return found
 
     def _solve_chain(self, poses: list[np.ndarray], seeds: list[np.ndarray | None]) -> list[np.ndarray]:
         """IK solutions of `poses` (contact first, then up), each warm-started at its neighbour's.
@@ -449,9 +507,11 @@ class Replay:
         self.arm.fingertip_collides(self.arm.held is None)
         if self.push_direction is not None:
             self.let_go(label)
-        self._travel(before, label, [step.q_start, step.q_end], contact=hand)
+        push = paths.screw("motion", hand, motion)
+        chain = self._motion_chain(push, [step.q_start, step.q_end])
+        self._travel(before, label, [chain[0], step.q_start, step.q_end], contact=hand)
         self.push_direction = direction
-        self._run([paths.screw("motion", hand, motion)], label, ghost=ghost, q_hint=step.q_start)
+        self._run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
         end = self.arm.effector_pose()
         self.push_direction = motion.at(1.0)[:3, :3] @ direction
         self._run([paths.hold("settle", end, SETTLE)], label)
