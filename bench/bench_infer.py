@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from vkgl.infer.synthetic import synthetic_trials
+from vkgl.infer.synthetic import score, synthetic_trials
 from vkgl.infer.trial import infer_trial, infer_trials
 from vkgl.sim.trials import Trials
 
@@ -45,19 +45,11 @@ def synthetic_table(per_type: int, seed: int) -> list[str]:
         started = time.process_time()
         results = infer_trials(trials)
         per_trial = (time.process_time() - started) / len(trials) * 1000
-        motion = np.mean([r.motion.type == t.motion for r, t in zip(results, truths)])
-        action = np.mean([r.action.type == t.action for r, t in zip(results, truths)])
-        axis_err, center_err = [], []
-        for r, t in zip(results, truths):
-            if t.axis is None or r.motion.type != t.motion:
-                continue
-            axis_err.append(np.degrees(np.arccos(np.clip(r.motion.params["axis"] @ t.axis, -1.0, 1.0))))
-            if t.center is not None:
-                d = r.motion.params["center"] - t.center
-                center_err.append(np.linalg.norm(d - (d @ t.axis) * t.axis))
+        found = score(results, truths)
         rows.append(
-            f"| {noise_p * 1000:g} mm / {noise_deg:g} deg | {len(trials)} | {motion:.1%} | {action:.1%} "
-            f"| {np.median(axis_err):.2f} deg | {np.median(center_err) * 100:.2f} cm | {per_trial:.1f} |"
+            f"| {noise_p * 1000:g} mm / {noise_deg:g} deg | {len(trials)} | {found.motion_accuracy:.1%} "
+            f"| {found.action_accuracy:.1%} | {found.axis_error_deg:.2f} deg | {found.center_error * 100:.2f} cm "
+            f"| {per_trial:.1f} |"
         )
     return rows
 

@@ -5,24 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vkgl.infer.synthetic import synthetic_trials
+from vkgl.infer.synthetic import score, synthetic_trials
 from vkgl.infer.trial import infer_trials
 
 
 def _score(noise_p: float, noise_deg: float) -> tuple[float, float, float, float]:
     trials, truths = synthetic_trials(11, 3, noise_p=noise_p, noise_r=np.deg2rad(noise_deg))
     results = infer_trials(trials)
-    motion_ok = np.mean([r.motion.type == t.motion for r, t in zip(results, truths)])
-    action_ok = np.mean([r.action.type == t.action for r, t in zip(results, truths)])
-    axis_err, center_err = [], []
-    for r, t in zip(results, truths):
-        if t.axis is None or r.motion.type != t.motion:
-            continue
-        axis_err.append(np.degrees(np.arccos(np.clip(r.motion.params["axis"] @ t.axis, -1, 1))))
-        if t.center is not None:
-            d = r.motion.params["center"] - t.center
-            center_err.append(np.linalg.norm(d - (d @ t.axis) * t.axis))
-    return motion_ok, action_ok, float(np.median(axis_err)), float(np.median(center_err))
+    found = score(results, truths)
+    return found.motion_accuracy, found.action_accuracy, found.axis_error_deg, found.center_error
 
 
 @pytest.mark.parametrize("noise_p, noise_deg", [(0.0, 0.0), (0.005, 2.0)])

@@ -179,17 +179,7 @@ def block_pushes(
             T_ro.append(_corrupt(rng, np.tile(effector, (samples, 1, 1)), noise_p, noise_p * 2, 0.0))
             contact.append(c)
             force.append([sign, 0.0, 0.0])
-    n = len(T_ow)
-    return Trials(
-        body="Block",
-        t=np.tile(np.linspace(0.0, 1.0, samples), (n, 1)),
-        T_ro=np.array(T_ro),
-        T_ow=np.array(T_ow),
-        contact=np.array(contact),
-        force=np.array(force),
-        ok=np.ones(n, dtype=bool),
-        reason=np.array([""] * n, dtype=object),
-    )
+    return _dataset("Block", samples, T_ro, T_ow, contact, force)
 
 
 def wield_trials(*, samples: int = 50, noise_p: float = 5e-4, seed: int = 0) -> Trials:
@@ -215,14 +205,49 @@ def wield_trials(*, samples: int = 50, noise_p: float = 5e-4, seed: int = 0) -> 
         T_ow.append(_corrupt(rng, start @ rel, noise_p, noise_p * 2, 0.0))
         T_ro.append(_corrupt(rng, np.tile(grasp, (samples, 1, 1)), noise_p, noise_p * 2, 0.0))
         force.append(u)
+    return _dataset("Stick", samples, T_ro, T_ow, [grasp[:3, 3]] * len(T_ow), force)
+
+
+def _dataset(body: str, samples: int, T_ro: list, T_ow: list, contact: list, force: list) -> Trials:
+    """Equal-length, all-`ok` trials of `body` sampled over one second."""
     n = len(T_ow)
     return Trials(
-        body="Stick",
+        body=body,
         t=np.tile(np.linspace(0.0, 1.0, samples), (n, 1)),
         T_ro=np.array(T_ro),
         T_ow=np.array(T_ow),
-        contact=np.tile(grasp[:3, 3], (n, 1)),
+        contact=np.array(contact),
         force=np.array(force),
         ok=np.ones(n, dtype=bool),
         reason=np.array([""] * n, dtype=object),
     )
+
+
+@dataclass
+class Score:
+    """How inferred trials compare with their ground truth: type accuracy of both edges, and the median
+    axis error (deg) and revolute centre error (m, distance to the true axis line) of correctly typed motions."""
+
+    motion_accuracy: float
+    action_accuracy: float
+    axis_error_deg: float
+    center_error: float
+
+
+def score(results: list, truths: list[Truth]) -> Score:
+    """Score `infer_trials` results against the `Truth` of each synthetic trial."""
+    motion = float(np.mean([r.motion.type == t.motion for r, t in zip(results, truths)]))
+    action = float(np.mean([r.action.type == t.action for r, t in zip(results, truths)]))
+    axis_err, center_err = [], []
+    for r, t in zip(results, truths):
+        if t.axis is None or r.motion.type != t.motion:
+            continue
+        axis_err.append(np.degrees(np.arccos(np.clip(r.motion.params["axis"] @ t.axis, -1.0, 1.0))))
+        if t.center is not None:
+            d = r.motion.params["center"] - t.center
+            center_err.append(np.linalg.norm(d - (d @ t.axis) * t.axis))
+    return Score(motion, action, _median(axis_err), _median(center_err))
+
+
+def _median(values: list) -> float:
+    return float(np.median(values)) if values else float("nan")
