@@ -43,3 +43,25 @@ def test_help_imports_no_heavy_back_end() -> None:
     result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
     assert "usage: vkgc" in result.stdout
     assert "HEAVY []" in result.stdout
+
+
+def test_an_output_in_a_missing_directory_is_refused_before_any_work(capsys, tmp_path) -> None:
+    from conftest import EXAMPLES
+
+    missing = tmp_path / "no" / "plan.json"
+    assert main(["solve", str(EXAMPLES / "tasks" / "a_push.vkg"), "--json", str(missing)]) == 1
+    captured = capsys.readouterr()
+    assert f"--json {missing}: there is no directory" in captured.err
+    assert "solved" not in captured.out  # nothing was planned
+
+
+def test_an_output_that_is_a_directory_is_refused(capsys, tmp_path) -> None:
+    assert main(["infer", str(tmp_path / "t.npz"), "-o", str(tmp_path)]) == 1
+    assert "is a directory; name a file in it" in capsys.readouterr().err
+
+
+def test_learn_names_what_a_file_without_bodies_lacks(capsys) -> None:
+    from conftest import REPO
+
+    assert main(["learn", str(REPO / "stdlib" / "tools.vkg")]) == 1
+    assert "declares no body; give a file with a `body NAME { ... }` declaration" in capsys.readouterr().err

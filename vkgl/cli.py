@@ -9,6 +9,7 @@ traceback). Heavy modules are imported inside the commands so that
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 from collections.abc import Callable, Sequence
@@ -103,20 +104,9 @@ def cmd_fmt(args: argparse.Namespace) -> int:
 
 
 def _load_body(path: str, name: str | None) -> Any:
-    from vkgl.errors import InputError
     from vkgl.lang.compiler import compile_file
 
-    program = compile_file(path)
-    own = [d for d in program.root.decls if getattr(d, "kind", None) == "body"]
-    if name is not None:
-        if name not in program.bodies:
-            known = ", ".join(sorted(program.bodies)) or "none"
-            raise InputError(f"{path}: no body named `{name}` (bodies in scope: {known})")
-        return program.bodies[name]
-    if len(own) != 1:
-        names = ", ".join(b.name for b in own) or "none"
-        raise InputError(f"{path}: declares {len(own)} bodies ({names}); say which with --body NAME")
-    return own[0]
+    return compile_file(path).body(name)
 
 
 @_command("explore")
@@ -331,10 +321,38 @@ def main(argv: Sequence[str] | None = None) -> int:
     return _run(_COMMANDS[args.command], args)
 
 
+# The options of each sub-command that name a file to write: checked before any work is done.
+_OUTPUT_FILES = {
+    "explore": ("output", "plot"),
+    "infer": ("output", "report", "plot"),
+    "solve": ("json", "plot", "execution_json", "animate"),
+}
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Refuse output files that cannot be written, before minutes of exploration or simulation."""
+    from vkgl.errors import InputError
+
+    for option in _OUTPUT_FILES.get(args.command, ()):
+        value = getattr(args, option, None)
+        if not value:
+            continue
+        path = Path(value)
+        flag = "--" + option.replace("_", "-")
+        if path.is_dir():
+            raise InputError(f"{flag} {value}: is a directory; name a file in it")
+        folder = path.parent
+        if not folder.is_dir():
+            raise InputError(f"{flag} {value}: there is no directory `{folder}`; create it first")
+        if not os.access(folder, os.W_OK):
+            raise InputError(f"{flag} {value}: the directory `{folder}` is not writable")
+
+
 def _run(command: Command, args: argparse.Namespace) -> int:
     from vkgl.errors import CompileError, VkgError
 
     try:
+        _check_outputs(args)
         return command(args)
     except CompileError as exc:
         _print_diagnostics(exc.diagnostics, _sources_of(exc), sys.stderr)
@@ -345,6 +363,10 @@ def _run(command: Command, args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         print("vkgc: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # a file that vanished or became unwritable while we worked
+        where = exc.filename if exc.filename is not None else "a file"
+        print(f"vkgc: error: cannot access {where}: {exc.strerror or exc}", file=sys.stderr)
+        return EXIT_INPUT
     except Exception as exc:  # the last line of defence: never a bare traceback for users
         if args.debug:
             traceback.print_exc()

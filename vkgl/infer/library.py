@@ -20,7 +20,7 @@ from vkgl.errors import InputError
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference, infer_trials
-from vkgl.lang.ir import AffordanceSet, Body, Module, Ref, Use
+from vkgl.lang.ir import AffordanceSet, Module, Ref, Use
 from vkgl.lang.printer import print_module
 from vkgl.sim.trials import Trials
 
@@ -92,7 +92,7 @@ def learn(
 
     source = Path(body_file)
     program = compile_file(str(source))
-    target = _pick_body(program, str(source), body)
+    target = program.body(body)
     out = Path(out_dir) if out_dir is not None else _default_out_dir(source)
     out.mkdir(parents=True, exist_ok=True)
     destination = out / f"{target.name.lower()}.vkg"
@@ -105,19 +105,6 @@ def learn(
 
 
 # ---------------------------------------------------------------- learn helpers
-
-
-def _pick_body(program: Any, where: str, name: str | None) -> Body:
-    if name is not None:
-        if name not in program.bodies:
-            known = ", ".join(sorted(program.bodies)) or "none"
-            raise InputError(f"{where}: no body named `{name}` (bodies in scope: {known})")
-        return program.bodies[name]
-    own = [d for d in program.root.decls if isinstance(d, Body)]
-    if len(own) != 1:
-        names = ", ".join(b.name for b in own) or "none"
-        raise InputError(f"{where}: declares {len(own)} bodies ({names}); say which with --body NAME")
-    return own[0]
 
 
 def _default_out_dir(body_file: Path) -> Path:

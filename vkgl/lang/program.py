@@ -39,6 +39,28 @@ class Program:
     warnings: list[Diagnostic] = field(default_factory=list)
     sources: dict[str, str] = field(default_factory=dict)
 
+    def body(self, name: str | None = None) -> Body:
+        """The body called `name` (any in scope), or the only body the root module declares.
+
+        Raises InputError (saying what there is) when there is no such body, or
+        when `name` is None and the root module declares none or several.
+        """
+        from vkgl.errors import InputError
+
+        where = self.root.path
+        if name is not None:
+            if name not in self.bodies:
+                known = ", ".join(sorted(self.bodies)) or "none"
+                raise InputError(f"{where}: no body named `{name}` (bodies in scope: {known})")
+            return self.bodies[name]
+        own = [d for d in self.root.decls if isinstance(d, Body)]
+        if not own:
+            raise InputError(f"{where}: declares no body; give a file with a `body NAME {{ ... }}` declaration")
+        if len(own) > 1:
+            names = ", ".join(b.name for b in own)
+            raise InputError(f"{where}: declares {len(own)} bodies ({names}); say which with --body NAME")
+        return own[0]
+
     def task(self, name: str | None = None) -> Task:
         """The task called `name`, or the only/first task of the root module."""
         if name is not None:
