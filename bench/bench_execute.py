@@ -3,7 +3,7 @@
     /tmp/venv/bin/python bench/bench_execute.py [--gif DIR] [--disturb DY,DYAW] [TASK.vkg ...]
 
 For each task: solve it (with the planner; without it, with the hand-derived
-plan of `vkgl.sim.plan_script.EXAMPLE_SCRIPTS`), replay the plan open loop
+plan of `plan_script.EXAMPLE_SCRIPTS`), replay the plan open loop
 (the plan as planned) and closed loop (re-solving when a body strays by more
 than half the tolerance), and print one Markdown table with the goal errors,
 the number of replans, the simulated duration and the wall time of the
@@ -39,7 +39,7 @@ def _plan(program, task: str) -> dict:
     try:
         from vkgl.plan.solve import solve
     except ImportError:
-        from vkgl.sim.plan_script import EXAMPLE_SCRIPTS, scripted_plan
+        from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
         return scripted_plan(program, task, EXAMPLE_SCRIPTS[task])
     return solve((program, task)).to_json()
@@ -50,7 +50,7 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
     from scipy.spatial.transform import Rotation
 
     from vkgl.lang.geometry import scene_body_pose
-    from vkgl.sim.execute import program_with_observed_scene
+    from vkgl.execute.closed_loop import program_with_observed_scene
 
     task = program.task(task_name)
     scene = program.scenes[task.scene.name]
@@ -65,7 +65,7 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
 def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -> tuple[list[str], list[str]]:
     """Two table rows (nominal start, disturbed start): solve, then execute open and closed loop."""
     from vkgl.lang.compiler import compile_file
-    from vkgl.sim.execute import execute
+    from vkgl.execute.closed_loop import execute
 
     program = compile_file(str(path))
     task = program.task()
@@ -79,28 +79,40 @@ def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -
         opened = execute(world, task.name, plan_json, record=gif_dir is not None)
         closed = execute(world, task.name, plan_json, replan=True, record=gif_dir is not None)
         if gif_dir is not None:
-            from vkgl.sim.animate import animate
+            from vkgl.execute.animate import animate
 
             animate(opened, gif_dir / f"{task.name}{kind}_open.gif")
             animate(closed, gif_dir / f"{task.name}{kind}_closed.gif")
-        rows.append([
-            task.name,
-            f"{len(plan_json['steps'])} ({solve_s:.1f} s)",
-            f"{opened.status} {_errors(opened)}",
-            f"{opened.sim_time:.1f}",
-            f"{opened.wall_time:.1f}",
-            f"{opened.wall_time / max(opened.sim_time, 1e-9):.2f}",
-            f"{closed.status} {_errors(closed)}",
-            str(closed.replans),
-            f"{closed.sim_time:.1f}",
-            f"{closed.wall_time - closed.solve_time:.1f} + {closed.solve_time:.1f}",
-        ])
+        rows.append(
+            [
+                task.name,
+                f"{len(plan_json['steps'])} ({solve_s:.1f} s)",
+                f"{opened.status} {_errors(opened)}",
+                f"{opened.sim_time:.1f}",
+                f"{opened.wall_time:.1f}",
+                f"{opened.wall_time / max(opened.sim_time, 1e-9):.2f}",
+                f"{closed.status} {_errors(closed)}",
+                str(closed.replans),
+                f"{closed.sim_time:.1f}",
+                f"{closed.wall_time - closed.solve_time:.1f} + {closed.solve_time:.1f}",
+            ]
+        )
     return rows[0], rows[1]
 
 
 def _table(title: str, rows: list[list[str]]) -> None:
-    header = ["task", "steps (solve)", "open loop: status, goal error", "sim s", "wall s", "wall/sim",
-              "closed loop: status, goal error", "replans", "sim s", "wall s (+ solve s)"]
+    header = [
+        "task",
+        "steps (solve)",
+        "open loop: status, goal error",
+        "sim s",
+        "wall s",
+        "wall/sim",
+        "closed loop: status, goal error",
+        "replans",
+        "sim s",
+        "wall s (+ solve s)",
+    ]
     print(f"\n{title}\n")
     print("| " + " | ".join(header) + " |")
     print("|" + "|".join("---" for _ in header) + "|")
@@ -113,8 +125,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("tasks", nargs="*", type=Path, help="task files (default: examples/tasks/*.vkg)")
     parser.add_argument("--gif", type=Path, metavar="DIR", help="also write open- and closed-loop animations")
-    parser.add_argument("--disturb", default="0.005,1", metavar="DY,DYAW",
-                        help="block start error for the second table: metres sideways, degrees (default 0.005,1)")
+    parser.add_argument(
+        "--disturb",
+        default="0.005,1",
+        metavar="DY,DYAW",
+        help="block start error for the second table: metres sideways, degrees (default 0.005,1)",
+    )
     args = parser.parse_args(argv)
     disturb = tuple(float(v) for v in args.disturb.split(","))
     tasks = args.tasks or sorted((REPO / "examples" / "tasks").glob("*.vkg"))
@@ -125,8 +141,11 @@ def main(argv: list[str] | None = None) -> int:
         row, row_disturbed = bench_task(path, args.gif, disturb)
         nominal.append(row)
         disturbed.append(row_disturbed)
-        print(f"{row[0]}: {row[2]} | {row[6]};  disturbed: {row_disturbed[2]} | {row_disturbed[6]}",
-              file=sys.stderr, flush=True)
+        print(
+            f"{row[0]}: {row[2]} | {row[6]};  disturbed: {row_disturbed[2]} | {row_disturbed[6]}",
+            file=sys.stderr,
+            flush=True,
+        )
     _table("Nominal start (the world is what the planner was told)", nominal)
     _table(f"Disturbed start (block {disturb[0] * 100:g} cm sideways, {disturb[1]:g} deg turned)", disturbed)
     return 1 if any(not row[6].startswith("reached") for row in nominal) else 0

@@ -64,8 +64,10 @@ def main(argv: list[str] | None = None) -> int:
                 best = min(best, time.perf_counter() - started)
             sim = simulated_seconds(trials)
             failed = int((~trials.ok).sum())
-            print(f"| {name} | {len(trials)} | {failed} | {jobs} | {sim:.1f} | {best:.2f} | {sim / best:.1f} |",
-                  flush=True)
+            print(
+                f"| {name} | {len(trials)} | {failed} | {jobs} | {sim:.1f} | {best:.2f} | {sim / best:.1f} |",
+                flush=True,
+            )
     return 0
 
 

@@ -51,8 +51,14 @@ def vkg_files() -> list[Path]:
 
 def scene_file(lines: int) -> str:
     """A scene of about `lines` lines: a table, a robot and one block per line."""
-    rows = ["use stdlib.robots.panda", "use stdlib.bodies.block", "", "scene crowded {",
-            "    table size (100, 100) m at (0, 0, 0) m", "    robot arm : Panda at (0, 0, 0) m"]
+    rows = [
+        "use stdlib.robots.panda",
+        "use stdlib.bodies.block",
+        "",
+        "scene crowded {",
+        "    table size (100, 100) m at (0, 0, 0) m",
+        "    robot arm : Panda at (0, 0, 0) m",
+    ]
     for i in range(lines - len(rows) - 1):
         rows.append(f"    b{i} : Block on table at ({i % 100 * 0.5:.2f}, {i // 100 * 0.5:.2f}) m yaw {i % 360}deg")
     rows.append("}")
@@ -63,14 +69,31 @@ def thousand_declarations() -> str:
     """A module of 1,000 declarations: 500 bodies, 250 scenes that place them, 250 tasks on those scenes."""
     rows = ["use stdlib.robots.panda", ""]
     for i in range(500):
-        rows += [f"body B{i} {{", f"    shape box ({10 + i % 7}, 20, 5) cm", "    mass 0.5 kg", "    friction 0.4",
-                 f"    frame tip = ({i % 9}, 0, 0) cm yaw 90deg", "}"]
+        rows += [
+            f"body B{i} {{",
+            f"    shape box ({10 + i % 7}, 20, 5) cm",
+            "    mass 0.5 kg",
+            "    friction 0.4",
+            f"    frame tip = ({i % 9}, 0, 0) cm yaw 90deg",
+            "}",
+        ]
     for i in range(250):
-        rows += [f"scene s{i} {{", "    table size (1.6, 1.2) m at (0.5, 0, 0) m", "    robot arm : Panda at (0, 0, 0) m",
-                 f"    a : B{2 * i} on table at (0.45, 0.1) m yaw 0deg", f"    b : B{2 * i + 1} on table at (0.45, -0.2) m", "}"]
+        rows += [
+            f"scene s{i} {{",
+            "    table size (1.6, 1.2) m at (0.5, 0, 0) m",
+            "    robot arm : Panda at (0, 0, 0) m",
+            f"    a : B{2 * i} on table at (0.45, 0.1) m yaw 0deg",
+            f"    b : B{2 * i + 1} on table at (0.45, -0.2) m",
+            "}",
+        ]
     for i in range(250):
-        rows += [f"task t{i} {{", f"    scene s{i}", "    goal a at (0.6, 0.0) m yaw 0deg within 1 cm, 3 deg",
-                 "    search { max_depth 4  timeout 10 s }", "}"]
+        rows += [
+            f"task t{i} {{",
+            f"    scene s{i}",
+            "    goal a at (0.6, 0.0) m yaw 0deg within 1 cm, 3 deg",
+            "    search { max_depth 4  timeout 10 s }",
+            "}",
+        ]
     return "\n".join(rows) + "\n"
 
 

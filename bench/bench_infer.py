@@ -2,7 +2,7 @@
 
     /tmp/venv/bin/python bench/bench_infer.py [--per-type N] [--seed S]
 
-1. Synthetic trials (vkgl.infer.synthetic): every motion type (fixed, prismatic,
+1. Synthetic trials (synthetic): every motion type (fixed, prismatic,
    revolute, free) with fixed and free actions, random axes and centres, 2 %
    outliers, per noise level: type accuracy of the motion and of the action,
    median axis error (deg) and median revolute centre error (cm, distance to
@@ -26,9 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from vkgl.infer.synthetic import score, synthetic_trials
+from synthetic import score, synthetic_trials
 from vkgl.infer.trial import infer_trial, infer_trials
-from vkgl.sim.trials import Trials
+from vkgl.formats.trials import Trials
 
 REPO = Path(__file__).resolve().parent.parent
 REAL = REPO.parent / "shared" / "data" / "articulation"
@@ -113,8 +113,7 @@ def dataset_rows(path: Path) -> list[str]:
     samples = sum(r.samples for r in results)
     kinds = Counter(r.motion.type if r.motion is not None else "skipped" for r in results)
     return [
-        f"{path.name}: {len(trials)} trials of {trials.body}, {samples} samples, "
-        f"motions {dict(sorted(kinds.items()))}",
+        f"{path.name}: {len(trials)} trials of {trials.body}, {samples} samples, motions {dict(sorted(kinds.items()))}",
         f"CPU time: {elapsed / len(trials) * 1000:.1f} ms per trial, "
         f"{elapsed / samples * 100 * 1000:.1f} ms per 100 samples",
     ]

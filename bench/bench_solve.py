@@ -27,10 +27,24 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 TASKS = ["a_push", "b_stick_push", "c_hook_pull", "d_rotate_push", "e_rotate_stick_push", "f_rotate_hook_pull"]
-PAPER = {"a_push": (2, 1.328), "b_stick_push": (3, 1.250), "c_hook_pull": (3, 0.854),
-         "d_rotate_push": (4, 1.623), "e_rotate_stick_push": (5, 7.106), "f_rotate_hook_pull": (5, 3.066)}
-EXTRA_SPOTS = [(0.10, 0.50, "Stick"), (0.10, -0.50, "Hook"), (0.60, 0.50, "Stick"), (0.60, -0.50, "Hook"),
-               (-0.20, 0.30, "Stick"), (-0.20, -0.30, "Hook"), (1.10, 0.50, "Stick"), (1.10, -0.50, "Hook")]
+PAPER = {
+    "a_push": (2, 1.328),
+    "b_stick_push": (3, 1.250),
+    "c_hook_pull": (3, 0.854),
+    "d_rotate_push": (4, 1.623),
+    "e_rotate_stick_push": (5, 7.106),
+    "f_rotate_hook_pull": (5, 3.066),
+}
+EXTRA_SPOTS = [
+    (0.10, 0.50, "Stick"),
+    (0.10, -0.50, "Hook"),
+    (0.60, 0.50, "Stick"),
+    (0.60, -0.50, "Hook"),
+    (-0.20, 0.30, "Stick"),
+    (-0.20, -0.30, "Hook"),
+    (1.10, 0.50, "Stick"),
+    (1.10, -0.50, "Hook"),
+]
 
 
 def main() -> int:
@@ -47,8 +61,10 @@ def main() -> int:
         programs[name] = compile_file(str(REPO / "examples" / "tasks" / f"{name}.vkg"))
         compile_times[name] = time.perf_counter() - started
     print("## The paper's six tasks\n")
-    print("| task | paper depth | paper time (s) | depth | first (s) | warm (s) | compile (s) | graphs expanded "
-          "| task-space checks | NLopt runs | joint-space checks | IK calls | effectors |")
+    print(
+        "| task | paper depth | paper time (s) | depth | first (s) | warm (s) | compile (s) | graphs expanded "
+        "| task-space checks | NLopt runs | joint-space checks | IK calls | effectors |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     total_first = total_warm = 0.0
     for name in TASKS:
@@ -60,17 +76,23 @@ def main() -> int:
         total_warm += warm
         effectors = sorted({s.effector for s in plan.steps if s.op == "add"})
         stats, details = plan.stats, plan.details
-        print(f"| {name} | {PAPER[name][0]} | {PAPER[name][1]:.3f} | {plan.depth} | {first:.3f} | {warm:.3f} | "
-              f"{compile_times[name]:.3f} | {stats['graphs_expanded']} | {stats['task_space_checks']} | "
-              f"{details['optimisations']} | {stats['joint_space_checks']} | {details['ik_calls']} | "
-              f"{', '.join(effectors)} |")
-    print(f"| total | | {sum(t for _, t in PAPER.values()):.3f} | | {total_first:.3f} | {total_warm:.3f} | "
-          f"| | | | | | |")
+        print(
+            f"| {name} | {PAPER[name][0]} | {PAPER[name][1]:.3f} | {plan.depth} | {first:.3f} | {warm:.3f} | "
+            f"{compile_times[name]:.3f} | {stats['graphs_expanded']} | {stats['task_space_checks']} | "
+            f"{details['optimisations']} | {stats['joint_space_checks']} | {details['ik_calls']} | "
+            f"{', '.join(effectors)} |"
+        )
+    print(
+        f"| total | | {sum(t for _, t in PAPER.values()):.3f} | | {total_first:.3f} | {total_warm:.3f} | | | | | | | |"
+    )
     print("\n## Time against extra tools on the table (warm, median)\n")
     print("| task | extra tools | bodies | depth | time (s) | graphs expanded | task-space checks |")
     print("|---|---|---|---|---|---|---|")
-    cases = {"b_stick_push": programs["b_stick_push"], "e_rotate_stick_push": programs["e_rotate_stick_push"],
-             "unreachable goal (exhaustive)": _with_far_goal(programs["b_stick_push"])}
+    cases = {
+        "b_stick_push": programs["b_stick_push"],
+        "e_rotate_stick_push": programs["e_rotate_stick_push"],
+        "unreachable goal (exhaustive)": _with_far_goal(programs["b_stick_push"]),
+    }
     for name, base in cases.items():
         for extra in (0, 1, 2, 4, 8):
             program = (_with_extra_tools(base, extra), base.task().name)
@@ -78,8 +100,10 @@ def main() -> int:
             plan = solve(program)
             times = [_timed(solve, program) for _ in range(max(1, args.repeat // 2))]
             n_bodies = len(program[0].scenes[base.task().scene.name].bodies)
-            print(f"| {name} | {extra} | {n_bodies} | {plan.depth or plan.status} | {statistics.median(times):.3f} | "
-                  f"{plan.stats['graphs_expanded']} | {plan.stats['task_space_checks']} |")
+            print(
+                f"| {name} | {extra} | {n_bodies} | {plan.depth or plan.status} | {statistics.median(times):.3f} | "
+                f"{plan.stats['graphs_expanded']} | {plan.stats['task_space_checks']} |"
+            )
     return 0
 
 
@@ -108,10 +132,16 @@ def _with_extra_tools(program, count: int):  # type: ignore[no-untyped-def]
     from vkgl.lang.ir import Placement, Pose, Quantity, Ref, SceneBody, Vector
 
     scene = program.scenes[program.task().scene.name]
-    extra = [SceneBody(name=f"{kind.lower()}{i}", type=Ref(name=kind),
-                       placement=Placement(on_table=True, pose=Pose(position=Vector(values=(x, y), unit="m"),
-                                                                    yaw=Quantity(value=0.0, unit="deg"))))
-             for i, (x, y, kind) in enumerate(EXTRA_SPOTS[:count])]
+    extra = [
+        SceneBody(
+            name=f"{kind.lower()}{i}",
+            type=Ref(name=kind),
+            placement=Placement(
+                on_table=True, pose=Pose(position=Vector(values=(x, y), unit="m"), yaw=Quantity(value=0.0, unit="deg"))
+            ),
+        )
+        for i, (x, y, kind) in enumerate(EXTRA_SPOTS[:count])
+    ]
     grown = scene.model_copy(update={"bodies": [*scene.bodies, *extra]})
     return dataclasses.replace(program, scenes={**program.scenes, scene.name: grown})
 

@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from vkgl.lang.program import Program
 
 
-def compile(path: str) -> "Program":  # noqa: A001 - the natural name for a compiler's entry point
+def compile(path: str) -> Program:
     """Parse, resolve and check a `.vkg` file and everything it uses; raise CompileError on errors."""
     from vkgl.lang.compiler import compile_file
 

@@ -132,8 +132,8 @@ def cmd_infer(args: argparse.Namespace) -> int:
     """Infer affordances from a trials dataset and write a library module."""
     import json
 
+    from vkgl.formats.trials import Trials
     from vkgl.infer.library import infer_library
-    from vkgl.sim.trials import Trials
 
     trials = Trials.load(args.trials)
     body_use = args.use or f"stdlib.bodies.{trials.body.lower()}"
@@ -189,7 +189,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
         Path(args.json).write_text(json.dumps(plan.to_json(), indent=1) + "\n", encoding="utf-8")
         print(f"{args.json}: plan as vkg-plan/1")
     if args.plot and plan.status == "solved":
-        from vkgl.viz import plot_plan
+        from vkgl.plan.picture import plot_plan
 
         plot_plan(plan, args.plot)
         print(f"{args.plot}: picture of the plan")
@@ -218,20 +218,21 @@ def _execute(args: argparse.Namespace, plan_json: dict[str, Any]) -> bool:
     """
     import json
 
-    from vkgl.sim.execute import execute_file
+    from vkgl.execute.closed_loop import execute_file
 
     if args.animate:
-        from vkgl.sim.animate import check_animation_path
+        from vkgl.execute.animate import check_animation_path
 
         check_animation_path(args.animate)  # refuse a bad file name before minutes of simulation
-    report = execute_file(args.taskfile, plan_json, replan=args.replan, max_replans=args.max_replans,
-                          record=bool(args.animate))
+    report = execute_file(
+        args.taskfile, plan_json, replan=args.replan, max_replans=args.max_replans, record=bool(args.animate)
+    )
     print(report.text())
     if args.execution_json:
         Path(args.execution_json).write_text(json.dumps(report.to_json(), indent=1) + "\n", encoding="utf-8")
         print(f"{args.execution_json}: execution as vkg-execution/1")
     if args.animate:
-        from vkgl.sim.animate import animate
+        from vkgl.execute.animate import animate
 
         animate(report, args.animate)
         print(f"{args.animate}: animation of the execution")
@@ -297,12 +298,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--timeout", type=float, metavar="S", help="override the task's search timeout (s)")
     p.add_argument("-v", "--verbose", action="store_true", help="say more about the search")
     p.add_argument("--execute", action="store_true", help="replay the plan in DART physics and report the goal error")
-    p.add_argument("--replan", action="store_true",
-                   help="closed loop: re-solve from the observed scene when a body strays (implies --execute)")
+    p.add_argument(
+        "--replan",
+        action="store_true",
+        help="closed loop: re-solve from the observed scene when a body strays (implies --execute)",
+    )
     p.add_argument("--max-replans", type=int, default=3, metavar="N", help="give up after N re-solves (default 3)")
     p.add_argument("--animate", metavar="F.gif", help="write a top-view animation of the execution (implies --execute)")
-    p.add_argument("--execution-json", metavar="F",
-                   help="write the execution report as vkg-execution/1 JSON (implies --execute)")
+    p.add_argument(
+        "--execution-json", metavar="F", help="write the execution report as vkg-execution/1 JSON (implies --execute)"
+    )
     return parser
 
 
@@ -370,8 +375,9 @@ def _run(command: Command, args: argparse.Namespace) -> int:
     except Exception as exc:  # the last line of defence: never a bare traceback for users
         if args.debug:
             traceback.print_exc()
-        print(f"vkgc: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
-              file=sys.stderr)
+        print(
+            f"vkgc: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr
+        )
         return EXIT_INTERNAL
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vkgl.infer.synthetic import score, synthetic_trials
+from synthetic import score, synthetic_trials
 from vkgl.infer.trial import infer_trials
 
 

@@ -7,7 +7,7 @@ import json
 import numpy as np
 
 from vkgl.cli import main
-from vkgl.infer.synthetic import block_pushes
+from synthetic import block_pushes
 
 
 def test_infer_writes_module_report_and_plot(tmp_path, capsys) -> None:

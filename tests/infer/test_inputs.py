@@ -7,7 +7,7 @@ import pytest
 
 from vkgl.errors import InputError
 from vkgl.infer.library import infer_library
-from vkgl.infer.synthetic import block_pushes
+from synthetic import block_pushes
 from vkgl.infer.trial import infer_trial
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from vkgl.infer.library import infer_library
-from vkgl.sim.trials import Trials
+from vkgl.formats.trials import Trials
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data" / "articulation"
 

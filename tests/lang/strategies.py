@@ -157,9 +157,7 @@ def force_specs() -> st.SearchStrategy[ir.ForceSpec]:
 
 
 def explores() -> st.SearchStrategy[ir.Explore]:
-    contacts = st.builds(
-        ir.ContactSpec, faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4), steps=counts()
-    )
+    contacts = st.builds(ir.ContactSpec, faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4), steps=counts())
     return st.builds(
         ir.Explore,
         name=names(),
@@ -210,9 +208,7 @@ def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
 
 
 def correspondence_blocks() -> st.SearchStrategy[ir.Correspondences]:
-    item = st.builds(
-        ir.Correspondence, frame=st.builds(ir.FrameRef, body=names(), frame=names()), effector=refs()
-    )
+    item = st.builds(ir.Correspondence, frame=st.builds(ir.FrameRef, body=names(), frame=names()), effector=refs())
     return st.builds(ir.Correspondences, items=st.lists(item, min_size=1, max_size=3))
 
 
@@ -249,20 +245,18 @@ def goals() -> st.SearchStrategy[ir.Goal]:
         yaw=st.none() | quantities("angle"),
         tol_position=st.none() | quantities("length"),
     ).flatmap(
-        lambda g: st.just(g)
-        if g.tol_position is None
-        else st.builds(lambda a: g.model_copy(update={"tol_yaw": a}), st.none() | quantities("angle"))
+        lambda g: (
+            st.just(g)
+            if g.tol_position is None
+            else st.builds(lambda a: g.model_copy(update={"tol_yaw": a}), st.none() | quantities("angle"))
+        )
     )
-    yaw_goal = st.builds(
-        ir.Goal, body=refs(), yaw=quantities("angle"), tol_yaw=st.none() | quantities("angle")
-    )
+    yaw_goal = st.builds(ir.Goal, body=refs(), yaw=quantities("angle"), tol_yaw=st.none() | quantities("angle"))
     return st.one_of(position_goal, yaw_goal)
 
 
 def tasks() -> st.SearchStrategy[ir.Task]:
-    search = st.builds(
-        ir.SearchSpec, max_depth=st.none() | counts(0, 20), timeout=st.none() | quantities("time")
-    )
+    search = st.builds(ir.SearchSpec, max_depth=st.none() | counts(0, 20), timeout=st.none() | quantities("time"))
     return st.builds(
         ir.Task, name=names(), scene=refs(), goals=st.lists(goals(), min_size=1, max_size=3), search=st.none() | search
     )
@@ -273,9 +267,11 @@ def tasks() -> st.SearchStrategy[ir.Task]:
 
 def docs() -> st.SearchStrategy[str | None]:
     """Doc comments: lines without surrounding spaces; inner lines may be empty (paragraphs)."""
-    line = st.text(alphabet=string.ascii_letters + string.digits + " .,:;()`'#-*", min_size=1, max_size=30).map(
-        str.strip
-    ).filter(bool)
+    line = (
+        st.text(alphabet=string.ascii_letters + string.digits + " .,:;()`'#-*", min_size=1, max_size=30)
+        .map(str.strip)
+        .filter(bool)
+    )
     inner = st.one_of(line, st.just(""))
     return st.none() | st.builds(
         lambda first, middle, last: "\n".join([first, *middle, *last]),

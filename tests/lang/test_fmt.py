@@ -56,7 +56,9 @@ def language_snippets() -> list[str]:
     return [b for b in blocks if "error[" not in b]
 
 
-@pytest.mark.skipif(not (DESIGN / "LANGUAGE.md").is_file(), reason="../shared/design/LANGUAGE.md is not beside this checkout")
+@pytest.mark.skipif(
+    not (DESIGN / "LANGUAGE.md").is_file(), reason="../shared/design/LANGUAGE.md is not beside this checkout"
+)
 def test_language_md_has_snippets() -> None:
     assert len(language_snippets()) >= 5
 

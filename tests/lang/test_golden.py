@@ -89,7 +89,9 @@ def test_every_code_is_documented_with_an_example() -> None:
         assert re.search(rf"(error|warning)\[{code}\]: ", text), f"docs/errors.md shows no rendered example of {code}"
 
 
-def test_golden_inputs_show_one_code_each_where_possible(at_repo_root: None, capsys: pytest.CaptureFixture[str]) -> None:
+def test_golden_inputs_show_one_code_each_where_possible(
+    at_repo_root: None, capsys: pytest.CaptureFixture[str]
+) -> None:
     """A case that reports other codes too would hide cascades: each case reports only its own code."""
     mixed = []
     for case in CASES:

@@ -26,9 +26,13 @@ from vkgl.lang.parser import parse_module
 from vkgl.resources import stdlib_dir
 
 LANGUAGE = DESIGN / "LANGUAGE.md"
-needs_contract = pytest.mark.skipif(not LANGUAGE.is_file(), reason="../shared/design/LANGUAGE.md is not beside this checkout")
+needs_contract = pytest.mark.skipif(
+    not LANGUAGE.is_file(), reason="../shared/design/LANGUAGE.md is not beside this checkout"
+)
 
-USE_ROBOT_AND_BODIES = "use stdlib.robots.panda\nuse stdlib.bodies.block\nuse stdlib.bodies.stick\nuse stdlib.bodies.hook\n\n"
+USE_ROBOT_AND_BODIES = (
+    "use stdlib.robots.panda\nuse stdlib.bodies.block\nuse stdlib.bodies.stick\nuse stdlib.bodies.hook\n\n"
+)
 
 
 def _blocks() -> list[str]:
@@ -179,7 +183,13 @@ def test_section_9_rendering_matches_ours(project: Path, capsys: pytest.CaptureF
     indent = col - 1 - offset
     assert indent >= 0
     _write(project / "examples" / "scenes" / "tabletop.vkg", USE_ROBOT_AND_BODIES + _block("scene tabletop"))
-    header = ['use "../scenes/tabletop.vkg"', "use stdlib.affordances.block", "use stdlib.tools", "task bad {", "  scene tabletop"]
+    header = [
+        'use "../scenes/tabletop.vkg"',
+        "use stdlib.affordances.block",
+        "use stdlib.tools",
+        "task bad {",
+        "  scene tabletop",
+    ]
     header[3:3] = ["#"] * (line - 1 - len(header))  # pad with comments so the goal lands on the same line
     _write(project / path, "\n".join(header + [" " * indent + statement, "}"]) + "\n")
 

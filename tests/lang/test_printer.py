@@ -154,21 +154,37 @@ def test_canonical_text_of_a_module() -> None:
 
 def test_union_shapes_nest_with_their_poses_after_the_closing_brace() -> None:
     inner = ir.UnionShape(
-        parts=[ir.ShapePart(
-            shape=ir.CylinderShape(radius=ir.Quantity(value=0.01, unit="m"), height=ir.Quantity(value=0.02, unit="mm")),
-            pose=ir.Pose(position=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"),
-                         rpy=ir.Vector(values=(0.0, 0.0, math.pi / 2), unit="deg")),
-        )]
+        parts=[
+            ir.ShapePart(
+                shape=ir.CylinderShape(
+                    radius=ir.Quantity(value=0.01, unit="m"), height=ir.Quantity(value=0.02, unit="mm")
+                ),
+                pose=ir.Pose(
+                    position=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"),
+                    rpy=ir.Vector(values=(0.0, 0.0, math.pi / 2), unit="deg"),
+                ),
+            )
+        ]
     )
     body = ir.Body(
         name="B",
-        shape=ir.UnionShape(parts=[ir.ShapePart(
-            shape=inner, pose=ir.Pose(position=ir.Vector(values=(0.19, 0.05, 0.0), unit="cm"), yaw=ir.Quantity(value=math.pi, unit="rad"))
-        )]),
+        shape=ir.UnionShape(
+            parts=[
+                ir.ShapePart(
+                    shape=inner,
+                    pose=ir.Pose(
+                        position=ir.Vector(values=(0.19, 0.05, 0.0), unit="cm"),
+                        yaw=ir.Quantity(value=math.pi, unit="rad"),
+                    ),
+                )
+            ]
+        ),
         mass=ir.Quantity(value=0.12, unit="g"),
     )
     text = print_module(ir.Module(path="b.vkg", decls=[body]))
-    assert text == """\
+    assert (
+        text
+        == """\
 body B {
     shape union {
         union {
@@ -178,6 +194,7 @@ body B {
     mass 120 g
 }
 """
+    )
 
 
 # ---------------------------------------------------------------- parse(print(ir)) == ir

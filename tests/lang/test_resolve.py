@@ -62,7 +62,9 @@ def test_the_installed_stdlib_comes_last_and_can_be_shadowed(tmp: Path, monkeypa
     assert roots == [main.parent.resolve(), (tmp / "mine").resolve(), stdlib_dir().resolve().parent]
 
 
-def test_string_use_is_relative_to_the_importing_file_not_the_working_directory(tmp: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_string_use_is_relative_to_the_importing_file_not_the_working_directory(
+    tmp: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     _write(tmp / "lib" / "crate.vkg", _body("Crate", 4))
     main = _write(tmp / "project" / "tasks" / "main.vkg", 'use "../../lib/crate.vkg"\n')
     monkeypatch.chdir(tmp / "project")

@@ -30,10 +30,63 @@ SOURCES = {p.name + ":" + str(i): p.read_text(encoding="utf-8") for i, p in enum
 TOKEN = re.compile(r'"[^"\n]*"|#[^\n]*|[+-]?\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|[A-Za-z_]\w*|[+-][xyz]|\S')
 # Pieces of VKG (and near-VKG) that mutations insert: keywords, units, punctuation, bad characters.
 VOCABULARY = [
-    "body", "robot", "scene", "task", "use", "affordances", "affordance", "correspondences", "union", "box",
-    "mesh", "cylinder", "shape", "mass", "frame", "joint", "explore", "goal", "and", "within", "at", "on", "table",
-    "yaw", "rpy", "{", "}", "(", ")", ",", ".", "=", ":", "~", "#", '"', '"x.vkg"', "cm", "deg", "kg", "N", "s",
-    "lb", "-1", "0", "1e999", "2.5", "+x", "-q", ";", "@", "\t", "\n", "\x00", "é", "\u202e", "\r",
+    "body",
+    "robot",
+    "scene",
+    "task",
+    "use",
+    "affordances",
+    "affordance",
+    "correspondences",
+    "union",
+    "box",
+    "mesh",
+    "cylinder",
+    "shape",
+    "mass",
+    "frame",
+    "joint",
+    "explore",
+    "goal",
+    "and",
+    "within",
+    "at",
+    "on",
+    "table",
+    "yaw",
+    "rpy",
+    "{",
+    "}",
+    "(",
+    ")",
+    ",",
+    ".",
+    "=",
+    ":",
+    "~",
+    "#",
+    '"',
+    '"x.vkg"',
+    "cm",
+    "deg",
+    "kg",
+    "N",
+    "s",
+    "lb",
+    "-1",
+    "0",
+    "1e999",
+    "2.5",
+    "+x",
+    "-q",
+    ";",
+    "@",
+    "\t",
+    "\n",
+    "\x00",
+    "é",
+    "\u202e",
+    "\r",
 ]
 HANG_SECONDS = 10
 
@@ -94,7 +147,7 @@ def _mutate(text: str, rng: random.Random) -> str:
 
 def _delete_chars(text: str, rng: random.Random) -> str:
     i = rng.randrange(len(text) + 1)
-    return text[:i] + text[i + rng.randint(1, 8):]
+    return text[:i] + text[i + rng.randint(1, 8) :]
 
 
 def _insert_piece(text: str, rng: random.Random) -> str:
@@ -146,11 +199,17 @@ def test_two_thousand_mutants_of_the_examples_give_only_diagnostics(tmp_path: Pa
     assert errors > 1000  # the mutants are mostly broken: the test really exercises the error paths
 
 
-@settings(max_examples=150, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=150, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
 @given(
     name=st.sampled_from(sorted(SOURCES)),
     edits=st.lists(
-        st.tuples(st.sampled_from(["delete", "insert", "replace", "truncate"]), st.integers(0, 10**6), st.sampled_from(VOCABULARY)),
+        st.tuples(
+            st.sampled_from(["delete", "insert", "replace", "truncate"]),
+            st.integers(0, 10**6),
+            st.sampled_from(VOCABULARY),
+        ),
         min_size=1,
         max_size=4,
     ),
@@ -160,18 +219,22 @@ def test_hypothesis_mutants_give_only_diagnostics(tmp_path: Path, name: str, edi
     for kind, where, piece in edits:
         i = where % (len(text) + 1)
         if kind == "delete":
-            text = text[:i] + text[i + 1 + where % 7:]
+            text = text[:i] + text[i + 1 + where % 7 :]
         elif kind == "insert":
             text = text[:i] + piece + text[i:]
         elif kind == "replace":
-            text = text[:i] + piece + text[i + len(piece):]
+            text = text[:i] + piece + text[i + len(piece) :]
         else:
             text = text[:i]
     _check_text(tmp_path, text)
 
 
-@settings(max_examples=100, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=200) | st.sampled_from(VOCABULARY).map(str))
+@settings(
+    max_examples=100, derandomize=True, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+)
+@given(
+    st.text(alphabet=st.characters(blacklist_categories=("Cs",)), max_size=200) | st.sampled_from(VOCABULARY).map(str)
+)
 def test_random_text_gives_only_diagnostics(tmp_path: Path, text: str) -> None:
     _check_text(tmp_path, text)
 
@@ -190,7 +253,11 @@ def test_random_bytes_give_only_diagnostics(tmp_path: Path, data: bytes) -> None
         "body",
         "body B {" * 2000,
         "body B { shape " + "union { " * 3000,
-        "body B { shape " + "union { " * 3000 + "box (1, 1, 1) cm at (0, 0, 0) m " + "} at (0, 0, 0) m " * 2999 + "} mass 1 kg }",
+        "body B { shape "
+        + "union { " * 3000
+        + "box (1, 1, 1) cm at (0, 0, 0) m "
+        + "} at (0, 0, 0) m " * 2999
+        + "} mass 1 kg }",
         "body B { shape box (" + "1, " * 5000 + "1) cm mass 1 kg }",
         "body B { shape box (1e999, 1, 1) cm mass 1e-999 kg }",
         "body B { shape box (1, 1, 1) m mass 99999999999999999999999999 kg explore e { contacts on faces +x steps 99999999999999999999 } }",
@@ -198,8 +265,17 @@ def test_random_bytes_give_only_diagnostics(tmp_path: Path, data: bytes) -> None
         "body B { mass = 1 kg }\n" * 3000,
     ],
     ids=[
-        "empty", "comment", "keyword", "open-braces", "open-unions", "deep-unions", "long-vector", "overflow", "huge-ints",
-        "long-name", "many-broken",
+        "empty",
+        "comment",
+        "keyword",
+        "open-braces",
+        "open-unions",
+        "deep-unions",
+        "long-vector",
+        "overflow",
+        "huge-ints",
+        "long-name",
+        "many-broken",
     ],
 )
 def test_pathological_inputs_give_only_diagnostics(tmp_path: Path, text: str) -> None:

@@ -100,9 +100,18 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
     return problems
 
 
-def _check_step(k: int, step: dict[str, Any], aff: Any, action: np.ndarray, start: dict[str, np.ndarray],
-                end: dict[str, np.ndarray], held: dict[str, np.ndarray], types: dict[str, Any], fk: DartFK,
-                robot_effector: str) -> list[str]:
+def _check_step(
+    k: int,
+    step: dict[str, Any],
+    aff: Any,
+    action: np.ndarray,
+    start: dict[str, np.ndarray],
+    end: dict[str, np.ndarray],
+    held: dict[str, np.ndarray],
+    types: dict[str, Any],
+    fk: DartFK,
+    robot_effector: str,
+) -> list[str]:
     out = []
     body, value = step["body"], step["value"]
     if step["motion"] != aff.motion.type:

@@ -63,8 +63,18 @@ def test_json_has_exactly_the_vkg_plan_1_keys(plans):
     assert out["format"] == "vkg-plan/1" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
     assert set(out["stats"]) == {"solve_time_s", "graphs_expanded", "task_space_checks", "joint_space_checks"}
     assert set(out["robot"]) == {"name", "urdf", "base", "effector", "effector_link", "effector_offset", "joints"}
-    step_keys = ["op", "affordance", "body", "effector", "motion", "value", "poses_start", "poses_end",
-                 "q_start", "q_end"]
+    step_keys = [
+        "op",
+        "affordance",
+        "body",
+        "effector",
+        "motion",
+        "value",
+        "poses_start",
+        "poses_end",
+        "q_start",
+        "q_end",
+    ]
     assert all(list(s) == step_keys for s in out["steps"])
     assert out["steps"][0]["affordance"] == "Block.turn_px_left" and out["steps"][0]["effector"] == "arm.fingertip"
 

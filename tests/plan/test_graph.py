@@ -30,8 +30,12 @@ def labels(actions: list[Action]) -> list[str]:
 
 
 def test_g0_has_every_body_at_rest_and_the_robot_free(problem):
-    assert edges(problem, g0()) == [("block", "world", "fixed"), ("stick", "world", "fixed"),
-                                    ("hook", "world", "fixed"), ("arm", "world", "free")]
+    assert edges(problem, g0()) == [
+        ("block", "world", "fixed"),
+        ("stick", "world", "fixed"),
+        ("hook", "world", "fixed"),
+        ("arm", "world", "free"),
+    ]
     assert to_networkx(problem, g0()).number_of_edges() == 4
 
 
@@ -64,9 +68,11 @@ def test_the_engagement_just_removed_is_not_added_again(problem):
 
 def test_rollout_composes_the_affordances_motions(problem):
     seq = start_sequence(problem)
-    for action in (add("arm.fingertip", "block", "turn_px_left"),
-                   Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
-                   add("arm.fingertip", "block", "push_center_px")):
+    for action in (
+        add("arm.fingertip", "block", "turn_px_left"),
+        Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
+        add("arm.fingertip", "block", "push_center_px"),
+    ):
         seq, _ = extend(problem, seq, action)
     traces = rollout(problem, seq, np.array([math.radians(20), 0.10]))
     final = traces[-1].end["block"]
@@ -94,9 +100,11 @@ def test_closed_form_rejects_a_turn_the_wrong_way_and_pins_the_right_one(problem
     rejected = closed_form(problem, wrong)
     assert isinstance(rejected, Rejection) and rejected.kind == "yaw"
     seq = start_sequence(problem)
-    for action in (add("arm.fingertip", "block", "turn_px_left"),
-                   Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
-                   add("arm.fingertip", "block", "push_center_px")):
+    for action in (
+        add("arm.fingertip", "block", "turn_px_left"),
+        Action("remove", Engagement("arm.fingertip", "block", "turn_px_left")),
+        add("arm.fingertip", "block", "push_center_px"),
+    ):
         seq, _ = extend(problem, seq, action)
     values, pinned = closed_form(problem, seq)
     assert pinned and np.allclose(values, (math.radians(20), 0.10), atol=1e-3)

@@ -38,8 +38,11 @@ def test_goal_off_the_table_is_infeasible_at_once_and_says_why(tmp_path):
 
 
 def test_goal_beyond_the_sticks_reach_is_infeasible_and_names_the_reach(tmp_path):
-    path = task_file(tmp_path, "task far { scene tabletop_mid  goal block at (1.25, 0.0) m yaw 0deg within 1 cm, 3 deg"
-                               "  search { max_depth 6  timeout 20 s } }\n")
+    path = task_file(
+        tmp_path,
+        "task far { scene tabletop_mid  goal block at (1.25, 0.0) m yaw 0deg within 1 cm, 3 deg"
+        "  search { max_depth 6  timeout 20 s } }\n",
+    )
     started = time.perf_counter()
     plan = solve(path)
     assert plan.status == "infeasible"
@@ -51,8 +54,11 @@ def test_goal_beyond_the_sticks_reach_is_infeasible_and_names_the_reach(tmp_path
 
 def test_a_short_timeout_on_a_deep_search_stops_in_about_that_time(tmp_path):
     # the goal is unreachable, so the search would run through every sequence of up to 9 graphs
-    path = task_file(tmp_path, "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
-                               "  search { max_depth 9  timeout 1 s } }\n")
+    path = task_file(
+        tmp_path,
+        "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
+        "  search { max_depth 9  timeout 1 s } }\n",
+    )
     started = time.perf_counter()
     plan = solve(path)
     elapsed = time.perf_counter() - started
@@ -62,11 +68,16 @@ def test_a_short_timeout_on_a_deep_search_stops_in_about_that_time(tmp_path):
 
 
 def test_command_line_exit_codes(tmp_path, capsys):
-    ok = task_file(tmp_path, "task ok { scene tabletop  goal block at (0.55, 0.0) m yaw 0deg within 1 cm, 3 deg }\n",
-                   "ok")
+    ok = task_file(
+        tmp_path, "task ok { scene tabletop  goal block at (0.55, 0.0) m yaw 0deg within 1 cm, 3 deg }\n", "ok"
+    )
     off = task_file(tmp_path, "task off { scene tabletop  goal block at (2.0, 0.0) m within 1 cm }\n", "off")
-    deep = task_file(tmp_path, "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
-                               "  search { max_depth 9  timeout 60 s } }\n", "deep")
+    deep = task_file(
+        tmp_path,
+        "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
+        "  search { max_depth 9  timeout 60 s } }\n",
+        "deep",
+    )
     out_json, out_png = tmp_path / "plan.json", tmp_path / "plan.png"
     assert main(["solve", ok, "--json", str(out_json), "--plot", str(out_png)]) == 0
     assert out_json.read_text().startswith("{") and out_png.stat().st_size > 10_000

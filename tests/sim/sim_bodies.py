@@ -14,7 +14,18 @@ from pathlib import Path
 from typing import Any
 
 from vkgl.lang.ir import (
-    Body, BoxShape, ContactSpec, Explore, ForceSpec, Frame, Joint, Pose, Quantity, Ref, Span, Vector,
+    Body,
+    BoxShape,
+    ContactSpec,
+    Explore,
+    ForceSpec,
+    Frame,
+    Joint,
+    Pose,
+    Quantity,
+    Ref,
+    Span,
+    Vector,
 )
 
 STDLIB = Path(__file__).resolve().parents[2] / "stdlib"
@@ -47,43 +58,68 @@ def push_policy(faces: list[str], steps: int, force: float, duration: float, lin
 
 def block(steps: int = 9, faces: list[str] | None = None, duration: float = 2.0) -> Body:
     return Body(
-        name="Block", shape=BoxShape(size=v(0.10, 0.20, 0.05, unit="cm")), mass=q(0.5, "kg"), friction=0.5,
+        name="Block",
+        shape=BoxShape(size=v(0.10, 0.20, 0.05, unit="cm")),
+        mass=q(0.5, "kg"),
+        friction=0.5,
         frames=[Frame(name="com", pose=Pose(position=v(0, 0, 0, unit="cm")))],
         explores=[push_policy(faces or ["+x", "-x"], steps, 1.0, duration)],
-        name_span=span(7, 6, 5), span=span(7, 1, 30),
+        name_span=span(7, 6, 5),
+        span=span(7, 1, 30),
     )
 
 
 def drawer(steps: int = 3, limits: tuple[float, float] = (0.0, 0.30), duration: float = 1.0) -> Body:
     return Body(
-        name="Drawer", shape=BoxShape(size=v(0.30, 0.40, 0.10, unit="cm")), mass=q(1.0, "kg"),
+        name="Drawer",
+        shape=BoxShape(size=v(0.30, 0.40, 0.10, unit="cm")),
+        mass=q(1.0, "kg"),
         joint=Joint(type="prismatic", axis=v(1, 0, 0), lower=q(limits[0], "cm"), upper=q(limits[1], "cm")),
         explores=[push_policy(["+x", "-x"], steps, 1.0, duration)],
-        name_span=span(7, 6, 6), span=span(7, 1, 30),
+        name_span=span(7, 6, 6),
+        span=span(7, 1, 30),
     )
 
 
 def door(steps: int = 3, duration: float = 1.0) -> Body:
     return Body(
-        name="Door", shape=BoxShape(size=v(0.02, 0.40, 0.50, unit="cm")), mass=q(1.5, "kg"), friction=0.5,
-        joint=Joint(type="revolute", axis=v(0, 0, 1), through=v(0, -0.20, 0, unit="cm"),
-                    lower=q(0.0, "deg"), upper=q(math.pi / 2, "deg")),
+        name="Door",
+        shape=BoxShape(size=v(0.02, 0.40, 0.50, unit="cm")),
+        mass=q(1.5, "kg"),
+        friction=0.5,
+        joint=Joint(
+            type="revolute",
+            axis=v(0, 0, 1),
+            through=v(0, -0.20, 0, unit="cm"),
+            lower=q(0.0, "deg"),
+            upper=q(math.pi / 2, "deg"),
+        ),
         explores=[push_policy(["+x", "-x"], steps, 1.0, duration)],
-        name_span=span(7, 6, 4), span=span(7, 1, 30),
+        name_span=span(7, 6, 4),
+        span=span(7, 1, 30),
     )
 
 
 def stick(grid: tuple[int, int, int] = (3, 3, 3), duration: float = 1.0, grasp: str = "handle") -> Body:
     return Body(
-        name="Stick", shape=BoxShape(size=v(0.40, 0.02, 0.02, unit="cm")), mass=q(0.1, "kg"),
-        frames=[Frame(name="handle", pose=Pose(position=v(-0.15, 0, 0, unit="cm"))),
-                Frame(name="tip", pose=Pose(position=v(0.20, 0, 0, unit="cm")))],
-        explores=[Explore(
-            name="wield", grasp=Ref(name=grasp, span=span(11, 9, len(grasp))),
-            force=ForceSpec(mode="directions", grid=grid, magnitude=q(1.0, "N", 12), span=span(12)),
-            duration=q(duration, "s", 13), span=span(10),
-        )],
-        name_span=span(7, 6, 5), span=span(7, 1, 30),
+        name="Stick",
+        shape=BoxShape(size=v(0.40, 0.02, 0.02, unit="cm")),
+        mass=q(0.1, "kg"),
+        frames=[
+            Frame(name="handle", pose=Pose(position=v(-0.15, 0, 0, unit="cm"))),
+            Frame(name="tip", pose=Pose(position=v(0.20, 0, 0, unit="cm"))),
+        ],
+        explores=[
+            Explore(
+                name="wield",
+                grasp=Ref(name=grasp, span=span(11, 9, len(grasp))),
+                force=ForceSpec(mode="directions", grid=grid, magnitude=q(1.0, "N", 12), span=span(12)),
+                duration=q(duration, "s", 13),
+                span=span(10),
+            )
+        ],
+        name_span=span(7, 6, 5),
+        span=span(7, 1, 30),
     )
 
 
@@ -114,8 +150,9 @@ def with_policy(body: Body, **changes: Any) -> Body:
     update: dict[str, Any] = {}
     if "faces" in changes or "steps" in changes:
         assert policy.contacts is not None
-        update["contacts"] = policy.contacts.model_copy(update={
-            k: changes[k] for k in ("faces", "steps") if k in changes})
+        update["contacts"] = policy.contacts.model_copy(
+            update={k: changes[k] for k in ("faces", "steps") if k in changes}
+        )
     if "duration" in changes:
         assert policy.duration is not None
         update["duration"] = policy.duration.model_copy(update={"value": changes["duration"]})
@@ -133,8 +170,10 @@ def with_policy(body: Body, **changes: Any) -> Body:
 def with_joint_limits(body: Body, lower: float, upper: float) -> Body:
     """`body` with its joint's limits changed (SI)."""
     assert body.joint is not None
-    joint = body.joint.model_copy(update={
-        "lower": body.joint.lower.model_copy(update={"value": lower}),
-        "upper": body.joint.upper.model_copy(update={"value": upper}),
-    })
+    joint = body.joint.model_copy(
+        update={
+            "lower": body.joint.lower.model_copy(update={"value": lower}),
+            "upper": body.joint.upper.model_copy(update={"value": upper}),
+        }
+    )
     return body.model_copy(update={"joint": joint})

@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 from sim_bodies import stdlib_body, with_joint_limits, with_policy
 
 from vkgl.sim.explore import explore
-from vkgl.sim.trials import Trials
+from vkgl.formats.trials import Trials
 
 
 def yaw_deg(T: np.ndarray) -> float:
@@ -45,7 +45,7 @@ def test_push_through_the_face_centre_slides_the_block_along_the_normal(block_pu
     assert moved[0] > 0.03  # along the inward normal of -x
     assert abs(moved[1]) < 0.002 and abs(moved[2]) < 0.001
     assert abs(yaw_deg(end) - yaw_deg(start)) < 2.0
-    contact_path = block_pushes.T_ro[4, 5:block_pushes.samples(4), :3, 3]
+    contact_path = block_pushes.T_ro[4, 5 : block_pushes.samples(4), :3, 3]
     assert np.ptp(contact_path, axis=0).max() < 0.003  # the fingertip stays where it touched
 
 

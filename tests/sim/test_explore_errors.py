@@ -64,8 +64,12 @@ def test_a_policy_with_neither_contacts_nor_grasp_is_reported() -> None:
 
 
 def mesh_body(path: Path, duration: float = 0.2) -> Body:
-    return Body(name="Part", shape=MeshShape(path=str(path), resolved=str(path)), mass=q(0.2, "kg"),
-                explores=[push_policy(["+x"], 1, 1.0, duration)])
+    return Body(
+        name="Part",
+        shape=MeshShape(path=str(path), resolved=str(path)),
+        mass=q(0.2, "kg"),
+        explores=[push_policy(["+x"], 1, 1.0, duration)],
+    )
 
 
 def test_a_mesh_dart_cannot_read_is_an_error_naming_the_file(tmp_path: Path) -> None:
@@ -104,9 +108,9 @@ def test_handmade_spans_are_those_of_a_source_file() -> None:
 def test_a_contact_point_over_a_gap_in_the_body_is_reported() -> None:
     from vkgl.lang.ir import BoxShape, Pose, ShapePart, UnionShape
 
-    legs = UnionShape(parts=[
-        ShapePart(shape=BoxShape(size=v(0.05, 0.05, 0.05)), pose=Pose(position=v(0, y, 0))) for y in (-0.1, 0.1)
-    ])
+    legs = UnionShape(
+        parts=[ShapePart(shape=BoxShape(size=v(0.05, 0.05, 0.05)), pose=Pose(position=v(0, y, 0))) for y in (-0.1, 0.1)]
+    )
     body = block().model_copy(update={"shape": legs, "explores": [push_policy(["+x"], 3, 1.0, 0.1)]})
     error = explore_error(body)
     assert str(error).startswith(f"{FILE}:11:5: error[E708]: face +x of `Block` has no surface at contact point 2 of 3")

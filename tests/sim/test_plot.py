@@ -11,7 +11,7 @@ from sim_bodies import stdlib_body, with_policy
 from vkgl.errors import InputError
 from vkgl.sim.explore import explore
 from vkgl.sim.plot import plot_trials
-from vkgl.sim.trials import Trials
+from vkgl.formats.trials import Trials
 
 
 def test_plot_trials_writes_a_png(tmp_path: Path) -> None:
@@ -24,8 +24,16 @@ def test_plot_trials_writes_a_png(tmp_path: Path) -> None:
 
 
 def test_plot_trials_of_nothing_is_an_input_error(tmp_path: Path) -> None:
-    empty = Trials("Block", np.zeros((0, 1)), np.zeros((0, 1, 4, 4)), np.zeros((0, 1, 4, 4)),
-                   np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, bool), np.zeros(0, str))
+    empty = Trials(
+        "Block",
+        np.zeros((0, 1)),
+        np.zeros((0, 1, 4, 4)),
+        np.zeros((0, 1, 4, 4)),
+        np.zeros((0, 3)),
+        np.zeros((0, 3)),
+        np.zeros(0, bool),
+        np.zeros(0, str),
+    )
     with pytest.raises(InputError):
         plot_trials(empty, tmp_path / "x.png")
 

@@ -43,10 +43,12 @@ def test_mass_properties_follow_the_declared_mass_and_the_geometry() -> None:
 
 
 def test_a_union_puts_its_centre_of_mass_where_its_parts_are() -> None:
-    union = UnionShape(parts=[
-        ShapePart(shape=BoxShape(size=v(0.1, 0.1, 0.1)), pose=Pose(position=v(0, 0, 0))),
-        ShapePart(shape=BoxShape(size=v(0.1, 0.1, 0.1)), pose=Pose(position=v(0.3, 0, 0))),
-    ])
+    union = UnionShape(
+        parts=[
+            ShapePart(shape=BoxShape(size=v(0.1, 0.1, 0.1)), pose=Pose(position=v(0, 0, 0))),
+            ShapePart(shape=BoxShape(size=v(0.1, 0.1, 0.1)), pose=Pose(position=v(0.3, 0, 0))),
+        ]
+    )
     mass, com, _ = sim_world.mass_properties(Body(name="Dumbbell", shape=union, mass=q(2.0)))
     assert com == pytest.approx([0.15, 0.0, 0.0], abs=1e-9)
     assert len(sim_world.dart_shapes(union)) == 2

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from vkgl.formats.trials import Trials
 from vkgl.infer.data import EdgeData, edge_data, trial_edges
 from vkgl.infer.select import EdgeInference, infer_edge
 from vkgl.infer.trial import TrialInference
@@ -41,7 +42,6 @@ from vkgl.lang.ir import (
     Vector,
 )
 from vkgl.lang.printer import to_si
-from vkgl.sim.trials import Trials
 
 _SAME_POINT = 1e-3  # m: contacts closer than this are the same grasp
 _SAME_DIRECTION = np.deg2rad(10.0)

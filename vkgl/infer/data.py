@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.sim.trials import Trials
+from vkgl.formats.trials import Trials
 
 MIN_SAMPLES = 3
 """Fewer usable samples than this and an edge is not inferred."""

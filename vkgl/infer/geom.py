@@ -88,4 +88,3 @@ def perpendicular(a: np.ndarray) -> np.ndarray:
     helper = np.eye(3)[int(np.argmin(np.abs(a)))]
     u = cross(a, helper)
     return u / np.linalg.norm(u)
-

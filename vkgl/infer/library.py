@@ -17,12 +17,12 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference, infer_trials
 from vkgl.lang.ir import AffordanceSet, Module, Ref, Use
 from vkgl.lang.printer import print_module
-from vkgl.sim.trials import Trials
 
 REPORT_FORMAT = "vkg-infer-report/1"
 
@@ -181,8 +181,13 @@ def build_report(trials: Trials, results: list[TrialInference], groups: list[Gro
         "body": trials.body,
         "trials": entries,
         "affordances": [
-            {"name": g.name, "trials": g.members, "kept": g.kept, "loglik": _number(g.loglik),
-             "posterior": _number(g.posterior)}
+            {
+                "name": g.name,
+                "trials": g.members,
+                "kept": g.kept,
+                "loglik": _number(g.loglik),
+                "posterior": _number(g.posterior),
+            }
             for g in groups
         ],
     }

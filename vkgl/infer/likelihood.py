@@ -143,4 +143,3 @@ def reweighted(fit: ModelFit, weights: np.ndarray) -> np.ndarray:
     When it explains almost none, they are all ~0 and carry no information.
     """
     return fit.inliers if fit.inliers.sum() >= 0.5 * len(weights) else weights
-

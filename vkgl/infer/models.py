@@ -172,7 +172,6 @@ def _fit_free(data: EdgeData, w: np.ndarray) -> ModelFit:
     )
 
 
-
 _FITTERS: dict[str, Callable[[EdgeData, np.ndarray], ModelFit]] = {
     "fixed": _fit_fixed,
     "prismatic": _fit_prismatic,

@@ -62,7 +62,7 @@ def refine_revolute(fit: ModelFit, data: EdgeData) -> ModelFit:
         return fit
     w = reweighted(fit, fit.inliers)
     rot_axis, rot_spread, rot_angles = _rotation_axis(data, w)
-    mean, vals, vecs = weighted_pca(data.p, w)
+    _mean, vals, _vecs = weighted_pca(data.p, w)
     if not _positions_move(data, vals) or (rot_axis is None and np.ptp(fit.states) < _REFINE_MIN_ANGLE):
         return fit
     orientations = None
@@ -351,4 +351,3 @@ def _center_from_rotations(data: EdgeData, w: np.ndarray, axis: np.ndarray) -> n
     c = sol[:3]
     start = data.p[0]
     return c + ((start - c) @ axis) * axis
-

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vkgl.formats.trials import Trials
 from vkgl.infer.data import SkipTrial, trial_edges
 from vkgl.infer.select import EdgeInference, infer_edge
-from vkgl.sim.trials import Trials
 
 
 @dataclass

@@ -50,7 +50,9 @@ class _Context:
         if match is None:
             return span
         start = span.col + match.start(1)
-        return ir.Span(file=span.file, line=span.line, col=start, end_line=span.line, end_col=start + len(match.group(1)))
+        return ir.Span(
+            file=span.file, line=span.line, col=start, end_line=span.line, end_col=start + len(match.group(1))
+        )
 
     def error(self, code: str, message: str, span: ir.Span | None, *notes: str) -> None:
         self.diagnostics.append(Diagnostic(code, message, span, notes=tuple(n for n in notes if n)))
@@ -59,7 +61,9 @@ class _Context:
         self.diagnostics.append(Diagnostic(code, message, span, "warning", tuple(n for n in notes if n)))
 
 
-def check_program(modules: dict[str, ir.Module], root: str, sources: dict[str, str]) -> tuple[Program, list[Diagnostic]]:
+def check_program(
+    modules: dict[str, ir.Module], root: str, sources: dict[str, str]
+) -> tuple[Program, list[Diagnostic]]:
     """Check every module and assemble the Program (valid only when no error is returned)."""
     ctx = _Context(sources=sources)
     resolved = {key: _resolve_files(module, ctx) for key, module in modules.items()}
@@ -180,7 +184,11 @@ def _check_body(body: ir.Body, ctx: _Context) -> None:
         ctx.error("E401", f"the mass of `{body.name}` must be positive, got {_shown(body.mass)}", body.mass.span)
     _check_shape(body.shape, ctx)
     if body.friction is not None and body.friction < 0:
-        ctx.error("E403", f"friction must not be negative, got `{body.friction:g}`", ctx.narrow(body.friction_span or body.span, r"friction\s+(\S+)"))
+        ctx.error(
+            "E403",
+            f"friction must not be negative, got `{body.friction:g}`",
+            ctx.narrow(body.friction_span or body.span, r"friction\s+(\S+)"),
+        )
     _duplicates(body.frames, "frame", ctx)
     if body.joint is not None:
         _check_joint(body.joint, ctx)
@@ -199,7 +207,11 @@ def _check_shape(shape: Any, ctx: _Context) -> None:
                 ctx.error("E402", f"the cylinder's {what} must be positive, got {_shown(q)}", q.span)
     elif isinstance(shape, ir.MeshShape):
         if shape.scale <= 0:
-            ctx.error("E402", f"a mesh scale must be positive, got `{shape.scale:g}`", ctx.narrow(shape.span, r"scale\s+(\S+)"))
+            ctx.error(
+                "E402",
+                f"a mesh scale must be positive, got `{shape.scale:g}`",
+                ctx.narrow(shape.span, r"scale\s+(\S+)"),
+            )
         _check_mesh_file(shape, ctx)
     elif isinstance(shape, ir.UnionShape):
         for part in shape.parts:
@@ -209,8 +221,12 @@ def _check_shape(shape: Any, ctx: _Context) -> None:
 def _check_mesh_file(shape: ir.MeshShape, ctx: _Context) -> None:
     problem = _mesh_problem(shape.resolved or shape.path)
     if problem:
-        ctx.error("E503", f"cannot use mesh `{shape.path}`: {problem}", ctx.narrow(shape.span, r'mesh\s+("[^"]*")'),
-                  _looked_for(shape.resolved, problem))
+        ctx.error(
+            "E503",
+            f"cannot use mesh `{shape.path}`: {problem}",
+            ctx.narrow(shape.span, r'mesh\s+("[^"]*")'),
+            _looked_for(shape.resolved, problem),
+        )
 
 
 def _looked_for(resolved: str | None, problem: str) -> str:
@@ -260,10 +276,18 @@ def _check_explore(explore: ir.Explore, body: ir.Body, ctx: _Context) -> None:
     if explore.grasp is not None and body.frame(explore.grasp.name) is None:
         _unknown_frame(body, explore.grasp.name, explore.grasp.span, ctx)
     if explore.contacts is not None and explore.contacts.steps <= 0:
-        ctx.error("E411", f"`steps` must be at least 1, got {explore.contacts.steps}", ctx.narrow(explore.contacts.span, r"steps\s+(\S+)"))
+        ctx.error(
+            "E411",
+            f"`steps` must be at least 1, got {explore.contacts.steps}",
+            ctx.narrow(explore.contacts.span, r"steps\s+(\S+)"),
+        )
     if explore.force is not None:
         if explore.force.magnitude.value <= 0:
-            ctx.error("E411", f"the force must be positive, got {_shown(explore.force.magnitude)}", explore.force.magnitude.span)
+            ctx.error(
+                "E411",
+                f"the force must be positive, got {_shown(explore.force.magnitude)}",
+                explore.force.magnitude.span,
+            )
         if explore.force.grid is not None and min(explore.force.grid) < 1:
             ctx.error("E411", "each direction grid size must be at least 1", explore.force.span)
     if explore.duration is not None and explore.duration.value <= 0:
@@ -272,7 +296,9 @@ def _check_explore(explore: ir.Explore, body: ir.Body, ctx: _Context) -> None:
 
 def _unknown_frame(body: ir.Body, name: str, span: ir.Span | None, ctx: _Context) -> None:
     frames = [f.name for f in body.frames]
-    ctx.error("E303", f"body `{body.name}` has no frame `{name}`", span, _did_you_mean(name, frames) or _no_frames(frames))
+    ctx.error(
+        "E303", f"body `{body.name}` has no frame `{name}`", span, _did_you_mean(name, frames) or _no_frames(frames)
+    )
 
 
 def _no_frames(frames: list[str]) -> str:
@@ -284,8 +310,12 @@ def _check_robot(robot: ir.Robot, ctx: _Context) -> None:
     path = robot.urdf_resolved or robot.urdf
     links, problem = _urdf_links(path)
     if problem:
-        ctx.error("E504", f"cannot use URDF `{robot.urdf}`: {problem}", ctx.narrow(robot.urdf_span or robot.span, r'urdf\s+("[^"]*")'),
-                  _looked_for(robot.urdf_resolved, problem))
+        ctx.error(
+            "E504",
+            f"cannot use URDF `{robot.urdf}`: {problem}",
+            ctx.narrow(robot.urdf_span or robot.span, r'urdf\s+("[^"]*")'),
+            _looked_for(robot.urdf_resolved, problem),
+        )
         return
     for effector in robot.effectors:
         if effector.link not in links:
@@ -330,7 +360,11 @@ def _check_affordances(block: ir.AffordanceSet, ctx: _Context) -> None:
                 _check_direction(constraint.axis, "an axis", ctx)
         posterior = affordance.evidence.posterior if affordance.evidence is not None else 0.5
         if posterior < 0 or posterior > 1:  # (NaN, a value already reported, fails both)
-            ctx.error("E412", f"a posterior is a probability in [0, 1], got `{affordance.evidence.posterior:g}`", ctx.narrow(affordance.evidence.span, r"posterior\s+(\S+)"))
+            ctx.error(
+                "E412",
+                f"a posterior is a probability in [0, 1], got `{affordance.evidence.posterior:g}`",
+                ctx.narrow(affordance.evidence.span, r"posterior\s+(\S+)"),
+            )
     del body
 
 
@@ -342,14 +376,19 @@ def _check_correspondences(block: ir.Correspondences, program: Program, ctx: _Co
         if body is not None and body.frame(item.frame.frame) is None:
             _unknown_frame(body, item.frame.frame, item.frame.span, ctx)
         if item.effector.name not in effectors:
-            hint = _did_you_mean(item.effector.name, sorted(effectors)) or "no robot in this compilation declares effectors; `use` one"
+            hint = (
+                _did_you_mean(item.effector.name, sorted(effectors))
+                or "no robot in this compilation declares effectors; `use` one"
+            )
             ctx.error("E304", f"no robot declares an effector `{item.effector.name}`", item.effector.span, hint)
 
 
 def _check_scene(scene: ir.Scene, ctx: _Context) -> None:
     where = scene.name_span or scene.span
     if scene.table is None:
-        ctx.error("E408", f"scene `{scene.name}` has no table: add e.g. `table size (1.6, 1.2) m at (0.5, 0, 0) m`", where)
+        ctx.error(
+            "E408", f"scene `{scene.name}` has no table: add e.g. `table size (1.6, 1.2) m at (0.5, 0, 0) m`", where
+        )
     elif any(v <= 0 for v in scene.table.size.values):
         ctx.error("E402", f"table sizes must be positive, got {_shown_vector(scene.table.size)}", scene.table.size.span)
     if not scene.robots:
@@ -377,9 +416,15 @@ def _check_task(task: ir.Task, ctx: _Context) -> None:
                 ctx.error("E411", f"a tolerance must be positive, got {_shown(tol)}", tol.span)
     if task.search is not None:
         if task.search.max_depth is not None and task.search.max_depth < 1:
-            ctx.error("E411", f"`max_depth` must be at least 1, got {task.search.max_depth}", ctx.narrow(task.search.span, r"max_depth\s+(\S+)"))
+            ctx.error(
+                "E411",
+                f"`max_depth` must be at least 1, got {task.search.max_depth}",
+                ctx.narrow(task.search.span, r"max_depth\s+(\S+)"),
+            )
         if task.search.timeout is not None and task.search.timeout.value <= 0:
-            ctx.error("E411", f"the timeout must be positive, got {_shown(task.search.timeout)}", task.search.timeout.span)
+            ctx.error(
+                "E411", f"the timeout must be positive, got {_shown(task.search.timeout)}", task.search.timeout.span
+            )
 
 
 def _check_tasks_can_move(program: Program, ctx: _Context) -> None:

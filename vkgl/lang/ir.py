@@ -10,7 +10,7 @@ Equality ignores source spans, so `parse(print(ir)) == ir` is meaningful.
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -151,9 +151,7 @@ class UnionShape(Node):
     parts: list[ShapePart]
 
 
-Shape = Annotated[
-    Union[BoxShape, CylinderShape, MeshShape, UnionShape], Field(discriminator="kind")
-]
+Shape = Annotated[BoxShape | CylinderShape | MeshShape | UnionShape, Field(discriminator="kind")]
 
 
 # ---------------------------------------------------------------- bodies
@@ -280,7 +278,7 @@ class FreeC(Node):
     type: Literal["free"] = "free"
 
 
-Constraint = Annotated[Union[FixedC, PrismaticC, RevoluteC, FreeC], Field(discriminator="type")]
+Constraint = Annotated[FixedC | PrismaticC | RevoluteC | FreeC, Field(discriminator="type")]
 
 
 class Evidence(Node):
@@ -420,9 +418,7 @@ class Use(Node):
     resolved: str | None = None
 
 
-Decl = Annotated[
-    Union[Body, Robot, AffordanceSet, Correspondences, Scene, Task], Field(discriminator="kind")
-]
+Decl = Annotated[Body | Robot | AffordanceSet | Correspondences | Scene | Task, Field(discriminator="kind")]
 
 
 class Module(Node):

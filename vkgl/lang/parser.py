@@ -187,7 +187,7 @@ def _syntax_diagnostics(first: UnexpectedInput, text: str, path: str) -> list[Di
         budget -= len(text) - match.start() if match is not None else 0
         if match is None or budget < 0:
             break
-        rest = re.sub(r"[^\n]", " ", text[: match.start()]) + text[match.start():]
+        rest = re.sub(r"[^\n]", " ", text[: match.start()]) + text[match.start() :]
         try:
             _parser().parse(rest)
             break
@@ -273,9 +273,46 @@ def _keywords() -> frozenset[str]:
 
 
 # Unit-like words a user may write after a number; any short word directly after a number counts too.
-_FOREIGN_UNITS = {"lb", "lbs", "oz", "in", "inch", "ft", "km", "um", "mg", "kN", "mN", "min", "h", "hr", "sec", "degree",
-                  "degrees", "radian", "radians", "meter", "meters", "metre", "metres", "newton", "newtons", "gram",
-                  "grams", "mins", "minute", "minutes", "hour", "hours", "inches", "feet", "pound", "pounds", "lbf", "kgf"}
+_FOREIGN_UNITS = {
+    "lb",
+    "lbs",
+    "oz",
+    "in",
+    "inch",
+    "ft",
+    "km",
+    "um",
+    "mg",
+    "kN",
+    "mN",
+    "min",
+    "h",
+    "hr",
+    "sec",
+    "degree",
+    "degrees",
+    "radian",
+    "radians",
+    "meter",
+    "meters",
+    "metre",
+    "metres",
+    "newton",
+    "newtons",
+    "gram",
+    "grams",
+    "mins",
+    "minute",
+    "minutes",
+    "hour",
+    "hours",
+    "inches",
+    "feet",
+    "pound",
+    "pounds",
+    "lbf",
+    "kgf",
+}
 
 
 _ENDS_WITH_NUMBER = re.compile(r"(?:^|[^\w.])[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?\s*$")
@@ -305,7 +342,7 @@ def _unexpected_character(exc: UnexpectedCharacters, text: str, path: str) -> Di
     span = _new(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + 1)
     char = exc.char
     if char == '"':
-        return Diagnostic("E102", "unterminated string: close it with `\"` on the same line", span)
+        return Diagnostic("E102", 'unterminated string: close it with `"` on the same line', span)
     if char == ";":
         return Diagnostic("E102", "unexpected `;`: VKG statements need no separator; remove it", span)
     shown = repr(char)[1:-1] if not char.isprintable() else char
@@ -352,7 +389,7 @@ def _end_position(text: str) -> tuple[int, int]:
     """Just after the last character that is not blank or a comment, so the rendering can show that line."""
     lines = text.split("\n")
     for number in range(len(lines), 0, -1):
-        code = re.sub(r'#.*', "", lines[number - 1]) if '"' not in lines[number - 1] else lines[number - 1]
+        code = re.sub(r"#.*", "", lines[number - 1]) if '"' not in lines[number - 1] else lines[number - 1]
         if code.strip():
             return number, len(code.rstrip()) + 1
     return 1, 1
@@ -425,7 +462,6 @@ def _union_depth(shape: Any) -> int:
     return 0
 
 
-
 class _Builder:
     """Builds IR nodes bottom-up; collects (does not raise) diagnostics about units and statements.
 
@@ -452,7 +488,9 @@ class _Builder:
     def span(self, meta: Any) -> ir.Span:
         if getattr(meta, "empty", True):
             return _new(ir.Span, file=self.path, line=1, col=1, end_line=1, end_col=1)
-        return _new(ir.Span, file=self.path, line=meta.line, col=meta.column, end_line=meta.end_line, end_col=meta.end_column)
+        return _new(
+            ir.Span, file=self.path, line=meta.line, col=meta.column, end_line=meta.end_line, end_col=meta.end_column
+        )
 
     def written(self, meta: Any) -> str:
         """The source text of a rule, whitespace runs shown as one space."""
@@ -495,7 +533,9 @@ class _Builder:
             value = math.inf
         if math.isfinite(value):
             return value
-        self.error("E208", f"`{raw.text}` is too large a number", raw.span, "numbers must stay below about 1e308 in SI units")
+        self.error(
+            "E208", f"`{raw.text}` is too large a number", raw.span, "numbers must stay below about 1e308 in SI units"
+        )
         return _INVALID
 
     def number(self, raw: _RawQ) -> float:
@@ -536,8 +576,12 @@ class _Builder:
                 continue
             ok = False
             if dimension_of(c.unit) == dimension:
-                self.error("E205", "the unit is given twice: after the vector and on this component", c.span,
-                           "write the unit once after the vector, or on every component")
+                self.error(
+                    "E205",
+                    "the unit is given twice: after the vector and on this component",
+                    c.span,
+                    "write the unit once after the vector, or on every component",
+                )
             else:
                 self.check_unit(c, dimension)
         whole = _RawQ("", raw.unit or "", raw.span, raw.written)
@@ -617,9 +661,12 @@ class _Builder:
         name, items = children[0], children[1:]
         owner = f"body `{name}`"
         singles = [i for i in items if i.key not in ("frame", "explore")]
-        fields = self.single(singles, owner, {"shape": "shape box (10, 10, 10) cm", "mass": "mass 0.5 kg"}, self.tspan(name))
+        fields = self.single(
+            singles, owner, {"shape": "shape box (10, 10, 10) cm", "mass": "mass 0.5 kg"}, self.tspan(name)
+        )
         spans = {i.key: i.span for i in singles}
-        return _new(ir.Body, 
+        return _new(
+            ir.Body,
             name=str(name),
             shape=fields.get("shape", _new(ir.BoxShape, size=_new(ir.Vector, values=(_INVALID,) * 3, unit="m"))),
             mass=fields.get("mass", _new(ir.Quantity, value=_INVALID, unit="kg")),
@@ -639,8 +686,11 @@ class _Builder:
         return _new(ir.BoxShape, size=self.to_vector(children[0], "length", (3,), "a box size"), span=self.span(meta))
 
     def cylinder(self, meta: Any, children: list[Any]) -> ir.CylinderShape:
-        return _new(ir.CylinderShape, 
-            radius=self.to_quantity(children[0], "length"), height=self.to_quantity(children[1], "length"), span=self.span(meta)
+        return _new(
+            ir.CylinderShape,
+            radius=self.to_quantity(children[0], "length"),
+            height=self.to_quantity(children[1], "length"),
+            span=self.span(meta),
         )
 
     def mesh(self, meta: Any, children: list[Any]) -> ir.MeshShape:
@@ -666,7 +716,9 @@ class _Builder:
 
     def frame_stmt(self, meta: Any, children: list[Any]) -> _Item:
         name = children[0]
-        frame = _new(ir.Frame, name=str(name), pose=self.to_pose(children[1]), span=self.span(meta), name_span=self.tspan(name))
+        frame = _new(
+            ir.Frame, name=str(name), pose=self.to_pose(children[1]), span=self.span(meta), name_span=self.tspan(name)
+        )
         return _Item("frame", frame, self.span(meta))
 
     def joint_type(self, meta: Any, children: list[Token]) -> str:
@@ -680,7 +732,8 @@ class _Builder:
         dimension = "length" if kind == "prismatic" else "angle"
         limits = self.to_vector(limits_raw, dimension, (2,), "`limits`")
         values = list(limits.values) + [_INVALID] * (2 - len(limits.values))
-        joint = _new(ir.Joint, 
+        joint = _new(
+            ir.Joint,
             type=kind,
             axis=axis,
             through=through,
@@ -693,7 +746,8 @@ class _Builder:
     def explore_stmt(self, meta: Any, children: list[Any]) -> _Item:
         name, items = children[0], children[1:]
         fields = self.single(items, f"explore `{name}`", {}, self.tspan(name))
-        explore = _new(ir.Explore, 
+        explore = _new(
+            ir.Explore,
             name=str(name),
             contacts=fields.get("contacts"),
             grasp=fields.get("grasp"),
@@ -714,7 +768,8 @@ class _Builder:
 
     def force_directions(self, meta: Any, children: list[Any]) -> _Item:
         counts = [self.integer(_RawQ(str(t), "", self.tspan(t), str(t)), "a grid size") for t in children[:3]]
-        spec = _new(ir.ForceSpec, 
+        spec = _new(
+            ir.ForceSpec,
             mode="directions",
             grid=(counts[0], counts[1], counts[2]),
             magnitude=self.to_quantity(children[3], "force"),
@@ -734,7 +789,8 @@ class _Builder:
         name, items = children[0], children[1:]
         urdfs = [i for i in items if i.key == "urdf"]
         fields = self.single(urdfs, f"robot `{name}`", {"urdf": 'urdf "arm.urdf"'}, self.tspan(name))
-        return _new(ir.Robot, 
+        return _new(
+            ir.Robot,
             name=str(name),
             urdf=fields.get("urdf", ""),
             urdf_span=urdfs[0].span if urdfs else None,
@@ -755,17 +811,33 @@ class _Builder:
 
     def affordances(self, meta: Any, children: list[Any]) -> ir.AffordanceSet:
         body = children[0]
-        return _new(ir.AffordanceSet, 
-            body=_new(ir.Ref, name=str(body), span=self.tspan(body)), affordances=children[1:], span=self.span(meta)
+        return _new(
+            ir.AffordanceSet,
+            body=_new(ir.Ref, name=str(body), span=self.tspan(body)),
+            affordances=children[1:],
+            span=self.span(meta),
         )
 
     def affordance(self, meta: Any, children: list[Any]) -> ir.Affordance:
         name, items = children[0], children[1:]
-        fields = self.single(items, f"affordance `{name}`", {"action": "action fixed", "motion": "motion free"}, self.tspan(name))
-        return _new(ir.Affordance, 
+        fields = self.single(
+            items, f"affordance `{name}`", {"action": "action fixed", "motion": "motion free"}, self.tspan(name)
+        )
+        return _new(
+            ir.Affordance,
             name=str(name),
-            action=fields.get("action", _new(ir.FreeC, )),
-            motion=fields.get("motion", _new(ir.FreeC, )),
+            action=fields.get(
+                "action",
+                _new(
+                    ir.FreeC,
+                ),
+            ),
+            motion=fields.get(
+                "motion",
+                _new(
+                    ir.FreeC,
+                ),
+            ),
             evidence=fields.get("evidence"),
             span=self.span(meta),
         )
@@ -795,7 +867,8 @@ class _Builder:
 
     def evidence(self, meta: Any, children: list[Any]) -> _Item:
         trials, loglik, posterior = children
-        evidence = _new(ir.Evidence, 
+        evidence = _new(
+            ir.Evidence,
             trials=self.integer(trials, "`trials`"),
             loglik=self.number(loglik),
             posterior=self.number(posterior),
@@ -810,10 +883,16 @@ class _Builder:
 
     def correspondence(self, meta: Any, children: list[Token]) -> ir.Correspondence:
         body, frame, effector = children
-        frame_span = _new(ir.Span, 
-            file=self.path, line=body.line or 1, col=body.column or 1, end_line=frame.end_line or 1, end_col=frame.end_column or 1
+        frame_span = _new(
+            ir.Span,
+            file=self.path,
+            line=body.line or 1,
+            col=body.column or 1,
+            end_line=frame.end_line or 1,
+            end_col=frame.end_column or 1,
         )
-        return _new(ir.Correspondence, 
+        return _new(
+            ir.Correspondence,
             frame=_new(ir.FrameRef, body=str(body), frame=str(frame), span=frame_span),
             effector=_new(ir.Ref, name=str(effector), span=self.tspan(effector)),
             span=self.span(meta),
@@ -825,8 +904,11 @@ class _Builder:
         name, items = children[0], children[1:]
         tables = [i for i in items if isinstance(i, ir.Table)]
         if len(tables) > 1:
-            self.error("E406", f"`table` given twice in scene `{name}`", tables[1].span, f"first given at {tables[0].span}")
-        return _new(ir.Scene, 
+            self.error(
+                "E406", f"`table` given twice in scene `{name}`", tables[1].span, f"first given at {tables[0].span}"
+            )
+        return _new(
+            ir.Scene,
             name=str(name),
             table=tables[0] if tables else None,
             robots=[i for i in items if isinstance(i, ir.SceneRobot)],
@@ -842,14 +924,19 @@ class _Builder:
 
     def scene_robot(self, meta: Any, children: list[Any]) -> ir.SceneRobot:
         name, kind, pose = children
-        return _new(ir.SceneRobot, 
-            name=str(name), type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)), pose=self.to_pose(pose), span=self.span(meta)
+        return _new(
+            ir.SceneRobot,
+            name=str(name),
+            type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)),
+            pose=self.to_pose(pose),
+            span=self.span(meta),
         )
 
     def scene_on_table(self, meta: Any, children: list[Any]) -> ir.SceneBody:
         name, kind, raw = children
         pose = self.to_pose(raw, sizes=(2,), rpy_allowed=False)
-        return _new(ir.SceneBody, 
+        return _new(
+            ir.SceneBody,
             name=str(name),
             type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)),
             placement=_new(ir.Placement, on_table=True, pose=pose, span=raw.span),
@@ -858,7 +945,8 @@ class _Builder:
 
     def scene_at(self, meta: Any, children: list[Any]) -> ir.SceneBody:
         name, kind, raw = children
-        return _new(ir.SceneBody, 
+        return _new(
+            ir.SceneBody,
             name=str(name),
             type=_new(ir.Ref, name=str(kind), span=self.tspan(kind)),
             placement=_new(ir.Placement, on_table=False, pose=self.to_pose(raw), span=raw.span),
@@ -870,11 +958,16 @@ class _Builder:
     def task(self, meta: Any, children: list[Any]) -> ir.Task:
         name, items = children[0], children[1:]
         owner = f"task `{name}`"
-        fields = self.single([i for i in items if i.key != "goal"], owner, {"scene": "scene tabletop"}, self.tspan(name))
+        fields = self.single(
+            [i for i in items if i.key != "goal"], owner, {"scene": "scene tabletop"}, self.tspan(name)
+        )
         goals = [g for i in items if i.key == "goal" for g in i.value]
         if not goals:
-            self.error("E410", f"{owner} has no goal: add e.g. `goal block at (0.6, 0) m within 1 cm`", self.tspan(name))
-        return _new(ir.Task, 
+            self.error(
+                "E410", f"{owner} has no goal: add e.g. `goal block at (0.6, 0) m within 1 cm`", self.tspan(name)
+            )
+        return _new(
+            ir.Task,
             name=str(name),
             scene=fields.get("scene", _new(ir.Ref, name="")),
             goals=goals,
@@ -896,7 +989,8 @@ class _Builder:
         tolerances: list[_RawQ] = rest[0] if rest else []
         tol_position = self.to_quantity(tolerances[0], "length") if tolerances else None
         tol_yaw = self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None
-        return _new(ir.Goal, 
+        return _new(
+            ir.Goal,
             body=_new(ir.Ref, name=str(body), span=self.tspan(body)),
             position=self.to_vector(vector, "length", (2, 3), "a goal position"),
             yaw=yaw,
@@ -910,7 +1004,8 @@ class _Builder:
         tolerances: list[_RawQ] = children[2] if len(children) > 2 else []
         if len(tolerances) > 1:
             self.error("E204", "a heading goal takes one tolerance, an angle: `within 3 deg`", tolerances[1].span)
-        return _new(ir.Goal, 
+        return _new(
+            ir.Goal,
             body=_new(ir.Ref, name=str(body), span=self.tspan(body)),
             yaw=self.to_quantity(yaw, "angle"),
             tol_yaw=self.to_quantity(tolerances[0], "angle") if tolerances else None,
@@ -922,7 +1017,9 @@ class _Builder:
 
     def task_search(self, meta: Any, children: list[Any]) -> _Item:
         fields = self.single(children, "`search`", {}, self.span(meta))
-        spec = _new(ir.SearchSpec, max_depth=fields.get("max_depth"), timeout=fields.get("timeout"), span=self.span(meta))
+        spec = _new(
+            ir.SearchSpec, max_depth=fields.get("max_depth"), timeout=fields.get("timeout"), span=self.span(meta)
+        )
         return _Item("search", spec, self.span(meta))
 
     def max_depth(self, meta: Any, children: list[Any]) -> _Item:

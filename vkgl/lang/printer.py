@@ -51,14 +51,32 @@ from vkgl.lang.ir import (
 # ---------------------------------------------------------------- units
 # Until vkgl/lang/units.py exists: the same table and conversion as the parser's.
 
-DIMENSION = {"m": "length", "cm": "length", "mm": "length", "rad": "angle", "deg": "angle",
-             "kg": "mass", "g": "mass", "N": "force", "s": "time", "ms": "time", "": "number"}
+DIMENSION = {
+    "m": "length",
+    "cm": "length",
+    "mm": "length",
+    "rad": "angle",
+    "deg": "angle",
+    "kg": "mass",
+    "g": "mass",
+    "N": "force",
+    "s": "time",
+    "ms": "time",
+    "": "number",
+}
 SI_UNIT = {"length": "m", "angle": "rad", "mass": "kg", "force": "N", "time": "s", "number": ""}
 SCALE: dict[str, Fraction] = {
-    "m": Fraction(1), "cm": Fraction(1, 100), "mm": Fraction(1, 1000),
-    "rad": Fraction(1), "deg": Fraction(math.pi) / 180,
-    "kg": Fraction(1), "g": Fraction(1, 1000), "N": Fraction(1),
-    "s": Fraction(1), "ms": Fraction(1, 1000), "": Fraction(1),
+    "m": Fraction(1),
+    "cm": Fraction(1, 100),
+    "mm": Fraction(1, 1000),
+    "rad": Fraction(1),
+    "deg": Fraction(math.pi) / 180,
+    "kg": Fraction(1),
+    "g": Fraction(1, 1000),
+    "N": Fraction(1),
+    "s": Fraction(1),
+    "ms": Fraction(1, 1000),
+    "": Fraction(1),
 }
 
 
@@ -68,6 +86,7 @@ def to_si(text: str, unit: str) -> float:
     if scale == 1:
         return float(text)
     return float(Fraction(text) * scale)
+
 
 INDENT = "    "
 
@@ -407,7 +426,9 @@ class _Layout:
         self.add(k, "motion " + constraint_text(a.motion), _line_of(a.motion.span))
         if a.evidence is not None:
             ev = a.evidence
-            text = f"evidence trials {ev.trials} loglik {format_number(ev.loglik)} posterior {format_number(ev.posterior)}"
+            text = (
+                f"evidence trials {ev.trials} loglik {format_number(ev.loglik)} posterior {format_number(ev.posterior)}"
+            )
             self.add(k, text, _line_of(ev.span))
 
     def correspondences(self, k: int, c: Correspondences) -> None:

@@ -56,7 +56,7 @@ class _Loader:
         """Load `path` (if not yet loaded) and its imports; return its key in `modules`."""
         real = path.resolve()
         if real in stack:
-            self._report_cycle(stack[stack.index(real):] + [real], via)
+            self._report_cycle(stack[stack.index(real) :] + [real], via)
             return None
         if real in self.by_real:
             return self.by_real[real]
@@ -101,7 +101,9 @@ class _Loader:
     def _report_cycle(self, cycle: list[Path], via: ir.Use | None) -> None:
         chain = " -> ".join(_display_path(p) for p in cycle)
         self.out.diagnostics.append(
-            Diagnostic("E502", f"import cycle: {chain}", via.span if via else None, notes=("remove one of these `use` lines",))
+            Diagnostic(
+                "E502", f"import cycle: {chain}", via.span if via else None, notes=("remove one of these `use` lines",)
+            )
         )
 
 

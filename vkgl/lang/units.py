@@ -11,30 +11,54 @@ import math
 from fractions import Fraction
 
 DIMENSION: dict[str, str] = {
-    "m": "length", "cm": "length", "mm": "length",
-    "rad": "angle", "deg": "angle",
-    "kg": "mass", "g": "mass",
+    "m": "length",
+    "cm": "length",
+    "mm": "length",
+    "rad": "angle",
+    "deg": "angle",
+    "kg": "mass",
+    "g": "mass",
     "N": "force",
-    "s": "time", "ms": "time",
+    "s": "time",
+    "ms": "time",
     "": "number",
 }
 SI_UNIT: dict[str, str] = {
-    "length": "m", "angle": "rad", "mass": "kg", "force": "N", "time": "s", "number": "",
+    "length": "m",
+    "angle": "rad",
+    "mass": "kg",
+    "force": "N",
+    "time": "s",
+    "number": "",
 }
 SCALE: dict[str, Fraction] = {
-    "m": Fraction(1), "cm": Fraction(1, 100), "mm": Fraction(1, 1000),
-    "rad": Fraction(1), "deg": Fraction(math.pi) / 180,
-    "kg": Fraction(1), "g": Fraction(1, 1000), "N": Fraction(1),
-    "s": Fraction(1), "ms": Fraction(1, 1000), "": Fraction(1),
+    "m": Fraction(1),
+    "cm": Fraction(1, 100),
+    "mm": Fraction(1, 1000),
+    "rad": Fraction(1),
+    "deg": Fraction(math.pi) / 180,
+    "kg": Fraction(1),
+    "g": Fraction(1, 1000),
+    "N": Fraction(1),
+    "s": Fraction(1),
+    "ms": Fraction(1, 1000),
+    "": Fraction(1),
 }
 # How a dimension is named in messages ("expected a length").
 ARTICLE_NAME: dict[str, str] = {
-    "length": "a length", "angle": "an angle", "mass": "a mass", "force": "a force",
-    "time": "a time", "number": "a plain number",
+    "length": "a length",
+    "angle": "an angle",
+    "mass": "a mass",
+    "force": "a force",
+    "time": "a time",
+    "number": "a plain number",
 }
 UNITS_BY_DIMENSION: dict[str, tuple[str, ...]] = {
-    "length": ("m", "cm", "mm"), "angle": ("deg", "rad"), "mass": ("kg", "g"),
-    "force": ("N",), "time": ("s", "ms"),
+    "length": ("m", "cm", "mm"),
+    "angle": ("deg", "rad"),
+    "mass": ("kg", "g"),
+    "force": ("N",),
+    "time": ("s", "ms"),
 }
 
 

@@ -21,6 +21,7 @@ it, nothing can help.
 from __future__ import annotations
 
 import math
+
 import numpy as np
 from scipy.optimize import nnls
 
@@ -60,8 +61,9 @@ def closed_form(problem: Problem, seq: Sequence) -> tuple[np.ndarray, bool] | Re
     return values, bool(pinned.all())
 
 
-def _goal_values(problem: Problem, seq: Sequence, goal: GoalSpec,
-                 values: np.ndarray) -> dict[int, tuple[float, bool]] | Rejection:
+def _goal_values(
+    problem: Problem, seq: Sequence, goal: GoalSpec, values: np.ndarray
+) -> dict[int, tuple[float, bool]] | Rejection:
     """Values of the goal body's motions that meet its goal (and whether they are unique), or a Rejection."""
     own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
     turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
@@ -89,8 +91,12 @@ def _goal_values(problem: Problem, seq: Sequence, goal: GoalSpec,
     slack = goal.tol_position + (0.5 * math.pi / (TURN_GRID - 1) * LEVER_BOUND if len(turns) > 1 else 0.0)
     if best[0] > slack:
         how = "along its slides" if slides else "and nothing slides it"
-        return Rejection("position", f"{goal.body} ends at least {best[0] * 100:.1f} cm from its goal "
-                         f"position with the heading the goal asks for, {how}", best[0])
+        return Rejection(
+            "position",
+            f"{goal.body} ends at least {best[0] * 100:.1f} cm from its goal "
+            f"position with the heading the goal asks for, {how}",
+            best[0],
+        )
     exact_turns = len(candidates) == 1
     unique = bool(np.linalg.matrix_rank(columns[best[1]], tol=1e-9) == len(slides)) if slides else True
     out = {i: (float(a), exact_turns) for i, a in zip(turns, angles[best[1]])}
@@ -98,8 +104,9 @@ def _goal_values(problem: Problem, seq: Sequence, goal: GoalSpec,
     return out
 
 
-def _affine_positions(problem: Problem, seq: Sequence, body: str, turns: list[int], slides: list[int],
-                      angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _affine_positions(
+    problem: Problem, seq: Sequence, body: str, turns: list[int], slides: list[int], angles: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """For each row of turn `angles`: the body's final position with no slide, and how each slide moves it.
 
     The position is exactly affine in the slides: a slide by v along a moves
@@ -187,8 +194,9 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     if chain is None:
         return None
     pose = np.eye(4)
-    pose[:3, :3] = np.array([[math.cos(goal.yaw), -math.sin(goal.yaw), 0.0],
-                             [math.sin(goal.yaw), math.cos(goal.yaw), 0.0], [0.0, 0.0, 1.0]])
+    pose[:3, :3] = np.array(
+        [[math.cos(goal.yaw), -math.sin(goal.yaw), 0.0], [math.sin(goal.yaw), math.cos(goal.yaw), 0.0], [0.0, 0.0, 1.0]]
+    )
     pose[:3, 3] = (*goal.position[:2], goal.position[2] if len(goal.position) > 2 else rest[2, 3])
     hand = pose @ chain[0]
     slack = goal.tol_position + math.hypot(chain[0][0, 3], chain[0][1, 3]) * goal.tol_yaw

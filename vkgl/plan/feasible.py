@@ -127,7 +127,10 @@ def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalS
     """Whether every goal (of the problem, or `goals`) holds at `final` within its tolerance."""
     for goal in problem.goals if goals is None else goals:
         pose = final[goal.body]
-        if goal.position is not None and np.linalg.norm(pose[: len(goal.position), 3] - goal.position) > goal.tol_position:
+        if (
+            goal.position is not None
+            and np.linalg.norm(pose[: len(goal.position), 3] - goal.position) > goal.tol_position
+        ):
             return False
         if goal.yaw is not None and abs(wrap_angle(yaw_of(pose) - goal.yaw)) > goal.tol_yaw:
             return False
@@ -166,8 +169,9 @@ def _rotation_vector(rotation: np.ndarray) -> np.ndarray:
     return Rotation.from_matrix(rotation).as_rotvec()
 
 
-def task_space(problem: Problem, seq: Sequence, deadline: float,
-               counters: Counters | None = None) -> TaskSolution | Rejection:
+def task_space(
+    problem: Problem, seq: Sequence, deadline: float, counters: Counters | None = None
+) -> TaskSolution | Rejection:
     """Motion values for `seq` that reach the goal inside every constraint (NLopt SLSQP), or why not."""
     start = closed_form(problem, seq)
     if isinstance(start, Rejection):
@@ -194,8 +198,9 @@ def task_space(problem: Problem, seq: Sequence, deadline: float,
     return _why_not(problem, seq, best[1] if best is not None else guess)
 
 
-def _optimise(evaluator: _Evaluator, x0: np.ndarray, lower: np.ndarray, upper: np.ndarray,
-              deadline: float) -> np.ndarray:
+def _optimise(
+    evaluator: _Evaluator, x0: np.ndarray, lower: np.ndarray, upper: np.ndarray, deadline: float
+) -> np.ndarray:
     """One SLSQP run from `x0`: minimise the goal error subject to the constraints, within the deadline."""
     if len(x0) == 0:
         return x0
@@ -250,8 +255,9 @@ class JointSolution:
     ik_calls: int
 
 
-def joint_space(problem: Problem, solution: TaskSolution, deadline: float,
-                counters: Counters | None = None) -> JointSolution | Rejection:
+def joint_space(
+    problem: Problem, solution: TaskSolution, deadline: float, counters: Counters | None = None
+) -> JointSolution | Rejection:
     """IK for every hand pose of the rollout, in order, each warm-started from the one before."""
     arm = problem.arm
     q = arm.home.copy()

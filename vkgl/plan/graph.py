@@ -151,8 +151,9 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
     return out
 
 
-def _may_add(problem: Problem, tool: str | None, joint: str | None, motion: str, action: Action,
-             last: Action | None) -> bool:
+def _may_add(
+    problem: Problem, tool: str | None, joint: str | None, motion: str, action: Action, last: Action | None
+) -> bool:
     if tool is not None and motion == "free":
         return False
     if joint is not None and motion != joint:

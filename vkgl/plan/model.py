@@ -143,8 +143,9 @@ class Problem:
         return self._actions[key]
 
 
-def build_problem(program: Program, task: Task, *, max_depth: int | None = None,
-                  timeout: float | None = None) -> Problem:
+def build_problem(
+    program: Program, task: Task, *, max_depth: int | None = None, timeout: float | None = None
+) -> Problem:
     """The planning problem of `task` in `program`; command-line limits override the task's `search` block.
 
     Raises InputError (saying where and what to change) when the task's scene,
@@ -175,8 +176,9 @@ def build_problem(program: Program, task: Task, *, max_depth: int | None = None,
     if not limit > 0:
         raise InputError(f"the timeout must be positive, got {limit} s")
     center, size = _table(scene)
-    return Problem(program, task, scene, bodies, placed.name, arm, effectors, goals, center, size,
-                   table_top(scene), depth, limit)
+    return Problem(
+        program, task, scene, bodies, placed.name, arm, effectors, goals, center, size, table_top(scene), depth, limit
+    )
 
 
 def _where(node: object) -> str:
@@ -206,8 +208,9 @@ def _load_arm(robot: Robot, effector: str, base: np.ndarray) -> Arm:
 def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBody:
     body = program.bodies.get(scene_body.type.name)
     if body is None:
-        raise InputError(f"{_where(scene_body)}scene body {scene_body.name} has the unknown type "
-                         f"`{scene_body.type.name}`")
+        raise InputError(
+            f"{_where(scene_body)}scene body {scene_body.name} has the unknown type `{scene_body.type.name}`"
+        )
     rest = scene_body_pose(scene, scene_body, body)
     yaw = math.atan2(rest[1, 0], rest[0, 0])
     usable = tuple(a for a in program.affordances.get(body.name, []) if isinstance(a.action, FixedC))
@@ -242,8 +245,10 @@ def _tool_effectors(program: Program, scene: Scene, effector_name: str) -> list[
             continue
         frame = body_type.frame(corr.frame.frame)
         if frame is None:
-            raise InputError(f"{_where(corr)}correspondence {corr.frame.body}.{corr.frame.frame}: "
-                             f"body {corr.frame.body} has no frame `{corr.frame.frame}`")
+            raise InputError(
+                f"{_where(corr)}correspondence {corr.frame.body}.{corr.frame.frame}: "
+                f"body {corr.frame.body} has no frame `{corr.frame.frame}`"
+            )
         for sb in scene.bodies:
             if sb.type.name == corr.frame.body:
                 out.append(EffectorSpec(f"{sb.name}.{corr.frame.frame}", sb.name, frame.pose.matrix()))
@@ -254,8 +259,10 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     name = goal.body.name
     if name not in bodies:
         known = ", ".join(bodies) or "none"
-        raise InputError(f"{_where(goal)}task {task.name}: the goal names `{name}`, which is not a body of the "
-                         f"scene (its bodies: {known})")
+        raise InputError(
+            f"{_where(goal)}task {task.name}: the goal names `{name}`, which is not a body of the "
+            f"scene (its bodies: {known})"
+        )
     position = goal.position.array() if goal.position is not None else None
     yaw = goal.yaw.value if goal.yaw is not None else None
     tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
@@ -266,7 +273,9 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
 def _table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
     if scene.table is None:
         return None, None
-    return np.asarray(scene.table.position.values[:2], dtype=float), np.asarray(scene.table.size.values[:2], dtype=float)
+    return np.asarray(scene.table.position.values[:2], dtype=float), np.asarray(
+        scene.table.size.values[:2], dtype=float
+    )
 
 
 def yaw_of(pose: np.ndarray) -> float:

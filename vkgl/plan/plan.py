@@ -1,4 +1,4 @@
-"""The result of `vkgc solve`: a Plan, printed as text, as `vkg-plan/1` JSON, or drawn (`vkgl.viz`).
+"""The result of `vkgc solve`: a Plan, printed as text, as `vkg-plan/1` JSON, or drawn (`vkgl.plan.picture`).
 
 A plan of depth D has D graphs (G0 included) and D - 1 steps. Step k is the
 transition into G_k followed by the motion G_k allows: `poses_start` are the
@@ -89,8 +89,10 @@ class Plan:
     def text(self) -> str:
         """The graph sequence as in the paper's Figure 2: each graph's edges, and each step with its value."""
         stats = self.stats
-        counts = (f"{stats['solve_time_s']:.3f} s; {stats['graphs_expanded']} graphs expanded, "
-                  f"{stats['task_space_checks']} task-space checks, {stats['joint_space_checks']} joint-space checks")
+        counts = (
+            f"{stats['solve_time_s']:.3f} s; {stats['graphs_expanded']} graphs expanded, "
+            f"{stats['task_space_checks']} task-space checks, {stats['joint_space_checks']} joint-space checks"
+        )
         if self.status != "solved":
             return f"task {self.task}: {self.status} ({counts})\n  {self.reason}"
         lines = [f"task {self.task}: solved, depth {self.depth} ({counts})"]
@@ -100,8 +102,10 @@ class Plan:
                 lines.append(f"  step {k + 1}: {_step_title(self.steps[k])}")
         for name, pose in self.final.items():
             if self.start.get(name) is None or np.abs(self.start[name] - pose).max() > 1e-9:
-                lines.append(f"final: {name} at ({pose[0, 3]:.3f}, {pose[1, 3]:.3f}, {pose[2, 3]:.3f}) m "
-                             f"yaw {math.degrees(yaw_of(pose)):.1f} deg")
+                lines.append(
+                    f"final: {name} at ({pose[0, 3]:.3f}, {pose[1, 3]:.3f}, {pose[2, 3]:.3f}) m "
+                    f"yaw {math.degrees(yaw_of(pose)):.1f} deg"
+                )
         return "\n".join(lines)
 
 

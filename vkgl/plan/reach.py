@@ -35,8 +35,12 @@ def unreachable(problem: Problem, hand: np.ndarray) -> Rejection | None:
         return None
     r_min, r_max = problem.arm.reach(float(hand[2, 3]))
     radius = float(np.hypot(*(hand[:2, 3] - problem.arm.base[:2, 3])))
-    return Rejection("reach", f"the hand would be {radius:.3f} m from the arm's base at height {hand[2, 3]:.3f} m "
-                     f"(reach there: {r_min:.3f} to {r_max:.3f} m)", distance)
+    return Rejection(
+        "reach",
+        f"the hand would be {radius:.3f} m from the arm's base at height {hand[2, 3]:.3f} m "
+        f"(reach there: {r_min:.3f} to {r_max:.3f} m)",
+        distance,
+    )
 
 
 def reach_violation(problem: Problem, point: np.ndarray) -> float:

@@ -251,8 +251,9 @@ def acting_engagement(problem: Problem, graph: KGraph) -> Engagement | None:
     return next((e for e in graph.engaged if problem.effector(e.effector).tool == holding.body), None)
 
 
-def _hand_path(problem: Problem, seq: Sequence, k: int, start: dict[str, np.ndarray],
-               paths: dict[Engagement, np.ndarray]) -> tuple[list[np.ndarray], bool]:
+def _hand_path(
+    problem: Problem, seq: Sequence, k: int, start: dict[str, np.ndarray], paths: dict[Engagement, np.ndarray]
+) -> tuple[list[np.ndarray], bool]:
     """The hand's poses during mode k: along the motion of what it pushes, at a grasp, or none (free)."""
     graph = seq.graphs[k]
     holding = graph.using(problem.robot_effector.name)

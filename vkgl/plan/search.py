@@ -143,22 +143,28 @@ _KIND_WORDS = {
 
 
 def _summary(stats: SearchStats) -> str:
-    parts = [f"{n} {_KIND_WORDS.get(kind, kind)} (closest: {stats.examples[kind][1]})"
-             for kind, n in stats.rejections.most_common()]
+    parts = [
+        f"{n} {_KIND_WORDS.get(kind, kind)} (closest: {stats.examples[kind][1]})"
+        for kind, n in stats.rejections.most_common()
+    ]
     return "; ".join(parts)
 
 
 def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
-    head = (f"no sequence of at most {problem.max_depth} graphs reaches the goal "
-            f"({stats.sequences} sequences tried, {stats.task_space_checks} task-space checks)")
+    head = (
+        f"no sequence of at most {problem.max_depth} graphs reaches the goal "
+        f"({stats.sequences} sequences tried, {stats.task_space_checks} task-space checks)"
+    )
     detail = _summary(stats)
     return f"{head}: {detail}" if detail else head
 
 
 def _timeout_reason(problem: Problem, stats: SearchStats) -> str:
-    return (f"no plan within the timeout of {problem.timeout:g} s (searched up to depth "
-            f"{min(stats.depth_reached, problem.max_depth)}, {stats.sequences} sequences tried); "
-            f"raise `timeout` in the task's search block or pass --timeout")
+    return (
+        f"no plan within the timeout of {problem.timeout:g} s (searched up to depth "
+        f"{min(stats.depth_reached, problem.max_depth)}, {stats.sequences} sequences tried); "
+        f"raise `timeout` in the task's search block or pass --timeout"
+    )
 
 
 class _Progress:
@@ -174,8 +180,10 @@ class _Progress:
             return
         self._next = time.perf_counter() + 0.1
         self._shown = True
-        sys.stderr.write(f"\rsearching: depth {stats.depth_reached}, {stats.sequences} sequences, "
-                         f"{stats.task_space_checks} task-space checks, {stats.joint_space_checks} IK checks ")
+        sys.stderr.write(
+            f"\rsearching: depth {stats.depth_reached}, {stats.sequences} sequences, "
+            f"{stats.task_space_checks} task-space checks, {stats.joint_space_checks} IK checks "
+        )
         sys.stderr.flush()
 
     def done(self) -> None:

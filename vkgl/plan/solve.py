@@ -27,8 +27,7 @@ from vkgl.plan.rollout import ModeTrace
 from vkgl.plan.search import SearchResult, SearchStats, search
 
 
-def solve(task: Any, *, max_depth: int | None = None, timeout: float | None = None,
-          progress: bool = False) -> Plan:
+def solve(task: Any, *, max_depth: int | None = None, timeout: float | None = None, progress: bool = False) -> Plan:
     """Plan for `task` (path | Program | (Program, task name)); `max_depth`/`timeout` override its `search` block.
 
     Breadth-first search over graph sequences (`vkgl.plan.search`) with
@@ -78,15 +77,21 @@ def _hopeless(problem: Problem) -> str | None:
             high = problem.table_center + problem.table_size / 2  # type: ignore[operator]
             x, y = goal.position[:2]
             if not (low[0] <= x <= high[0] and low[1] <= y <= high[1]):
-                return (f"the goal puts {goal.body} at ({x:.3f}, {y:.3f}) m, off the table "
-                        f"(x from {low[0]:.2f} to {high[0]:.2f} m, y from {low[1]:.2f} to {high[1]:.2f} m)")
+                return (
+                    f"the goal puts {goal.body} at ({x:.3f}, {y:.3f}) m, off the table "
+                    f"(x from {low[0]:.2f} to {high[0]:.2f} m, y from {low[1]:.2f} to {high[1]:.2f} m)"
+                )
         if not movers and not _at_goal(problem, goal):
             if body.affordances:
                 names = ", ".join(a.name for a in body.affordances)
-                return (f"no affordance moves {goal.body}: the affordances of {body.type.name} ({names}) only let "
-                        f"it be held or touched, not slid or turned to a goal")
-            return (f"no affordance moves {goal.body}: its type {body.type.name} has no affordance in the program "
-                    f"(is `use stdlib.affordances.{body.type.name.lower()}` missing?)")
+                return (
+                    f"no affordance moves {goal.body}: the affordances of {body.type.name} ({names}) only let "
+                    f"it be held or touched, not slid or turned to a goal"
+                )
+            return (
+                f"no affordance moves {goal.body}: its type {body.type.name} has no affordance in the program "
+                f"(is `use stdlib.affordances.{body.type.name.lower()}` missing?)"
+            )
     return None
 
 
@@ -111,15 +116,25 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
         "ik_calls": result.stats.work.ik_calls,
         "rejections": dict(result.stats.rejections),
     }
-    plan = Plan(problem.task.name, result.status, result.reason, stats, robot_entry(problem), start=rest,
-                problem=problem, details=details)
+    plan = Plan(
+        problem.task.name,
+        result.status,
+        result.reason,
+        stats,
+        robot_entry(problem),
+        start=rest,
+        problem=problem,
+        details=details,
+    )
     if result.status != "solved":
         return plan
     seq, task, joints = result.sequence, result.task, result.joints
     assert seq is not None and task is not None and joints is not None
     plan.graphs = graph_edges(problem, list(seq.graphs))
-    plan.steps = [_step(problem, action, task.traces[k], joints.q_start[k], joints.q_end[k])
-                  for k, action in enumerate(seq.actions, start=1)]
+    plan.steps = [
+        _step(problem, action, task.traces[k], joints.q_start[k], joints.q_end[k])
+        for k, action in enumerate(seq.actions, start=1)
+    ]
     plan.final = dict(task.traces[-1].end)
     return plan
 
@@ -143,4 +158,4 @@ def _step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarray, 
     )
 
 
-__all__ = ["solve", "Plan"]
+__all__ = ["Plan", "solve"]

@@ -3,7 +3,7 @@
 `explore(body)` unrolls the body's `explore` blocks into trials
 (`vkgl.sim.policy`), runs each trial in its own fresh DART world
 (`vkgl.sim.world`) with a simulated effector (`vkgl.sim.fingertip`), and
-returns a `vkg-trials/1` dataset (`vkgl.sim.trials.Trials`).
+returns a `vkg-trials/1` dataset (`vkgl.formats.trials.Trials`).
 
 A trial depends only on the body, its grid point and the seed, never on which
 process runs it or when: the output is byte-identical whatever `jobs` is.
@@ -35,12 +35,12 @@ import dartpy as dart
 import numpy as np
 
 from vkgl.errors import SimulationError
+from vkgl.formats.trials import Trials
 from vkgl.lang.geometry import body_mesh, resting_height
 from vkgl.lang.ir import Body
 from vkgl.sim import world as sim_world
 from vkgl.sim.fingertip import Hand, Pusher, frame_facing
 from vkgl.sim.policy import TrialSpec, plan_trials
-from vkgl.sim.trials import Trials
 
 SAMPLE_PERIOD = 0.02  # s (50 Hz)
 CONTROL_PERIOD = 0.005  # s between two commands of the effector (200 Hz)
@@ -125,16 +125,27 @@ def _run_isolated(spec: TrialSpec, seed: int, context: Any) -> TrialResult:
         with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
             return pool.submit(run_trial, spec, seed).result()
     except BrokenProcessPool:
-        return TrialResult(np.zeros(0), np.zeros((0, 4, 4)), np.zeros((0, 4, 4)), False,
-                           "the simulator aborted (a numerical blow-up took down its process)")
+        return TrialResult(
+            np.zeros(0),
+            np.zeros((0, 4, 4)),
+            np.zeros((0, 4, 4)),
+            False,
+            "the simulator aborted (a numerical blow-up took down its process)",
+        )
 
 
 def _progress_bar(total: int) -> Callable[..., None]:
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    bar = Progress(TextColumn("exploring"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                   console=Console(stderr=True), transient=True)
+    bar = Progress(
+        TextColumn("exploring"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    )
     task = bar.add_task("trials", total=total)
     bar.start()
 
@@ -156,8 +167,13 @@ def run_trial(spec: TrialSpec, seed: int = 0) -> TrialResult:
     except SimulationError:
         raise
     except Exception as exc:  # DART or numpy failing mid-trial must not end the whole exploration
-        return TrialResult(np.zeros(0), np.zeros((0, 4, 4)), np.zeros((0, 4, 4)), False,
-                           f"the simulation failed: {type(exc).__name__}: {exc}")
+        return TrialResult(
+            np.zeros(0),
+            np.zeros((0, 4, 4)),
+            np.zeros((0, 4, 4)),
+            False,
+            f"the simulation failed: {type(exc).__name__}: {exc}",
+        )
 
 
 class _Trial:
@@ -186,7 +202,7 @@ class _Trial:
 
     def run(self) -> TrialResult:
         steps, per_sample = step_counts(self.spec.duration)
-        per_control = max(1, int(round(CONTROL_PERIOD / sim_world.TIME_STEP)))
+        per_control = max(1, round(CONTROL_PERIOD / sim_world.TIME_STEP))
         t, T_ro, T_ow = [], [], []
 
         def sample() -> str:
@@ -289,7 +305,8 @@ class _GraspTrial(_Trial):
             self.node = self.hand.carry(body, spec.grasp)
         else:  # a body on its own joint (a door by its handle): held where it stands
             _, self.node = sim_world.add_body(
-                self.world, body.name, body, sim_world.translation(np.array([0.0, 0.0, rest])))
+                self.world, body.name, body, sim_world.translation(np.array([0.0, 0.0, rest]))
+            )
             start = self.node.getWorldTransform().matrix()
             self.hand = Hand(self.world, start @ spec.grasp, start[:3, :3] @ spec.direction, spec.magnitude)
             self.hand.hold(self.node)
@@ -306,7 +323,7 @@ class _GraspTrial(_Trial):
 
 def step_counts(duration: float) -> tuple[int, int]:
     """(physics steps of a trial, physics steps between two samples)."""
-    return int(round(duration / sim_world.TIME_STEP)), max(1, int(round(SAMPLE_PERIOD / sim_world.TIME_STEP)))
+    return round(duration / sim_world.TIME_STEP), max(1, round(SAMPLE_PERIOD / sim_world.TIME_STEP))
 
 
 def push_force_limit(body: Body, force: float) -> float:
@@ -328,7 +345,10 @@ def assemble(body: str, specs: list[TrialSpec], results: list[TrialResult]) -> T
         k = len(r.t)
         t[i, :k], T_ro[i, :k], T_ow[i, :k] = r.t, r.T_ro, r.T_ow
     return Trials(
-        body=body, t=t, T_ro=T_ro, T_ow=T_ow,
+        body=body,
+        t=t,
+        T_ro=T_ro,
+        T_ow=T_ow,
         contact=np.array([s.contact for s in specs], dtype=float).reshape(n, 3),
         force=np.array([s.magnitude * s.direction for s in specs], dtype=float).reshape(n, 3),
         ok=np.array([r.ok for r in results], dtype=bool),

@@ -135,11 +135,15 @@ class Pusher:
         """Set the drive's forces for the next physics step (push, give way sideways, hold the height)."""
         q = self.joint.getPositions()
         v = self.joint.getVelocities()
-        self.joint.setCommands(np.array([
-            self.force_limit - self.damping * v[0],
-            -SIDEWAYS_DAMPING * v[1],
-            HOLD_STIFFNESS * (self.hold - q[2]) - HOLD_DAMPING * v[2],
-        ]))
+        self.joint.setCommands(
+            np.array(
+                [
+                    self.force_limit - self.damping * v[0],
+                    -SIDEWAYS_DAMPING * v[1],
+                    HOLD_STIFFNESS * (self.hold - q[2]) - HOLD_DAMPING * v[2],
+                ]
+            )
+        )
 
 
 class Hand:
@@ -150,8 +154,9 @@ class Hand:
     world keeps it and is held by a WeldJointConstraint (`hold`).
     """
 
-    def __init__(self, world: Any, effector: np.ndarray, direction: np.ndarray, force: float,
-                 *, name: str = "hand") -> None:
+    def __init__(
+        self, world: Any, effector: np.ndarray, direction: np.ndarray, force: float, *, name: str = "hand"
+    ) -> None:
         """A hand with its frame at the 4x4 world pose `effector`; its wrist will be driven
         along the unit world `direction` with at most `force`."""
         self.world = world

@@ -17,11 +17,11 @@ import matplotlib
 
 matplotlib.use("Agg")  # files only, no display needed
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from vkgl.errors import InputError  # noqa: E402
-from vkgl.sim.trials import Trials  # noqa: E402
+from vkgl.errors import InputError
+from vkgl.formats.trials import Trials
 
 AXES = "xyz"
 

@@ -29,9 +29,12 @@ from vkgl.lang.geometry import body_mesh
 from vkgl.lang.ir import Body, Explore, Node, Span
 
 FACES = {
-    "+x": np.array([1.0, 0.0, 0.0]), "-x": np.array([-1.0, 0.0, 0.0]),
-    "+y": np.array([0.0, 1.0, 0.0]), "-y": np.array([0.0, -1.0, 0.0]),
-    "+z": np.array([0.0, 0.0, 1.0]), "-z": np.array([0.0, 0.0, -1.0]),
+    "+x": np.array([1.0, 0.0, 0.0]),
+    "-x": np.array([-1.0, 0.0, 0.0]),
+    "+y": np.array([0.0, 1.0, 0.0]),
+    "-y": np.array([0.0, -1.0, 0.0]),
+    "+z": np.array([0.0, 0.0, 1.0]),
+    "-z": np.array([0.0, 0.0, -1.0]),
 }
 
 E_NO_EXPLORE = "E701"
@@ -75,22 +78,35 @@ def plan_trials(body: Body) -> list[TrialSpec]:
     """All trials of all `explore` blocks of `body`, in declaration order; raises CompileError on a bad policy."""
     where = body.name_span or body.span
     if not body.explores:
-        raise _error(E_NO_EXPLORE, f"body `{body.name}` has no `explore` block, so there is nothing to explore; "
-                     "add one, e.g. `explore pushes { contacts on faces +x, -x steps 9  force normal 1 N  duration 2 s }`",
-                     None, where)
+        raise _error(
+            E_NO_EXPLORE,
+            f"body `{body.name}` has no `explore` block, so there is nothing to explore; "
+            "add one, e.g. `explore pushes { contacts on faces +x, -x steps 9  force normal 1 N  duration 2 s }`",
+            None,
+            where,
+        )
     specs: list[TrialSpec] = []
     for policy in body.explores:
         duration, magnitude = _check_common(body, policy)
         if policy.contacts is not None and policy.grasp is not None:
-            raise _error(E_NO_ACTION, f"explore `{policy.name}` has both `contacts` and `grasp`; "
-                         "split them into two `explore` blocks", policy, where)
+            raise _error(
+                E_NO_ACTION,
+                f"explore `{policy.name}` has both `contacts` and `grasp`; split them into two `explore` blocks",
+                policy,
+                where,
+            )
         if policy.contacts is not None:
             specs += _push_trials(body, policy, magnitude, duration, len(specs))
         elif policy.grasp is not None:
             specs += _grasp_trials(body, policy, magnitude, duration, len(specs))
         else:
-            raise _error(E_NO_ACTION, f"explore `{policy.name}` says neither where to touch the body nor what to hold: "
-                         "add `contacts on faces ... steps K` or `grasp FRAME`", policy, where)
+            raise _error(
+                E_NO_ACTION,
+                f"explore `{policy.name}` says neither where to touch the body nor what to hold: "
+                "add `contacts on faces ... steps K` or `grasp FRAME`",
+                policy,
+                where,
+            )
     return specs
 
 
@@ -100,15 +116,29 @@ def _check_common(body: Body, policy: Explore) -> tuple[float, float]:
         raise _error(E_BAD_DURATION, f"explore `{policy.name}` has no `duration`; add e.g. `duration 2 s`", None, where)
     duration = float(policy.duration.value)
     if not np.isfinite(duration) or duration <= 0.0:
-        raise _error(E_BAD_DURATION, f"the duration of explore `{policy.name}` must be positive, got {duration:g} s; "
-                     "give the simulated time of one trial, e.g. `duration 2 s`", policy.duration, where)
+        raise _error(
+            E_BAD_DURATION,
+            f"the duration of explore `{policy.name}` must be positive, got {duration:g} s; "
+            "give the simulated time of one trial, e.g. `duration 2 s`",
+            policy.duration,
+            where,
+        )
     if policy.force is None:
-        raise _error(E_BAD_FORCE, f"explore `{policy.name}` has no `force`; add `force normal 1 N` (pushes) "
-                     "or `force directions 3 x 3 x 3 1 N` (grasps)", None, where)
+        raise _error(
+            E_BAD_FORCE,
+            f"explore `{policy.name}` has no `force`; add `force normal 1 N` (pushes) "
+            "or `force directions 3 x 3 x 3 1 N` (grasps)",
+            None,
+            where,
+        )
     magnitude = float(policy.force.magnitude.value)
     if not np.isfinite(magnitude) or magnitude <= 0.0:
-        raise _error(E_BAD_FORCE, f"the force of explore `{policy.name}` must be positive, got {magnitude:g} N; "
-                     "a zero force moves nothing", policy.force.magnitude, policy.force.span or where)
+        raise _error(
+            E_BAD_FORCE,
+            f"the force of explore `{policy.name}` must be positive, got {magnitude:g} N; a zero force moves nothing",
+            policy.force.magnitude,
+            policy.force.span or where,
+        )
     return duration, magnitude
 
 
@@ -117,8 +147,13 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float,
     assert contacts is not None and policy.force is not None
     where = contacts.span or policy.span
     if policy.force.mode != "normal":
-        raise _error(E_BAD_FORCE, f"explore `{policy.name}` pushes at contacts: its force must be "
-                     "`force normal Q` (along the face's inward normal)", policy.force, where)
+        raise _error(
+            E_BAD_FORCE,
+            f"explore `{policy.name}` pushes at contacts: its force must be "
+            "`force normal Q` (along the face's inward normal)",
+            policy.force,
+            where,
+        )
     if contacts.steps < 1:
         raise _error(E_BAD_STEPS, f"`steps` must be at least 1, got {contacts.steps}", contacts, where)
     mesh = body_mesh(body)
@@ -128,22 +163,40 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float,
         if outward is None:
             raise _error(E_BAD_FACE, f"there is no face `{face}`; faces are +x, -x, +y, -y, +z, -z", contacts, where)
         if face == "-z":
-            raise _error(E_BAD_FACE, f"face -z of `{body.name}` is its underside, which lies on the table: "
-                         "the fingertip cannot reach it; explore side faces or +z", contacts, where)
+            raise _error(
+                E_BAD_FACE,
+                f"face -z of `{body.name}` is its underside, which lies on the table: "
+                "the fingertip cannot reach it; explore side faces or +z",
+                contacts,
+                where,
+            )
         line_axis, points = face_line(mesh, outward, contacts.steps)
         for k, point in enumerate(points):
             hit = surface_point(mesh, point, outward)
             if hit is None:
                 along = "xyz"[int(np.argmax(line_axis))]
-                raise _error(E_NO_SURFACE, f"face {face} of `{body.name}` has no surface at contact point {k + 1} "
-                             f"of {contacts.steps} ({along} = {100 * point[int(np.argmax(line_axis))]:.1f} cm on its "
-                             "centre line): the shape is hollow or flat there; use fewer steps or another face",
-                             contacts, where)
-            specs.append(TrialSpec(
-                index=first + len(specs), body=body, policy=policy.name, kind="push", contact=hit,
-                direction=-outward, magnitude=magnitude, duration=duration, line_axis=line_axis,
-                label=f"{policy.name} {face} {k + 1}/{contacts.steps}",
-            ))
+                raise _error(
+                    E_NO_SURFACE,
+                    f"face {face} of `{body.name}` has no surface at contact point {k + 1} "
+                    f"of {contacts.steps} ({along} = {100 * point[int(np.argmax(line_axis))]:.1f} cm on its "
+                    "centre line): the shape is hollow or flat there; use fewer steps or another face",
+                    contacts,
+                    where,
+                )
+            specs.append(
+                TrialSpec(
+                    index=first + len(specs),
+                    body=body,
+                    policy=policy.name,
+                    kind="push",
+                    contact=hit,
+                    direction=-outward,
+                    magnitude=magnitude,
+                    duration=duration,
+                    line_axis=line_axis,
+                    label=f"{policy.name} {face} {k + 1}/{contacts.steps}",
+                )
+            )
     return specs
 
 
@@ -152,25 +205,51 @@ def _grasp_trials(body: Body, policy: Explore, magnitude: float, duration: float
     frame = body.frame(policy.grasp.name)
     if frame is None:
         known = ", ".join(f.name for f in body.frames) or "none"
-        raise _error(E_UNKNOWN_FRAME, f"body `{body.name}` has no frame `{policy.grasp.name}` to grasp "
-                     f"(its frames: {known}); declare it with `frame {policy.grasp.name} = (x, y, z) cm`",
-                     policy.grasp, policy.span)
+        raise _error(
+            E_UNKNOWN_FRAME,
+            f"body `{body.name}` has no frame `{policy.grasp.name}` to grasp "
+            f"(its frames: {known}); declare it with `frame {policy.grasp.name} = (x, y, z) cm`",
+            policy.grasp,
+            policy.span,
+        )
     if policy.force.mode != "directions" or policy.force.grid is None:
-        raise _error(E_BAD_FORCE, f"explore `{policy.name}` holds the body: its force must be "
-                     "`force directions I x J x K Q`", policy.force, policy.span)
+        raise _error(
+            E_BAD_FORCE,
+            f"explore `{policy.name}` holds the body: its force must be `force directions I x J x K Q`",
+            policy.force,
+            policy.span,
+        )
     grid = policy.force.grid
     if min(grid) < 1:
-        raise _error(E_BAD_FORCE, "a direction grid needs at least 1 point per axis, "
-                     f"got {grid[0]} x {grid[1]} x {grid[2]}", policy.force, policy.span)
+        raise _error(
+            E_BAD_FORCE,
+            f"a direction grid needs at least 1 point per axis, got {grid[0]} x {grid[1]} x {grid[2]}",
+            policy.force,
+            policy.span,
+        )
     directions = direction_grid(grid)
     if not directions:
-        raise _error(E_BAD_FORCE, "the direction grid 1 x 1 x 1 holds only the zero direction; use e.g. 3 x 3 x 3",
-                     policy.force, policy.span)
+        raise _error(
+            E_BAD_FORCE,
+            "the direction grid 1 x 1 x 1 holds only the zero direction; use e.g. 3 x 3 x 3",
+            policy.force,
+            policy.span,
+        )
     grasp = frame.pose.matrix()
     return [
-        TrialSpec(index=first + i, body=body, policy=policy.name, kind="grasp", contact=grasp[:3, 3].copy(),
-                  direction=d, magnitude=magnitude, duration=duration, line_axis=np.zeros(3), grasp=grasp,
-                  label=f"{policy.name} direction ({d[0]:+.2f}, {d[1]:+.2f}, {d[2]:+.2f})")
+        TrialSpec(
+            index=first + i,
+            body=body,
+            policy=policy.name,
+            kind="grasp",
+            contact=grasp[:3, 3].copy(),
+            direction=d,
+            magnitude=magnitude,
+            duration=duration,
+            line_axis=np.zeros(3),
+            grasp=grasp,
+            label=f"{policy.name} direction ({d[0]:+.2f}, {d[1]:+.2f}, {d[2]:+.2f})",
+        )
         for i, d in enumerate(directions)
     ]
 

@@ -1,7 +1,7 @@
 """DART worlds built from the IR: the table, and bodies with their shapes, mass and joints.
 
 Used by exploration (`vkgl.sim.explore`) and by plan execution
-(`vkgl.sim.replay`), so that a body behaves the same wherever it is simulated.
+(`vkgl.execute.replay`), so that a body behaves the same wherever it is simulated.
 
 Choices (docs/exploration.md explains them):
 - time step 1 ms, gravity -9.81 m/s^2 along z;
@@ -80,8 +80,9 @@ def add_table(world: Any, table: Table | None = None) -> tuple[Any, Any]:
         centre = tuple(values[:3])
     skeleton = dart.dynamics.Skeleton("table")
     joint, node = skeleton.createWeldJointAndBodyNodePair()
-    joint.setTransformFromParentBodyNode(isometry(translation(
-        np.array([centre[0], centre[1], centre[2] - TABLE_THICKNESS / 2]))))
+    joint.setTransformFromParentBodyNode(
+        isometry(translation(np.array([centre[0], centre[1], centre[2] - TABLE_THICKNESS / 2])))
+    )
     node.setName("table")
     shape = node.createShapeNode(dart.dynamics.BoxShape(np.array([size[0], size[1], TABLE_THICKNESS])))
     shape.createVisualAspect()
@@ -129,8 +130,10 @@ def _add_jointed(skeleton: Any, body: Body, anchor: np.ndarray) -> tuple[Any, An
     joint.setAxis(axis / norm)
     lower, upper = spec.lower.value, spec.upper.value
     if lower > upper:
-        raise InputError(f"{spec.span or body.name}: the joint limits of {body.name} are reversed "
-                         f"({lower:g} > {upper:g}); write them as (lower, upper)")
+        raise InputError(
+            f"{spec.span or body.name}: the joint limits of {body.name} are reversed "
+            f"({lower:g} > {upper:g}); write them as (lower, upper)"
+        )
     joint.setPositionLowerLimit(0, lower)
     joint.setPositionUpperLimit(0, upper)
     joint.setLimitEnforcement(True)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from vkgl.sim import effector_path as paths
+from vkgl.execute import effector_path as paths
 
 
 def pose(x: float, y: float, z: float, yaw_deg: float = 0.0) -> np.ndarray:

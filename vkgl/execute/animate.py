@@ -16,9 +16,9 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
+from vkgl.formats.execution_report import ExecutionReport
 from vkgl.lang.geometry import shape_mesh
 from vkgl.lang.ir import Body, UnionShape
-from vkgl.sim.execution_report import ExecutionReport
 
 MAX_FRAMES = 240  # longer executions are sped up to keep the file small
 FPS = 20
@@ -77,11 +77,15 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
     real_patches, ghost_patches = {}, {}
     for k, name in enumerate(frames.bodies):
         color = COLORS[k % len(COLORS)]
-        real_patches[name] = [ax.add_patch(Polygon(o, closed=True, fc=color, ec="black", lw=0.8, alpha=0.75,
-                                                   label=name if i == 0 else None))
-                              for i, o in enumerate(outlines[name])]
-        ghost_patches[name] = [ax.add_patch(Polygon(o, closed=True, fill=False, ec=color, lw=1.2, ls="--"))
-                               for o in outlines[name]]
+        real_patches[name] = [
+            ax.add_patch(
+                Polygon(o, closed=True, fc=color, ec="black", lw=0.8, alpha=0.75, label=name if i == 0 else None)
+            )
+            for i, o in enumerate(outlines[name])
+        ]
+        ghost_patches[name] = [
+            ax.add_patch(Polygon(o, closed=True, fill=False, ec=color, lw=1.2, ls="--")) for o in outlines[name]
+        ]
     (arm_line,) = ax.plot([], [], "-o", color="0.35", lw=3, ms=3, zorder=5)
     (tip,) = ax.plot([], [], "o", color="black", ms=5, zorder=6)
     title = ax.set_title("")

@@ -1,8 +1,8 @@
 """Carry out the steps of a `vkg-plan/1` plan in a DART world of the task's scene.
 
 `Replay` holds one simulated world: the table, every scene body with its
-physics (built by `vkgl.sim.world`), and the arm (`vkgl.sim.effector`). Each
-plan step becomes an effector path (`vkgl.sim.effector_path`) that the arm
+physics (built by `vkgl.sim.world`), and the arm (`vkgl.execute.world_arm`). Each
+plan step becomes an effector path (`vkgl.execute.effector_path`) that the arm
 follows; the bodies move only through contact and friction with the
 fingertip or a held tool — their poses are never set after the start.
 
@@ -25,11 +25,11 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError, SimulationError
+from vkgl.execute import effector_path as paths
+from vkgl.execute.world_arm import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
 from vkgl.lang.geometry import body_mesh, scene_body_pose, table_top
 from vkgl.lang.ir import Affordance, Body, FixedC, Scene
 from vkgl.lang.program import Program
-from vkgl.sim import effector_path as paths
-from vkgl.sim.effector import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
 
 PLAN_FORMAT = "vkg-plan/1"
 TIME_STEP = 0.001  # s, fixed physics step
@@ -73,8 +73,11 @@ class PlannedStep:
 def read_plan(plan: dict[str, Any]) -> tuple[list[PlannedStep], dict[str, Any]]:
     """The steps and the `robot` entry of a `vkg-plan/1` plan; InputError if it is not one."""
     if not isinstance(plan, dict) or plan.get("format") != PLAN_FORMAT:
-        raise InputError(f"not a {PLAN_FORMAT} plan (its `format` is {plan.get('format')!r})"
-                         if isinstance(plan, dict) else f"a {PLAN_FORMAT} plan must be a JSON object")
+        raise InputError(
+            f"not a {PLAN_FORMAT} plan (its `format` is {plan.get('format')!r})"
+            if isinstance(plan, dict)
+            else f"a {PLAN_FORMAT} plan must be a JSON object"
+        )
     if plan.get("status") != "solved":
         raise InputError(f"plan for `{plan.get('task')}` is {plan.get('status')!r}: there is nothing to execute")
     try:
@@ -152,8 +155,14 @@ class Replay:
         self.arm_model = Arm.load(robot_ir, self.effector_name, base)
         skeleton = _world_skeleton(self.arm_model, robot_ir)
         self.arm = WorldArm(
-            self.world, self.arm_model, skeleton, effector.link, effector.offset.matrix() @ rx_pi(), base,
-            np.asarray(self.arm_model.home, dtype=float), table=self.table,
+            self.world,
+            self.arm_model,
+            skeleton,
+            effector.link,
+            effector.offset.matrix() @ rx_pi(),
+            base,
+            np.asarray(self.arm_model.home, dtype=float),
+            table=self.table,
         )
         self.meshes = {name: body_mesh(body) for name, body in self.types.items()}
         self.skeleton_names = {skeleton.getName(): name for name, (skeleton, _) in self.nodes.items()}
@@ -214,8 +223,10 @@ class Replay:
             for mine, other in ((a, b), (b, a)):
                 if mine in robot and other in self.skeleton_names and other not in robot:  # not arm vs. held tool
                     what = "the fingertip" if mine == self.arm.skeleton.getName() else f"the held {self.holding()}"
-                    raise ArmStuck(f"{what} touched {self.skeleton_names[other]} on its way to the contact "
-                                   "(the way down from above must be clear: is the body where the plan expects it?)")
+                    raise ArmStuck(
+                        f"{what} touched {self.skeleton_names[other]} on its way to the contact "
+                        "(the way down from above must be clear: is the body where the plan expects it?)"
+                    )
 
     def _record(self) -> None:
         if self.frames is None:
@@ -227,14 +238,21 @@ class Replay:
         f.planned.append(np.stack([self.planned[n] for n in f.bodies]))
         f.effector.append(self.arm.effector_pose())
         skel = self.arm.skeleton
-        f.arm.append(np.array([skel.getBodyNode(i).getWorldTransform().translation()
-                               for i in range(skel.getNumBodyNodes())]))
+        f.arm.append(
+            np.array([skel.getBodyNode(i).getWorldTransform().translation() for i in range(skel.getNumBodyNodes())])
+        )
         f.label.append(self.label)
         self._next_frame = self.time + FRAME_PERIOD
 
-    def _run(self, segments: list[paths.Segment], label: str, *,
-             ghost: Callable[[float], None] | None = None, q_hint: np.ndarray | None = None,
-             q_path: list[np.ndarray] | None = None) -> None:
+    def _run(
+        self,
+        segments: list[paths.Segment],
+        label: str,
+        *,
+        ghost: Callable[[float], None] | None = None,
+        q_hint: np.ndarray | None = None,
+        q_path: list[np.ndarray] | None = None,
+    ) -> None:
         for i, segment in enumerate(segments):
             self.label = f"{label} {segment.phase}"
 
@@ -245,8 +263,9 @@ class Replay:
 
             self.arm.follow(segment, step, q_hint=q_hint if i == 0 else None, q_path=q_path if i == 0 else None)
 
-    def _travel(self, target: np.ndarray, label: str, seeds: list[np.ndarray | None],
-                contact: np.ndarray | None = None) -> None:
+    def _travel(
+        self, target: np.ndarray, label: str, seeds: list[np.ndarray | None], contact: np.ndarray | None = None
+    ) -> None:
         """Through free space to `target`: straight up to the safe height, across, straight down; then to `contact`.
 
         The way down is solved backwards first: IK of the pose the step is
@@ -280,8 +299,9 @@ class Replay:
                 if self._joint_line_clears(self.arm.q, joints[-1], safe_z - CLEARANCE / 2):
                     distance = float(np.linalg.norm(over[:3, 3] - self.arm.effector_pose()[:3, 3]))
                     self.label = f"{label} transit"
-                    self.arm.move_joints(joints[-1], lambda n, s: self._step(n),
-                                         min_duration=distance / paths.TRANSIT_SPEED)
+                    self.arm.move_joints(
+                        joints[-1], lambda n, s: self._step(n), min_duration=distance / paths.TRANSIT_SPEED
+                    )
                     crossed = True
                     break
             if not crossed:
@@ -300,8 +320,9 @@ class Replay:
         """Cross through the arm's home configuration (hand high above its base) to `q_top`, when both
         joint-space lines keep the effector above `z_min`. Returns whether it did."""
         home = getattr(self.arm_model, "home", None)
-        if home is None or not (self._joint_line_clears(self.arm.q, home, z_min)
-                                and self._joint_line_clears(home, q_top, z_min)):
+        if home is None or not (
+            self._joint_line_clears(self.arm.q, home, z_min) and self._joint_line_clears(home, q_top, z_min)
+        ):
             return False
         self.label = f"{label} transit"
         for q in (home, q_top):
@@ -410,8 +431,10 @@ class Replay:
             jump = self.arm.link_travel(joints[-1], q)
             if jump > MAX_CHAIN_JUMP:
                 xyz = ", ".join(f"{v:.3f}" for v in pose[:3, 3])
-                raise ArmStuck(f"the arm cannot come straight down to the contact: near ({xyz}) m a link "
-                               f"would jump {jump * 100:.1f} cm (another joint configuration)")
+                raise ArmStuck(
+                    f"the arm cannot come straight down to the contact: near ({xyz}) m a link "
+                    f"would jump {jump * 100:.1f} cm (another joint configuration)"
+                )
             joints.append(q)
         return joints
 
@@ -458,8 +481,9 @@ class Replay:
     def _action_pose(self, step: PlannedStep) -> np.ndarray:
         action = self._affordance(step).action
         if not isinstance(action, FixedC):
-            raise SimulationError(f"step {step.index}: only fixed actions can be executed, "
-                                  f"{step.affordance} has a {action.type} action")
+            raise SimulationError(
+                f"step {step.index}: only fixed actions can be executed, {step.affordance} has a {action.type} action"
+            )
         return np.eye(4) if action.pose is None else action.pose.matrix()
 
     def _hand_from_pusher(self, step: PlannedStep, pusher_pose: np.ndarray) -> np.ndarray:
@@ -497,8 +521,11 @@ class Replay:
         direction = pusher[:3, 0].copy()
         before = paths.backed_off(hand, STANDOFF, direction)
         motion = paths.screw_motion(body_start, body_end)
-        moving = [n for n in step.poses_start if n in step.poses_end
-                  and np.abs(step.poses_start[n] - step.poses_end[n]).max() > 1e-9]
+        moving = [
+            n
+            for n in step.poses_start
+            if n in step.poses_end and np.abs(step.poses_start[n] - step.poses_end[n]).max() > 1e-9
+        ]
 
         def ghost(s: float) -> None:
             now = motion.at(s)
@@ -615,4 +642,4 @@ def _world_skeleton(arm: Any, robot_ir: Any) -> Any:
     return skeleton
 
 
-__all__ = ["ArmStuck", "PlannedStep", "Replay", "Frames", "read_plan"]
+__all__ = ["ArmStuck", "Frames", "PlannedStep", "Replay", "read_plan"]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.sim.trials import Trials
+from vkgl.formats.trials import Trials
 
 MOTIONS = ("fixed", "prismatic", "revolute", "free")
 ACTIONS = ("fixed", "free")

@@ -1,11 +1,11 @@
 """Execute a plan in DART: `vkgc solve TASK --execute [--replan]`.
 
-    from vkgl.sim.execute import execute
+    from vkgl.execute.closed_loop import execute
     report = execute(program, "a_push", plan.to_json(), replan=True)
     print(report.text())
 
 Open loop (`replan=False`) the plan's steps are carried out one after another
-(`vkgl.sim.replay`) and the bodies end wherever physics puts them. Closed loop
+(`vkgl.execute.replay`) and the bodies end wherever physics puts them. Closed loop
 (`replan=True`), before the first step and after every step the real poses are
 compared with the plan; when a body is off by more than half the goal's
 tolerance the robot lets go, puts down what it holds, and the task is solved
@@ -25,6 +25,17 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError, VkgError
+from vkgl.execute.effector_path import rotation_angle
+from vkgl.execute.replay import PlannedStep, Replay, read_plan
+from vkgl.execute.world_arm import ArmStuck
+from vkgl.formats.execution_report import (
+    Deviation,
+    ExecutionReport,
+    GoalResult,
+    StepReport,
+    angle_difference,
+    yaw_of,
+)
 from vkgl.lang.ir import (
     DEFAULT_TOL_POSITION,
     DEFAULT_TOL_YAW,
@@ -37,17 +48,6 @@ from vkgl.lang.ir import (
     Vector,
 )
 from vkgl.lang.program import Program
-from vkgl.sim.effector import ArmStuck
-from vkgl.sim.effector_path import rotation_angle
-from vkgl.sim.execution_report import (
-    Deviation,
-    ExecutionReport,
-    GoalResult,
-    StepReport,
-    angle_difference,
-    yaw_of,
-)
-from vkgl.sim.replay import PlannedStep, Replay, read_plan
 
 Resolver = Callable[[Program, str], dict[str, Any]]
 """Re-solves a task of a program; returns a `vkg-plan/1` plan (any status)."""
@@ -136,8 +136,9 @@ def _task(program: Program, task: Task | str | None) -> Task:
 class _Loop:
     """The step loop with optional replanning; fills the per-step reports."""
 
-    def __init__(self, program: Program, task: Task, replay: Replay, *, replan: bool, max_replans: int,
-                 resolve: Resolver) -> None:
+    def __init__(
+        self, program: Program, task: Task, replay: Replay, *, replan: bool, max_replans: int, resolve: Resolver
+    ) -> None:
         self.resolve = resolve
         self.program = program
         self.task = task
@@ -200,7 +201,7 @@ class _Loop:
             self._report(step, deviations)
             strays = [d for d in deviations if d.exceeded]
             if self.replan and self.watching and strays and step is not steps[-1]:
-                return "stray", _stray(f"after step {step.index}", strays[0]), steps[i + 1:]
+                return "stray", _stray(f"after step {step.index}", strays[0]), steps[i + 1 :]
         return None
 
     def _report(self, step: PlannedStep, deviations: list[Deviation]) -> None:
@@ -230,9 +231,17 @@ class _Loop:
                 continue
             planned = planned_poses[name]
             lim_p, lim_a = self._limits(name)
-            out.append(Deviation(name, planned, real[name],
-                                 float(np.linalg.norm(real[name][:3, 3] - planned[:3, 3])),
-                                 rotation_angle(planned, real[name]), lim_p, lim_a))
+            out.append(
+                Deviation(
+                    name,
+                    planned,
+                    real[name],
+                    float(np.linalg.norm(real[name][:3, 3] - planned[:3, 3])),
+                    rotation_angle(planned, real[name]),
+                    lim_p,
+                    lim_a,
+                )
+            )
         return out
 
     def goal_results(self) -> list[GoalResult]:
@@ -259,8 +268,9 @@ class _Loop:
         if self.reports:
             self.reports[-1].replan = text
 
-    def _replan(self, why: str, status: str = "missed",
-                remaining: list[PlannedStep] | None = None) -> list[PlannedStep] | tuple[str, str]:
+    def _replan(
+        self, why: str, status: str = "missed", remaining: list[PlannedStep] | None = None
+    ) -> list[PlannedStep] | tuple[str, str]:
         """Put things down, re-solve from the observed scene; the new plan's steps, or (status, reason).
 
         When no plan is found but the robot held nothing (so nothing of the
@@ -303,8 +313,10 @@ class _Loop:
 
 
 def _stray(when: str, deviation: Deviation) -> str:
-    return (f"{when} {deviation.body} is off the plan by {deviation.position * 100:.2f} cm, "
-            f"{np.degrees(deviation.angle):.2f} deg")
+    return (
+        f"{when} {deviation.body} is off the plan by {deviation.position * 100:.2f} cm, "
+        f"{np.degrees(deviation.angle):.2f} deg"
+    )
 
 
 RESOLVE_MARGIN = 0.5
@@ -338,8 +350,14 @@ def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Pr
     for goal in task.goals:
         tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
         tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
-        goals.append(goal.model_copy(update={"tol_position": Quantity(value=tol_p * fraction, unit="m"),
-                                             "tol_yaw": Quantity(value=tol_y * fraction, unit="rad")}))
+        goals.append(
+            goal.model_copy(
+                update={
+                    "tol_position": Quantity(value=tol_p * fraction, unit="m"),
+                    "tol_yaw": Quantity(value=tol_y * fraction, unit="rad"),
+                }
+            )
+        )
     return dataclasses.replace(program, tasks={**program.tasks, task_name: task.model_copy(update={"goals": goals})})
 
 
@@ -384,12 +402,16 @@ def _observed_placement(pose: np.ndarray, was_on_table: bool) -> Placement:
     yaw = yaw_of(pose)
     tilt = float(np.arccos(np.clip(pose[2, 2], -1.0, 1.0)))
     if was_on_table and tilt < LEVEL_TILT:
-        planar = Pose(position=Vector(values=(float(pose[0, 3]), float(pose[1, 3])), unit="m"),
-                      yaw=Quantity(value=yaw, unit="rad"))
+        planar = Pose(
+            position=Vector(values=(float(pose[0, 3]), float(pose[1, 3])), unit="m"),
+            yaw=Quantity(value=yaw, unit="rad"),
+        )
         return Placement(on_table=True, pose=planar)
     from scipy.spatial.transform import Rotation
 
     rpy = Rotation.from_matrix(pose[:3, :3]).as_euler("xyz")
-    full = Pose(position=Vector(values=tuple(float(v) for v in pose[:3, 3]), unit="m"),
-                rpy=Vector(values=tuple(float(v) for v in rpy), unit="rad"))
+    full = Pose(
+        position=Vector(values=tuple(float(v) for v in pose[:3, 3]), unit="m"),
+        rpy=Vector(values=tuple(float(v) for v in rpy), unit="rad"),
+    )
     return Placement(on_table=False, pose=full)

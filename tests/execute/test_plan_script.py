@@ -9,7 +9,7 @@ from conftest import EXAMPLES
 from vkgl.errors import InputError
 from vkgl.lang.compiler import compile_file
 from vkgl.robot import Arm
-from vkgl.sim.plan_script import EXAMPLE_SCRIPTS, scripted_plan
+from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 
 @pytest.fixture(scope="module")

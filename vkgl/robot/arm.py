@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -69,7 +69,7 @@ _RX_PI = np.diag([1.0, -1.0, -1.0, 1.0])  # rotation by 180 deg about x
 # ---------------------------------------------------------------- URDF loading
 
 
-@lru_cache(maxsize=None)
+@cache
 def _parsed_skeleton(path: str) -> Any:
     """The URDF at `path` parsed by DART with its root welded to the world (one parse per path)."""
     import dartpy as dart
@@ -702,4 +702,4 @@ def _scene_robot(scene: Scene, robot_name: str | None) -> SceneRobot:
     raise InputError(f"{_where(scene)}scene {scene.name} has no robot `{robot_name}` (it has: {names})")
 
 
-__all__ = ["Arm", "arm_for_scene", "load_skeleton", "POSITION_TOL", "ANGLE_TOL"]
+__all__ = ["ANGLE_TOL", "POSITION_TOL", "Arm", "arm_for_scene", "load_skeleton"]

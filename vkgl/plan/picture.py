@@ -31,8 +31,9 @@ def plot_plan(plan: Any, path: str | Path) -> None:
     if plan.status != "solved":
         raise InputError(f"task {plan.task} has no plan to draw ({plan.status}: {plan.reason})")
     modes = _modes(plan)
-    fig, axes = plt.subplots(2, len(modes), figsize=(3.6 * len(modes), 6.4), squeeze=False,
-                             gridspec_kw={"height_ratios": [3, 2]})
+    fig, axes = plt.subplots(
+        2, len(modes), figsize=(3.6 * len(modes), 6.4), squeeze=False, gridspec_kw={"height_ratios": [3, 2]}
+    )
     colors = {name: _COLORS[i % len(_COLORS)] for i, name in enumerate(plan.start)}
     outlines = _outlines(plan)
     limits = _limits(plan, modes)
@@ -102,8 +103,9 @@ def _limits(plan: Any, modes: list) -> tuple[tuple[float, float], tuple[float, f
     return (low[0] - 0.05, high[0] + 0.05), (low[1] - 0.05, high[1] + 0.05)
 
 
-def _draw_scene(ax: Any, plan: Any, start: dict, end: dict, hand: list, colors: dict, outlines: dict,
-                limits: tuple) -> None:
+def _draw_scene(
+    ax: Any, plan: Any, start: dict, end: dict, hand: list, colors: dict, outlines: dict, limits: tuple
+) -> None:
     from matplotlib.patches import Circle, Polygon, Rectangle
 
     problem = plan.problem
@@ -129,10 +131,12 @@ def _draw_scene(ax: Any, plan: Any, start: dict, end: dict, hand: list, colors: 
             moved = np.abs(start[name] - end[name]).max() > 1e-9
             for part in outlines[name]:
                 if moved:
-                    ax.add_patch(Polygon(_placed(part, start[name]), fill=False, edgecolor=colors[name],
-                                         linestyle="--"))
-                ax.add_patch(Polygon(_placed(part, end[name]), facecolor=colors[name], alpha=0.6,
-                                     edgecolor=colors[name]))
+                    ax.add_patch(
+                        Polygon(_placed(part, start[name]), fill=False, edgecolor=colors[name], linestyle="--")
+                    )
+                ax.add_patch(
+                    Polygon(_placed(part, end[name]), facecolor=colors[name], alpha=0.6, edgecolor=colors[name])
+                )
     if hand:
         path = np.array([p[:2, 3] for p in hand])
         ax.plot(path[:, 0], path[:, 1], "k.-", markersize=3, linewidth=1)
@@ -159,8 +163,9 @@ def _draw_graph(ax: Any, edges: list, colors: dict) -> None:
     nx.draw_networkx_labels(graph, positions, ax=ax, font_size=7)
     for kind, style in _EDGE_STYLE.items():
         chosen = [(u, v) for u, v, d in graph.edges(data=True) if d["type"] == kind]
-        nx.draw_networkx_edges(graph, positions, edgelist=chosen, ax=ax, style=style, arrows=True,
-                               node_size=500, width=1.2)
+        nx.draw_networkx_edges(
+            graph, positions, edgelist=chosen, ax=ax, style=style, arrows=True, node_size=500, width=1.2
+        )
     labels = {(u, v): d["type"] for u, v, d in graph.edges(data=True)}
     nx.draw_networkx_edge_labels(graph, positions, edge_labels=labels, ax=ax, font_size=6)
     ax.set_axis_off()

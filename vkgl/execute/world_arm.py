@@ -26,6 +26,7 @@ the table (the base stands on it) or a tool they hold.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -35,9 +36,10 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from vkgl.errors import SimulationError
-from vkgl.sim.effector_path import Segment
+from vkgl.execute.effector_path import Segment
 from vkgl.sim.fingertip import FINGERTIP_FRICTION, FINGERTIP_RADIUS  # the same fingertip as in exploration
 from vkgl.sim.world import isometry
+
 CONTROL_PERIOD = 0.02  # s between two IK solutions
 FINGER_PAD_WIDTH = 0.02  # m: the closed fingers of a Panda hand push with a pad about this wide
 MAX_LINK_STEP = 0.03  # m any link may move in one control period; more means IK switched configuration
@@ -221,12 +223,12 @@ class WorldArm:
         """
         dt = self.world.getTimeStep()
         periods = max(1, int(np.ceil(segment.duration / CONTROL_PERIOD - 1e-9)))
-        substeps = max(1, int(round(CONTROL_PERIOD / dt)))
+        substeps = max(1, round(CONTROL_PERIOD / dt))
         for k in range(1, periods + 1):
             target = segment.pose(k / periods)
             hint = q_hint if k == 1 else None
             if hint is None and q_path:
-                hint = q_path[min(len(q_path) - 1, int(round(k / periods * (len(q_path) - 1))))]
+                hint = q_path[min(len(q_path) - 1, round(k / periods * (len(q_path) - 1)))]
             q_next = self._solve(target, hint)
             self._command(q_next, substeps * dt)
             step(substeps, k / periods)
@@ -243,14 +245,15 @@ class WorldArm:
         xyz = ", ".join(f"{v:.3f}" for v in target[:3, 3])
         raise ArmStuck(f"the arm cannot reach the effector pose at ({xyz}) m (no IK solution)")
 
-    def move_joints(self, q_target: np.ndarray, step: Callable[[int, float], None], *,
-                    min_duration: float = 0.0) -> None:
+    def move_joints(
+        self, q_target: np.ndarray, step: Callable[[int, float], None], *, min_duration: float = 0.0
+    ) -> None:
         """Move to `q_target` along a straight line in joint space (free-space transit)."""
         dt = self.world.getTimeStep()
         q_start = self.q
         duration = max(float(np.abs(q_target - q_start).max()) / JOINT_SPEED, min_duration, CONTROL_PERIOD)
         periods = max(1, int(np.ceil(duration / CONTROL_PERIOD - 1e-9)))
-        substeps = max(1, int(round(CONTROL_PERIOD / dt)))
+        substeps = max(1, round(CONTROL_PERIOD / dt))
         for k in range(1, periods + 1):
             self._command(q_start + (q_target - q_start) * k / periods, substeps * dt)
             step(substeps, k / periods)
@@ -268,8 +271,9 @@ class WorldArm:
         q_next = np.asarray(q_next, dtype=float)
         jump = self.link_travel(q, q_next)
         if jump > MAX_LINK_STEP:
-            raise ArmStuck(f"a link of the arm would jump {jump * 100:.1f} cm in one control period "
-                           "(IK changed configuration)")
+            raise ArmStuck(
+                f"a link of the arm would jump {jump * 100:.1f} cm in one control period (IK changed configuration)"
+            )
         return q_next
 
     def link_travel(self, q_a: np.ndarray, q_b: np.ndarray, samples: int = 4) -> float:
@@ -280,15 +284,16 @@ class WorldArm:
         link moving, which is harmless; a switch of configuration moves links.
         """
         points = [self._link_points(q_a + (q_b - q_a) * s) for s in np.linspace(0.0, 1.0, samples + 1)]
-        return float(max(np.linalg.norm(b - a, axis=1).max() for a, b in zip(points, points[1:])))
+        return float(max(np.linalg.norm(b - a, axis=1).max() for a, b in itertools.pairwise(points)))
 
     def _link_points(self, q: np.ndarray) -> np.ndarray:
         model = getattr(self.arm, "skeleton", None)
         if model is None:  # an arm model without a skeleton: the effector is all we can see
             return self.arm.fk(q)[None, :3, 3]
         self.arm.fk(q)  # sets the model's joints
-        return np.array([model.getBodyNode(i).getWorldTransform().translation()
-                         for i in range(model.getNumBodyNodes())])
+        return np.array(
+            [model.getBodyNode(i).getWorldTransform().translation() for i in range(model.getNumBodyNodes())]
+        )
 
     def _command(self, q_next: np.ndarray, period: float) -> None:
         for joint, velocity in zip(self.joints, (q_next - self.q) / period):

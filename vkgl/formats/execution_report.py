@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.sim.replay import Frames
+from vkgl.execute.replay import Frames
 
 FORMAT = "vkg-execution/1"
 
@@ -122,8 +122,10 @@ class ExecutionReport:
             lines.append(f"  step {step.index}{origin}: {step.title}  (t = {step.end_time:.2f} s)")
             for dev in step.deviations:
                 flag = "  > half tolerance" if dev.exceeded else ""
-                lines.append(f"      {dev.body:<8} planned {_planar(dev.planned)}   real {_planar(dev.real)}"
-                             f"   off {dev.position * 100:.2f} cm, {np.degrees(dev.angle):.2f} deg{flag}")
+                lines.append(
+                    f"      {dev.body:<8} planned {_planar(dev.planned)}   real {_planar(dev.real)}"
+                    f"   off {dev.position * 100:.2f} cm, {np.degrees(dev.angle):.2f} deg{flag}"
+                )
             if step.replan:
                 lines.append(f"    replan: {step.replan}")
         for goal in self.goals:
@@ -133,8 +135,10 @@ class ExecutionReport:
             if goal.yaw_error is not None:
                 errors.append(f"{np.degrees(abs(goal.yaw_error)):.2f} deg")
             lines.append(f"  goal {goal.text}: off {', '.join(errors)}  {'ok' if goal.ok else 'NOT MET'}")
-        summary = (f"{self.status}: {self.sim_time:.1f} s simulated in {self.wall_time:.1f} s wall"
-                   f" ({self.replans} replan{'s' if self.replans != 1 else ''})")
+        summary = (
+            f"{self.status}: {self.sim_time:.1f} s simulated in {self.wall_time:.1f} s wall"
+            f" ({self.replans} replan{'s' if self.replans != 1 else ''})"
+        )
         lines.append(summary if not self.reason else f"{summary}: {self.reason}")
         return "\n".join(lines)
 
@@ -158,16 +162,25 @@ class ExecutionReport:
                     "step": s.title,
                     "end_time_s": round(s.end_time, 6),
                     "bodies": {
-                        d.body: {"planned": d.planned.tolist(), "real": d.real.tolist(),
-                                 "position_error_m": d.position, "angle_error_rad": d.angle}
+                        d.body: {
+                            "planned": d.planned.tolist(),
+                            "real": d.real.tolist(),
+                            "position_error_m": d.position,
+                            "angle_error_rad": d.angle,
+                        }
                         for d in s.deviations
                     },
                 }
                 for s in self.steps
             ],
             "goals": [
-                {"goal": g.text, "body": g.body, "position_error_m": g.position_error,
-                 "yaw_error_rad": g.yaw_error, "ok": g.ok}
+                {
+                    "goal": g.text,
+                    "body": g.body,
+                    "position_error_m": g.position_error,
+                    "yaw_error_rad": g.yaw_error,
+                    "ok": g.ok,
+                }
                 for g in self.goals
             ],
             "final": {name: pose.tolist() for name, pose in self.final.items()},

@@ -93,8 +93,7 @@ def line(phase: str, start: np.ndarray, end: np.ndarray, speed: float = TRANSIT_
     return Segment(phase, start.copy(), end.copy(), duration)
 
 
-def swing(phase: str, start: np.ndarray, end: np.ndarray, pivot: np.ndarray,
-          speed: float = TRANSIT_SPEED) -> Segment:
+def swing(phase: str, start: np.ndarray, end: np.ndarray, pivot: np.ndarray, speed: float = TRANSIT_SPEED) -> Segment:
     """From `start` to `end` around a vertical axis through `pivot` (the robot's base).
 
     Radius, bearing and height change linearly, so the path stays between

@@ -1,6 +1,6 @@
 """Executing plans in DART: the pushed block really ends at the goal, and a wrong plan is caught.
 
-The plans are `vkg-plan/1` JSON written by `vkgl.sim.plan_script` from the
+The plans are `vkg-plan/1` JSON written by `plan_script` from the
 hand-derived step scripts of the example tasks (so these tests do not depend
 on the search); wrong plans are made by mutating that JSON. The last test
 replays the planner's own plan and is skipped while `vkgl.plan.solve` is absent.
@@ -19,9 +19,9 @@ from vkgl.errors import InputError
 from vkgl.lang.compiler import compile_file
 from vkgl.lang.geometry import scene_body_pose
 from vkgl.lang.program import Program
-from vkgl.sim.execute import execute, program_with_observed_scene
-from vkgl.sim.execution_report import yaw_of
-from vkgl.sim.plan_script import EXAMPLE_SCRIPTS, scripted_plan
+from vkgl.execute.closed_loop import execute, program_with_observed_scene
+from vkgl.formats.execution_report import yaw_of
+from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 TASK = "a_push"
 
@@ -94,7 +94,7 @@ def _stray_plan(plan: dict[str, Any]) -> dict[str, Any]:
     pull = {**copy.deepcopy(push), "value": 0.008, "poses_end": {**push["poses_end"], "block": claimed.tolist()}}
     rest = {**copy.deepcopy(push), "poses_start": {**push["poses_start"], "block": claimed.tolist()}}
     index = stray["steps"].index(push)
-    stray["steps"][index:index + 1] = [pull, rest]
+    stray["steps"][index : index + 1] = [pull, rest]
     return stray
 
 
@@ -171,7 +171,7 @@ def test_observed_scene_starts_where_the_bodies_are(task_a):
 
 
 def test_animation_is_a_gif(open_loop, tmp_path):
-    from vkgl.sim.animate import animate
+    from vkgl.execute.animate import animate
 
     path = animate(open_loop, tmp_path / "a.gif", max_frames=8)
     assert path.read_bytes()[:4] == b"GIF8"
@@ -252,7 +252,7 @@ def test_a_re_solve_keeps_a_margin_inside_the_tolerance():
     from scipy.spatial.transform import Rotation
 
     from vkgl.plan.solve import solve
-    from vkgl.sim.execute import solve_with_planner
+    from vkgl.execute.closed_loop import solve_with_planner
 
     program = compile_file(str(EXAMPLES / "tasks" / "b_stick_push.vkg"))
     task = program.task("b_stick_push")

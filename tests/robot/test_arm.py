@@ -222,10 +222,10 @@ def test_ik_of_an_unreachable_target_is_none_and_quick(arm: Arm) -> None:
 
 
 def test_ik_is_deterministic() -> None:
-    import vkgl.robot
+    import vkgl.robot.arm
 
     one = Arm.load(panda_robot(), "fingertip", np.eye(4))
-    vkgl.robot._READY_POSES.clear()  # compute the ready pose again, not from the cache
+    vkgl.robot.arm._READY_POSES.clear()  # compute the ready pose again, not from the cache
     two = Arm.load(panda_robot(), "fingertip", np.eye(4))
     target = hand_down(0.6, -0.2, 0.05, 0.7)
     np.testing.assert_array_equal(one.home, two.home)

@@ -1,6 +1,6 @@
 """Write a `vkg-plan/1` plan from a script of steps, by kinematics alone (no search).
 
-    from vkgl.sim.plan_script import scripted_plan
+    from plan_script import scripted_plan
     plan = scripted_plan(program, "a_push", ["add Block.push_center_px block arm.fingertip 0.15"])
 
 The planner (`vkgl.plan.solve`) finds the steps; this module only carries out
@@ -39,17 +39,23 @@ EXAMPLE_SCRIPTS: dict[str, list[str]] = {
     "a_push": ["add Block.push_center_px block arm.fingertip 0.15"],
     "b_stick_push": ["add Stick.wield stick arm.fingertip", "add Block.push_center_px block stick.tip 0.25"],
     "c_hook_pull": ["add Hook.wield hook arm.fingertip", "add Block.push_center_nx block hook.tip 0.30"],
-    "d_rotate_push": [f"add Block.turn_px_left block arm.fingertip {_TURN}",
-                      "remove Block.turn_px_left block arm.fingertip",
-                      "add Block.push_center_px block arm.fingertip 0.10"],
-    "e_rotate_stick_push": [f"add Block.turn_px_left block arm.fingertip {_TURN}",
-                            "remove Block.turn_px_left block arm.fingertip",
-                            "add Stick.wield stick arm.fingertip",
-                            "add Block.push_center_px block stick.tip 0.4494"],
-    "f_rotate_hook_pull": ["add Hook.wield hook arm.fingertip",
-                           f"add Block.turn_nx_left block hook.tip {_TURN}",
-                           "remove Block.turn_nx_left block hook.tip",
-                           "add Block.push_center_nx block hook.tip 0.25"],
+    "d_rotate_push": [
+        f"add Block.turn_px_left block arm.fingertip {_TURN}",
+        "remove Block.turn_px_left block arm.fingertip",
+        "add Block.push_center_px block arm.fingertip 0.10",
+    ],
+    "e_rotate_stick_push": [
+        f"add Block.turn_px_left block arm.fingertip {_TURN}",
+        "remove Block.turn_px_left block arm.fingertip",
+        "add Stick.wield stick arm.fingertip",
+        "add Block.push_center_px block stick.tip 0.4494",
+    ],
+    "f_rotate_hook_pull": [
+        "add Hook.wield hook arm.fingertip",
+        f"add Block.turn_nx_left block hook.tip {_TURN}",
+        "remove Block.turn_nx_left block hook.tip",
+        "add Block.push_center_nx block hook.tip 0.25",
+    ],
 }
 
 
@@ -132,21 +138,38 @@ def scripted_plan(program: Program, task: str | Task | None, script: list[str | 
         else:
             _remove(state, aff, body, scene, types)
             state.edges.pop(body, None)
-        steps.append({
-            "op": op, "affordance": aff_name, "body": body, "effector": eff,
-            "motion": aff.motion.type, "value": abs(value),
-            "poses_start": {n: p.tolist() for n, p in start.items()},
-            "poses_end": {n: p.tolist() for n, p in state.poses.items()},
-            "q_start": q_start.tolist(), "q_end": state.q.tolist(),
-        })
+        steps.append(
+            {
+                "op": op,
+                "affordance": aff_name,
+                "body": body,
+                "effector": eff,
+                "motion": aff.motion.type,
+                "value": abs(value),
+                "poses_start": {n: p.tolist() for n, p in start.items()},
+                "poses_end": {n: p.tolist() for n, p in state.poses.items()},
+                "q_start": q_start.tolist(),
+                "q_end": state.q.tolist(),
+            }
+        )
         graphs.append(_graph(scene_robot.name, state.poses, state))
     return {
-        "format": PLAN_FORMAT, "task": task.name, "status": "solved", "depth": len(graphs),
+        "format": PLAN_FORMAT,
+        "task": task.name,
+        "status": "solved",
+        "depth": len(graphs),
         "stats": {"solve_time_s": 0.0, "graphs_expanded": 0, "task_space_checks": 0, "joint_space_checks": 0},
-        "robot": {"name": scene_robot.name, "urdf": robot.urdf_resolved or robot.urdf, "base": base.tolist(),
-                  "effector": effector.name, "effector_link": effector.link,
-                  "effector_offset": effector.offset.matrix().tolist(), "joints": list(arm.joint_names)},
-        "graphs": graphs, "steps": steps,
+        "robot": {
+            "name": scene_robot.name,
+            "urdf": robot.urdf_resolved or robot.urdf,
+            "base": base.tolist(),
+            "effector": effector.name,
+            "effector_link": effector.link,
+            "effector_offset": effector.offset.matrix().tolist(),
+            "joints": list(arm.joint_names),
+        },
+        "graphs": graphs,
+        "steps": steps,
         "final": {n: p.tolist() for n, p in state.poses.items()},
     }
 
@@ -173,8 +196,9 @@ def _ik(arm: Any, hand: np.ndarray, q0: np.ndarray, raw: Any) -> np.ndarray:
     return np.asarray(q, dtype=float)
 
 
-def _add(state: _State, arm: Any, types: dict, aff: Affordance, body: str, eff: str, own: str,
-         value: float, raw: Any) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def _add(
+    state: _State, arm: Any, types: dict, aff: Affordance, body: str, eff: str, own: str, value: float, raw: Any
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Add the affordance to the state; return the joints at the start of the step (effector in
     place) and the start pose of a held tool that enacts it."""
     action = aff.action.pose.matrix() if isinstance(aff.action, FixedC) and aff.action.pose else np.eye(4)
