@@ -2,30 +2,51 @@
 
     import vkgl
     program = vkgl.compile("examples/tasks/b_stick_push.vkg")
-    plan = vkgl.solve("examples/tasks/b_stick_push.vkg")
+    plan = vkgl.solve(program)
+    print(plan.text())
 
-Heavy back ends (DART, NLopt) are imported lazily so that `vkgc --help` is fast.
+The functions here are the driver's (`vkgl.api`); docs/api.md shows them all.
+Heavy back ends (DART, NLopt) are imported inside them, so `import vkgl` is fast.
 """
 
-from __future__ import annotations
+from importlib import metadata as _metadata
+from typing import TYPE_CHECKING as _TYPE_CHECKING
 
-from typing import TYPE_CHECKING, Any
+from vkgl.api import compile, compile_source, execute, explore, infer, learn, solve
+from vkgl.errors import CompileError, InputError, VkgError
 
-__version__ = "0.1.0"
-
-if TYPE_CHECKING:
+if _TYPE_CHECKING:
     from vkgl.lang.program import Program
 
+try:
+    __version__ = _metadata.version("vkgl")
+except _metadata.PackageNotFoundError:  # a source checkout that is not installed
+    __version__ = "0+unknown"
 
-def compile(path: str) -> Program:
-    """Parse, resolve and check a `.vkg` file and everything it uses; raise CompileError on errors."""
-    from vkgl.lang.compiler import compile_file
+__all__ = [
+    "CompileError",
+    "InputError",
+    "Program",
+    "VkgError",
+    "__version__",
+    "compile",
+    "compile_source",
+    "execute",
+    "explore",
+    "infer",
+    "learn",
+    "solve",
+]
 
-    return compile_file(path)
+
+def __getattr__(name: str) -> object:
+    # `vkgl.Program` without importing the front end (pydantic, lark) when only the CLI's help is wanted.
+    if name == "Program":
+        from vkgl.lang.program import Program
+
+        return Program
+    raise AttributeError(f"module 'vkgl' has no attribute {name!r}")
 
 
-def solve(task: Any, **options: Any) -> Any:
-    """Plan for a task (a path, a Program or a Task IR); return a Plan. See `vkgl.plan.solve`."""
-    from vkgl.plan.solve import solve as _solve
-
-    return _solve(task, **options)
+def __dir__() -> list[str]:
+    return sorted(__all__)

@@ -39,15 +39,3 @@ class SimulationError(VkgError):
     """The simulator could not run what was asked (e.g. DART rejected a mesh)."""
 
     exit_code = 1
-
-
-class NoPlanError(VkgError):
-    """No plan exists within the search limits; the message says why."""
-
-    exit_code = 2
-
-
-class PlanTimeout(VkgError):
-    """The search ran out of time before finding a plan or proving there is none."""
-
-    exit_code = 3

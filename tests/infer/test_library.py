@@ -8,7 +8,8 @@ import re
 import numpy as np
 import pytest
 
-from vkgl.infer.library import REPORT_FORMAT, infer_library
+from vkgl.formats.infer_report import INFER_REPORT_FORMAT as REPORT_FORMAT
+from vkgl.infer.library import infer_library
 from synthetic import block_pushes, wield_trials
 from vkgl.lang.ir import FixedC, FreeC, PrismaticC, RevoluteC
 

@@ -14,7 +14,7 @@ from replay_check import check_plan
 
 from plan_programs import compiled  # noqa: F401 (fixture)
 
-from vkgl.plan.solve import solve
+from vkgl.api import solve
 
 PAPER = {
     "a_push": (2, False),

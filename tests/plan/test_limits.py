@@ -11,7 +11,7 @@ from plan_programs import compiled  # noqa: F401 (fixture)
 
 from vkgl.cli import main
 from vkgl.errors import InputError
-from vkgl.plan.solve import solve
+from vkgl.api import solve
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "tabletop.vkg"
 
@@ -92,7 +92,7 @@ def test_command_line_exit_codes(tmp_path, capsys):
 def test_task_naming_a_body_the_scene_lacks_is_an_input_error(compiled):
     program = compiled("a_push")
     with pytest.raises(InputError, match="no task `nope`"):
-        solve((program, "nope"))
+        solve(program, "nope")
     with pytest.raises(InputError, match="max_depth must be at least 1"):
         solve(program, max_depth=0)
 

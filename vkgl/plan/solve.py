@@ -1,24 +1,17 @@
-"""`solve(task)`: plan for a task, the library entry point behind `vkgc solve`.
+"""`solve(program, task)`: plan for a task of a compiled program, the planner behind `vkgl.solve`.
 
-    from vkgl.plan.solve import solve
-    plan = solve("examples/tasks/b_stick_push.vkg")
-    print(plan.text())
-
-The task may be a path (compiled here), a Program (its first task) or a
-`(Program, task name)` pair. Input errors raise `vkgl.errors.InputError`; a
-goal that no plan can reach or a search that runs out of time are results, not
-errors: `plan.status` is "infeasible" or "timeout" and `plan.reason` says why.
+Input errors raise `vkgl.errors.InputError`; a goal that no plan can reach or
+a search that runs out of time are results, not errors: `plan.status` is
+"infeasible" or "timeout" and `plan.reason` says why.
 """
 
 from __future__ import annotations
 
 import time
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from vkgl.errors import InputError
 from vkgl.lang.ir import Task
 from vkgl.lang.program import Program
 from vkgl.plan.model import Problem, build_problem
@@ -27,44 +20,28 @@ from vkgl.plan.rollout import ModeTrace
 from vkgl.plan.search import SearchResult, SearchStats, search
 
 
-def solve(task: Any, *, max_depth: int | None = None, timeout: float | None = None, progress: bool = False) -> Plan:
-    """Plan for `task` (path | Program | (Program, task name)); `max_depth`/`timeout` override its `search` block.
+def solve(
+    program: Program,
+    task: Task,
+    *,
+    max_depth: int | None = None,
+    timeout: float | None = None,
+    progress: bool = False,
+) -> Plan:
+    """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
 
     Breadth-first search over graph sequences (`vkgl.plan.search`) with
     task-space and joint-space feasibility checks (`vkgl.plan.feasible`).
     `progress` shows the search on stderr. Deterministic: the same input gives
     the same plan.
     """
-    program, task_ir = _program_and_task(task)
     started = time.perf_counter()
-    problem = build_problem(program, task_ir, max_depth=max_depth, timeout=timeout)
+    problem = build_problem(program, task, max_depth=max_depth, timeout=timeout)
     deadline = started + problem.timeout
     why = _hopeless(problem)
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
     return _plan(problem, search(problem, deadline=deadline, progress=progress), started)
-
-
-def _program_and_task(task: Any) -> tuple[Program, Task]:
-    if isinstance(task, (str, Path)):
-        from vkgl.lang.compiler import compile_file
-
-        program = compile_file(str(task))
-        return program, _task_of(program, None, str(task))
-    if isinstance(task, Program):
-        return task, _task_of(task, None, "the program")
-    if isinstance(task, tuple) and len(task) == 2 and isinstance(task[0], Program):
-        return task[0], _task_of(task[0], task[1], "the program")
-    raise InputError(f"solve() takes a task file, a Program or (Program, task name), not {type(task).__name__}")
-
-
-def _task_of(program: Program, name: str | None, where: str) -> Task:
-    try:
-        return program.task(name)
-    except KeyError:
-        known = ", ".join(program.tasks) or "none"
-        what = f"no task `{name}`" if name is not None else "no task"
-        raise InputError(f"{where} declares {what} (tasks: {known})") from None
 
 
 def _hopeless(problem: Problem) -> str | None:

@@ -1,0 +1,215 @@
+"""The driver: compile once, then learn, solve and execute on typed objects.
+
+The stages never compile files and never call one another sideways; this
+module composes them, and the CLI and notebooks call it:
+
+    import vkgl
+    program = vkgl.compile("examples/tasks/a_push.vkg")
+    plan = vkgl.solve(program)                       # the file's only task
+    report = vkgl.execute(program, plan.task, plan)  # carry it out in DART
+    print(report.text())
+
+Heavy back ends (DART, NLopt) are imported inside the functions, so that
+`import vkgl` and `vkgc --help` stay fast.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Union
+
+from vkgl.errors import InputError
+
+if TYPE_CHECKING:
+    from vkgl.formats.execution_report import ExecutionReport
+    from vkgl.formats.plan import PlanDocument
+    from vkgl.formats.trials import Trials
+    from vkgl.infer.library import InferenceResult
+    from vkgl.lang.ir import Body, Task
+    from vkgl.lang.program import Program
+    from vkgl.plan.plan import Plan
+
+ProgramLike = Union["Program", str, os.PathLike[str]]
+"""A compiled Program, or the path of a `.vkg` file to compile."""
+
+__all__ = [
+    "compile",
+    "compile_source",
+    "execute",
+    "explore",
+    "infer",
+    "learn",
+    "solve",
+]
+
+
+def compile(path: str | os.PathLike[str]) -> Program:
+    """Parse, resolve and check a `.vkg` file and everything it uses.
+
+    Raises `vkgl.errors.CompileError` (carrying every diagnostic) when the
+    file has errors; warnings are kept in `program.warnings`.
+    """
+    from vkgl.lang.compiler import compile_file
+
+    return compile_file(Path(path))
+
+
+def compile_source(text: str, name: str = "<string>", *, base_dir: str | os.PathLike[str] | None = None) -> Program:
+    """Compile `.vkg` source given as a string.
+
+    `name` is the path diagnostics show; `use "file.vkg"` is resolved relative
+    to `base_dir` (default: the current directory).
+    """
+    from vkgl.lang.compiler import compile_source as compile_text
+
+    return compile_text(text, name, base_dir=None if base_dir is None else Path(base_dir))
+
+
+def _program(program: ProgramLike) -> Program:
+    from vkgl.lang.program import Program
+
+    return program if isinstance(program, Program) else compile(program)
+
+
+def solve(
+    program: ProgramLike,
+    task: str | Task | None = None,
+    *,
+    max_depth: int | None = None,
+    timeout: float | None = None,
+    progress: bool = False,
+) -> Plan:
+    """Plan for `task` of `program` (its only task when None); return a Plan.
+
+    `max_depth` and `timeout` override the task's `search` block. A goal that
+    no plan reaches, or a search that runs out of time, is a result, not an
+    error: `plan.status` is "infeasible" or "timeout" and `plan.reason` says
+    why. Input errors raise `vkgl.errors.InputError`.
+    """
+    from vkgl.plan.solve import solve as solve_task
+
+    compiled = _program(program)
+    return solve_task(compiled, _task(compiled, task), max_depth=max_depth, timeout=timeout, progress=progress)
+
+
+def execute(
+    program: ProgramLike,
+    task: str | Task | None,
+    plan: Plan | PlanDocument,
+    *,
+    replan: bool = False,
+    max_replans: int = 3,
+    record: bool = False,
+) -> ExecutionReport:
+    """Carry `plan` out in DART physics and report how close the bodies came to the goal.
+
+    With `replan`, the loop re-solves (with `solve`) from the observed scene
+    whenever a body strays from the plan, at most `max_replans` times. With
+    `record`, the report keeps frames for `vkgl.execute.animate.animate`.
+    """
+    from vkgl.execute.closed_loop import execute as execute_plan
+    from vkgl.formats.plan import PlanDocument
+
+    if max_replans < 0:
+        raise InputError(f"max_replans must be 0 or more, not {max_replans}")
+    compiled = _program(program)
+    document = plan if isinstance(plan, PlanDocument) else plan.document()
+    return execute_plan(
+        compiled,
+        _task(compiled, task if task is not None else document.task),
+        document,
+        replan=replan,
+        max_replans=max_replans,
+        record=record,
+        resolve=_resolver,
+    )
+
+
+def _resolver(program: Program, task: str) -> PlanDocument:
+    """How the closed loop re-solves: the planner, on the program it observed."""
+    return solve(program, task).document()
+
+
+def explore(body: Body, *, seed: int = 0, jobs: int | None = None, progress: bool = False) -> Trials:
+    """Run the body's exploration grid in DART; return the `vkg-trials/1` dataset."""
+    from vkgl.sim.explore import explore as explore_body
+
+    return explore_body(body, seed=seed, jobs=jobs, progress=progress)
+
+
+def infer(
+    trials: Trials, *, body_use: str | None = None, header: str | None = None, path: str = "<inferred>"
+) -> InferenceResult:
+    """Infer the affordances of the explored body; the result holds the module's IR and source.
+
+    `body_use` is what the generated module imports to know the body
+    (default `stdlib.bodies.<body>`); `header` its leading comment.
+    """
+    from vkgl.infer.library import infer_library
+
+    use = body_use or f"stdlib.bodies.{trials.body.lower()}"
+    text = header or f"Inferred from {len(trials)} trials. Do not edit."
+    return infer_library(trials, body_use=use, header=text, path=path)
+
+
+def learn(
+    body_files: Sequence[str | os.PathLike[str]] | str | os.PathLike[str],
+    *,
+    body: str | None = None,
+    out_dir: str | os.PathLike[str] | None = None,
+    seed: int = 0,
+    jobs: int | None = None,
+    progress: bool = False,
+) -> list[Path]:
+    """Explore and infer each body file's body; write `<body>.vkg` per body; return the written paths.
+
+    The output folder defaults to the `affordances/` folder beside a
+    `bodies/` folder (the stdlib layout), else the current directory. The
+    same input writes the same bytes.
+    """
+    from vkgl.infer.library import body_import
+
+    files = [Path(body_files)] if isinstance(body_files, str | os.PathLike) else [Path(f) for f in body_files]
+    if body is not None and len(files) > 1:
+        raise InputError("--body names one body: give one body file with it")
+    programs = [compile(f) for f in files]  # every file is checked before any exploration starts
+    written = []
+    for source, program in zip(files, programs, strict=True):
+        target = program.body(body)
+        out = Path(out_dir) if out_dir is not None else _default_out_dir(source)
+        out.mkdir(parents=True, exist_ok=True)
+        destination = out / f"{target.name.lower()}.vkg"
+        trials = explore(target, seed=seed, jobs=jobs, progress=progress)
+        body_use, shown = body_import(source, destination)
+        header = f"Generated by `vkgc learn {shown}` from {len(trials)} trials. Do not edit."
+        result = infer(trials, body_use=body_use, header=header, path=str(destination))
+        _write_text(destination, result.source)
+        written.append(destination)
+    return written
+
+
+def _default_out_dir(body_file: Path) -> Path:
+    parent = body_file.resolve().parent
+    if parent.name == "bodies":
+        return parent.parent / "affordances"
+    return Path.cwd()
+
+
+def _write_text(path: Path, text: str) -> None:
+    """Write atomically: a temporary file in the same folder, then a rename."""
+    temporary = path.with_name(f".{path.name}.tmp{os.getpid()}")
+    try:
+        temporary.write_text(text, encoding="utf-8")
+        os.replace(temporary, path)
+    finally:
+        temporary.unlink(missing_ok=True)
+
+
+def _task(program: Program, task: str | Task | None) -> Task:
+    from vkgl.lang.ir import Task
+
+    if isinstance(task, Task):
+        return task
+    return program.task(task)

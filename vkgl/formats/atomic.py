@@ -1,0 +1,34 @@
+"""Writing output files atomically, so that a failed or interrupted write never leaves half a file.
+
+Every writer of `vkgl.formats` and the CLI write through here: the bytes go to
+a temporary file in the destination's folder (same file system), which is
+flushed to disk and then renamed over the destination in one step.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+
+
+def write_bytes(path: str | Path, data: bytes) -> None:
+    """Replace `path` by `data` in one step; on any error the old file (if any) is left as it was."""
+    destination = Path(path)
+    handle, temporary = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".tmp", dir=destination.parent)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.replace(temporary, destination)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
+def write_text(path: str | Path, text: str) -> None:
+    """`write_bytes` of UTF-8 text."""
+    write_bytes(path, text.encode("utf-8"))
