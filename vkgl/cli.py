@@ -191,9 +191,9 @@ def cmd_solve(args: argparse.Namespace) -> int:
 
         plot_plan(plan, args.plot)
         print(f"{args.plot}: picture of the plan")
-    if plan.status == "solved" and (args.execute or args.replan or args.animate or args.execution_json):
-        if not _execute(args, program, plan):
-            return EXIT_NOT_REACHED
+    executes = args.execute or args.replan or args.animate or args.execution_json
+    if plan.status == "solved" and executes and not _execute(args, program, plan):
+        return EXIT_NOT_REACHED
     return {"solved": EXIT_OK, "infeasible": EXIT_NO_PLAN, "timeout": EXIT_TIMEOUT}[plan.status]
 
 

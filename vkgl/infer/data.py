@@ -83,6 +83,13 @@ class EdgeData:
         return bool(self.has_rot.any())
 
     @property
+    def observed_rotations(self) -> Rotation:
+        """`rot_seen`, for callers that know at least one orientation was observed."""
+        if self.rot_seen is None:
+            raise ValueError("no orientation was observed")
+        return self.rot_seen
+
+    @property
     def rot_index(self) -> np.ndarray:
         """Indices of the samples whose orientation was observed."""
         return np.flatnonzero(self.has_rot)

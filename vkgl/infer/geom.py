@@ -25,7 +25,7 @@ def mean_rotation(data: EdgeData, w: np.ndarray) -> Rotation:
     if not data.any_rot:
         return Rotation.identity()
     idx = data.rot_index
-    return data.rot_seen.mean(weights=np.maximum(w[idx], 1e-9))
+    return data.observed_rotations.mean(weights=np.maximum(w[idx], 1e-9))
 
 
 def single_rotation(r: Rotation) -> Rotation:

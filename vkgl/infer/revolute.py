@@ -123,7 +123,7 @@ def _combine_angles(
     if not data.any_rot:
         return (theta_pos if theta_pos is not None else np.zeros(n)), Rotation.identity()
     idx = data.rot_index
-    rots = data.rot_seen
+    rots = data.observed_rotations
     if theta_pos is not None:
         guess = theta_pos[idx]
     else:
@@ -318,7 +318,7 @@ def _rotation_axis(data: EdgeData, w: np.ndarray) -> tuple[np.ndarray | None, fl
     idx = data.rot_index
     if len(idx) < 3:
         return None, 0.0, np.zeros(0)
-    rots = data.rot_seen
+    rots = data.observed_rotations
     ww = np.maximum(w[idx], 1e-9)
     mean = rots.mean(weights=ww)
     # R_t = Rot(a, q_t) R_ref gives R_t mean^-1 = Rot(a, q_t - q_mean): rotation vectors along a.
@@ -340,7 +340,7 @@ def _rotation_axis(data: EdgeData, w: np.ndarray) -> tuple[np.ndarray | None, fl
 def _center_from_rotations(data: EdgeData, w: np.ndarray, axis: np.ndarray) -> np.ndarray:
     """A point on the axis from p_t = c + Q_t d (linear in c and d) when positions barely move."""
     idx = data.rot_index
-    rots = data.rot_seen
+    rots = data.observed_rotations
     Q = (rots * rots[0].inv()).as_matrix()
     n = len(Q)
     A = np.zeros((3 * n, 6))

@@ -33,7 +33,6 @@ from vkgl.plan.rollout import (
     acting_engagement,
     hand_chain,
     motion_matrices,
-    motion_matrix,
     unit_axis_and_center,
 )
 
@@ -151,7 +150,7 @@ def _turn_candidates(needed: float, tol: float, signs: list[float]) -> list[tupl
     if len(signs) == 1:
         angle = _in_half_turn(signs[0] * needed, tol)
         return [] if angle is None else [(angle,)]
-    out = []
+    out: list[tuple[float, ...]] = []
     for first in np.linspace(0.0, math.pi, TURN_GRID):
         second = _in_half_turn(signs[1] * (needed - signs[0] * first), tol)
         if second is not None:
@@ -169,15 +168,6 @@ def _in_half_turn(angle: float, tol: float) -> float | None:
     if 2 * math.pi - angle <= tol:
         return 0.0
     return None
-
-
-def body_pose(problem: Problem, seq: Sequence, body: str, values: np.ndarray) -> np.ndarray:
-    """A body's final pose: its rest pose moved by its own motions in mode order."""
-    pose = problem.bodies[body].rest
-    for (_, e), v in zip(seq.variables, values):
-        if e.body == body:
-            pose = pose @ motion_matrix(problem.affordance(e.body, e.affordance).motion, v)
-    return pose
 
 
 def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | None:

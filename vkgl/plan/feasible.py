@@ -66,7 +66,10 @@ class TaskSolution:
 
 
 class _Evaluator:
-    """Rollouts of one sequence by motion values, memoised: the objective, the constraints and their gradients share them."""
+    """Rollouts of one sequence by motion values, memoised.
+
+    The objective, the constraints and their gradients share them.
+    """
 
     def __init__(self, problem: Problem, seq: Sequence) -> None:
         self.problem, self.seq = problem, seq
@@ -150,7 +153,7 @@ def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
 def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
     """A moved body stays over the table (if it lies on it) and within its physical joint's limits."""
     body = problem.bodies[name]
-    out = []
+    out: list[float] = []
     if body.on_table and problem.table_center is not None:
         offset = np.abs(pose[:2, 3] - problem.table_center) - problem.table_size / 2  # type: ignore[operator]
         out.extend(float(v) for v in offset)

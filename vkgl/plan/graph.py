@@ -20,8 +20,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import networkx as nx
-
 from vkgl.plan.model import Problem
 
 WORLD = "world"
@@ -98,20 +96,6 @@ def edges(problem: Problem, graph: KGraph) -> list[tuple[str, str, str]]:
         owner = problem.effector(e.effector).tool or problem.robot_name
         out.append((owner, e.body, problem.affordance(e.body, e.affordance).action.type))
     return out
-
-
-def to_networkx(problem: Problem, graph: KGraph) -> nx.MultiDiGraph:
-    """The graph as a networkx multigraph; edge attributes `type` and, for engagements, `affordance`/`effector`."""
-    g = nx.MultiDiGraph()
-    g.add_node(WORLD)
-    g.add_node(problem.robot_name)
-    g.add_nodes_from(problem.bodies)
-    engaged = {(problem.effector(e.effector).tool or problem.robot_name, e.body): e for e in graph.engaged}
-    for parent, child, kind in edges(problem, graph):
-        e = engaged.get((parent, child))
-        attributes = {"affordance": e.affordance, "effector": e.effector} if e is not None else {}
-        g.add_edge(parent, child, type=kind, **attributes)
-    return g
 
 
 def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Action]:

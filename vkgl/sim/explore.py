@@ -183,7 +183,7 @@ class _Trial:
         self.spec = spec
         self.world = sim_world.new_world()
         self.table = sim_world.add_table(self.world)[1]
-        self.node = None  # the explored body's DART node, set by subclasses
+        self.node: Any = None  # the explored body's DART node, set by subclasses
         self.lying = False  # True when the body lies on the table (its lowest point is watched)
         self.hull = body_mesh(spec.body).convex_hull.vertices
 
@@ -231,8 +231,8 @@ class _Trial:
     def runaway(self) -> str:
         """'' unless a body moves absurdly fast: stop before the numbers overflow (ODE aborts then)."""
         for node in (self.node, self.effector_node()):
-            linear = np.asarray(node.getLinearVelocity(), dtype=float)
-            angular = np.asarray(node.getAngularVelocity(), dtype=float)
+            linear = np.asarray(node.getLinearVelocity(), dtype=np.float64)
+            angular = np.asarray(node.getAngularVelocity(), dtype=np.float64)
             if not (np.all(np.isfinite(linear)) and np.all(np.isfinite(angular))):
                 return "the simulation diverged (NaN in a velocity)"
             if np.linalg.norm(linear) > MAX_SPEED or np.linalg.norm(angular) > MAX_TURN_RATE:

@@ -72,6 +72,8 @@ def add_table(world: Any, table: Table | None = None) -> tuple[Any, Any]:
 
     Without a `Table`, the exploration table: 2 x 2 m, top at z = 0, centred on the origin.
     """
+    size: tuple[float, ...]
+    centre: tuple[float, ...]
     if table is None:
         size, centre = EXPLORATION_TABLE_SIZE, (0.0, 0.0, 0.0)
     else:
