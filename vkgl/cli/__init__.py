@@ -1,0 +1,72 @@
+"""`vkgc`: the command line. Thin: parse arguments, call the driver (`vkgl.api`), print.
+
+Exit codes (all sub-commands, `vkgl.cli.exit_codes`): 0 success; 1 errors in
+the input, usage errors included; 2 no plan within the search limits; 3
+timeout; 4 internal error (`--debug` shows the traceback); 5 a plan carried
+out in physics missed its goal (`solve --execute`); 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import traceback
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from vkgl.cli.arguments import build_parser
+from vkgl.cli.commands import COMMANDS, Command, print_diagnostics
+from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED
+from vkgl.cli.paths import check_paths
+
+__all__ = ["build_parser", "main"]
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run `vkgc` with `argv` (default sys.argv[1:]); return the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return EXIT_INPUT
+    return _run(COMMANDS[args.command], args)
+
+
+def _run(command: Command, args: argparse.Namespace) -> int:
+    from vkgl.errors import CompileError, VkgError
+
+    try:
+        check_paths(args)
+        return command(args)
+    except CompileError as exc:
+        print_diagnostics(exc.diagnostics, _sources_of(exc), sys.stderr)
+        return EXIT_INPUT
+    except VkgError as exc:
+        print(f"vkgc: error: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("vkgc: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except OSError as exc:  # a file that vanished or became unwritable while we worked
+        where = exc.filename if exc.filename is not None else "a file"
+        print(f"vkgc: error: cannot access {where}: {exc.strerror or exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except Exception as exc:  # the last line of defence: never a bare traceback for users
+        if args.debug:
+            traceback.print_exc()
+        print(
+            f"vkgc: internal error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr
+        )
+        return EXIT_INTERNAL
+
+
+def _sources_of(exc: Any) -> dict[str, str]:
+    sources: dict[str, str] = dict(getattr(exc, "sources", {}) or {})
+    for diag in exc.diagnostics:
+        if diag.span is not None and diag.span.file not in sources:
+            try:
+                sources[diag.span.file] = Path(diag.span.file).read_text(encoding="utf-8")
+            except (OSError, UnicodeDecodeError):
+                pass
+    return sources

@@ -1,0 +1,162 @@
+"""The arguments of `vkgc`: one parser, every argument with its help and its range.
+
+A usage error (unknown option, missing argument, a number out of range) is an
+input error: exit 1 with a message that names the option, never exit 2, which
+means "no plan" to scripts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Callable
+from typing import Any, NoReturn
+
+from vkgl.cli.exit_codes import EXIT_INPUT
+
+MAX_DEPTH_LIMIT = 12
+"""Graphs in a sequence at most: the search is breadth-first, so deeper is exponentially slower."""
+
+TIMEOUT_LIMIT = 3600.0
+"""s: a search longer than an hour is a mistake, not a plan."""
+
+MAX_REPLANS_LIMIT = 100
+MAX_JOBS = 256
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but usage errors exit with 1 (input error), not 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.print_usage(sys.stderr)
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n")
+
+
+def _bounded_int(low: int, high: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip(), 10) if text.strip().lstrip("+-").isascii() and len(text) <= 20 else None
+        except ValueError:
+            value = None
+        if value is None or not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"expected a whole number from {low} to {high}, got {text!r}")
+        return value
+
+    parse.__name__ = "whole number"  # what argparse names in its message
+    return parse
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text) if text.strip().isascii() else math.nan
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0 < value <= TIMEOUT_LIMIT):
+        raise argparse.ArgumentTypeError(f"expected seconds, more than 0 and at most {TIMEOUT_LIMIT:g}, got {text!r}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of `vkgc` (all sub-commands)."""
+    from vkgl import __version__
+
+    parser = _Parser(
+        prog="vkgc",
+        description="Compile, explore, infer and plan with VKG (virtual kinematic graph) programs.",
+        epilog="exit codes: 0 ok, 1 input errors (usage errors too), 2 no plan, 3 timeout, 4 internal error, "
+        "5 plan executed in physics but the goal was not reached (solve --execute), 130 interrupted",
+    )
+    parser.add_argument("--version", action="version", version=f"vkgc {__version__}", help="print the version")
+    parser.add_argument("--debug", action="store_true", help="show the traceback of internal errors")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    p = _subcommand(sub, "check", help="parse and check .vkg files")
+    p.add_argument("files", nargs="+", metavar="FILE", help=".vkg files to check (each with what it uses)")
+
+    p = _subcommand(sub, "fmt", help="rewrite .vkg files in canonical form")
+    p.add_argument("files", nargs="+", metavar="FILE", help=".vkg files to rewrite in place")
+    p.add_argument("--check", action="store_true", help="only report files that would change (exit 1)")
+
+    p = _subcommand(sub, "explore", help="run a body's exploration grid in DART")
+    p.add_argument("bodyfile", metavar="BODYFILE", help=".vkg file that declares the body")
+    p.add_argument("--body", metavar="NAME", help="the body to explore (default: the file's only body)")
+    p.add_argument("-o", "--output", required=True, metavar="TRIALS.npz", help="where to write the vkg-trials/1 data")
+    p.add_argument("--plot", metavar="F.png", help="also draw the trials (top view)")
+    _add_run_options(p)
+
+    p = _subcommand(sub, "infer", help="infer affordances from a trials dataset")
+    p.add_argument("trials", metavar="TRIALS.npz", help="a vkg-trials/1 dataset (from `vkgc explore`)")
+    p.add_argument("-o", "--output", required=True, metavar="MODULE.vkg", help="where to write the affordance module")
+    p.add_argument("--report", metavar="R.json", help="also write the per-trial report (vkg-infer-report/1)")
+    p.add_argument("--plot", metavar="F.png", help="also draw the posterior over types by contact")
+    p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
+
+    p = _subcommand(sub, "learn", help="explore + infer: generate the affordance modules of bodies")
+    p.add_argument("bodyfiles", nargs="+", metavar="BODYFILE", help=".vkg files, each declaring one body to learn")
+    p.add_argument("--body", metavar="NAME", help="with one BODYFILE: the body to learn when it declares several")
+    p.add_argument(
+        "-o",
+        "--output",
+        metavar="DIR",
+        help="where to write <body>.vkg (default: affordances/ beside the body file's bodies/ folder, "
+        "else affordances/ in the body file's folder)",
+    )
+    p.add_argument("--force", action="store_true", help="replace an existing <body>.vkg that learn did not generate")
+    _add_run_options(p)
+
+    p = _subcommand(sub, "solve", help="plan for a task")
+    p.add_argument("taskfile", metavar="TASKFILE", help=".vkg file that declares the task")
+    p.add_argument("--task", metavar="NAME", help="the task to solve (needed when the file declares several)")
+    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/1 JSON")
+    p.add_argument("--plot", metavar="F.png", help="draw the plan (one panel per mode)")
+    p.add_argument(
+        "--max-depth",
+        type=_bounded_int(1, MAX_DEPTH_LIMIT),
+        metavar="N",
+        help=f"override the task's search max_depth (1 to {MAX_DEPTH_LIMIT})",
+    )
+    p.add_argument(
+        "--timeout",
+        type=_seconds,
+        metavar="S",
+        help=f"override the task's search timeout (s, more than 0, at most {TIMEOUT_LIMIT:g})",
+    )
+    p.add_argument(
+        "-v", "--verbose", action="store_true", help="also print the joint configurations and the search's counters"
+    )
+    p.add_argument("--execute", action="store_true", help="replay the plan in DART physics and report the goal error")
+    p.add_argument(
+        "--replan",
+        action="store_true",
+        help="closed loop: re-solve from the observed scene when a body strays (implies --execute)",
+    )
+    p.add_argument(
+        "--max-replans",
+        type=_bounded_int(0, MAX_REPLANS_LIMIT),
+        default=3,
+        metavar="N",
+        help=f"give up after N re-solves (default 3, at most {MAX_REPLANS_LIMIT})",
+    )
+    p.add_argument("--animate", metavar="F.gif", help="write a top-view animation of the execution (implies --execute)")
+    p.add_argument(
+        "--execution-json", metavar="F", help="write the execution report as vkg-execution/1 JSON (implies --execute)"
+    )
+    return parser
+
+
+def _subcommand(sub: Any, name: str, **kwargs: Any) -> argparse.ArgumentParser:
+    parser: argparse.ArgumentParser = sub.add_parser(name, **kwargs)
+    # `--debug` is accepted after the sub-command too (`vkgc solve T --debug`).
+    parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+    return parser
+
+
+def _add_run_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--seed", type=_bounded_int(0, 2**32 - 1), default=0, help="random seed (default 0)")
+    p.add_argument(
+        "--jobs",
+        type=_bounded_int(1, MAX_JOBS),
+        default=None,
+        metavar="N",
+        help=f"parallel processes (default: all cores; 1 to {MAX_JOBS})",
+    )
