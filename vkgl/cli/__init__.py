@@ -20,17 +20,29 @@ from vkgl.cli.commands import COMMANDS, Command, print_diagnostics
 from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED
 from vkgl.cli.paths import check_paths
 
-__all__ = ["build_parser", "main"]
+__all__ = ["build_parser", "main", "run"]
+
+
+def run() -> None:
+    """The `vkgc` console script: Ctrl-C ends it at once (`vkgl.cli.interrupt`); exit with `main()`'s code."""
+    from vkgl.cli import interrupt
+
+    interrupt.install()
+    sys.exit(main())
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run `vkgc` with `argv` (default sys.argv[1:]); return the exit code."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return EXIT_INPUT
-    return _run(COMMANDS[args.command], args)
+    try:
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_INPUT
+        return _run(COMMANDS[args.command], args)
+    except KeyboardInterrupt:  # before or after a command ran (a command's own Ctrl-C is handled in _run)
+        print("vkgc: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 def _run(command: Command, args: argparse.Namespace) -> int:

@@ -1,7 +1,5 @@
 """`python -m vkgl.cli` is `vkgc`."""
 
-import sys
+from vkgl.cli import run
 
-from vkgl.cli import main
-
-sys.exit(main())
+run()

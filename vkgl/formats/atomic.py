@@ -12,11 +12,14 @@ import os
 import tempfile
 from pathlib import Path
 
+_IN_FLIGHT: set[str] = set()  # temporary files being written now (removed by `discard_temporaries`)
+
 
 def write_bytes(path: str | Path, data: bytes) -> None:
     """Replace `path` by `data` in one step; on any error the old file (if any) is left as it was."""
     destination = Path(path)
     handle, temporary = tempfile.mkstemp(prefix=f".{destination.name}.", suffix=".tmp", dir=destination.parent)
+    _IN_FLIGHT.add(temporary)
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
@@ -27,6 +30,15 @@ def write_bytes(path: str | Path, data: bytes) -> None:
         with contextlib.suppress(OSError):
             os.unlink(temporary)
         raise
+    finally:
+        _IN_FLIGHT.discard(temporary)
+
+
+def discard_temporaries() -> None:
+    """Remove the temporary files of writes under way (a process about to end at once calls this)."""
+    for temporary in list(_IN_FLIGHT):
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
 
 
 def write_text(path: str | Path, text: str) -> None:

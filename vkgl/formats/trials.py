@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.formats.atomic import write_bytes
 
 FORMAT = "vkg-trials/1"
 
@@ -56,7 +57,7 @@ class Trials:
             "ok": np.asarray(self.ok, dtype=bool),
             "reason": np.asarray(self.reason, dtype=str),
         }
-        Path(path).write_bytes(_deterministic_npz(arrays))
+        write_bytes(path, _deterministic_npz(arrays))
 
     @classmethod
     def load(cls, path: str | Path) -> Trials:

@@ -23,10 +23,14 @@ by a joint or a hand.
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
-from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
+import signal
+import threading
+from collections.abc import Callable, Iterator
+from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import TimeoutError as FuturesTimeout
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from typing import Any
@@ -96,22 +100,33 @@ def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: bool) -> li
     asserts on a blown-up world) takes down its worker, not the caller. The
     trials that a broken pool leaves without result are run again one per
     process, so that the one that aborts is found and marked failed.
+    Ctrl-C ends the workers at once (they ignore SIGINT themselves, so none
+    prints a traceback) and is raised again here.
     """
     results: list[TrialResult | None] = [None] * len(specs)
     context = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
     try:
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-            # Submitting forks the workers: do it before the progress bar starts its thread.
+        # Submitting forks the workers and starts the pool's threads: do it with SIGINT blocked, so that
+        # they inherit the block (a Ctrl-C is then always delivered to this thread, which can act on it)
+        # and no worker can take a Ctrl-C before it has set itself to ignore it. Before the progress bar
+        # starts its thread, too.
+        with _sigint_blocked():
+            pool = ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_ignore_sigint)
             futures = [pool.submit(run_trial, spec, seed) for spec in specs]
+        try:
             advance = _progress_bar(len(specs)) if progress else None
             try:
                 for i, future in enumerate(futures):
-                    results[i] = future.result()
+                    results[i] = _result(future)
                     if advance:
                         advance()
             finally:
                 if advance:
                     advance(stop=True)
+        except BaseException:
+            _stop_now(pool)
+            raise
+        pool.shutdown()
     except BrokenProcessPool:
         pass
     for i, spec in enumerate(specs):
@@ -120,11 +135,54 @@ def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: bool) -> li
     return [r for r in results if r is not None]
 
 
-def _run_isolated(spec: TrialSpec, seed: int, context: Any) -> TrialResult:
+def _ignore_sigint() -> None:
+    """In a worker: Ctrl-C is the parent's to handle (it ends the workers)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+@contextlib.contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    if threading.current_thread() is not threading.main_thread():
+        yield  # only the main thread receives Python's signals; nothing to arrange elsewhere
+        return
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
-        with ProcessPoolExecutor(max_workers=1, mp_context=context) as pool:
-            return pool.submit(run_trial, spec, seed).result()
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+
+
+def _result(future: Future[TrialResult]) -> TrialResult:
+    """`future.result()`, waking up often so that a pending Ctrl-C is raised here without delay."""
+    while True:
+        try:
+            return future.result(timeout=0.1)
+        except FuturesTimeout:
+            continue
+
+
+def _stop_now(pool: ProcessPoolExecutor) -> None:
+    """End a pool without waiting for its running trials (Ctrl-C, or an error in the parent)."""
+    # The executor has no public way to kill busy workers; shutdown() alone would wait for them.
+    processes = list(getattr(pool, "_processes", {}).values())
+    for process in processes:
+        process.terminate()
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        process.join(timeout=1.0)
+        if process.is_alive():
+            process.kill()
+
+
+def _run_isolated(spec: TrialSpec, seed: int, context: Any) -> TrialResult:
+    with _sigint_blocked():
+        pool = ProcessPoolExecutor(max_workers=1, mp_context=context, initializer=_ignore_sigint)
+        future = pool.submit(run_trial, spec, seed)
+    try:
+        result = _result(future)
     except BrokenProcessPool:
+        pool.shutdown()
         return TrialResult(
             np.zeros(0),
             np.zeros((0, 4, 4)),
@@ -132,6 +190,11 @@ def _run_isolated(spec: TrialSpec, seed: int, context: Any) -> TrialResult:
             False,
             "the simulator aborted (a numerical blow-up took down its process)",
         )
+    except BaseException:
+        _stop_now(pool)
+        raise
+    pool.shutdown()
+    return result
 
 
 def _progress_bar(total: int) -> Callable[..., None]:

@@ -1,0 +1,47 @@
+"""Ctrl-C in `vkgc`: stop at once, cleanly.
+
+The console script installs `on_interrupt` as the SIGINT handler. It ends
+the worker processes (exploration runs trials in a process pool), removes the
+temporary files of writes under way (outputs are written atomically, so no
+output is ever half written), says so on stderr and exits 130 — without
+unwinding through the interpreter's exit handlers, which would wait for the
+threads of the pool just torn down, and without letting the interrupt land
+inside a C extension's import (which would turn it into an ImportError).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import signal
+import sys
+from types import FrameType
+
+from vkgl.cli.exit_codes import EXIT_INTERRUPTED
+
+_GRACE = 0.5  # s a worker is given to end after SIGTERM before it is killed
+
+
+def install() -> None:
+    """Make Ctrl-C end `vkgc` at once (call once, in the main thread of the console script)."""
+    signal.signal(signal.SIGINT, on_interrupt)
+
+
+def on_interrupt(signum: int, frame: FrameType | None) -> None:
+    """End the workers, drop half-written files, exit 130."""
+    from vkgl.formats.atomic import discard_temporaries
+
+    children = multiprocessing.active_children()
+    for child in children:
+        child.terminate()
+    for child in children:
+        child.join(_GRACE)
+        if child.is_alive():
+            child.kill()
+    discard_temporaries()
+    try:
+        sys.stdout.flush()
+        sys.stderr.write("vkgc: interrupted\n")
+        sys.stderr.flush()
+    finally:
+        os._exit(EXIT_INTERRUPTED)
