@@ -40,6 +40,8 @@ class SearchStats:
     graphs_expanded: int = 0
     sequences: int = 0
     pruned: int = 0
+    passed_over: int = 0  # sequences whose last mode moves no goal body: extended, never checked themselves
+    cut_by_depth: int = 0  # sequences at max_depth that could have been extended further
     task_space_checks: int = 0
     joint_space_checks: int = 0
     work: Counters = field(default_factory=Counters)
@@ -79,6 +81,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
         while queue:
             seq = queue.popleft()
             if seq.depth >= problem.max_depth:
+                stats.cut_by_depth += 1
                 continue
             stats.graphs_expanded += 1
             stats.depth_reached = max(stats.depth_reached, seq.depth + 1)
@@ -96,8 +99,12 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                     found = _check(problem, child, stats, deadline)
                     if found is not None:
                         return found
+                else:
+                    stats.passed_over += 1
                 if child.depth < problem.max_depth:
                     queue.append(child)
+                else:
+                    stats.cut_by_depth += 1
     finally:
         reporter.done()
     if time.perf_counter() > deadline:
@@ -141,22 +148,46 @@ _KIND_WORDS = {
     "timeout": "ran out of time",
 }
 
+# How far a rejected sequence got: a failure in joint space came closer to a plan than one in task space,
+# which came closer than a hand pose out of reach. The decisive cause is the furthest stage's.
+_STAGE = {"reach": 0, "yaw": 1, "position": 1, "goal": 1, "table": 1, "ik": 2, "timeout": 2}
+
 
 def _summary(stats: SearchStats) -> str:
+    kinds = sorted(stats.rejections, key=lambda k: (-_STAGE.get(k, 1), -stats.rejections[k], k))
     parts = [
-        f"{n} {_KIND_WORDS.get(kind, kind)} (closest: {stats.examples[kind][1]})"
-        for kind, n in stats.rejections.most_common()
+        f"{stats.rejections[kind]} {_KIND_WORDS.get(kind, kind)} (closest: {stats.examples[kind][1]})" for kind in kinds
     ]
     return "; ".join(parts)
 
 
-def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
-    head = (
-        f"no sequence of at most {problem.max_depth} graphs reaches the goal "
-        f"({stats.sequences} sequences tried, {stats.task_space_checks} task-space checks)"
+def _accounting(stats: SearchStats) -> str:
+    """Where every sequence tried went; the parts add up to the total."""
+    checked = stats.task_space_checks
+    parts = [f"{stats.pruned} with the hand out of reach at once", f"{checked} checked in task space"]
+    if stats.joint_space_checks:
+        parts.append(f"{stats.joint_space_checks} of them also in joint space")
+    return (
+        f"{stats.sequences} sequences tried: {stats.passed_over} only lead to others (their last step moves "
+        f"no goal body), " + ", ".join(parts)
     )
+
+
+def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
+    head = f"no sequence of at most {problem.max_depth} graphs reaches the goal"
     detail = _summary(stats)
-    return f"{head}: {detail}" if detail else head
+    reason = f"{head}: {detail}" if detail else head
+    reason += f" [{_accounting(stats)}]"
+    if stats.cut_by_depth and problem.max_depth < MAX_DEPTH_HINT:
+        reason += (
+            f"; {stats.cut_by_depth} sequences were cut at max_depth {problem.max_depth}: a longer one may "
+            f"work (try --max-depth {problem.max_depth + 1})"
+        )
+    return reason
+
+
+MAX_DEPTH_HINT = 12
+"""No deeper search is suggested past this depth (the CLI's --max-depth limit)."""
 
 
 def _timeout_reason(problem: Problem, stats: SearchStats) -> str:
