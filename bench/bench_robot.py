@@ -65,7 +65,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--samples", type=int, default=200, help="targets per IK row (default 200)")
     args = parser.parse_args(argv)
 
-    import vkgl.robot as robot_module
+    import vkgl.robot.reach as robot_module
     from vkgl.robot import Arm
 
     rng = np.random.default_rng(0)

@@ -1,0 +1,85 @@
+"""Inverse kinematics, checked by what it promises: round trips, limits, paths without jumps, determinism."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from panda_fixtures import (
+    LOWER,
+    UPPER,
+    arm_fixture,  # noqa: F401 (the `arm` fixture)
+    hand_down,
+    panda_robot,
+    pose_error,
+    transform,
+)
+from scipy.spatial.transform import Rotation
+
+from vkgl.robot import Arm, clear_caches
+
+
+def test_ik_round_trips_random_reachable_targets_within_the_limits(arm: Arm) -> None:
+    rng = np.random.default_rng(11)
+    for q in rng.uniform(LOWER, UPPER, (25, 7)):
+        target = arm.fk(q)
+        found = arm.ik(target)
+        assert found is not None, f"no IK for the FK of {q}"
+        assert np.all(arm.lower <= found) and np.all(found <= arm.upper)
+        position, angle = pose_error(arm.fk(found), target)
+        assert position < 1e-3 and angle < math.radians(0.5)
+
+
+def test_ik_solves_hand_down_pushes_all_over_the_table(arm: Arm) -> None:
+    # (how fast: bench/bench_robot.py)
+    rng = np.random.default_rng(3)
+    for _ in range(40):
+        radius, azimuth, yaw = rng.uniform(0.3, 0.75), rng.uniform(-1.5, 1.5), rng.uniform(-math.pi, math.pi)
+        target = hand_down(radius * math.cos(azimuth), radius * math.sin(azimuth), 0.025, yaw)
+        found = arm.ik(target)
+        assert found is not None
+        position, angle = pose_error(arm.fk(found), target)
+        assert position < 1e-3 and angle < math.radians(0.5)
+
+
+def test_ik_warm_started_follows_a_path_without_jumps(arm: Arm) -> None:
+    q = arm.ik(hand_down(0.45, 0.0, 0.03))
+    for step in range(1, 21):
+        nxt = arm.ik(hand_down(0.45 + 0.01 * step, 0.0, 0.03), q0=q)
+        assert nxt is not None
+        assert np.max(np.abs(nxt - q)) < 0.2  # 1 cm of motion: a small joint step, not another branch
+        q = nxt
+
+
+def test_ik_with_yaw_free_matches_position_and_z_axis_only(arm: Arm) -> None:
+    tilted = transform(Rotation.from_euler("xz", [20, 70], degrees=True).as_matrix(), (0.5, 0.15, 0.1))
+    found = arm.ik(tilted, yaw_free=True)
+    assert found is not None
+    pose = arm.fk(found)
+    assert np.linalg.norm(pose[:3, 3] - tilted[:3, 3]) < 1e-3
+    assert math.acos(min(1.0, pose[:3, 2] @ tilted[:3, 2])) < math.radians(0.5)
+    # a hand-down target at any yaw is the same problem when the yaw is free
+    for yaw in (0.0, 1.0, 2.5, -2.0):
+        found = arm.ik(hand_down(0.55, -0.1, 0.03, yaw), yaw_free=True)
+        assert found is not None
+        assert arm.fk(found)[2, 2] > math.cos(math.radians(0.5))
+
+
+def test_ik_of_an_unreachable_target_is_none_and_quick(arm: Arm) -> None:
+    start = time.perf_counter()
+    assert arm.ik(hand_down(2.0, 0.0, 0.03)) is None
+    assert time.perf_counter() - start < 0.05  # rejected by its distance, without optimising (which takes ~0.1 s)
+    # within the chain's length but beyond a hand-down pose's reach: the optimiser must say no
+    start = time.perf_counter()
+    assert arm.ik(hand_down(0.95, 0.0, 0.03), yaw_free=True) is None
+    assert time.perf_counter() - start < 1.0
+
+
+def test_ik_is_deterministic() -> None:
+    one = Arm.load(panda_robot(), "fingertip", np.eye(4))
+    clear_caches()  # compute the ready pose again, not from the cache
+    two = Arm.load(panda_robot(), "fingertip", np.eye(4))
+    target = hand_down(0.6, -0.2, 0.05, 0.7)
+    np.testing.assert_array_equal(one.home, two.home)
+    np.testing.assert_array_equal(one.ik(target), two.ik(target))
