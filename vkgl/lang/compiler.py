@@ -10,6 +10,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from vkgl.errors import CompileError
+from vkgl.lang import codes
 from vkgl.lang.checks import check_program
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
@@ -58,12 +59,24 @@ def _compile(path: str) -> tuple[Program | None, list[Diagnostic]]:
 
 
 # A module that could not be found, read or parsed, or that closes a cycle: its names are missing.
-_UNLOADED = {"E501", "E502", "E505"} | {f"E10{i}" for i in range(1, 6)}
+_UNLOADED = {
+    c.code
+    for c in (
+        codes.MISSING_MODULE,
+        codes.IMPORT_CYCLE,
+        codes.SOURCE_UNREADABLE,
+        codes.UNEXPECTED_TOKEN,
+        codes.UNEXPECTED_CHARACTER,
+        codes.UNEXPECTED_END,
+        codes.NESTING_TOO_DEEP,
+        codes.UNKNOWN_UNIT,
+    )
+}
 
 
 def _maybe_in_unloaded_module(diag: Diagnostic) -> Diagnostic:
     """An unknown name may be declared in a module that failed to load: say so, so the user fixes that first."""
-    if diag.code != "E301":
+    if diag.code != codes.UNKNOWN_NAME.code:
         return diag
     note = "a module of this compilation could not be loaded (see its error); the name may be declared there"
     return replace(diag, notes=(*diag.notes, note))

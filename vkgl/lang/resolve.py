@@ -14,7 +14,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from vkgl.lang import ir
+from vkgl.lang import codes, ir
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.parser import parse_collecting
 from vkgl.resources import stdlib_dir
@@ -87,7 +87,9 @@ class _Loader:
         except OSError as exc:
             reason = exc.strerror or str(exc)
         span = via.span if via is not None else ir.Span(file=shown, line=1, col=1, end_line=1, end_col=1)
-        self.out.diagnostics.append(Diagnostic("E505", f"cannot read `{shown}`: {reason}", span, notes=notes))
+        self.out.diagnostics.append(
+            codes.SOURCE_UNREADABLE.diagnostic(f"cannot read `{shown}`: {reason}", span, *notes)
+        )
         return None
 
     def _resolve_use(self, use: ir.Use, importer: Path, stack: list[Path]) -> ir.Use:
@@ -101,8 +103,8 @@ class _Loader:
     def _report_cycle(self, cycle: list[Path], via: ir.Use | None) -> None:
         chain = " -> ".join(_display_path(p) for p in cycle)
         self.out.diagnostics.append(
-            Diagnostic(
-                "E502", f"import cycle: {chain}", via.span if via else None, notes=("remove one of these `use` lines",)
+            codes.IMPORT_CYCLE.diagnostic(
+                f"import cycle: {chain}", via.span if via else None, "remove one of these `use` lines"
             )
         )
 
@@ -128,7 +130,7 @@ def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
         message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_described_roots(importer))
         suggestion = _close_module(use.target, roots)
     notes = (f"did you mean `{suggestion}`?",) if suggestion else ()
-    return Diagnostic("E501", message, use.span, notes=notes)
+    return codes.MISSING_MODULE.diagnostic(message, use.span, *notes)
 
 
 def _described_roots(importer: Path) -> list[str]:
