@@ -120,3 +120,18 @@ def shown_vector(v: ir.Vector) -> str:
     scale = float(SCALE.get(v.unit, 1))
     inner = ", ".join(f"{x / scale:g}" for x in v.values)
     return f"`({inner}) {v.unit}`" if v.unit else f"`({inner})`"
+
+
+def unknown_frame(body: ir.Body, name: str, span: ir.Span | None, ctx: CheckContext) -> None:
+    """Report that `body` has no frame `name`, suggesting the closest frame."""
+    frames = [f.name for f in body.frames]
+    ctx.error(
+        codes.UNKNOWN_FRAME,
+        f"body `{body.name}` has no frame `{name}`",
+        span,
+        did_you_mean(name, frames) or _no_frames(frames),
+    )
+
+
+def _no_frames(frames: list[str]) -> str:
+    return "" if frames else "it declares no frames: add e.g. `frame tip = (20, 0, 0) cm`"

@@ -17,16 +17,20 @@ import numpy as np
 
 from vkgl.lang import codes, ir
 from vkgl.lang.check_context import CheckContext, did_you_mean, duplicates, shown, shown_vector
+from vkgl.lang.checks_explore import check_explore
 
 
 def check_body(body: ir.Body, ctx: CheckContext) -> None:
+    """Report every problem of a body: mass, shape and its files, friction, frames, joint and explorations."""
     if body.mass.value <= 0:
         ctx.error(
             codes.NON_POSITIVE_MASS,
             f"the mass of `{body.name}` must be positive, got {shown(body.mass)}",
             body.mass.span,
         )
+    before = len(ctx.diagnostics)
     _check_shape(body.shape, ctx)
+    shape_ok = len(ctx.diagnostics) == before
     if body.friction is not None and body.friction < 0:
         ctx.error(
             codes.NEGATIVE_FRICTION,
@@ -38,7 +42,7 @@ def check_body(body: ir.Body, ctx: CheckContext) -> None:
         _check_joint(body.joint, ctx)
     duplicates(body.explores, "exploration", ctx)
     for explore in body.explores:
-        _check_explore(explore, body, ctx)
+        check_explore(explore, body, shape_ok, ctx)
 
 
 def _check_shape(shape: Any, ctx: CheckContext) -> None:
@@ -114,51 +118,13 @@ def _check_joint(joint: ir.Joint, ctx: CheckContext) -> None:
 
 
 def check_direction(vector: ir.Vector, what: str, ctx: CheckContext) -> None:
+    """Report a direction vector (`what`, e.g. "a joint axis") that is zero."""
     if len(vector.values) and not np.any(np.asarray(vector.values) != 0):
         ctx.error(codes.ZERO_DIRECTION, f"{what} must not be zero", vector.span)
 
 
-def _check_explore(explore: ir.Explore, body: ir.Body, ctx: CheckContext) -> None:
-    if explore.grasp is not None and body.frame(explore.grasp.name) is None:
-        unknown_frame(body, explore.grasp.name, explore.grasp.span, ctx)
-    if explore.contacts is not None and explore.contacts.steps <= 0:
-        ctx.error(
-            codes.NON_POSITIVE_VALUE,
-            f"`steps` must be at least 1, got {explore.contacts.steps}",
-            ctx.narrow(explore.contacts.span, r"steps\s+(\S+)"),
-        )
-    if explore.force is not None:
-        if explore.force.magnitude.value <= 0:
-            ctx.error(
-                codes.NON_POSITIVE_VALUE,
-                f"the force must be positive, got {shown(explore.force.magnitude)}",
-                explore.force.magnitude.span,
-            )
-        if explore.force.grid is not None and min(explore.force.grid) < 1:
-            ctx.error(codes.NON_POSITIVE_VALUE, "each direction grid size must be at least 1", explore.force.span)
-    if explore.duration is not None and explore.duration.value <= 0:
-        ctx.error(
-            codes.NON_POSITIVE_VALUE,
-            f"the duration must be positive, got {shown(explore.duration)}",
-            explore.duration.span,
-        )
-
-
-def unknown_frame(body: ir.Body, name: str, span: ir.Span | None, ctx: CheckContext) -> None:
-    frames = [f.name for f in body.frames]
-    ctx.error(
-        codes.UNKNOWN_FRAME,
-        f"body `{body.name}` has no frame `{name}`",
-        span,
-        did_you_mean(name, frames) or _no_frames(frames),
-    )
-
-
-def _no_frames(frames: list[str]) -> str:
-    return "" if frames else "it declares no frames: add e.g. `frame tip = (20, 0, 0) cm`"
-
-
 def check_robot(robot: ir.Robot, ctx: CheckContext) -> None:
+    """Report a robot's duplicate effectors, an unusable URDF and effector links the URDF lacks."""
     duplicates(robot.effectors, "effector", ctx)
     path = robot.urdf_resolved or robot.urdf
     links, problem = _urdf_links(path)

@@ -242,7 +242,8 @@ ZERO_DIRECTION = _code(
     "zero direction vector",
     (
         "A direction vector (joint axis, `prismatic along`, `revolute ... axis`) must not be `(0, 0, 0)`: it "
-        "says which way things move."
+        "says which way things move. Likewise an exploration's direction grid `1 x 1 x 1` holds only the zero "
+        "direction: give an axis more than one point (`3 x 3 x 3`)."
     ),
 )
 REVERSED_LIMITS = _code(
@@ -265,7 +266,8 @@ STATEMENT_MISSING = _code(
     "required statement missing",
     (
         "A required statement is missing: a body needs `shape` and `mass`, a robot `urdf`, a task `scene`, an"
-        " affordance `action` and `motion`, a union at least one part. The message shows an example to add."
+        " affordance `action` and `motion`, a union at least one part, an `explore` block a `force`, a "
+        "`duration` and either `contacts` (a push) or `grasp` (a grasp). The message shows an example to add."
     ),
 )
 SCENE_WITHOUT_TABLE = _code(
@@ -295,6 +297,34 @@ POSTERIOR_OUT_OF_RANGE = _code(
     "E412",
     "posterior outside [0, 1]",
     ("`posterior` in an affordance's `evidence` is a probability, between 0 and 1."),
+)
+PUSH_AND_GRASP_MIXED = _code(
+    "E413",
+    "push and grasp mixed in one explore block",
+    (
+        "An `explore` block is either a push (`contacts on faces ... steps K` with `force normal Q`, along the "
+        "face's inward normal) or a grasp (`grasp FRAME` with `force directions I x J x K Q`). It has both "
+        "`contacts` and `grasp`, or the force of the other kind: split it into two blocks, or use the force "
+        "that goes with it. Oblique pushes are not supported."
+    ),
+)
+UNREACHABLE_FACE = _code(
+    "E414",
+    "a face the fingertip cannot push",
+    (
+        "`contacts on faces` names `-z`, the underside of a body lying on the table, which the fingertip "
+        "cannot reach. Explore the side faces (`+x -x +y -y`) or the top (`+z`)."
+    ),
+)
+CONTACT_OFF_SURFACE = _code(
+    "E415",
+    "a contact point where the face has no surface",
+    (
+        "The K contact points of a pushed face sit on its centre line (docs/exploration.md); each is moved "
+        "onto the body's surface by a ray along the inward normal. For a union or mesh with a gap or hollow "
+        "there, the ray misses the body. Use fewer `steps`, another face, or change the shape. The message "
+        "says which point and where it is on the line."
+    ),
 )
 
 # modules and files (resolve.py, checks.py)
