@@ -19,19 +19,27 @@ from vkgl.lang.check_context import (
     lookup,
     shown,
     shown_vector,
+    unknown_frame,
     where_declared,
 )
-from vkgl.lang.checks_body import check_body, check_direction, check_robot, unknown_frame
+from vkgl.lang.checks_body import check_body, check_direction, check_robot
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
 
 
 def check_program(
-    modules: dict[str, ir.Module], root: str, sources: dict[str, str]
+    modules: dict[str, ir.Module],
+    root: str,
+    sources: dict[str, str],
+    folders: dict[str, Path] | None = None,
 ) -> tuple[Program, list[Diagnostic]]:
-    """Check every module and assemble the Program (valid only when no error is returned)."""
+    """Check every module and assemble the Program (valid only when no error is returned).
+
+    `folders` gives the directory a module's relative file paths start from (default: its file's).
+    """
     ctx = CheckContext(sources=sources)
-    resolved = {key: _resolve_files(module, ctx) for key, module in modules.items()}
+    folders = folders or {}
+    resolved = {key: _resolve_files(module, folders.get(key)) for key, module in modules.items()}
     for key, module in resolved.items():
         _declare(module, key, ctx)
     program = _assemble(resolved, root, sources, ctx)
@@ -75,11 +83,11 @@ def _assemble(modules: dict[str, ir.Module], root: str, sources: dict[str, str],
         elif isinstance(decl, ir.Task):
             program.tasks[decl.name] = decl
     for module in modules.values():
-        for decl in module.decls:
-            if isinstance(decl, ir.AffordanceSet):
-                program.affordances.setdefault(decl.body.name, []).extend(decl.affordances)
-            elif isinstance(decl, ir.Correspondences):
-                program.correspondences.extend(decl.items)
+        for block in module.decls:
+            if isinstance(block, ir.AffordanceSet):
+                program.affordances.setdefault(block.body.name, []).extend(block.affordances)
+            elif isinstance(block, ir.Correspondences):
+                program.correspondences.extend(block.items)
     return program
 
 
@@ -108,12 +116,12 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
         for constraint in (affordance.action, affordance.motion):
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 check_direction(constraint.axis, "an axis", ctx)
-        posterior = affordance.evidence.posterior if affordance.evidence is not None else 0.5
-        if posterior < 0 or posterior > 1:  # (NaN, a value already reported, fails both)
+        evidence = affordance.evidence
+        if evidence is not None and (evidence.posterior < 0 or evidence.posterior > 1):  # (NaN fails both)
             ctx.error(
                 codes.POSTERIOR_OUT_OF_RANGE,
-                f"a posterior is a probability in [0, 1], got `{affordance.evidence.posterior:g}`",
-                ctx.narrow(affordance.evidence.span, r"posterior\s+(\S+)"),
+                f"a posterior is a probability in [0, 1], got `{evidence.posterior:g}`",
+                ctx.narrow(evidence.span, r"posterior\s+(\S+)"),
             )
     del body
 
@@ -225,7 +233,9 @@ def _check_tools_have_correspondences(program: Program, ctx: CheckContext) -> No
             continue
         for placed in scene.bodies:
             body = program.bodies.get(placed.type.name)
-            grasps = [e.grasp.name for e in body.explores if e.grasp is not None] if body is not None else []
+            if body is None:
+                continue
+            grasps = [e.grasp.name for e in body.explores if e.grasp is not None]
             if grasps and body.name not in with_correspondence:
                 ctx.warn(
                     codes.TOOL_WITHOUT_CORRESPONDENCE,
@@ -239,9 +249,9 @@ def _check_tools_have_correspondences(program: Program, ctx: CheckContext) -> No
 # ---------------------------------------------------------------- files
 
 
-def _resolve_files(module: ir.Module, ctx: CheckContext) -> ir.Module:
-    """The module with mesh and URDF paths made absolute (relative to the module's file)."""
-    folder = Path(module.path).resolve().parent
+def _resolve_files(module: ir.Module, folder: Path | None) -> ir.Module:
+    """The module with mesh and URDF paths made absolute (relative to `folder`, by default the module's file's)."""
+    folder = folder if folder is not None else Path(module.path).resolve().parent
     decls: list[Any] = []
     for decl in module.decls:
         if isinstance(decl, ir.Body):

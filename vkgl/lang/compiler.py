@@ -1,6 +1,7 @@
-"""The front end's entry points: compile a file into a checked Program, or check many files.
+"""The front end's entry points: compile a file (or a string) into a checked Program, or check many files.
 
 `compile_file` is what `vkgl.compile(path)` and every back end call;
+`compile_source` compiles text held in memory (tests, notebooks, generated problems);
 `check_files` is `vkgc check`: it reports and never raises for bad input.
 """
 
@@ -14,7 +15,7 @@ from vkgl.lang import codes
 from vkgl.lang.checks import check_program
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
-from vkgl.lang.resolve import load_program
+from vkgl.lang.resolve import LoadedProgram, load_program, load_source
 
 
 def compile_file(path: str | Path) -> Program:
@@ -23,7 +24,20 @@ def compile_file(path: str | Path) -> Program:
     Raises CompileError carrying every error, sorted by position; warnings are
     kept in `Program.warnings`.
     """
-    program, diagnostics = _compile(str(path))
+    return _raise_or_program(*_compile(str(path)))
+
+
+def compile_source(text: str, name: str = "<string>", *, base_dir: str | Path | None = None) -> Program:
+    """Parse, resolve and check the module `text`, as `compile_file` does a file.
+
+    Diagnostics show `name` as its path. `use` lines and relative mesh and URDF
+    paths of the text start from `base_dir` (the working directory when None).
+    Raises CompileError carrying every error; warnings are kept in `Program.warnings`.
+    """
+    return _raise_or_program(*_check_loaded(load_source(text, name, base_dir)))
+
+
+def _raise_or_program(program: Program | None, diagnostics: list[Diagnostic]) -> Program:
     errors = [d for d in diagnostics if d.is_error]
     if errors or program is None:
         raise CompileError(errors or diagnostics)
@@ -49,10 +63,13 @@ def check_files(paths: list[str]) -> tuple[list[Diagnostic], dict[str, str]]:
 
 
 def _compile(path: str) -> tuple[Program | None, list[Diagnostic]]:
-    loaded = load_program(path)
+    return _check_loaded(load_program(path))
+
+
+def _check_loaded(loaded: LoadedProgram) -> tuple[Program | None, list[Diagnostic]]:
     if loaded.root not in loaded.modules:
         return _empty(loaded.root, loaded.sources), sorted(loaded.diagnostics, key=Diagnostic.sort_key)
-    program, diagnostics = check_program(loaded.modules, loaded.root, loaded.sources)
+    program, diagnostics = check_program(loaded.modules, loaded.root, loaded.sources, loaded.folders)
     if any(d.code in _UNLOADED for d in loaded.diagnostics):
         diagnostics = [_maybe_in_unloaded_module(d) for d in diagnostics]
     return program, sorted(loaded.diagnostics + diagnostics, key=Diagnostic.sort_key)

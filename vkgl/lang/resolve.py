@@ -28,6 +28,8 @@ class LoadedProgram:
     modules: dict[str, ir.Module] = field(default_factory=dict)
     sources: dict[str, str] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # The directory each module's relative paths (meshes, URDFs, `use "..."`) start from.
+    folders: dict[str, Path] = field(default_factory=dict)
 
 
 def import_roots(importing_file: str) -> list[Path]:
@@ -44,6 +46,18 @@ def load_program(path: str) -> LoadedProgram:
     """Read, parse and resolve `path` and its imports; problems become diagnostics."""
     loaded = LoadedProgram(root=_display_path(Path(path)))
     _Loader(loaded).load(Path(path), via=None, stack=[])
+    return loaded
+
+
+def load_source(text: str, name: str, base_dir: str | Path | None = None) -> LoadedProgram:
+    """Parse `text` as the root module shown as `name`, and resolve its imports like `load_program`.
+
+    `use` lines and relative file paths of the text start from `base_dir` (the
+    working directory when None), as if the text were a file there.
+    """
+    folder = Path(base_dir if base_dir is not None else Path.cwd()).resolve()
+    loaded = LoadedProgram(root=name)
+    _Loader(loaded).load_text(text, name, folder / "<source>.vkg")
     return loaded
 
 
@@ -64,12 +78,18 @@ class _Loader:
         source = self._read(path, shown, via)
         if source is None:
             return None
+        return self.load_text(source, shown, real, stack)
+
+    def load_text(self, source: str, shown: str, real: Path, stack: list[Path] | None = None) -> str | None:
+        """Parse `source` as the module `shown` found at `real` (which need not exist) and load its imports."""
+        stack = stack or []
         module, _, diagnostics = parse_collecting(source, shown)
         self.out.sources[shown] = source
         self.out.diagnostics.extend(diagnostics)
         if module is None:
             return None
         self.by_real[real] = shown
+        self.out.folders[shown] = real.parent
         uses = [self._resolve_use(use, real, stack + [real]) for use in module.uses]
         self.out.modules[shown] = module.model_copy(update={"uses": uses})
         return shown
