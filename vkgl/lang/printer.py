@@ -13,6 +13,7 @@ single blank lines the user put between statements, which the IR does not keep.
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
@@ -82,6 +83,7 @@ class Line:
 
     @property
     def blank(self) -> bool:
+        """True for an empty line."""
         return not self.text
 
 
@@ -156,7 +158,7 @@ class _Layout:
                 text += " through " + vector_text(j.through)
             self.add(k, text + " limits " + pair_text(j.lower, j.upper), _line_of(j.span))
         for e in b.explores:
-            self.block(k, f"explore {e.name}", e.span, lambda kk, e=e: self.explore_items(kk, e))
+            self.block(k, f"explore {e.name}", e.span, functools.partial(self.explore_items, e=e))
 
     def shape(self, k: int, prefix: str, s: Shape, suffix: str = "", span: Span | None = None) -> None:
         anchor = _line_of(span if span is not None else s.span)
@@ -194,7 +196,7 @@ class _Layout:
 
     def affordances(self, k: int, s: AffordanceSet) -> None:
         for a in s.affordances:
-            self.block(k, f"affordance {a.name}", a.span, lambda kk, a=a: self.affordance_items(kk, a))
+            self.block(k, f"affordance {a.name}", a.span, functools.partial(self.affordance_items, a=a))
 
     def affordance_items(self, k: int, a: Affordance) -> None:
         self.add(k, "action " + constraint_text(a.action), _line_of(a.action.span))

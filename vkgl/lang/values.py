@@ -47,6 +47,8 @@ class RawQ:
 
 @dataclass
 class RawVec:
+    """A vector as written: its components, the unit after it (None if none), where, and the source text."""
+
     components: list[RawQ]
     unit: str | None
     span: ir.Span
@@ -55,6 +57,8 @@ class RawVec:
 
 @dataclass
 class RawPose:
+    """A pose as written: its position vector, then a yaw or an rpy (at most one), and where."""
+
     vector: RawVec
     yaw: RawQ | None
     rpy: RawVec | None
@@ -98,6 +102,7 @@ class ValueReader:
         self.diagnostics: list[Diagnostic] = []
 
     def span(self, meta: Any) -> ir.Span:
+        """The span of a grammar rule's match (line 1, col 1 for an empty rule)."""
         if getattr(meta, "empty", True):
             return new_node(ir.Span, file=self.path, line=1, col=1, end_line=1, end_col=1)
         return new_node(
@@ -111,6 +116,7 @@ class ValueReader:
         return " ".join(self.text[meta.start_pos : meta.end_pos].split())
 
     def tspan(self, token: Token) -> ir.Span:
+        """The span of one token of this file."""
         return token_span(token, self.path)
 
     def error(self, code: Code, message: str, span: ir.Span | None, *notes: str) -> None:
@@ -155,9 +161,11 @@ class ValueReader:
         return INVALID
 
     def number(self, raw: RawQ) -> float:
+        """A plain number (no unit); an error and NaN when it has one."""
         return self.si(raw, "") if self.check_unit(raw, "number") else INVALID
 
     def integer(self, raw: RawQ, what: str) -> int:
+        """A whole plain number (`what` names it in messages); an error and a stand-in count otherwise."""
         if not self.check_unit(raw, "number"):
             return VALID_COUNT
         if not re.fullmatch(r"[+-]?\d+", raw.text):
@@ -209,6 +217,7 @@ class ValueReader:
         return new_node(ir.Vector, values=tuple(values), unit=raw.unit, span=raw.span)
 
     def to_pose(self, raw: RawPose, sizes: tuple[int, ...] = (3,), rpy_allowed: bool = True) -> ir.Pose:
+        """A pose: position of one of `sizes` components, then `yaw` or (if `rpy_allowed`) `rpy`."""
         position = self.to_vector(raw.vector, "length", sizes, "a position")
         yaw = self.to_quantity(raw.yaw, "angle") if raw.yaw is not None else None
         rpy = None
