@@ -14,7 +14,7 @@ import string
 from hypothesis import strategies as st
 
 from vkgl.lang import ir
-from vkgl.lang.printer import to_si
+from vkgl.lang.units import to_si
 
 PATH = "generated.vkg"
 
@@ -27,11 +27,80 @@ UNITS = {
 }
 
 KEYWORDS = frozenset(
-    """use body shape mass friction frame joint prismatic revolute axis through limits explore
-    contacts on faces steps force normal directions x grasp duration box cylinder radius height
-    mesh scale union at yaw rpy robot urdf effector link offset affordances affordance action
-    motion evidence trials loglik posterior fixed along from about free correspondences scene
-    table size task goal and within search max_depth timeout m cm mm deg rad kg g N s ms""".split()
+    [
+        "use",
+        "body",
+        "shape",
+        "mass",
+        "friction",
+        "frame",
+        "joint",
+        "prismatic",
+        "revolute",
+        "axis",
+        "through",
+        "limits",
+        "explore",
+        "contacts",
+        "on",
+        "faces",
+        "steps",
+        "force",
+        "normal",
+        "directions",
+        "x",
+        "grasp",
+        "duration",
+        "box",
+        "cylinder",
+        "radius",
+        "height",
+        "mesh",
+        "scale",
+        "union",
+        "at",
+        "yaw",
+        "rpy",
+        "robot",
+        "urdf",
+        "effector",
+        "link",
+        "offset",
+        "affordances",
+        "affordance",
+        "action",
+        "motion",
+        "evidence",
+        "trials",
+        "loglik",
+        "posterior",
+        "fixed",
+        "along",
+        "from",
+        "about",
+        "free",
+        "correspondences",
+        "scene",
+        "table",
+        "size",
+        "task",
+        "goal",
+        "and",
+        "within",
+        "search",
+        "max_depth",
+        "timeout",
+        "m",
+        "cm",
+        "mm",
+        "deg",
+        "rad",
+        "kg",
+        "g",
+        "N",
+        "s",
+        "ms",
+    ]
 )
 
 FACES = ["+x", "-x", "+y", "-y", "+z", "-z"]

@@ -6,7 +6,6 @@ import re
 import textwrap
 
 import pytest
-
 from conftest import DESIGN, vkg_files
 
 from vkgl.cli import main

@@ -10,10 +10,10 @@ To regenerate the .expected files after an intended change of a message, run
 
     VKG_UPDATE_GOLDEN=1 /tmp/venv/bin/pytest tests/lang/test_golden.py
 
-then review the diff (`git diff tests/lang/golden/`) and refresh docs/errors.md, which
-quotes every output (a test checks it):
+then review the diff (`git diff tests/lang/golden/`) and regenerate docs/errors.md, which
+quotes every output (a test checks it is exactly the generated text):
 
-    /tmp/venv/bin/python tests/lang/golden/make_errors_doc.py
+    python -m vkgl.lang.errors_doc > docs/errors.md
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ import pytest
 
 from vkgl.cli import main
 from vkgl.lang.codes import CODES
+from vkgl.lang.errors_doc import errors_doc
 from vkgl.resources import stdlib_dir
 
 REPO = Path(__file__).resolve().parents[2]
@@ -107,3 +108,10 @@ def test_docs_show_the_golden_outputs_verbatim() -> None:
     text = ERRORS_DOC.read_text(encoding="utf-8")
     stale = [c.name for c in CASES if c.with_suffix(".expected").read_text(encoding="utf-8").rstrip("\n") not in text]
     assert stale == [], "update docs/errors.md with the new output of these cases"
+
+
+def test_errors_doc_is_the_generated_text() -> None:
+    """docs/errors.md is generated from the code registry and the golden cases: regenerate, never edit by hand."""
+    assert ERRORS_DOC.read_text(encoding="utf-8") == errors_doc(REPO), (
+        "docs/errors.md is stale: run `python -m vkgl.lang.errors_doc > docs/errors.md`"
+    )

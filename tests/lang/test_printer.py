@@ -5,14 +5,15 @@ from __future__ import annotations
 import math
 
 import pytest
+from conftest import vkg_files
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-
-from conftest import vkg_files
 from strategies import PATH, UNITS, modules
 
 from vkgl.lang import ir
-from vkgl.lang.printer import format_number, format_scaled, print_module, to_si
+from vkgl.lang.printer import print_module
+from vkgl.lang.quantities import format_number, format_scaled
+from vkgl.lang.units import to_si
 
 # Deterministic (derandomize) and quick; the round trip runs a few hundred modules in seconds.
 FAST = settings(derandomize=True, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -1,4 +1,8 @@
-"""Bad exploration input: a clear error that says where (file:line:col) and what to change, never a traceback."""
+"""Bad exploration input: a clear error that says where (file:line:col) and what to change, never a traceback.
+
+Bad policies are diagnostics of the front end (vkgl/lang/checks_explore.py), reported when the
+program compiles; the explorer trusts checked IR.
+"""
 
 from __future__ import annotations
 
@@ -7,60 +11,98 @@ from pathlib import Path
 
 import pytest
 import trimesh
-from sim_bodies import FILE, block, push_policy, q, stick, v, with_policy
+from sim_bodies import FILE, block, push_policy, q, v
 
 from vkgl.errors import CompileError, InputError, SimulationError
+from vkgl.lang.compiler import compile_source
 from vkgl.lang.ir import Body, MeshShape
 from vkgl.sim.explore import explore
 
+SRC = "policy.vkg"
+BLOCK = """\
+body Block {
+    shape box (10, 20, 5) cm
+    mass 0.5 kg
+    explore pushes {
+        contacts on faces +x, -x steps 9
+        force normal 1 N
+        duration 2 s
+    }
+}
+"""
+STICK = """\
+body Stick {
+    shape box (40, 2, 2) cm
+    mass 0.1 kg
+    frame handle = (-15, 0, 0) cm
+    frame tip = (20, 0, 0) cm
+    explore wield {
+        grasp handle
+        force directions 3 x 3 x 3  1 N
+        duration 1 s
+    }
+}
+"""
 
-def explore_error(body: Body) -> CompileError:
+
+def compile_error(text: str) -> CompileError:
+    """The one error `vkgc` reports for a bad policy, when the program compiles (before any simulation)."""
     with pytest.raises(CompileError) as info:
-        explore(body, jobs=1)
-    assert len(info.value.diagnostics) == 1
+        compile_source(text, SRC)
+    assert len(info.value.diagnostics) == 1, info.value.diagnostics
     return info.value
 
 
-def test_a_body_without_explore_block_is_reported_at_its_name() -> None:
-    error = explore_error(block().model_copy(update={"explores": []}))
-    assert str(error).startswith(f"{FILE}:7:6: error[E701]: body `Block` has no `explore` block")
-    assert "explore pushes {" in str(error)  # says what to add
+def test_a_body_without_explore_block_is_an_input_error_at_its_name() -> None:
+    with pytest.raises(InputError) as info:
+        explore(block().model_copy(update={"explores": []}), jobs=1)
+    assert str(info.value).startswith(f"{FILE}:7:6: body `Block` has no `explore` block")
+    assert "explore pushes {" in str(info.value)  # says what to add
 
 
-@pytest.mark.parametrize("face, words", [("+w", "there is no face `+w`"), ("-z", "underside, which lies on the table")])
-def test_a_face_that_cannot_be_pushed_is_reported_at_the_contacts(face: str, words: str) -> None:
-    error = explore_error(with_policy(block(), faces=["+x", face]))
-    assert str(error).startswith(f"{FILE}:11:5: error[E703]: ")
-    assert words in str(error)
+def test_the_underside_cannot_be_pushed() -> None:
+    error = compile_error(BLOCK.replace("+x, -x", "+x, -z"))
+    assert str(error).startswith(f"{SRC}:5:31: error[E414]: face -z of `Block` is its underside")
 
 
 def test_an_unknown_grasp_frame_is_reported_at_its_name() -> None:
-    error = explore_error(stick(grasp="grip"))
-    assert str(error).startswith(f"{FILE}:11:9: error[E705]: body `Stick` has no frame `grip` to grasp")
-    assert "its frames: handle, tip" in str(error)
+    error = compile_error(STICK.replace("grasp handle", "grasp grip"))
+    assert str(error).startswith(f"{SRC}:7:15: error[E303]: body `Stick` has no frame `grip`")
 
 
-@pytest.mark.parametrize("body", [with_policy(block(), magnitude=0.0), with_policy(stick(), magnitude=0.0)])
-def test_a_zero_force_is_reported_at_the_force(body: Body) -> None:
-    error = explore_error(body)
-    assert "error[E706]: the force of explore" in str(error) and "a zero force moves nothing" in str(error)
-    assert str(error).startswith(f"{FILE}:12:5:")
+@pytest.mark.parametrize("text", [BLOCK.replace("normal 1 N", "normal 0 N"), STICK.replace("3  1 N", "3  0 N")])
+def test_a_zero_force_is_reported_at_the_force(text: str) -> None:
+    assert "error[E411]: the force must be positive, got `0 N`" in str(compile_error(text))
 
 
 def test_a_zero_duration_is_reported_at_the_duration() -> None:
-    error = explore_error(with_policy(block(), duration=0.0))
-    assert str(error).startswith(f"{FILE}:13:5: error[E707]: the duration of explore `pushes` must be positive")
+    error = compile_error(BLOCK.replace("duration 2 s", "duration 0 s"))
+    assert str(error).startswith(f"{SRC}:7:18: error[E411]: the duration must be positive")
 
 
 def test_zero_steps_and_an_all_zero_direction_grid_are_reported() -> None:
-    assert "error[E704]" in str(explore_error(with_policy(block(), steps=0)))
-    assert "only the zero direction" in str(explore_error(with_policy(stick(), grid=(1, 1, 1))))
+    assert "error[E411]: `steps` must be at least 1" in str(compile_error(BLOCK.replace("steps 9", "steps 0")))
+    error = compile_error(STICK.replace("3 x 3 x 3", "1 x 1 x 1"))
+    assert "error[E404]" in str(error) and "only the zero direction" in str(error)
 
 
-def test_a_policy_with_neither_contacts_nor_grasp_is_reported() -> None:
-    policy = block().explores[0].model_copy(update={"contacts": None})
-    error = explore_error(block().model_copy(update={"explores": [policy]}))
-    assert "error[E702]" in str(error) and "`contacts on faces ... steps K` or `grasp FRAME`" in str(error)
+def test_a_policy_must_be_a_push_or_a_grasp() -> None:
+    neither = compile_error(BLOCK.replace("        contacts on faces +x, -x steps 9\n", ""))
+    assert "error[E407]" in str(neither) and "`contacts on faces +x, -x steps 9` or `grasp FRAME`" in str(neither)
+    both = compile_error(
+        BLOCK.replace("steps 9\n", "steps 9\n        grasp com\n").replace(
+            "mass 0.5 kg", "mass 0.5 kg\n    frame com = (0, 0, 0) cm"
+        )
+    )
+    assert "error[E413]" in str(both) and "has both `contacts` and `grasp`" in str(both)
+    wrong_force = compile_error(STICK.replace("force directions 3 x 3 x 3  1 N", "force normal 1 N"))
+    assert "error[E413]" in str(wrong_force) and "`force directions I x J x K Q`" in str(wrong_force)
+
+
+@pytest.mark.parametrize("statement", ["force normal 1 N", "duration 2 s"])
+def test_a_policy_without_force_or_duration_is_reported(statement: str) -> None:
+    error = compile_error(BLOCK.replace(f"        {statement}\n", ""))
+    assert f"error[E407]: explore `pushes` has no `{statement.split()[0]}`" in str(error)
 
 
 def mesh_body(path: Path, duration: float = 0.2) -> Body:
@@ -106,11 +148,21 @@ def test_handmade_spans_are_those_of_a_source_file() -> None:
 
 
 def test_a_contact_point_over_a_gap_in_the_body_is_reported() -> None:
-    from vkgl.lang.ir import BoxShape, Pose, ShapePart, UnionShape
-
-    legs = UnionShape(
-        parts=[ShapePart(shape=BoxShape(size=v(0.05, 0.05, 0.05)), pose=Pose(position=v(0, y, 0))) for y in (-0.1, 0.1)]
-    )
-    body = block().model_copy(update={"shape": legs, "explores": [push_policy(["+x"], 3, 1.0, 0.1)]})
-    error = explore_error(body)
-    assert str(error).startswith(f"{FILE}:11:5: error[E708]: face +x of `Block` has no surface at contact point 2 of 3")
+    text = """\
+body Legs {
+    shape union {
+        box (5, 5, 5) cm at (0, -10, 0) cm
+        box (5, 5, 5) cm at (0, 10, 0) cm
+    }
+    mass 0.2 kg
+    explore pushes {
+        contacts on faces +x steps 3
+        force normal 1 N
+        duration 1 s
+    }
+}
+"""
+    error = compile_error(text)
+    assert str(error).startswith(f"{SRC}:8:27: error[E415]: face +x of `Legs` has no surface at contact point 2 of 3")
+    wide = text.replace("box (5, 5, 5)", "box (5, 10, 5)").replace("steps 3", "steps 2")  # points at y = +-7.5 cm
+    assert compile_source(wide, SRC).body("Legs").explores[0].contacts.steps == 2

@@ -41,7 +41,7 @@ from vkgl.lang.ir import (
     RevoluteC,
     Vector,
 )
-from vkgl.lang.printer import to_si
+from vkgl.lang.units import to_si
 
 _SAME_POINT = 1e-3  # m: contacts closer than this are the same grasp
 _SAME_DIRECTION = np.deg2rad(10.0)

@@ -1,55 +1,393 @@
-"""Every diagnostic code of the front end, with its one-line meaning.
+"""The registry of diagnostic codes: every code of the front end, its meaning and what to do about it.
 
-Codes are stable: tools and users grep for them. docs/errors.md shows an
-example of each; tests/lang/golden/ holds a golden test for each.
+Codes are stable: tools and users grep for them. Diagnostics are made through
+a `Code` (`UNKNOWN_NAME.error(message, span, *notes)`), never from a bare code
+string. `CODES` maps each code string to its `Code`, in order; docs/errors.md is
+generated from it and the golden tests (`python -m vkgl.lang.errors_doc`), and
+tests/lang/golden/ holds a golden test for each code.
 """
 
 from __future__ import annotations
 
-CODES: dict[str, str] = {
-    # syntax (vkgl/lang/parser.py)
-    "E101": "unexpected token",
-    "E102": "unexpected character or unterminated string",
-    "E103": "unexpected end of file",
-    "E104": "nesting too deep",
-    "E105": "unknown unit",
-    # units and values as written (vkgl/lang/parser.py)
-    "E201": "wrong dimension of a unit",
-    "E202": "missing unit",
-    "E203": "unit on a plain number",
-    "E204": "wrong number of components",
-    "E205": "unit both after the vector and on its components",
-    "E206": "not a whole number",
-    "E207": "rpy on a body placed on the table",
-    "E208": "number too large",
-    # names (vkgl/lang/checks.py)
-    "E301": "unknown name",
-    "E302": "duplicate name",
-    "E303": "unknown frame on a body",
-    "E304": "unknown effector",
-    "E305": "name of the wrong kind",
-    "E306": "goal on a body not in the task's scene",
-    "E307": "unknown link in the robot's URDF",
-    # values (vkgl/lang/checks.py)
-    "E401": "non-positive mass",
-    "E402": "non-positive size",
-    "E403": "negative friction",
-    "E404": "zero direction vector",
-    "E405": "joint limits lower > upper",
-    "E406": "statement given twice",
-    "E407": "required statement missing",
-    "E408": "scene without a table",
-    "E409": "scene without a robot",
-    "E410": "task without a goal",
-    "E411": "non-positive count, duration, force, timeout or tolerance",
-    "E412": "posterior outside [0, 1]",
-    # modules and files (vkgl/lang/resolve.py, checks.py)
-    "E501": "missing module",
-    "E502": "import cycle",
-    "E503": "mesh file missing or unreadable",
-    "E504": "URDF file missing or unreadable",
-    "E505": "source file missing or unreadable",
-    # warnings
-    "W601": "a goal body that no imported affordance can move",
-    "W602": "a tool frame with no correspondence in a task's scene",
-}
+from dataclasses import dataclass
+
+from vkgl.lang.diagnostics import Diagnostic
+from vkgl.lang.ir import Span
+
+
+@dataclass(frozen=True)
+class Code:
+    """One diagnostic code: `code` ("E301"), its one-line `meaning`, and the `explanation` docs/errors.md shows."""
+
+    code: str
+    meaning: str
+    explanation: str
+
+    @property
+    def severity(self) -> str:
+        """ "error" for E codes, "warning" for W codes."""
+        return "warning" if self.code.startswith("W") else "error"
+
+    def diagnostic(self, message: str, span: Span | None, *notes: str) -> Diagnostic:
+        """A diagnostic of this code (error or warning by the code's letter); empty notes are dropped."""
+        kept = tuple(n for n in notes if n)
+        if self.code.startswith("W"):
+            return Diagnostic(self.code, message, span, "warning", kept)
+        return Diagnostic(self.code, message, span, notes=kept)
+
+    def __str__(self) -> str:
+        return self.code
+
+
+CODES: dict[str, Code] = {}
+
+
+def _code(code: str, meaning: str, explanation: str) -> Code:
+    entry = Code(code, meaning, explanation)
+    assert code not in CODES, code
+    CODES[code] = entry
+    return entry
+
+
+# syntax (parser.py, syntax_errors.py)
+UNEXPECTED_TOKEN = _code(
+    "E101",
+    "unexpected token",
+    (
+        "The parser met a word or symbol that cannot come here. The message lists, in words, what could; the "
+        "caret is on the first thing it could not read. Common causes: `=` after `mass` (write `mass 0.5 "
+        "kg`), a missing `}` or a misspelt keyword. When a keyword such as `goal` was swallowed as a name "
+        "(`scene goal ...` with the scene's name left out), a note says so."
+    ),
+)
+UNEXPECTED_CHARACTER = _code(
+    "E102",
+    "unexpected character or unterminated string",
+    (
+        "A character that is not part of VKG (`;`, `@`, a non-ASCII letter outside a comment or string), or a"
+        ' string without its closing `"` on the same line. Statements need no separator: remove `;`. Close '
+        "strings on the line they start."
+    ),
+)
+UNEXPECTED_END = _code(
+    "E103",
+    "unexpected end of file",
+    (
+        "The file ends in the middle of a statement or block. A note points at the `{` that is never closed. "
+        "Add the missing `}` (or the rest of the statement)."
+    ),
+)
+NESTING_TOO_DEEP = _code(
+    "E104",
+    "nesting too deep",
+    (
+        "Unions may nest at most 32 levels (every later stage walks shapes recursively, and deeper nesting is"
+        " almost always generated by mistake). Flatten the union: a union's parts may themselves be placed "
+        "with `at POSE`, so nested unions can be written as one."
+    ),
+)
+UNKNOWN_UNIT = _code(
+    "E105",
+    "unknown unit",
+    (
+        "A word after a number that is not one of VKG's units. Units are `m cm mm` (length), `deg rad` "
+        "(angle), `kg g` (mass), `N` (force), `s ms` (time). Convert: 500 lb is `226.8 kg`."
+    ),
+)
+
+# units and values as written (values.py, builder.py)
+WRONG_DIMENSION = _code(
+    "E201",
+    "wrong dimension of a unit",
+    (
+        "The unit has the wrong dimension for this place (an angle where a length is expected, ...). The "
+        "message names the expected dimension and the note lists its units."
+    ),
+)
+MISSING_UNIT = _code(
+    "E202",
+    "missing unit",
+    (
+        "Physical quantities need a unit; a bare number is allowed only for dimensionless values (friction, "
+        "counts, direction vectors, mesh scale, evidence). Add a unit from the note's list."
+    ),
+)
+UNIT_ON_NUMBER = _code(
+    "E203",
+    "unit on a plain number",
+    ("This value is dimensionless (friction, a direction, a count, a mesh scale, evidence numbers): remove the unit."),
+)
+WRONG_COMPONENT_COUNT = _code(
+    "E204",
+    "wrong number of components",
+    (
+        "A vector has the wrong number of components: box sizes, positions, `through`, `from`, `about` and "
+        "`rpy` take 3; table sizes, `on table at` and goal positions 2 (goals also accept 3); joint `limits` "
+        "take 2; a heading goal takes one tolerance. Add or remove components."
+    ),
+)
+UNIT_TWICE = _code(
+    "E205",
+    "unit both after the vector and on its components",
+    (
+        "A vector has a unit after the parentheses and also on a component. Write `(10, 20, 5) cm` or `(10cm,"
+        " 20cm, 5cm)`, not both."
+    ),
+)
+NOT_WHOLE_NUMBER = _code(
+    "E206",
+    "not a whole number",
+    (
+        "Counts (`steps`, direction grid sizes, `max_depth`, evidence `trials`) are whole numbers written "
+        "without a decimal point or exponent: `9`, not `9.0` or `2.5`."
+    ),
+)
+RPY_ON_TABLE = _code(
+    "E207",
+    "rpy on a body placed on the table",
+    (
+        "A body placed `on table` rests on the table top, so it can only turn about the vertical axis: write "
+        "`yaw Q`. To place a body tilted, give its full pose with `NAME : TYPE at (x, y, z) m rpy (r, p, y) "
+        "deg`."
+    ),
+)
+NUMBER_TOO_LARGE = _code(
+    "E208",
+    "number too large",
+    (
+        "A number so large that it is not a finite floating-point value in SI units (about 1e308). Use a "
+        "realistic value."
+    ),
+)
+
+# names (checks.py)
+UNKNOWN_NAME = _code(
+    "E301",
+    "unknown name",
+    (
+        "No declaration of this kind has this name in the compilation (the file and every module it `use`s). "
+        "A note suggests the closest name in scope, or lists the known ones. If the name lives in another "
+        "module, `use` that module; if a `use` failed, fix that error first (a note says so)."
+    ),
+)
+DUPLICATE_NAME = _code(
+    "E302",
+    "duplicate name",
+    (
+        "Two declarations (bodies, robots, scenes, tasks) have the same name in one compilation, which has "
+        "one flat namespace across all imported modules; or a body declares two frames or explorations, a "
+        "robot two effectors, an affordance block two affordances, a scene two objects of the same name. The "
+        "note names the first place. Rename one, or drop the `use` that brings in the other."
+    ),
+)
+UNKNOWN_FRAME = _code(
+    "E303",
+    "unknown frame on a body",
+    (
+        "The body has no frame of this name (in a correspondence or a `grasp`). The note suggests the closest"
+        " frame. Declare it in the body: `frame tip = (20, 0, 0) cm`."
+    ),
+)
+UNKNOWN_EFFECTOR = _code(
+    "E304",
+    "unknown effector",
+    (
+        "A correspondence names an effector that no robot in the compilation declares. `use` the robot module"
+        " (e.g. `use stdlib.robots.panda` for `fingertip`) or fix the name."
+    ),
+)
+WRONG_KIND = _code(
+    "E305",
+    "name of the wrong kind",
+    (
+        "The name exists but is of another kind: a robot where a body is expected, a body where a scene is "
+        "expected, ... The note says where it is declared. Name a declaration of the right kind."
+    ),
+)
+GOAL_NOT_IN_SCENE = _code(
+    "E306",
+    "goal on a body not in the task's scene",
+    (
+        "A goal names an object that is not in the task's scene. Goals name scene objects (`block`), not body"
+        " types (`Block`). The note suggests the closest object of the scene."
+    ),
+)
+UNKNOWN_LINK = _code(
+    "E307",
+    "unknown link in the robot's URDF",
+    (
+        "An effector is attached to a link that the robot's URDF does not declare. The note suggests the "
+        "closest link name from the URDF."
+    ),
+)
+
+# values and statements (builder.py, checks.py)
+NON_POSITIVE_MASS = _code(
+    "E401",
+    "non-positive mass",
+    ("A body's mass must be positive."),
+)
+NON_POSITIVE_SIZE = _code(
+    "E402",
+    "non-positive size",
+    ("Box sizes, cylinder radius and height, mesh scales and table sizes must be positive."),
+)
+NEGATIVE_FRICTION = _code(
+    "E403",
+    "negative friction",
+    ("Friction coefficients are zero or positive."),
+)
+ZERO_DIRECTION = _code(
+    "E404",
+    "zero direction vector",
+    (
+        "A direction vector (joint axis, `prismatic along`, `revolute ... axis`) must not be `(0, 0, 0)`: it "
+        "says which way things move. Likewise an exploration's direction grid `1 x 1 x 1` holds only the zero "
+        "direction: give an axis more than one point (`3 x 3 x 3`)."
+    ),
+)
+REVERSED_LIMITS = _code(
+    "E405",
+    "joint limits lower > upper",
+    ("Joint limits are written `(lower, upper)`: swap them."),
+)
+STATEMENT_TWICE = _code(
+    "E406",
+    "statement given twice",
+    (
+        "A statement that may appear only once in its block (`shape`, `mass`, `friction`, `joint`; an explore"
+        " block's `contacts`, `force`, `grasp`, `duration`; a task's `scene`, `search`; a scene's `table`; an"
+        " affordance's `action`, `motion`, `evidence`; `max_depth`, `timeout`; a robot's `urdf`) is given "
+        "twice. The note says where it was first given; keep one."
+    ),
+)
+STATEMENT_MISSING = _code(
+    "E407",
+    "required statement missing",
+    (
+        "A required statement is missing: a body needs `shape` and `mass`, a robot `urdf`, a task `scene`, an"
+        " affordance `action` and `motion`, a union at least one part, an `explore` block a `force`, a "
+        "`duration` and either `contacts` (a push) or `grasp` (a grasp). The message shows an example to add."
+    ),
+)
+SCENE_WITHOUT_TABLE = _code(
+    "E408",
+    "scene without a table",
+    ("A scene needs a `table` statement: it is the support surface and the height `on table` bodies rest on."),
+)
+SCENE_WITHOUT_ROBOT = _code(
+    "E409",
+    "scene without a robot",
+    ("A scene needs at least one `robot NAME : TYPE at POSE`."),
+)
+TASK_WITHOUT_GOAL = _code(
+    "E410",
+    "task without a goal",
+    ("A task needs at least one `goal`."),
+)
+NON_POSITIVE_VALUE = _code(
+    "E411",
+    "non-positive count, duration, force, timeout or tolerance",
+    (
+        "Counts (`steps`, direction grid sizes, `max_depth`), forces, durations, timeouts and goal tolerances"
+        " must be positive."
+    ),
+)
+POSTERIOR_OUT_OF_RANGE = _code(
+    "E412",
+    "posterior outside [0, 1]",
+    ("`posterior` in an affordance's `evidence` is a probability, between 0 and 1."),
+)
+PUSH_AND_GRASP_MIXED = _code(
+    "E413",
+    "push and grasp mixed in one explore block",
+    (
+        "An `explore` block is either a push (`contacts on faces ... steps K` with `force normal Q`, along the "
+        "face's inward normal) or a grasp (`grasp FRAME` with `force directions I x J x K Q`). It has both "
+        "`contacts` and `grasp`, or the force of the other kind: split it into two blocks, or use the force "
+        "that goes with it. Oblique pushes are not supported."
+    ),
+)
+UNREACHABLE_FACE = _code(
+    "E414",
+    "a face the fingertip cannot push",
+    (
+        "`contacts on faces` names `-z`, the underside of a body lying on the table, which the fingertip "
+        "cannot reach. Explore the side faces (`+x -x +y -y`) or the top (`+z`)."
+    ),
+)
+CONTACT_OFF_SURFACE = _code(
+    "E415",
+    "a contact point where the face has no surface",
+    (
+        "The K contact points of a pushed face sit on its centre line (docs/exploration.md); each is moved "
+        "onto the body's surface by a ray along the inward normal. For a union or mesh with a gap or hollow "
+        "there, the ray misses the body. Use fewer `steps`, another face, or change the shape. The message "
+        "says which point and where it is on the line."
+    ),
+)
+
+# modules and files (resolve.py, checks.py)
+MISSING_MODULE = _code(
+    "E501",
+    "missing module",
+    (
+        "A `use` names a module that does not exist. For `use a.b.c` the message lists every directory "
+        "searched, in order (the importing file's directory, each `VKG_PATH` entry, the installed stdlib's "
+        'parent); a note suggests the closest module name. For `use "path.vkg"` the path is relative to the '
+        "importing file, not the working directory."
+    ),
+)
+IMPORT_CYCLE = _code(
+    "E502",
+    "import cycle",
+    (
+        "Modules import each other in a circle. The message prints the cycle; the error is reported at the "
+        "`use` that closes it. Remove one of the `use` lines (move the shared declarations to a third module "
+        "that both use)."
+    ),
+)
+MESH_UNREADABLE = _code(
+    "E503",
+    "mesh file missing or unreadable",
+    (
+        "A mesh file is missing, or trimesh cannot read triangles from it (the message says what trimesh "
+        "said). Mesh paths are relative to the module's file."
+    ),
+)
+URDF_UNREADABLE = _code(
+    "E504",
+    "URDF file missing or unreadable",
+    (
+        "A robot's URDF file is missing, is not XML with a `<robot>` root and `<link>`s, or DART cannot load "
+        "it. URDF paths are relative to the module's file."
+    ),
+)
+SOURCE_UNREADABLE = _code(
+    "E505",
+    "source file missing or unreadable",
+    (
+        "A source file (given on the command line or by `use`) cannot be read: missing, a directory, not "
+        "readable, or not UTF-8 text. Name `.vkg` files (`vkgc check examples/tasks/*.vkg`); save sources as "
+        "UTF-8."
+    ),
+)
+
+# warnings (checks.py)
+NOTHING_CAN_MOVE = _code(
+    "W601",
+    "a goal body that no imported affordance can move",
+    (
+        "A warning (exit 0): a task's goal body has no affordance in the compilation, so no plan can move it."
+        " `use` its affordance module (`use stdlib.affordances.block`) or learn one with `vkgc learn`."
+    ),
+)
+TOOL_WITHOUT_CORRESPONDENCE = _code(
+    "W602",
+    "a tool frame with no correspondence in a task's scene",
+    (
+        "A warning (exit 0): a task's scene holds a tool (a body explored while grasped) but no "
+        "correspondence names any of its frames, so the planner can never use it. `use stdlib.tools`, or "
+        "declare `correspondences { Tool.tip ~ fingertip }`."
+    ),
+)

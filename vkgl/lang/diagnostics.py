@@ -19,7 +19,11 @@ Severity = Literal["error", "warning"]
 
 @dataclass(frozen=True)
 class Diagnostic:
-    """One error or warning. `span` may be None only for problems with no place (e.g. a missing file given on the command line)."""
+    """One error or warning.
+
+    `span` may be None only for problems with no place (e.g. a missing file given on the command line).
+    Made through the code registry: `vkgl.lang.codes.UNKNOWN_NAME.diagnostic(message, span, *notes)`.
+    """
 
     code: str
     message: str

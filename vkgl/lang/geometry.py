@@ -44,7 +44,9 @@ def _shape_mesh_cached(shape: Shape) -> trimesh.Trimesh:
             mesh = shape_mesh(part.shape)
             mesh.apply_transform(part.pose.matrix())
             parts.append(mesh)
-        return trimesh.util.concatenate(parts)
+        merged = trimesh.util.concatenate(parts)
+        assert isinstance(merged, trimesh.Trimesh)  # concatenating meshes gives a mesh
+        return merged
     raise TypeError(f"unknown shape {shape!r}")
 
 
@@ -93,3 +95,66 @@ def table_top(scene: Scene) -> float:
         return 0.0
     values = scene.table.position.values
     return float(values[2]) if len(values) > 2 else 0.0
+
+
+# ---------------------------------------------------------------- contact points of pushes
+
+# The outward normals of the faces `contacts on faces ...` names, in the body frame.
+FACES = {
+    "+x": np.array([1.0, 0.0, 0.0]),
+    "-x": np.array([-1.0, 0.0, 0.0]),
+    "+y": np.array([0.0, 1.0, 0.0]),
+    "-y": np.array([0.0, -1.0, 0.0]),
+    "+z": np.array([0.0, 0.0, 1.0]),
+    "-z": np.array([0.0, 0.0, -1.0]),
+}
+
+
+def face_line(mesh: trimesh.Trimesh, outward: np.ndarray, steps: int) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The direction of a face's centre line and `steps` points on it, just outside the body.
+
+    Side faces: the horizontal line at mid height; the top: the line along the
+    longer horizontal side through the centre. Points sit at the centres of
+    `steps` equal cells of the body's extent along the line, one body size
+    outside the face (rays start there).
+    """
+    lo, hi = mesh.bounds
+    centre = (lo + hi) / 2
+    normal_axis = int(np.argmax(np.abs(outward)))
+    if normal_axis == 2:
+        line = 0 if hi[0] - lo[0] >= hi[1] - lo[1] else 1
+    else:
+        line = 1 - normal_axis  # the other horizontal axis
+    direction = np.zeros(3)
+    direction[line] = 1.0
+    fractions = (np.arange(steps) + 0.5) / steps
+    outside = centre + outward * (float(np.max(hi - lo)) + 1.0)
+    points = []
+    for f in fractions:
+        p = outside.copy()
+        p[line] = lo[line] + f * (hi[line] - lo[line])
+        points.append(p)
+    return direction, points
+
+
+def surface_point(mesh: trimesh.Trimesh, start: np.ndarray, outward: np.ndarray) -> np.ndarray | None:
+    """Where a ray from `start` along -outward first meets the body's surface, or None.
+
+    (trimesh's own ray queries need the optional `rtree` package; a ray against
+    every triangle plane plus trimesh's barycentric test is enough for one ray.)
+    """
+    direction = -np.asarray(outward, dtype=float)
+    triangles = mesh.triangles
+    normals = mesh.face_normals
+    facing = np.abs(normals @ direction) > 1e-12
+    if not facing.any():
+        return None
+    triangles, normals = triangles[facing], normals[facing]
+    distance = np.einsum("ij,ij->i", triangles[:, 0] - start, normals) / (normals @ direction)
+    points = start + distance[:, None] * direction
+    barycentric = trimesh.triangles.points_to_barycentric(triangles, points)
+    inside = (distance > 0) & np.all(barycentric >= -1e-9, axis=1)
+    if not inside.any():
+        return None
+    first = int(np.argmin(np.where(inside, distance, np.inf)))
+    return np.asarray(points[first], dtype=float)

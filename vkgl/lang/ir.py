@@ -10,7 +10,7 @@ Equality ignores source spans, so `parse(print(ir)) == ir` is meaningful.
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
@@ -379,7 +379,7 @@ class Goal(Node):
 
     `position` None = position free; `yaw` None = heading free. A tolerance left
     out (None) means the default: 1 cm for position, 3 deg for yaw (see
-    `DEFAULT_TOL_POSITION`, `DEFAULT_TOL_YAW`).
+    `DEFAULT_TOL_POSITION`, `DEFAULT_TOL_YAW`); `tolerance()` gives both in SI.
     """
 
     body: Ref
@@ -387,6 +387,12 @@ class Goal(Node):
     yaw: Quantity | None = None
     tol_position: Quantity | None = None
     tol_yaw: Quantity | None = None
+
+    def tolerance(self) -> tuple[float, float]:
+        """The goal's tolerances in SI, `(metres, radians)`, with the defaults for those left out."""
+        position = self.tol_position.value if self.tol_position is not None else DEFAULT_TOL_POSITION
+        yaw = self.tol_yaw.value if self.tol_yaw is not None else DEFAULT_TOL_YAW
+        return float(position), float(yaw)
 
 
 class SearchSpec(Node):
@@ -432,8 +438,3 @@ class Module(Node):
 
 ShapePart.model_rebuild()
 UnionShape.model_rebuild()
-
-
-def dump(node: Node) -> dict[str, Any]:
-    """A plain-data view of a node without spans (for tests and JSON)."""
-    return node.model_dump()

@@ -1,22 +1,49 @@
 """A compiled program: every module of one compilation, resolved into one flat namespace.
 
 This is what `vkgl.compile(path)` returns and what the back ends consume.
+
+Changing a problem without editing source: the IR is frozen, so `with_goal`,
+`with_start` and `with_start_poses` return a new Program with one task's goal
+or one scene's start poses replaced (in `tasks` / `scenes`; `root`, `modules`
+and `sources` keep the source as written). Solve the new Program as usual:
+
+    program = vkgl.compile("examples/tasks/a_push.vkg")
+    moved = program.with_goal("a_push", "block", at=(0.6, 0.1), yaw=math.radians(30))
+    moved = moved.with_start("a_push", "block", at=(0.45, -0.1), yaw=0.0)
+    plan = vkgl.solve(moved)
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.errors import InputError
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.ir import (
     Affordance,
     Body,
     Correspondence,
+    Goal,
     Module,
+    Placement,
+    Pose,
+    Quantity,
+    Ref,
     Robot,
     Scene,
+    SceneBody,
     Task,
+    Vector,
 )
+
+# A body tilted less than this from level still counts as lying on the table (`with_start_poses`).
+LEVEL_TILT = math.radians(2.0)
 
 
 @dataclass
@@ -45,8 +72,6 @@ class Program:
         Raises InputError (saying what there is) when there is no such body, or
         when `name` is None and the root module declares none or several.
         """
-        from vkgl.errors import InputError
-
         where = self.root.path
         if name is not None:
             if name not in self.bodies:
@@ -62,10 +87,160 @@ class Program:
         return own[0]
 
     def task(self, name: str | None = None) -> Task:
-        """The task called `name`, or the only/first task of the root module."""
+        """The task called `name`; with no name, the only task of the root module (or of the program).
+
+        Raises InputError listing the task names when `name` is unknown, or when it
+        is None and there is no task or more than one.
+        """
+        where = self.root.path
+        known = ", ".join(sorted(self.tasks)) or "none"
         if name is not None:
+            if name not in self.tasks:
+                raise InputError(f"{where}: no task `{name}` (tasks: {known})")
             return self.tasks[name]
-        for decl in self.root.decls:
-            if isinstance(decl, Task):
-                return decl
-        raise KeyError("the program declares no task")
+        own = [d.name for d in self.root.decls if isinstance(d, Task) and d.name in self.tasks]
+        candidates = own or sorted(self.tasks)
+        if not candidates:
+            raise InputError(f"{where}: declares no task; give a file with a `task NAME {{ ... }}` declaration")
+        if len(candidates) > 1:
+            raise InputError(f"{where}: declares {len(candidates)} tasks ({', '.join(candidates)}); say which by name")
+        return self.tasks[candidates[0]]
+
+    def with_goal(
+        self,
+        task: str | Task | None,
+        body: str,
+        *,
+        at: Sequence[float] | None = None,
+        yaw: float | None = None,
+        within: tuple[float, float] | None = None,
+    ) -> Program:
+        """A copy whose `task` has the goal on `body` replaced (or added, if it had none).
+
+        `at`: (x, y) or (x, y, z) in metres, None for a heading-only goal; `yaw`:
+        radians, None for a free heading; `within`: (metres, radians) tolerances,
+        None to keep those of the goal replaced (the defaults for a new goal).
+        Raises InputError for an unknown task or body, or a goal that says nothing.
+        """
+        chosen = self._task_of(task)
+        scene = self._scene_of(chosen)
+        self._scene_body(scene, body)
+        if at is None and yaw is None:
+            raise InputError(f"a goal on `{body}` needs a position (`at`), a heading (`yaw`), or both")
+        if at is not None and len(at) not in (2, 3):
+            raise InputError(f"a goal position is (x, y) or (x, y, z) in metres, got {len(at)} values")
+        old = [g for g in chosen.goals if g.body.name == body]
+        if within is not None:
+            if not all(math.isfinite(t) and t > 0 for t in within):
+                raise InputError(f"goal tolerances must be positive, got {tuple(within)}")
+            tol_position: Quantity | None = Quantity(value=float(within[0]), unit="m")
+            tol_yaw: Quantity | None = Quantity(value=float(within[1]), unit="rad")
+        else:
+            tol_position = old[0].tol_position if old else None
+            tol_yaw = old[0].tol_yaw if old else None
+        goal = Goal(
+            body=Ref(name=body),
+            position=Vector(values=tuple(float(v) for v in at), unit="m") if at is not None else None,
+            yaw=Quantity(value=float(yaw), unit="rad") if yaw is not None else None,
+            tol_position=tol_position if at is not None else None,
+            tol_yaw=tol_yaw,
+        )
+        goals = [g for g in chosen.goals if g.body.name != body]
+        index = chosen.goals.index(old[0]) if old else len(chosen.goals)
+        goals.insert(min(index, len(goals)), goal)
+        return dataclasses.replace(self, tasks={**self.tasks, chosen.name: chosen.model_copy(update={"goals": goals})})
+
+    def with_start(
+        self, scene_or_task: str | Task | Scene, body: str, *, at: Sequence[float], yaw: float = 0.0
+    ) -> Program:
+        """A copy where `body` of the scene (given by name, or by a task that uses it) starts
+        `on table at (x, y)` metres with heading `yaw` radians.
+
+        Raises InputError for an unknown scene, task or body.
+        """
+        scene = self._scene_named(scene_or_task)
+        placed = self._scene_body(scene, body)
+        if len(at) != 2:
+            raise InputError(f"a start on the table is (x, y) in metres, got {len(at)} values")
+        pose = Pose(
+            position=Vector(values=(float(at[0]), float(at[1])), unit="m"), yaw=Quantity(value=float(yaw), unit="rad")
+        )
+        moved = placed.model_copy(update={"placement": Placement(on_table=True, pose=pose)})
+        return self._with_scene_body(scene, moved)
+
+    def with_start_poses(self, task: str | Task | None, poses: Mapping[str, np.ndarray]) -> Program:
+        """A copy whose task scene starts where the bodies are (`poses`: scene body name -> 4x4 world pose).
+
+        A body placed on the table that still lies level (tilt under 2 deg) is placed
+        `on table at (x, y) yaw`; any other is placed at its full pose. Bodies not in
+        `poses` keep their placement; names that are not scene bodies are ignored.
+        This is what the closed-loop executor does with observed poses.
+        """
+        scene = self._scene_of(self._task_of(task))
+        bodies = []
+        for scene_body in scene.bodies:
+            pose = poses.get(scene_body.name)
+            if pose is None:
+                bodies.append(scene_body)
+                continue
+            placement = observed_placement(np.asarray(pose, dtype=float), scene_body.placement.on_table)
+            bodies.append(scene_body.model_copy(update={"placement": placement}))
+        observed = scene.model_copy(update={"bodies": bodies})
+        return dataclasses.replace(self, scenes={**self.scenes, scene.name: observed})
+
+    # ------------------------------------------------------------ helpers of the edits
+
+    def _task_of(self, task: str | Task | None) -> Task:
+        if isinstance(task, Task):
+            return self.task(task.name)
+        return self.task(task)
+
+    def _scene_of(self, task: Task) -> Scene:
+        scene = self.scenes.get(task.scene.name)
+        if scene is None:
+            raise InputError(f"task `{task.name}` names no known scene (`{task.scene.name}`)")
+        return scene
+
+    def _scene_named(self, scene_or_task: str | Task | Scene) -> Scene:
+        if isinstance(scene_or_task, Scene):
+            return self._scene_named(scene_or_task.name)
+        if isinstance(scene_or_task, Task):
+            return self._scene_of(self._task_of(scene_or_task))
+        if scene_or_task in self.scenes:
+            return self.scenes[scene_or_task]
+        if scene_or_task in self.tasks:
+            return self._scene_of(self.tasks[scene_or_task])
+        known = ", ".join(sorted(self.scenes) + sorted(self.tasks)) or "none"
+        raise InputError(f"no scene or task `{scene_or_task}` (scenes and tasks: {known})")
+
+    @staticmethod
+    def _scene_body(scene: Scene, name: str) -> SceneBody:
+        for placed in scene.bodies:
+            if placed.name == name:
+                return placed
+        known = ", ".join(b.name for b in scene.bodies) or "none"
+        raise InputError(f"scene `{scene.name}` has no body `{name}` (its bodies: {known})")
+
+    def _with_scene_body(self, scene: Scene, moved: SceneBody) -> Program:
+        bodies = [moved if b.name == moved.name else b for b in scene.bodies]
+        return dataclasses.replace(
+            self, scenes={**self.scenes, scene.name: scene.model_copy(update={"bodies": bodies})}
+        )
+
+
+def observed_placement(pose: np.ndarray, was_on_table: bool) -> Placement:
+    """The placement of a body seen at the 4x4 world `pose`: on the table if it was and still lies level."""
+    yaw = math.atan2(pose[1, 0], pose[0, 0])
+    tilt = float(np.arccos(np.clip(pose[2, 2], -1.0, 1.0)))
+    if was_on_table and tilt < LEVEL_TILT:
+        planar = Pose(
+            position=Vector(values=(float(pose[0, 3]), float(pose[1, 3])), unit="m"),
+            yaw=Quantity(value=yaw, unit="rad"),
+        )
+        return Placement(on_table=True, pose=planar)
+    rpy = Rotation.from_matrix(pose[:3, :3]).as_euler("xyz")
+    full = Pose(
+        position=Vector(values=tuple(float(v) for v in pose[:3, 3]), unit="m"),
+        rpy=Vector(values=tuple(float(v) for v in rpy), unit="rad"),
+    )
+    return Placement(on_table=False, pose=full)

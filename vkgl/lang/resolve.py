@@ -14,7 +14,7 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from vkgl.lang import ir
+from vkgl.lang import codes, ir
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.parser import parse_collecting
 from vkgl.resources import stdlib_dir
@@ -28,6 +28,8 @@ class LoadedProgram:
     modules: dict[str, ir.Module] = field(default_factory=dict)
     sources: dict[str, str] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # The directory each module's relative paths (meshes, URDFs, `use "..."`) start from.
+    folders: dict[str, Path] = field(default_factory=dict)
 
 
 def import_roots(importing_file: str) -> list[Path]:
@@ -44,6 +46,18 @@ def load_program(path: str) -> LoadedProgram:
     """Read, parse and resolve `path` and its imports; problems become diagnostics."""
     loaded = LoadedProgram(root=_display_path(Path(path)))
     _Loader(loaded).load(Path(path), via=None, stack=[])
+    return loaded
+
+
+def load_source(text: str, name: str, base_dir: str | Path | None = None) -> LoadedProgram:
+    """Parse `text` as the root module shown as `name`, and resolve its imports like `load_program`.
+
+    `use` lines and relative file paths of the text start from `base_dir` (the
+    working directory when None), as if the text were a file there.
+    """
+    folder = Path(base_dir if base_dir is not None else Path.cwd()).resolve()
+    loaded = LoadedProgram(root=name)
+    _Loader(loaded).load_text(text, name, folder / "<source>.vkg")
     return loaded
 
 
@@ -64,12 +78,18 @@ class _Loader:
         source = self._read(path, shown, via)
         if source is None:
             return None
+        return self.load_text(source, shown, real, stack)
+
+    def load_text(self, source: str, shown: str, real: Path, stack: list[Path] | None = None) -> str | None:
+        """Parse `source` as the module `shown` found at `real` (which need not exist) and load its imports."""
+        stack = stack or []
         module, _, diagnostics = parse_collecting(source, shown)
         self.out.sources[shown] = source
         self.out.diagnostics.extend(diagnostics)
         if module is None:
             return None
         self.by_real[real] = shown
+        self.out.folders[shown] = real.parent
         uses = [self._resolve_use(use, real, stack + [real]) for use in module.uses]
         self.out.modules[shown] = module.model_copy(update={"uses": uses})
         return shown
@@ -87,7 +107,9 @@ class _Loader:
         except OSError as exc:
             reason = exc.strerror or str(exc)
         span = via.span if via is not None else ir.Span(file=shown, line=1, col=1, end_line=1, end_col=1)
-        self.out.diagnostics.append(Diagnostic("E505", f"cannot read `{shown}`: {reason}", span, notes=notes))
+        self.out.diagnostics.append(
+            codes.SOURCE_UNREADABLE.diagnostic(f"cannot read `{shown}`: {reason}", span, *notes)
+        )
         return None
 
     def _resolve_use(self, use: ir.Use, importer: Path, stack: list[Path]) -> ir.Use:
@@ -101,8 +123,8 @@ class _Loader:
     def _report_cycle(self, cycle: list[Path], via: ir.Use | None) -> None:
         chain = " -> ".join(_display_path(p) for p in cycle)
         self.out.diagnostics.append(
-            Diagnostic(
-                "E502", f"import cycle: {chain}", via.span if via else None, notes=("remove one of these `use` lines",)
+            codes.IMPORT_CYCLE.diagnostic(
+                f"import cycle: {chain}", via.span if via else None, "remove one of these `use` lines"
             )
         )
 
@@ -128,7 +150,7 @@ def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
         message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_described_roots(importer))
         suggestion = _close_module(use.target, roots)
     notes = (f"did you mean `{suggestion}`?",) if suggestion else ()
-    return Diagnostic("E501", message, use.span, notes=notes)
+    return codes.MISSING_MODULE.diagnostic(message, use.span, *notes)
 
 
 def _described_roots(importer: Path) -> list[str]:

@@ -1,0 +1,175 @@
+"""The Program API: compile from a string, pick a task, change a goal or a start pose and re-solve."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vkgl.errors import CompileError, InputError
+from vkgl.lang.compiler import compile_file, compile_source
+from vkgl.lang.ir import DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW, Goal, Quantity, Ref
+
+REPO = Path(__file__).resolve().parents[2]
+A_PUSH = REPO / "examples" / "tasks" / "a_push.vkg"
+
+TWO_TASKS = """\
+use "../scenes/tabletop.vkg"
+use stdlib.affordances.block
+
+task near {
+    scene tabletop
+    goal block at (0.6, 0) m within 1 cm
+}
+
+task far {
+    scene tabletop
+    goal block at (0.7, 0) m yaw 10deg
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def program():  # type: ignore[no-untyped-def]
+    return compile_file(A_PUSH)
+
+
+# ---------------------------------------------------------------- compile_source
+
+
+def test_compile_source_resolves_uses_from_base_dir_and_equals_the_file() -> None:
+    from_text = compile_source(A_PUSH.read_text(encoding="utf-8"), "a_push.vkg", base_dir=A_PUSH.parent)
+    from_file = compile_file(A_PUSH)
+    assert from_text.tasks == from_file.tasks
+    assert from_text.scenes == from_file.scenes
+    assert from_text.root.path == "a_push.vkg"
+
+
+def test_compile_source_names_the_text_in_diagnostics() -> None:
+    with pytest.raises(CompileError) as info:
+        compile_source("body B {\n    mass 0 kg\n    shape box (1, 1, 1) cm\n}\n", "mine.vkg")
+    assert str(info.value).startswith("mine.vkg:2:10: error[E401]: the mass of `B` must be positive")
+
+
+def test_compile_source_resolves_uses_from_the_working_directory(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(REPO / "examples" / "tasks")
+    program = compile_source(TWO_TASKS)
+    assert sorted(program.tasks) == ["far", "near"]
+    with pytest.raises(CompileError, match=r"<string>:1:1: error\[E501\]: no file `nowhere.vkg`"):
+        compile_source('use "nowhere.vkg"\n')
+
+
+def test_compile_source_resolves_mesh_paths_from_base_dir(tmp_path: Path) -> None:
+    import trimesh
+
+    trimesh.creation.box(extents=[0.05, 0.05, 0.05]).export(tmp_path / "part.stl")
+    text = 'body Part {\n    shape mesh "part.stl"\n    mass 0.2 kg\n}\n'
+    body = compile_source(text, base_dir=tmp_path).body("Part")
+    assert body.shape.resolved == str((tmp_path / "part.stl").resolve())  # type: ignore[union-attr]
+
+
+# ---------------------------------------------------------------- task()
+
+
+def test_task_without_a_name_is_the_only_one(program) -> None:  # type: ignore[no-untyped-def]
+    assert program.task().name == "a_push"
+    assert program.task("a_push") is program.tasks["a_push"]
+
+
+def test_task_is_an_input_error_listing_the_tasks_when_unknown_or_ambiguous() -> None:
+    two = compile_source(TWO_TASKS, base_dir=A_PUSH.parent)
+    with pytest.raises(InputError, match=r"declares 2 tasks \(near, far\); say which by name"):
+        two.task()
+    with pytest.raises(InputError, match=r"no task `nope` \(tasks: far, near\)"):
+        two.task("nope")
+    assert two.task("far").name == "far"
+    with pytest.raises(InputError, match="declares no task"):
+        compile_source("body B {\n    shape box (1, 1, 1) cm\n    mass 1 kg\n}\n").task()
+
+
+# ---------------------------------------------------------------- goals
+
+
+def test_goal_tolerance_defaults_and_si() -> None:
+    assert Goal(body=Ref(name="b")).tolerance() == (DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW)
+    goal = Goal(
+        body=Ref(name="b"), tol_position=Quantity(value=0.02, unit="cm"), tol_yaw=Quantity(value=0.1, unit="rad")
+    )
+    assert goal.tolerance() == (0.02, 0.1)
+
+
+def test_with_goal_replaces_the_goal_and_keeps_the_original(program) -> None:  # type: ignore[no-untyped-def]
+    moved = program.with_goal("a_push", "block", at=(0.62, 0.05), yaw=math.radians(30), within=(0.02, 0.1))
+    goal = moved.task().goals[0]
+    assert goal.position.values == (0.62, 0.05)
+    assert goal.yaw.value == pytest.approx(math.radians(30))
+    assert goal.tolerance() == (0.02, 0.1)
+    assert len(moved.task().goals) == 1
+    original = program.task().goals[0]
+    assert original.position.values == (0.6, 0.0)  # the IR is frozen: the old program is unchanged
+    assert moved.scenes == program.scenes and moved.root is program.root
+
+
+def test_with_goal_keeps_the_tolerances_when_not_given(program) -> None:  # type: ignore[no-untyped-def]
+    before = program.task().goals[0].tolerance()
+    assert program.with_goal(None, "block", at=(0.5, 0.1)).task().goals[0].tolerance() == before
+    heading_only = program.with_goal(program.task(), "block", yaw=1.0).task().goals[0]
+    assert heading_only.position is None and heading_only.yaw.value == 1.0
+
+
+def test_with_goal_rejects_what_cannot_be_a_goal(program) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(InputError, match=r"scene `tabletop` has no body `blok` \(its bodies: block, stick, hook\)"):
+        program.with_goal("a_push", "blok", at=(0.6, 0))
+    with pytest.raises(InputError, match="needs a position"):
+        program.with_goal("a_push", "block")
+    with pytest.raises(InputError, match="tolerances must be positive"):
+        program.with_goal("a_push", "block", at=(0.6, 0), within=(0.0, 0.1))
+    with pytest.raises(InputError, match="no task `b_push`"):
+        program.with_goal("b_push", "block", at=(0.6, 0))
+
+
+# ---------------------------------------------------------------- start poses
+
+
+def test_with_start_places_a_body_on_the_table(program) -> None:  # type: ignore[no-untyped-def]
+    for where in ("tabletop", "a_push", program.task()):
+        moved = program.with_start(where, "block", at=(0.42, -0.1), yaw=0.5)
+        placed = next(b for b in moved.scenes["tabletop"].bodies if b.name == "block")
+        assert placed.placement.on_table
+        assert placed.placement.pose.position.values == (0.42, -0.1)
+        assert placed.placement.pose.yaw.value == 0.5
+    assert next(b for b in program.scenes["tabletop"].bodies if b.name == "block").placement.pose.position.values == (
+        0.45,
+        0.0,
+    )
+    with pytest.raises(InputError, match="no scene or task `kitchen`"):
+        program.with_start("kitchen", "block", at=(0.4, 0))
+
+
+def test_with_start_poses_places_level_bodies_on_the_table_and_tilted_ones_at_their_pose(program) -> None:  # type: ignore[no-untyped-def]
+    level = np.eye(4)
+    level[:3, 3] = (0.5, 0.1, 0.025)
+    c, s = math.cos(0.3), math.sin(0.3)
+    level[:2, :2] = [[c, -s], [s, c]]
+    tilted = np.eye(4)
+    tilted[:3, :3] = [[1, 0, 0], [0, 0, -1], [0, 1, 0]]  # turned 90 deg about x
+    tilted[:3, 3] = (0.3, -0.4, 0.05)
+    moved = program.with_start_poses("a_push", {"block": level, "stick": tilted, "ghost": np.eye(4)})
+    bodies = {b.name: b for b in moved.scenes["tabletop"].bodies}
+    block = bodies["block"].placement
+    assert block.on_table and block.pose.position.values == pytest.approx((0.5, 0.1))
+    assert block.pose.yaw.value == pytest.approx(0.3)
+    stick = bodies["stick"].placement
+    assert not stick.on_table and stick.pose.position.values == pytest.approx((0.3, -0.4, 0.05))
+    assert stick.pose.rpy.values == pytest.approx((math.pi / 2, 0, 0))
+    assert bodies["hook"] == next(b for b in program.scenes["tabletop"].bodies if b.name == "hook")
+
+
+def test_a_changed_goal_is_solved(program) -> None:  # type: ignore[no-untyped-def]
+    import vkgl
+
+    plan = vkgl.solve(program.with_goal("a_push", "block", at=(0.62, 0.0), yaw=0.0))
+    assert plan.status == "solved"
+    assert plan.final["block"][:2, 3] == pytest.approx((0.62, 0.0), abs=0.01)
