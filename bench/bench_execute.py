@@ -1,6 +1,6 @@
 """Benchmark: execute every example task's plan in DART, open loop and closed loop.
 
-    /tmp/venv/bin/python bench/bench_execute.py [--gif DIR] [--disturb DY,DYAW] [TASK.vkg ...]
+    python bench/bench_execute.py [--gif DIR] [--disturb DY,DYAW] [TASK.vkg ...]
 
 For each task: solve it (with the planner; without it, with the hand-derived
 plan of `plan_script.EXAMPLE_SCRIPTS`), replay the plan open loop
@@ -49,8 +49,8 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
     """The program with the block `dy` m to the side and `dyaw_deg` turned (the world the robot really meets)."""
     from scipy.spatial.transform import Rotation
 
-    from vkgl.lang.geometry import scene_body_pose
     from vkgl.execute.closed_loop import program_with_observed_scene
+    from vkgl.lang.geometry import scene_body_pose
 
     task = program.task(task_name)
     scene = program.scenes[task.scene.name]
@@ -64,8 +64,8 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
 
 def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -> tuple[list[str], list[str]]:
     """Two table rows (nominal start, disturbed start): solve, then execute open and closed loop."""
-    from vkgl.lang.compiler import compile_file
     from vkgl.execute.closed_loop import execute
+    from vkgl.lang.compiler import compile_file
 
     program = compile_file(str(path))
     task = program.task()

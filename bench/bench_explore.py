@@ -1,6 +1,6 @@
 """Benchmark: explore the stdlib bodies in DART and report the speed.
 
-    /tmp/venv/bin/python bench/bench_explore.py [--jobs N ...] [--repeat R]
+    python bench/bench_explore.py [--jobs N ...] [--repeat R]
 
 Prints one Markdown table: per body and job count, the trials, the simulated
 seconds, the wall time (best of R runs, including process start-up) and

@@ -1,6 +1,6 @@
 """Benchmark: the front end's speed (parse, check) against the targets of issue 2.
 
-    /tmp/venv/bin/python bench/bench_frontend.py [--repeat N]
+    python bench/bench_frontend.py [--repeat N]
 
 Prints one Markdown table: parse and check time of every file of examples/ and
 stdlib/, then the issue's targets:
@@ -123,8 +123,8 @@ def main() -> None:
     for path in files:
         text = path.read_text(encoding="utf-8")
         shown = str(path.relative_to(REPO))
-        parse = best_of(repeat, lambda: _parse_uncached(text, shown))
-        check = best_of(repeat, lambda: check_files([str(path)]), clear_parse_cache)
+        parse = best_of(repeat, lambda text=text, shown=shown: _parse_uncached(text, shown))
+        check = best_of(repeat, lambda path=path: check_files([str(path)]), clear_parse_cache)
         print(f"| {shown} | {len(text.splitlines())} | {parse * 1000:.2f} ms | {check * 1000:.2f} ms |")
     print()
 

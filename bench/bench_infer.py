@@ -1,6 +1,6 @@
 """Benchmark: constraint inference on synthetic ground truth, on real tracks, and its speed.
 
-    /tmp/venv/bin/python bench/bench_infer.py [--per-type N] [--seed S]
+    python bench/bench_infer.py [--per-type N] [--seed S]
 
 1. Synthetic trials (synthetic): every motion type (fixed, prismatic,
    revolute, free) with fixed and free actions, random axes and centres, 2 %
@@ -25,10 +25,10 @@ from collections import Counter, defaultdict
 from pathlib import Path
 
 import numpy as np
-
 from synthetic import score, synthetic_trials
-from vkgl.infer.trial import infer_trial, infer_trials
+
 from vkgl.formats.trials import Trials
+from vkgl.infer.trial import infer_trial, infer_trials
 
 REPO = Path(__file__).resolve().parent.parent
 REAL = REPO.parent / "shared" / "data" / "articulation"

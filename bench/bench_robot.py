@@ -1,6 +1,6 @@
 """Benchmark: the stdlib Panda's forward/inverse kinematics and reach.
 
-    /tmp/venv/bin/python bench/bench_robot.py [--samples N]
+    python bench/bench_robot.py [--samples N]
 
 Prints one Markdown table of timings (load, FK, Jacobian, IK on several kinds
 of target, reach) and one of the reach intervals at table heights. Targets:
@@ -65,8 +65,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--samples", type=int, default=200, help="targets per IK row (default 200)")
     args = parser.parse_args(argv)
 
-    import vkgl.robot.reach as robot_module
     from vkgl.robot import Arm
+    from vkgl.robot.reach import clear_reach_cache
 
     rng = np.random.default_rng(0)
     rows = ["| what | n | mean | median | p95 | max | failures |", "|---|---|---|---|---|---|---|"]
@@ -112,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
     ik_row("ik, unreachable: 0.95 m, table height", [_hand_down(0.95, a, 0.03, 0.0) for a in rng.uniform(-3, 3, 20)])
 
     heights = [0.0, 0.01, 0.02, 0.03, 0.04, 0.05]
-    robot_module._REACH_CACHE.clear()
+    clear_reach_cache()
     reach_times, intervals = _timed([lambda h=h: arm.reach(h) for h in heights])
     rows.append(_row("reach(height), first call", reach_times, "s"))
     rows.append(_row("reach(height), cached", _timed([lambda h=h: arm.reach(h) for h in heights])[0], "us"))

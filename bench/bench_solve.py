@@ -1,6 +1,6 @@
 """Benchmark: `vkgc solve` on the paper's six tasks, beside the paper's Table 1, and scaling with extra tools.
 
-    /tmp/venv/bin/python bench/bench_solve.py [--repeat N]
+    python bench/bench_solve.py [--repeat N]
 
 Prints two Markdown tables:
 

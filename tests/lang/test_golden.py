@@ -8,7 +8,7 @@ Files in tests/lang/golden/lib/ are helpers the cases `use`, not cases.
 
 To regenerate the .expected files after an intended change of a message, run
 
-    VKG_UPDATE_GOLDEN=1 /tmp/venv/bin/pytest tests/lang/test_golden.py
+    VKG_UPDATE_GOLDEN=1 .venv/bin/pytest tests/lang/test_golden.py
 
 then review the diff (`git diff tests/lang/golden/`) and regenerate docs/errors.md, which
 quotes every output (a test checks it is exactly the generated text):

@@ -15,7 +15,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from vkgl.lang.geometry import scene_body_pose
-from vkgl.lang.ir import DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW, FixedC, PrismaticC, RevoluteC
+from vkgl.lang.ir import FixedC, PrismaticC, RevoluteC
 from vkgl.lang.program import Program
 
 POSE_TOL = 1e-6  # m / rad: recomposed poses agree with the plan's to this
@@ -156,8 +156,7 @@ def _check_goals(task: Any, final: dict[str, np.ndarray]) -> list[str]:
     out = []
     for goal in task.goals:
         pose = final[goal.body.name]
-        tol_p = goal.tol_position.value if goal.tol_position else DEFAULT_TOL_POSITION
-        tol_y = goal.tol_yaw.value if goal.tol_yaw else DEFAULT_TOL_YAW
+        tol_p, tol_y = goal.tolerance()
         if goal.position is not None:
             target = np.asarray(goal.position.values)
             if np.linalg.norm(pose[: len(target), 3] - target) > tol_p:

@@ -103,7 +103,9 @@ class Program:
         if not candidates:
             raise InputError(f"{where}: declares no task; give a file with a `task NAME {{ ... }}` declaration")
         if len(candidates) > 1:
-            raise InputError(f"{where}: declares {len(candidates)} tasks ({', '.join(candidates)}); say which by name")
+            raise InputError(
+                f"{where}: declares {len(candidates)} tasks ({', '.join(candidates)}); say which by name (`vkgc solve --task NAME`, or `program.task(NAME)`)"
+            )
         return self.tasks[candidates[0]]
 
     def with_goal(

@@ -17,8 +17,6 @@ import numpy as np
 from vkgl.errors import InputError
 from vkgl.lang.geometry import resting_height, scene_body_pose, table_top
 from vkgl.lang.ir import (
-    DEFAULT_TOL_POSITION,
-    DEFAULT_TOL_YAW,
     Affordance,
     Body,
     FixedC,
@@ -265,8 +263,7 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
         )
     position = goal.position.array() if goal.position is not None else None
     yaw = goal.yaw.value if goal.yaw is not None else None
-    tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
-    tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
+    tol_p, tol_y = goal.tolerance()
     return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
 
 

@@ -2,7 +2,7 @@
 
 The reach is `Arm.reach(height)`: the radial interval around the arm's base in
 which the hand can be held hand-down at that height, computed once per height
-from the URDF (vkgl/robot.py). Task space keeps the hand `REACH_MARGIN` inside
+from the URDF (`vkgl/robot/`). Task space keeps the hand `REACH_MARGIN` inside
 it, so that inverse kinematics has room.
 """
 
