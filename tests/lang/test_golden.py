@@ -52,8 +52,15 @@ def _as_from_the_checkout(out: str) -> str:
     installed_parent = stdlib_dir().resolve().parent
     if installed_parent == REPO:
         return out
-    shown = f"{installed_parent.as_posix()}/"
-    return out.replace(f"{shown} (the installed", "./ (the installed").replace(shown, "")
+    # Shown absolute, or relative to the current directory when the environment is inside the
+    # checkout (the README makes it at `.venv/`).
+    forms = [installed_parent.as_posix()]
+    if installed_parent.is_relative_to(REPO):
+        forms.append(installed_parent.relative_to(REPO).as_posix())
+    for form in forms:
+        shown = f"{form}/"
+        out = out.replace(f"{shown} (the installed", "./ (the installed").replace(shown, "")
+    return out
 
 
 @pytest.fixture
