@@ -148,6 +148,7 @@ def check_plan(
     task = program.tasks[task_name]
     geometry = SceneGeometry(program, program.scenes[task.scene.name])
     graphs = plan_json.get("graphs") or []
+    resting = geometry.start_poses()  # a body the plan leaves out stays where the scene puts it
     findings = []
     for k, step in enumerate(plan_json.get("steps") or []):
         allowed = _joined(graphs[k : k + 2])
@@ -156,7 +157,7 @@ def check_plan(
         worst: dict[tuple[str, str], tuple[float, int]] = {}
         for i in range(samples):
             s = i / (samples - 1) if samples > 1 else 1.0
-            poses = {b: screw_interpolate(start[b], end.get(b, start[b]), s) for b in start}
+            poses = {**resting, **{b: screw_interpolate(start[b], end.get(b, start[b]), s) for b in start}}
             for pair, depth in geometry.overlaps(poses, allowed).items():
                 if depth > tolerance and depth > worst.get(pair, (0.0, 0))[0]:
                     worst[pair] = (depth, i + 1)
