@@ -1,0 +1,232 @@
+"""Benchmark: how often does a plan that `vkgc solve` calls solved work in physics, on generated tasks?
+
+    python bench/bench_physical.py [--seed 1] [--count 50] [--jobs 2] [--timeout 20] [--json results.json]
+
+Generates `--count` tasks with `tests/support/generated_tasks.py` (bodies,
+scenes and goals nobody tuned the planner for; the generated bodies'
+affordances are learned once with `vkgl.learn` and cached by body source
+hash under `bench/.cache/physical/`), then for each task, in a process pool of
+`--jobs` workers: solve it (`vkgl.solve`, `--timeout` s), check a solved plan's
+geometry independently (`tests/support/plan_geometry.py`: bodies pushed
+through bodies or the table), carry it out open loop in DART and classify it:
+
+- `solved`: the planner returned a plan;
+- `reached`: carried out in DART, every goal held (`report.status`);
+- `clean`: reached, and no body the plan leaves still moved by more than 1 cm;
+- `disturbed`: a body the plan leaves still ended more than 1 cm from where
+  the plan leaves it (report.final against the plan's final poses);
+- `colliding`: the geometry check found an overlap deeper than 2 mm;
+- `no plan`: the planner said no plan exists (honest infeasible);
+- `timeout`, `error`: the solve ran out of time, or something raised.
+
+Prints one line per task as it finishes (stderr), then Markdown tables by
+target kind, size class, clutter count, reach and path, and the totals.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from multiprocessing import get_context
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
+
+import generated_tasks  # noqa: E402
+import plan_geometry  # noqa: E402
+
+DISTURBED_M = 0.01
+COLUMNS = ("solved", "reached", "clean", "disturbed", "colliding", "no plan", "timeout", "error")
+
+
+def execute_plan(program: Any, task_name: str, plan: Any) -> Any:
+    """ADAPTER (one-line switch): carry `plan` out open loop in DART.
+
+    Becomes `return vkgl.execute(program, task_name, plan)` once `Plan.document()`
+    exists on this branch; until then the closed loop's entry point takes the
+    plan's `vkg-plan/1` JSON.
+    """
+    from vkgl.execute.closed_loop import execute
+
+    return execute(program, task_name, plan.to_json())
+
+
+def run_task(job: dict[str, Any]) -> dict[str, Any]:
+    """Solve, check and execute one generated task; return its metadata and outcome (never raises)."""
+    import vkgl
+
+    result: dict[str, Any] = {**job["meta"], "outcome": "error", "reason": "", "findings": []}
+    try:
+        program = vkgl.compile(job["task_file"])
+        started = time.perf_counter()
+        plan = vkgl.solve(program, job["name"], timeout=job["timeout"])
+        result["solve_s"] = round(time.perf_counter() - started, 3)
+        result["outcome"] = {"solved": "solved", "infeasible": "no plan", "timeout": "timeout"}[plan.status]
+        result["reason"] = (plan.reason or "").splitlines()[0] if plan.reason else ""
+        if plan.status != "solved":
+            return result
+        plan_json = plan.to_json()
+        result["steps"] = [_step_text(s) for s in plan_json["steps"]]
+        result["findings"] = [f.text for f in plan_geometry.check_plan(program, job["name"], plan_json)]
+        started = time.perf_counter()
+        report = execute_plan(program, job["name"], plan)
+        result["execute_s"] = round(time.perf_counter() - started, 1)
+        result["execution"] = report.status
+        result["reason"] = (report.reason or "").splitlines()[0] if report.reason else ""
+        result["disturbed"] = _disturbed(plan_json, report.final)
+    except Exception as exc:  # a benchmark reports every failure and goes on
+        result["outcome"] = "error"
+        result["reason"] = f"{type(exc).__name__}: {exc}".splitlines()[0]
+    return result
+
+
+def _step_text(step: dict[str, Any]) -> str:
+    value = step.get("value", 0.0)
+    amount = f" {np.degrees(value):.0f}deg" if step["motion"] == "revolute" else f" {value * 100:.0f}cm"
+    amount = "" if step["motion"] == "free" else amount
+    return f"{step['op']} {step['affordance']} on {step['body']} with {step['effector']}{amount}"
+
+
+def _disturbed(plan_json: dict[str, Any], real: dict[str, np.ndarray]) -> dict[str, float]:
+    """Bodies the plan leaves where they start but that really ended more than 1 cm away: name -> distance (m)."""
+    start = plan_json["steps"][0]["poses_start"]
+    final = {**plan_json["steps"][-1]["poses_end"], **(plan_json.get("final") or {})}
+    out = {}
+    for name, pose in start.items():
+        planned = np.asarray(final.get(name, pose))
+        if name not in real or not np.allclose(planned, np.asarray(pose), atol=1e-6):
+            continue
+        moved = float(np.linalg.norm(np.asarray(real[name])[:3, 3] - planned[:3, 3]))
+        if moved > DISTURBED_M:
+            out[name] = round(moved, 3)
+    return out
+
+
+def flags(result: dict[str, Any]) -> dict[str, bool]:
+    """The table's columns for one task."""
+    solved = result["outcome"] == "solved"
+    reached = solved and result.get("execution") == "reached"
+    disturbed = solved and bool(result.get("disturbed"))
+    return {
+        "solved": solved,
+        "reached": reached,
+        "clean": reached and not disturbed,
+        "disturbed": disturbed,
+        "colliding": solved and bool(result["findings"]),
+        "no plan": result["outcome"] == "no plan",
+        "timeout": result["outcome"] == "timeout",
+        "error": result["outcome"] == "error",
+    }
+
+
+def table(results: list[dict[str, Any]], title: str, key: Callable[[dict[str, Any]], str]) -> str:
+    """A Markdown table of the columns, one row per value of `key`, and a total row."""
+    groups: dict[str, list[dict[str, Any]]] = {}
+    for r in results:
+        groups.setdefault(key(r), []).append(r)
+    head = f"| {title} | tasks | " + " | ".join(COLUMNS) + " | median solve s |"
+    lines = [head, "|" + "---|" * (len(COLUMNS) + 3)]
+    for name in sorted(groups):
+        lines.append(_row(name, groups[name]))
+    lines.append(_row("**all**", results))
+    return "\n".join(lines)
+
+
+def _row(name: str, rows: list[dict[str, Any]]) -> str:
+    counts = {c: sum(flags(r)[c] for r in rows) for c in COLUMNS}
+    times = [r["solve_s"] for r in rows if "solve_s" in r and r["outcome"] == "solved"]
+    median = f"{statistics.median(times):.2f}" if times else "-"
+    return f"| {name} | {len(rows)} | " + " | ".join(str(counts[c]) for c in COLUMNS) + f" | {median} |"
+
+
+def report_text(results: list[dict[str, Any]]) -> str:
+    """All the tables: by kind, size class, clutter count, reach, path; then the rates."""
+    results = sorted(results, key=lambda r: r["index"])
+    parts = [
+        table(results, "target kind", lambda r: r["kind"]),
+        table(results, "size class", lambda r: f"{r['size_class']}"),
+        table(results, "clutter", lambda r: str(r["clutter"])),
+        table(results, "reach", lambda r: r["reach"]),
+        table(results, "straight path", lambda r: "blocked" if r["in_path"] else "clear"),
+    ]
+    n = len(results)
+    total = {c: sum(flags(r)[c] for r in results) for c in COLUMNS}
+    solved = max(total["solved"], 1)
+    parts.append(
+        f"{n} tasks: {total['solved']} solved ({100 * total['solved'] / n:.0f} %); of the solved, "
+        f"{total['reached']} reached in physics ({100 * total['reached'] / solved:.0f} %), "
+        f"{total['clean']} reached without disturbing another body ({100 * total['clean'] / solved:.0f} %), "
+        f"{total['colliding']} colliding plans ({100 * total['colliding'] / solved:.0f} %)."
+    )
+    return "\n\n".join(parts)
+
+
+def progress_line(r: dict[str, Any]) -> str:
+    """One line per finished task."""
+    what = f"{r['name']}  {r['kind']:5s} {r['size_class']:4s} clutter {r['clutter']} {r['reach']:8s}"
+    what += " blocked" if r["in_path"] else " clear  "
+    outcome = r["outcome"]
+    if outcome == "solved":
+        outcome = f"solved {r.get('solve_s', 0):.1f}s -> {r.get('execution', '?')}"
+        if r.get("disturbed"):
+            outcome += " disturbed " + ",".join(r["disturbed"])
+        if r["findings"]:
+            outcome += f" | {len(r['findings'])} overlaps: {r['findings'][0]}"
+    if r.get("reason") and r.get("execution") != "reached":
+        outcome += f" | {r['reason'][:140]}"
+    return f"{what}  {outcome}"
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Generate, run, print."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seed", type=int, default=1, help="the generator's seed (default 1)")
+    parser.add_argument("--count", type=int, default=50, help="how many tasks (default 50)")
+    parser.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    parser.add_argument("--timeout", type=float, default=20.0, help="solve timeout per task, s (default 20)")
+    parser.add_argument("--out", type=Path, help="folder for the generated tasks (default: a temporary one)")
+    parser.add_argument(
+        "--cache", type=Path, default=REPO / "bench" / ".cache" / "physical", help="learned affordances"
+    )
+    parser.add_argument("--json", type=Path, help="also write every task's result here")
+    parser.add_argument("--from-json", type=Path, help="print the tables of a --json file again; run nothing")
+    args = parser.parse_args(argv)
+    if args.from_json:
+        print(report_text(json.loads(args.from_json.read_text())))
+        return 0
+    with tempfile.TemporaryDirectory() as scratch:
+        out = args.out or Path(scratch)
+        started = time.perf_counter()
+        tasks = generated_tasks.generate_tasks(args.seed, args.count, out, cache=args.cache, jobs=args.jobs)
+        print(f"generated {len(tasks)} tasks in {time.perf_counter() - started:.0f} s", file=sys.stderr)
+        jobs = [
+            {"task_file": str(t.task_file), "name": t.name, "timeout": args.timeout, "meta": t.spec.metadata()}
+            for t in tasks
+        ]
+        results: list[dict[str, Any]] = []
+        with ProcessPoolExecutor(max_workers=args.jobs, mp_context=get_context("spawn")) as pool:
+            futures = [pool.submit(run_task, job) for job in jobs]
+            for future in as_completed(futures):
+                result = future.result()
+                results.append(result)
+                print(f"[{len(results):3d}/{len(jobs)}] {progress_line(result)}", file=sys.stderr, flush=True)
+        wall = time.perf_counter() - started
+    if args.json:
+        args.json.write_text(json.dumps(sorted(results, key=lambda r: r["index"]), indent=1) + "\n")
+    print(f"## bench_physical: seed {args.seed}, {args.count} tasks, {args.jobs} jobs, {wall:.0f} s wall\n")
+    print(report_text(results))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

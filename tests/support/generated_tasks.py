@@ -1,0 +1,493 @@
+"""Seeded generator of tabletop tasks on bodies and scenes nobody tuned for.
+
+`task_spec(seed, index)` is a pure function: it draws, from a random
+generator seeded with `(seed, index)` only, a target body, its start and goal
+on the tabletop of examples/scenes/tabletop.vkg (1.6 x 1.2 m table at
+(0.5, 0, 0), Panda at the origin, the stick at (0.3, -0.4) and the hook at
+(0.3, 0.4)), and 1 to 4 clutter bodies placed without overlap. `write_task`
+turns a spec into `.vkg` files in one folder:
+
+- `bodies.vkg`: the generated body types the scene uses (boxes with a mass from
+  a density, friction 0.5, and the stdlib Block's `explore pushes` block);
+- `affordances.vkg`: their learned affordances (copied from a cache, see
+  `learned_affordances`), importing `bodies.vkg`;
+- `scene.vkg` and `task.vkg`.
+
+Goals are `near` (start and goal within the fingertip's reach, a push),
+`far-push` (the goal beyond the reach: the stick) or `far-pull` (the start
+beyond the reach: the hook). Some tasks put a clutter body in the straight
+path of the target (`in_path`); the others keep the straight path clear of
+every other body, the tools included. Footprints are unions of oriented
+rectangles (every body here is a box or a union of boxes) and overlap is
+tested by separating axes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.spatial import ConvexHull
+
+TABLE_MIN = np.array([-0.3, -0.6])
+TABLE_MAX = np.array([1.3, 0.6])
+TABLE_MARGIN = 0.03  # m: footprints keep this far inside the table's edge
+GAP = 0.015  # m: the least gap between two bodies at the start
+NEAR_RADIUS = (0.35, 0.72)  # m from the arm's base: inside the fingertip's reach (0.09 to 0.80 m)
+FAR_RADIUS = (0.86, 0.98)  # m: beyond the fingertip's reach
+SOLVE_TIMEOUT_S = 20
+
+
+@dataclass(frozen=True)
+class BodyType:
+    """A box body (or a stdlib body): its name, kind, size (m, x y z) and density (kg/m^3)."""
+
+    name: str
+    kind: str
+    size: tuple[float, float, float]
+    density: float = 500.0
+    stdlib: bool = False
+    parts: tuple[tuple[float, float, float, float], ...] = ()  # (cx, cy, sx, sy) boxes of a union, body frame
+
+    @property
+    def mass(self) -> float:
+        """kg, from the density (rounded to grams)."""
+        return round(self.density * self.size[0] * self.size[1] * self.size[2], 3)
+
+    @property
+    def size_class(self) -> str:
+        """`low` (height up to 6 cm), `mid` (up to 15 cm) or `tall`."""
+        height = self.size[2]
+        return "low" if height <= 0.06 + 1e-9 else "mid" if height <= 0.15 + 1e-9 else "tall"
+
+    def rects(self) -> tuple[tuple[float, float, float, float], ...]:
+        """The footprint as (cx, cy, sx, sy) rectangles in the body frame."""
+        return self.parts or ((0.0, 0.0, self.size[0], self.size[1]),)
+
+    def source(self) -> str:
+        """The `body` declaration (generated types only)."""
+        x, y, z = (_num(v * 100) for v in self.size)
+        return (
+            f"body {self.name} {{\n"
+            f"    shape box ({x}, {y}, {z}) cm\n"
+            f"    mass {_num(self.mass)} kg\n"
+            f"    friction 0.5\n"
+            f"    explore pushes {{\n"
+            f"        contacts on faces +x, -x steps 9\n"
+            f"        force normal 1 N\n"
+            f"        duration 3 s\n"
+            f"    }}\n"
+            f"}}\n"
+        )
+
+    def source_hash(self) -> str:
+        """The key of the learned-affordance cache: a hash of the body's source."""
+        return hashlib.sha256(self.source().encode()).hexdigest()[:16]
+
+
+GENERATED_TYPES = (
+    BodyType("CubeS", "cube", (0.08, 0.08, 0.08)),
+    BodyType("CubeM", "cube", (0.12, 0.12, 0.12)),
+    BodyType("SlabN", "slab", (0.12, 0.24, 0.05)),
+    BodyType("SlabW", "slab", (0.16, 0.30, 0.06)),
+    BodyType("CrateM", "crate", (0.20, 0.30, 0.18), density=150.0),
+    BodyType("CrateT", "crate", (0.16, 0.24, 0.25), density=150.0),
+)
+BLOCK = BodyType("Block", "block", (0.10, 0.20, 0.05), stdlib=True)
+STICK = BodyType("Stick", "stick", (0.40, 0.02, 0.02), stdlib=True)
+HOOK = BodyType(
+    "Hook", "hook", (0.40, 0.16, 0.02), stdlib=True, parts=((0.0, 0.0, 0.40, 0.02), (0.19, 0.07, 0.02, 0.16))
+)
+MOVABLE_TYPES = (*GENERATED_TYPES, BLOCK)
+TYPES = {t.name: t for t in (*MOVABLE_TYPES, STICK, HOOK)}
+TOOLS = (("stick", STICK, 0.3, -0.4, 0.0), ("hook", HOOK, 0.3, 0.4, 0.0))
+
+
+@dataclass(frozen=True)
+class Placement:
+    """A scene body: its scene name, type name and planar pose (m, m, deg)."""
+
+    name: str
+    type: str
+    x: float
+    y: float
+    yaw: float
+
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """Everything one generated task says, and the metadata the benchmark groups by."""
+
+    name: str
+    seed: int
+    index: int
+    bodies: tuple[Placement, ...]  # the target first, then the clutter, then the tools
+    goal: tuple[float, float, float | None]  # x, y (m), yaw (deg) or None: heading free
+    reach: str  # near, far-push, far-pull
+    in_path: bool
+    distance: float  # m, start to goal
+
+    @property
+    def scene_name(self) -> str:
+        """The scene's name (scenes and tasks share one namespace)."""
+        return f"{self.name}_scene"
+
+    @property
+    def target(self) -> Placement:
+        """The body the goal is about (scene name `target`)."""
+        return self.bodies[0]
+
+    @property
+    def clutter(self) -> tuple[Placement, ...]:
+        """The other movable bodies."""
+        return tuple(b for b in self.bodies if b.name.startswith("clutter"))
+
+    def generated_types(self) -> list[BodyType]:
+        """The generated body types the scene uses, by name (they need learned affordances)."""
+        names = sorted({b.type for b in self.bodies if not TYPES[b.type].stdlib})
+        return [TYPES[n] for n in names]
+
+    def metadata(self) -> dict[str, object]:
+        """Flat metadata: kind, size class, height, clutter count, reach, in_path, ..."""
+        target = TYPES[self.target.type]
+        return {
+            "name": self.name,
+            "seed": self.seed,
+            "index": self.index,
+            "target_type": target.name,
+            "kind": target.kind,
+            "size_class": target.size_class,
+            "height_cm": round(target.size[2] * 100, 1),
+            "size_cm": [round(v * 100, 1) for v in target.size],
+            "clutter": len(self.clutter),
+            "reach": self.reach,
+            "far": self.reach != "near",
+            "in_path": self.in_path,
+            "yaw_free": self.goal[2] is None,
+            "distance_m": round(self.distance, 3),
+        }
+
+
+# ---------------------------------------------------------------- footprints
+
+
+def _polygons(body: BodyType, x: float, y: float, yaw_deg: float) -> list[np.ndarray]:
+    """The footprint of a body at a planar pose: one (4, 2) array of corners per rectangle."""
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    rotation = np.array([[c, -s], [s, c]])
+    out = []
+    for cx, cy, sx, sy in body.rects():
+        corners = np.array([[-sx, -sy], [sx, -sy], [sx, sy], [-sx, sy]]) / 2 + [cx, cy]
+        out.append(corners @ rotation.T + [x, y])
+    return out
+
+
+def _separated(a: np.ndarray, b: np.ndarray, gap: float) -> bool:
+    """Whether two convex polygons are at least `gap` apart along some edge normal (separating axes)."""
+    for poly in (a, b):
+        edges = np.roll(poly, -1, axis=0) - poly
+        for ex, ey in edges:
+            norm = math.hypot(ex, ey)
+            if norm < 1e-12:
+                continue
+            axis = np.array([-ey, ex]) / norm
+            pa, pb = a @ axis, b @ axis
+            if pa.max() + gap <= pb.min() or pb.max() + gap <= pa.min():
+                return True
+    return False
+
+
+def overlaps(a: list[np.ndarray], b: list[np.ndarray], gap: float = 0.0) -> bool:
+    """Whether two footprints (lists of convex polygons) come closer than `gap` (conservative near corners)."""
+    return any(_near(p, q, gap) and not _separated(p, q, gap) for p in a for q in b)
+
+
+def _near(a: np.ndarray, b: np.ndarray, gap: float) -> bool:
+    """Whether the polygons' bounding circles come closer than `gap` (a cheap test before the exact one)."""
+    ca, cb = a.mean(axis=0), b.mean(axis=0)
+    ra, rb = np.max(np.hypot(*(a - ca).T)), np.max(np.hypot(*(b - cb).T))
+    return bool(np.hypot(*(ca - cb)) < ra + rb + gap)
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull of 2-d points, counter-clockwise."""
+    return points[ConvexHull(points).vertices]
+
+
+def _on_table(polygons: list[np.ndarray]) -> bool:
+    points = np.vstack(polygons)
+    return bool(np.all(points >= TABLE_MIN + TABLE_MARGIN) and np.all(points <= TABLE_MAX - TABLE_MARGIN))
+
+
+def footprint(placement: Placement) -> list[np.ndarray]:
+    """The footprint of a placed body."""
+    return _polygons(TYPES[placement.type], placement.x, placement.y, placement.yaw)
+
+
+# ---------------------------------------------------------------- sampling
+
+
+def task_spec(seed: int, index: int) -> TaskSpec:
+    """The task number `index` of `seed`: a pure function of both."""
+    rng = np.random.default_rng([seed, index])
+    for _ in range(5000):
+        spec = _try_spec(rng, seed, index)
+        if spec is not None:
+            return spec
+    raise RuntimeError(f"no valid task for seed {seed}, index {index}")  # pragma: no cover
+
+
+def _try_spec(rng: np.random.Generator, seed: int, index: int) -> TaskSpec | None:
+    # Stratified by index, so that every kind meets every reach: 7 and 4 are coprime.
+    target_type = MOVABLE_TYPES[index % len(MOVABLE_TYPES)]
+    reach = ("near", "far-push", "near", "far-pull")[index % 4]
+    in_path = index % 5 in (1, 3)
+    clutter_count = int(rng.integers(1, 5))
+    yaw = float(rng.integers(-6, 7) * 5)
+    straight = bool(rng.random() < 0.6)  # along the body's x axis, heading kept; else heading free
+    heading = math.radians(yaw)
+    if reach == "near":
+        radius = rng.uniform(*NEAR_RADIUS)
+        backwards = bool(rng.random() < 0.5)
+    elif reach == "far-push":
+        radius = rng.uniform(0.55, 0.72)
+        backwards = False
+    else:
+        radius = rng.uniform(*FAR_RADIUS)
+        backwards = True
+    bearing = math.radians(rng.uniform(-35, 35))
+    start = np.array([radius * math.cos(bearing), radius * math.sin(bearing)])
+    direction = heading + (math.pi if backwards else 0.0)
+    if not straight:
+        direction += math.radians(rng.choice([-1, 1]) * rng.uniform(10, 30))
+    step = np.array([math.cos(direction), math.sin(direction)])
+    if reach == "near":
+        distance = rng.uniform(0.08, 0.22)
+    else:
+        distance = rng.uniform(0.2, 0.4)
+    if in_path:  # room for a body between the start and the goal
+        distance = target_type.size[0] + rng.uniform(0.1, 0.2)
+    goal = start + distance * step
+    goal_radius = float(np.hypot(*goal))
+    if reach == "near" and not NEAR_RADIUS[0] <= goal_radius <= NEAR_RADIUS[1]:
+        return None
+    if reach == "far-push" and not FAR_RADIUS[0] <= goal_radius <= FAR_RADIUS[1]:
+        return None
+    if reach == "far-pull" and not 0.45 <= goal_radius <= NEAR_RADIUS[1]:
+        return None
+    target = Placement("target", target_type.name, _r(start[0]), _r(start[1]), yaw)
+    goal_yaw = yaw if straight else None
+    goal_pose = (_r(goal[0]), _r(goal[1]), goal_yaw)
+    start_fp = footprint(target)
+    goal_fp = _polygons(target_type, goal_pose[0], goal_pose[1], yaw)
+    if not (_on_table(start_fp) and _on_table(goal_fp)):
+        return None
+    corridor = [_hull(np.vstack(start_fp + goal_fp))]
+    tools = [Placement(n, t.name, x, y, a) for n, t, x, y, a in TOOLS]
+    placed = [target, *tools]
+    if any(overlaps(footprint(t), corridor, GAP) for t in tools):
+        return None  # the tools stay out of every straight path: clutter is what blocks it
+    clutter: list[Placement] = []
+    for k in range(clutter_count):
+        name = f"clutter{k + 1}"
+        blocking = in_path and k == 0
+        body = _place_clutter(rng, name, placed, goal_fp, corridor, start, goal, blocking)
+        if body is None:
+            return None
+        clutter.append(body)
+        placed.append(body)
+    spec = TaskSpec(
+        name=f"gen{seed}_{index:03d}",
+        seed=seed,
+        index=index,
+        bodies=(target, *clutter, *tools),
+        goal=goal_pose,
+        reach=reach,
+        in_path=in_path,
+        distance=float(distance),
+    )
+    return spec
+
+
+def _place_clutter(
+    rng: np.random.Generator,
+    name: str,
+    placed: list[Placement],
+    goal_fp: list[np.ndarray],
+    corridor: list[np.ndarray],
+    start: np.ndarray,
+    goal: np.ndarray,
+    blocking: bool,
+) -> Placement | None:
+    """A clutter body that overlaps no placed body nor the goal; in the corridor iff `blocking`."""
+    others = [footprint(other) for other in placed] + [goal_fp]
+    for _ in range(30 if blocking else 60):
+        kind = MOVABLE_TYPES[int(rng.integers(len(MOVABLE_TYPES)))]
+        yaw = float(rng.integers(-6, 7) * 15)
+        if blocking:
+            at = start + rng.uniform(0.35, 0.75) * (goal - start)
+            at = at + rng.uniform(-0.03, 0.03, size=2)
+        else:
+            at = np.array([rng.uniform(0.3, 1.1), rng.uniform(-0.5, 0.5)])
+        body = Placement(name, kind.name, _r(at[0]), _r(at[1]), yaw)
+        fp = footprint(body)
+        if not _on_table(fp) or float(np.hypot(*at)) < 0.3:
+            continue
+        if any(overlaps(fp, other, GAP) for other in others):
+            continue
+        if overlaps(fp, corridor) != blocking:
+            continue
+        return body
+    return None
+
+
+def _r(value: float) -> float:
+    """Positions are written with 3 decimals (mm)."""
+    return round(float(value), 3)
+
+
+def _num(value: float) -> str:
+    """A number as the files write it: no trailing zeros."""
+    text = f"{value:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+# ---------------------------------------------------------------- files
+
+
+def scene_source(spec: TaskSpec) -> str:
+    """The `scene.vkg` of a task."""
+    uses = ["stdlib.robots.panda", "stdlib.bodies.block", "stdlib.bodies.stick", "stdlib.bodies.hook"]
+    lines = [f"# Generated by tests/support/generated_tasks.py (seed {spec.seed}, task {spec.index}). Do not edit.", ""]
+    lines += [f"use {u}" for u in uses]
+    if spec.generated_types():
+        lines.append('use "bodies.vkg"')
+    lines += [
+        "",
+        f"scene {spec.scene_name} {{",
+        "    table size (1.6, 1.2) m at (0.5, 0, 0) m",
+        "    robot arm : Panda at (0, 0, 0) m",
+    ]
+    for b in spec.bodies:
+        lines.append(f"    {b.name} : {b.type} on table at ({_num(b.x)}, {_num(b.y)}) m yaw {_num(b.yaw)}deg")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def task_source(spec: TaskSpec) -> str:
+    """The `task.vkg` of a task."""
+    x, y, yaw = spec.goal
+    uses = ['"scene.vkg"', "stdlib.affordances.block", "stdlib.affordances.stick", "stdlib.affordances.hook"]
+    uses.append("stdlib.tools")
+    if spec.generated_types():
+        uses.append('"affordances.vkg"')
+    heading = f" yaw {_num(yaw)}deg within 1 cm, 3deg" if yaw is not None else " within 1 cm"
+    lines = [f"# Generated by tests/support/generated_tasks.py (seed {spec.seed}, task {spec.index}). Do not edit.", ""]
+    lines += [f"use {u}" for u in uses]
+    lines += [
+        "",
+        f"task {spec.name} {{",
+        f"    scene {spec.scene_name}",
+        f"    goal target at ({_num(x)}, {_num(y)}) m{heading}",
+        f"    search {{ max_depth 6  timeout {SOLVE_TIMEOUT_S} s }}",
+        "}",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def bodies_source(types: list[BodyType]) -> str:
+    """The `bodies.vkg` of a task: its generated body types."""
+    header = "# Generated by tests/support/generated_tasks.py. Do not edit.\n"
+    return header + "".join("\n" + t.source() for t in types)
+
+
+def write_task(spec: TaskSpec, folder: Path, library: dict[str, Path | None] | None = None) -> Path:
+    """Write the task's `.vkg` files into `folder`; return the task file.
+
+    `library` maps a generated body type's name to its learned affordance
+    module (`learned_affordances`); without it `affordances.vkg` is not
+    written (the scene still compiles, the task does not).
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    types = spec.generated_types()
+    if types:
+        (folder / "bodies.vkg").write_text(bodies_source(types), encoding="utf-8")
+        if library is not None:
+            modules = [library[t.name] for t in types]
+            blocks = [_affordance_blocks(m.read_text(encoding="utf-8")) for m in modules if m is not None]
+            text = '# Learned with vkgl.learn (cached by body source hash). Do not edit.\n\nuse "bodies.vkg"\n'
+            (folder / "affordances.vkg").write_text(text + "".join("\n" + b for b in blocks), encoding="utf-8")
+    (folder / "scene.vkg").write_text(scene_source(spec), encoding="utf-8")
+    task_file = folder / "task.vkg"
+    task_file.write_text(task_source(spec), encoding="utf-8")
+    return task_file
+
+
+def _affordance_blocks(module: str) -> str:
+    """The `affordances NAME { ... }` blocks of a learned module, without its header and `use`."""
+    at = module.find("\naffordances ")
+    if at < 0:
+        raise ValueError("the learned module holds no affordances block")
+    return module[at + 1 :]
+
+
+def learned_affordances(types: list[BodyType], cache: Path, *, jobs: int | None = None) -> dict[str, Path | None]:
+    """Each generated type's learned affordance module, learning (with `vkgl.learn`) only what the cache lacks.
+
+    The cache holds one folder per body source hash: `body.vkg` and the module
+    `vkgl.learn` wrote from it, or `failed.txt` saying why learning found no
+    affordance (the type then maps to None: nothing can move it).
+    """
+    import vkgl
+    from vkgl.errors import InputError
+
+    out: dict[str, Path | None] = {}
+    for body in types:
+        folder = cache / body.source_hash()
+        module = folder / f"{body.name.lower()}.vkg"
+        if not folder.is_dir():
+            partial = folder.with_name(folder.name + ".partial")
+            shutil.rmtree(partial, ignore_errors=True)
+            partial.mkdir(parents=True)
+            (partial / "body.vkg").write_text(body.source(), encoding="utf-8")
+            try:
+                vkgl.learn([partial / "body.vkg"], out_dir=partial, jobs=jobs)
+            except InputError as exc:
+                (partial / "failed.txt").write_text(f"{exc}\n", encoding="utf-8")
+            partial.rename(folder)
+        out[body.name] = module if module.is_file() else None
+    return out
+
+
+@dataclass(frozen=True)
+class GeneratedTask:
+    """A written task: its spec, its folder and task file."""
+
+    spec: TaskSpec
+    folder: Path
+    task_file: Path
+
+    @property
+    def name(self) -> str:
+        """The task's (and scene's) name."""
+        return self.spec.name
+
+    def metadata(self) -> dict[str, object]:
+        """The spec's metadata plus the task file."""
+        return {**self.spec.metadata(), "task_file": str(self.task_file)}
+
+
+def generate_tasks(
+    seed: int, count: int, out_dir: Path, *, cache: Path | None = None, jobs: int | None = None
+) -> list[GeneratedTask]:
+    """Write `count` tasks of `seed` into `out_dir/<name>/`; learn affordances into `cache` when given."""
+    specs = [task_spec(seed, i) for i in range(count)]
+    library = None
+    if cache is not None:
+        types = sorted({t for s in specs for t in s.generated_types()}, key=lambda t: t.name)
+        library = learned_affordances(types, cache, jobs=jobs)
+    return [GeneratedTask(s, out_dir / s.name, write_task(s, out_dir / s.name, library)) for s in specs]
