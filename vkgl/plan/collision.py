@@ -159,6 +159,8 @@ class CollisionScene:
     def collide(self, group_a: Any, group_b: Any, names: dict[str, str] | None = None) -> list[Contact]:
         """The overlaps (deeper than the tolerance) between two groups, one deepest Contact per pair of bodies.
 
+        A contact's `body_a` is in `group_a`, its `body_b` in `group_b`.
+
         Bodies are named by their frames' owners (`names` maps other frame names,
         e.g. the arm's links, to what contacts should call them).
         """
@@ -169,8 +171,10 @@ class CollisionScene:
         for c in result.getContacts():
             if c.penetrationDepth <= self.tol:
                 continue
-            a = self._name(c.collisionObject1.getShapeFrame().getName(), names)
-            b = self._name(c.collisionObject2.getShapeFrame().getName(), names)
+            first, second = c.collisionObject1.getShapeFrame(), c.collisionObject2.getShapeFrame()
+            if not group_a.hasShapeFrame(first):  # FCL may give the pair either way round
+                first, second = second, first
+            a, b = self._name(first.getName(), names), self._name(second.getName(), names)
             old = deepest.get((a, b))
             if old is None or c.penetrationDepth > old.depth:
                 deepest[(a, b)] = Contact(a, b, float(c.penetrationDepth), np.array(c.point, dtype=float))
