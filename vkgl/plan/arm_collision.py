@@ -94,10 +94,7 @@ class ArmCollision:
         if poses is not None:
             self.scene.place(poses)
         self.set_configuration(q)
-        skip = set(ignore)
-        if held is not None:
-            skip.add(held.body)
-        others = [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
+        others = self._others(ignore, held, table)
         out = self.scene.collide(self.group, self.scene.group(others), self.link_of) if others else []
         if held is not None:
             tool_pose = self.effector_pose() @ held.in_hand
@@ -107,6 +104,26 @@ class ArmCollision:
 
     def free(self, q: Sequence[float] | np.ndarray, poses: Mapping[str, np.ndarray] | None = None,
              ignore: Iterable[str] = (), held: Held | None = None, table: bool = True) -> bool:
-        """Whether nothing overlaps at `q` (see `overlap`): the state-validity check of transit planning."""
-        return not self.overlap(q, poses, ignore, held, table)
+        """Whether nothing overlaps at `q` (see `overlap`): the state-validity check of transit planning.
+
+        Faster than `overlap` where something does: it stops at the first deep contact.
+        """
+        if poses is not None:
+            self.scene.place(poses)
+        self.set_configuration(q)
+        others = self._others(ignore, held, table)
+        if others and self.scene.collides(self.group, self.scene.group(others)):
+            return False
+        if held is not None:
+            self.scene.place({held.body: self.effector_pose() @ held.in_hand})
+            targets = [n for n in others if n not in held.acts_on]
+            return not (targets and self.scene.collides(self.scene.group([held.body]), self.scene.group(targets)))
+        return True
+
+    def _others(self, ignore: Iterable[str], held: Held | None, table: bool) -> list[str]:
+        """The scene's bodies (and table) the links are checked against."""
+        skip = set(ignore)
+        if held is not None:
+            skip.add(held.body)
+        return [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
 

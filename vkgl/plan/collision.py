@@ -22,6 +22,7 @@ The boundary is plain numpy: poses are 4x4 world matrices keyed by body name.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -86,9 +87,14 @@ class CollisionScene:
         self._owner: dict[str, str] = {}  # shape frame name -> body
         self.radius: dict[str, float] = {}  # body -> radius of a ball about its frame origin that holds it
         self._placed: dict[str, bytes] = {}
+        self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
         for name, shape in shapes.items():
-            self._add(name, dart_shapes(shape), float(np.linalg.norm(shape_mesh(shape).vertices, axis=1).max()))
+            mesh = shape_mesh(shape)
+            parts = dart_shapes(shape)
+            self._add(name, parts, float(np.linalg.norm(mesh.vertices, axis=1).max()))
+            self._support[name] = [_support(part, local, mesh) for part, local in parts]
         self.table_box: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) corners of the slab
+        self.table_top = float(table_z)
         if table_center is not None and table_size is not None:
             size = np.array([table_size[0], table_size[1], TABLE_DEPTH])
             centre = np.array([table_center[0], table_center[1], table_z - TABLE_DEPTH / 2])
@@ -180,11 +186,26 @@ class CollisionScene:
                 deepest[(a, b)] = Contact(a, b, float(c.penetrationDepth), np.array(c.point, dtype=float))
         return list(deepest.values())
 
+    def collides(self, group_a: Any, group_b: Any) -> bool:
+        """Whether two groups overlap deeper than the tolerance (stops at the first such contact: the fast check)."""
+        result = dart.collision.CollisionResult()
+        if not group_a.collide(group_b, self.option, result):
+            return False
+        return any(result.getContact(i).penetrationDepth > self.tol for i in range(result.getNumContacts()))
+
     def _name(self, frame_name: str, names: dict[str, str] | None) -> str:
         owner = self._owner.get(frame_name)
         if owner is not None:
             return owner
         return names.get(frame_name, frame_name) if names else frame_name
+
+    def hits(self, name: str, pose: np.ndarray, others: Iterable[str]) -> bool:
+        """Whether body `name` at `pose` overlaps any of `others` where they were last placed (no Contacts built)."""
+        others = [o for o in others if o != name]
+        if not others:
+            return False
+        self._place(name, pose)
+        return self.collides(self.group([name]), self.group(others))
 
     def against(self, name: str, pose: np.ndarray, others: Iterable[str]) -> list[Contact]:
         """Overlaps of body `name` at `pose` with the bodies `others` where they were last placed."""
@@ -192,7 +213,8 @@ class CollisionScene:
         if not others:
             return []
         self._place(name, pose)
-        return self.collide(self.group([name]), self.group(others))
+        mine, theirs = self.group([name]), self.group(others)
+        return self.collide(mine, theirs) if self.collides(mine, theirs) else []
 
     def overlap(self, poses: Mapping[str, np.ndarray], ignore: Iterable[frozenset[str]] = (),
                 table: bool = True) -> list[Contact]:
@@ -206,24 +228,64 @@ class CollisionScene:
         skip = set(ignore)
         names = [n for n in poses if n != TABLE]
         centres = {n: np.asarray(poses[n], dtype=float)[:3, 3] for n in names}
+        points = {n: tuple(c) for n, c in centres.items()}
         out: list[Contact] = []
         for i, a in enumerate(names):
             near = [b for b in names[i + 1:] if pair(a, b) not in skip
-                    and np.linalg.norm(centres[a] - centres[b]) < self.radius[a] + self.radius[b]]
+                    and math.dist(points[a], points[b]) < self.radius[a] + self.radius[b]]
             if table and self.table_box is not None and pair(a, TABLE) not in skip \
-                    and self.near_table(centres[a][None], self.radius[a])[0]:
+                    and self.near_table(a, np.asarray(poses[a], dtype=float)[None])[0]:
                 near.append(TABLE)
             if near:
-                out.extend(self.collide(self.group([a]), self.group(near)))
+                mine, theirs = self.group([a]), self.group(near)
+                if self.collides(mine, theirs):
+                    out.extend(self.collide(mine, theirs))
         return out
 
-    def near_table(self, centres: np.ndarray, radius: float) -> np.ndarray:
-        """For each of `centres` (n x 3), whether a ball of `radius` there reaches into the table slab."""
+    def near_table(self, name: str, poses: np.ndarray) -> np.ndarray:
+        """For each of `poses` (n x 4 x 4) of body `name`, whether it may sink into the table deeper than the tolerance.
+
+        False is certain: either the body's bounding ball stays out of the slab,
+        or its lowest point (exact for boxes and cylinders, a mesh's vertices)
+        is at most the tolerance below the top; then FCL need not be asked.
+        A body sliding on the table top is the common case this saves.
+        """
         if self.table_box is None:
-            return np.zeros(len(centres), dtype=bool)
+            return np.zeros(len(poses), dtype=bool)
         lower, upper = self.table_box
+        centres = poses[:, :3, 3]
         gap = np.maximum(np.maximum(lower - centres, centres - upper), 0.0)
-        return np.einsum("ij,ij->i", gap, gap) < radius * radius
+        near = np.einsum("ij,ij->i", gap, gap) < self.radius[name] ** 2
+        if near.any():
+            near &= self.lowest(name, poses) < self.table_top - self.tol
+        return near
+
+    def lowest(self, name: str, poses: np.ndarray) -> np.ndarray:
+        """The world z of the lowest point of body `name` at each of `poses` (n x 4 x 4)."""
+        out = np.full(len(poses), np.inf)
+        for kind, size, local in self._support[name]:
+            world = poses @ local
+            z_row, z = world[:, 2, :3], world[:, 2, 3]
+            if kind == "box":
+                low = z - np.abs(z_row) @ size
+            elif kind == "cylinder":
+                tilt = np.abs(z_row[:, 2])
+                low = z - tilt * size[1] - size[0] * np.sqrt(np.clip(1.0 - tilt * tilt, 0.0, None))
+            else:
+                low = (z_row @ size.T).min(axis=1) + z
+            out = np.minimum(out, low)
+        return out
+
+
+def _support(shape: Any, local: np.ndarray, mesh: Any) -> tuple[str, np.ndarray, np.ndarray]:
+    """(kind, size, pose in the body frame) of a DART part for `lowest`: a box's half sides, a cylinder's
+    (radius, half height), else the body's whole hull vertices (body frame: a lower bound for the part)."""
+    kind = shape.getType()
+    if kind == "BoxShape":
+        return "box", np.asarray(shape.getSize(), dtype=float) / 2, local
+    if kind == "CylinderShape":
+        return "cylinder", np.array([shape.getRadius(), shape.getHeight() / 2]), local
+    return "points", np.asarray(mesh.convex_hull.vertices, dtype=float), np.eye(4)
 
 
 def _isometry(matrix: np.ndarray) -> Any:

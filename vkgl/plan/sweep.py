@@ -88,7 +88,7 @@ def sweep(scene: CollisionScene, frame: np.ndarray, constraint: PrismaticC | Rev
             if mask.any():
                 near.append((other, mask))
         if table and scene.table_box is not None and pair(name, TABLE) not in skip:
-            mask = scene.near_table(centres, scene.radius[name])
+            mask = scene.near_table(name, poses)
             if mask.any():
                 near.append((TABLE, mask))
         targets[name] = near
