@@ -1,6 +1,6 @@
 """Collision queries the planner needs, timed per library: DART (FCL, DART, Bullet detectors), coal, python-fcl.
 
-Run on demand: `PYTHONPATH=. python bench/bench_collision.py [--repeat N]`. Prints one table
+Run on demand: `PYTHONPATH=. python bench/bench_collision.py [--repeat N] [--tasks]`. Prints one table
 (microseconds per query, lower is better) and the answers' agreement with the truth.
 
 Queries (docs/collision.md says why these):
@@ -457,10 +457,54 @@ def backends() -> list[Any]:
     return out
 
 
+def paper_tasks() -> None:
+    """Per paper task: build the scene and the arm, then checks (a)-(d) along its found plan; ms, and what overlaps."""
+    from vkgl.lang.compiler import compile_file
+    from vkgl.plan.arm_collision import ArmCollision
+    from vkgl.plan.collision import CollisionScene, pair
+    from vkgl.plan.model import build_problem
+    from vkgl.plan.search import search
+    from vkgl.plan.sweep import sweep_mode
+
+    print(f"{'task':>22} | build ms | bodies ms | arm ms | overlaps")
+    for path in sorted((REPO / "examples" / "tasks").glob("*.vkg")):
+        program = compile_file(str(path))
+        problem = build_problem(program, program.task())
+        result = search(problem, deadline=time.perf_counter() + 30)
+        if result.task is None or result.joints is None or result.sequence is None:
+            print(f"{path.stem:>22} | not solved")
+            continue
+        start = time.perf_counter()
+        scene = CollisionScene.from_problem(problem)
+        arm = ArmCollision(scene, problem.arm)
+        built = time.perf_counter()
+        found = []
+        graphs = result.sequence.graphs
+        for k, trace in enumerate(result.task.traces):
+            tools = [(problem.effector(e.effector).tool, e.body) for e in graphs[k].engaged]
+            ignore = {pair(tool, body) for tool, body in tools if tool is not None}
+            for poses in (trace.start, trace.end):
+                found += scene.overlap(poses, ignore)
+            found += sweep_mode(scene, problem, trace)
+        bodies = time.perf_counter()
+        for k, trace in enumerate(result.task.traces):
+            touched = {e.body for e in graphs[k].engaged}
+            for q, poses in ((result.joints.q_start[k], trace.start), (result.joints.q_end[k], trace.end)):
+                found += arm.overlap(q, poses, ignore=touched)
+        done = time.perf_counter()
+        what = ", ".join(f"{c.body_a}/{c.body_b} {c.depth * 1000:.1f} mm" for c in found) or "none"
+        print(f"{path.stem:>22} | {1e3 * (built - start):8.1f} | {1e3 * (bodies - built):9.1f} | "
+              f"{1e3 * (done - bodies):6.1f} | {what}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=2000, help="pair queries per shape pair")
+    parser.add_argument("--tasks", action="store_true", help="instead: the checks along the paper tasks' plans")
     args = parser.parse_args()
+    if args.tasks:
+        paper_tasks()
+        return
     qs = arm_configurations()
     truth_pairs = {label: pair_truth(label, 400) for label in PAIRS}
     truth_arm: list[bool] | None = None
