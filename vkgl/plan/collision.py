@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import dartpy as dart
 import numpy as np
@@ -33,6 +33,9 @@ import numpy as np
 from vkgl.lang.geometry import shape_mesh
 from vkgl.lang.ir import Shape
 from vkgl.sim.world import dart_shapes
+
+if TYPE_CHECKING:
+    from vkgl.plan.model import Problem
 
 TOUCH_TOL = 1e-3
 """m: penetration up to this depth counts as touching (allowed); deeper is an overlap."""
@@ -104,7 +107,7 @@ class CollisionScene:
         self._groups: dict[tuple[str, ...], Any] = {}
 
     @classmethod
-    def from_problem(cls, problem: Any, tol: float = TOUCH_TOL) -> CollisionScene:
+    def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL) -> CollisionScene:
         """The scene of a `vkgl.plan.model.Problem`: its bodies' shapes and its table (if the scene has one)."""
         shapes = {name: body.type.shape for name, body in problem.bodies.items()}
         return cls(shapes, table_center=problem.table_center, table_size=problem.table_size,

@@ -31,12 +31,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from typing import Any
 
 import numpy as np
 
 from vkgl.lang.ir import PrismaticC, RevoluteC
 from vkgl.plan.collision import TABLE, TOUCH_TOL, CollisionScene, Contact, pair
+from vkgl.plan.model import Problem
 from vkgl.plan.rollout import ModeTrace, motion_matrices, unit_axis_and_center
 
 MAX_SLIP = 0.005
@@ -104,16 +104,17 @@ def sweep(scene: CollisionScene, frame: np.ndarray, constraint: PrismaticC | Rev
     return []
 
 
-def sweep_mode(scene: CollisionScene, problem: Any, trace: ModeTrace,
+def sweep_mode(scene: CollisionScene, problem: Problem, trace: ModeTrace,
                ignore: Iterable[frozenset[str]] = (), step: float = STEP) -> list[Contact]:
     """The overlaps along one mode of a rollout: every moving affordance's body and what moves with it vs the rest.
 
-    `problem` is the `vkgl.plan.model.Problem` (for the affordances' motions
-    and the effectors' tools). The bodies that move with an engagement's body
-    are found from the trace itself (their end pose is the start pose carried
-    by the same rigid motion): the tool pushing it, a tool held against it.
-    A tool and the body it acts on may touch (their pair is ignored, as are
-    the `ignore` pairs). Bodies that do not move in the mode are the still ones.
+    `problem` gives the affordances' motions and the effectors' tools. The
+    bodies that move with an engagement's body are found from the trace itself
+    (their end pose is the start pose carried by the same rigid motion): the
+    tool pushing it, a tool held against it. A tool and the body it acts on may
+    touch (their pair is ignored, as are the `ignore` pairs). Bodies that do
+    not move in the mode are the still ones; a body that moves but follows no
+    engagement's motion is only checked at the mode's ends (by `overlap`).
     """
     moving = {n for n in trace.start if not np.allclose(trace.start[n], trace.end[n], atol=1e-9)}
     still = {n: p for n, p in trace.start.items() if n not in moving}
@@ -126,6 +127,8 @@ def sweep_mode(scene: CollisionScene, problem: Any, trace: ModeTrace,
         if value == 0.0 or e.body not in moving:
             continue
         constraint = problem.affordance(e.body, e.affordance).motion
+        if not isinstance(constraint, (PrismaticC, RevoluteC)):  # only these carry motion values
+            continue
         frame = trace.start[e.body]
         carried = frame @ motion_matrices(constraint, np.array([value]))[0] @ np.linalg.inv(frame)
         movers = {n: trace.start[n] for n in moving if np.allclose(trace.end[n], carried @ trace.start[n], atol=1e-6)}
