@@ -193,6 +193,7 @@ class DartBackend:
         self.option = dart.collision.CollisionOption()
         self.option.enableContact = True
         self.option.maxNumContacts = 4
+        self.keep: list[Any] = []
 
     def shape(self, spec: Spec) -> Any:
         kind, data = spec
@@ -215,8 +216,19 @@ class DartBackend:
             frame = self.dart.dynamics.SimpleFrame(self.dart.dynamics.Frame.World(), f"{tag}{i}")
             frame.setShape(self.shape(spec))
             group.addShapeFrame(frame)
+            self.keep.append(frame)  # groups hold raw pointers to their frames
             frames.append((frame, local))
         return group, frames
+
+    def still_group(self, bodies: dict[str, BodyParts], poses: dict[str, np.ndarray]) -> Any:
+        """One group of all `bodies` at `poses` (their frames are kept alive by the backend)."""
+        still = self.detector.createCollisionGroup()
+        for name, parts in bodies.items():
+            _, frames = self.group(parts, name)
+            self.place(frames, poses[name])
+            for frame, _ in frames:
+                still.addShapeFrame(frame)
+        return still
 
     def place(self, frames: list[tuple[Any, np.ndarray]], pose: np.ndarray) -> None:
         for frame, local in frames:
@@ -266,14 +278,7 @@ def time_sweep(backend: Any, n: int = 50, repeat: int = 20) -> float:
     """µs per sweep: a block at n poses against 10 bodies + table, every pose checked against every body."""
     bodies, poses = _scene()
     if isinstance(backend, DartBackend):
-        still = backend.detector.createCollisionGroup()
-        keep = []  # collision groups hold raw pointers to their frames: keep the frames alive
-        for name, parts in bodies.items():
-            _, frames = backend.group(parts, name)
-            backend.place(frames, poses[name])
-            for frame, _ in frames:
-                still.addShapeFrame(frame)
-                keep.append(frame)
+        still = backend.still_group(bodies, poses)
         moving, mframes = backend.group(BLOCK, "moving")
         option, dart = backend.option, backend.dart
 
@@ -338,14 +343,7 @@ def arm_checker(backend: Any) -> Callable[[np.ndarray], bool]:
         arm_group = backend.detector.createCollisionGroup()
         for _, shape_node, _ in shapes:
             arm_group.addShapeFrame(shape_node)
-        still = backend.detector.createCollisionGroup()
-        keep = []
-        for name, parts in bodies.items():
-            _, frames = backend.group(parts, name)
-            backend.place(frames, poses[name])
-            for frame, _ in frames:
-                still.addShapeFrame(frame)
-                keep.append(frame)
+        still = backend.still_group(bodies, poses)
         option, dart = backend.option, backend.dart
 
         def check(q: np.ndarray) -> bool:
@@ -353,7 +351,6 @@ def arm_checker(backend: Any) -> Callable[[np.ndarray], bool]:
             result = dart.collision.CollisionResult()
             return bool(arm_group.collide(still, option, result)) and backend.deep(result)
 
-        check.keep = (keep, still, arm_group, skeleton)  # type: ignore[attr-defined]
         return check
     nodes = sorted({id(n): n for n, _, _ in shapes}.values(), key=lambda n: n.getIndexInSkeleton())
     index = {id(n): i for i, n in enumerate(nodes)}

@@ -84,3 +84,7 @@ def test_a_held_hooks_whole_shape_is_checked_but_not_against_what_it_acts_on(set
     hits = arm.overlap(home, on_cross_piece, held=held)
     assert {(c.body_a, c.body_b) for c in hits} == {("hook", "post")}
     assert arm.overlap(home, on_cross_piece, held=Held("hook", in_hand, acts_on=frozenset({"post"}))) == []
+    # the fast check of transit planning gives the same answers
+    assert not arm.free(home, on_cross_piece, held=held)
+    assert arm.free(home, on_cross_piece, held=Held("hook", in_hand, acts_on=frozenset({"post"})))
+    assert arm.free(home, poses, held=held)

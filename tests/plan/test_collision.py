@@ -26,6 +26,8 @@ def test_overlapping_boxes_are_detected_with_their_depth() -> None:
     assert {c.body_a, c.body_b} == {"a", "b"}
     assert c.depth == pytest.approx(0.01, abs=1e-4)
     assert 0.04 <= c.point[0] <= 0.05
+    assert scene.hits("b", pose(0.09, 0, 0), ["a"]) and not scene.hits("b", pose(0.1, 0, 0), ["a"])
+    assert [x.body_b for x in scene.against("b", pose(0.09, 0, 0), ["a"])] == ["a"]
 
 
 @pytest.mark.parametrize("gap, overlaps", [(0.0, False), (-0.0005, False), (0.002, False), (-0.002, True)])
