@@ -94,7 +94,8 @@ class CollisionScene:
         for name, shape in shapes.items():
             mesh = shape_mesh(shape)
             parts = dart_shapes(shape)
-            self._add(name, parts, float(np.linalg.norm(mesh.vertices, axis=1).max()))
+            # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
+            self._add(name, parts, float(np.linalg.norm(mesh.vertices, axis=1).max()) * 1.005 + tol)
             self._support[name] = [_support(part, local, mesh) for part, local in parts]
         self.table_box: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) corners of the slab
         self.table_top = float(table_z)
