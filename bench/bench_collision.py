@@ -497,8 +497,10 @@ def paper_tasks() -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=2000, help="pair queries per shape pair")
+    parser.add_argument("--rounds", type=int, default=ROUNDS, help="each time is the best of this many rounds")
     parser.add_argument("--tasks", action="store_true", help="instead: the checks along the paper tasks' plans")
     args = parser.parse_args()
+    globals()["ROUNDS"] = args.rounds
     if args.tasks:
         paper_tasks()
         return

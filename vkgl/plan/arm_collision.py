@@ -56,6 +56,7 @@ class ArmCollision:
         iso.set_matrix(np.asarray(arm.base, dtype=float))
         self.skeleton.getRootJoint().setTransformFromParentBodyNode(iso)
         self._dofs = [int(self.skeleton.getJoint(name).getIndexInSkeleton(0)) for name in arm.joint_names]
+        self._all_dofs = self._dofs == list(range(self.skeleton.getNumDofs()))
         self._link = self.skeleton.getBodyNode(arm.effector_link)
         self.group = scene.detector.createCollisionGroup()
         self.link_of: dict[str, str] = {}  # shape node name -> link name (what contacts call it)
@@ -74,7 +75,10 @@ class ArmCollision:
 
     def set_configuration(self, q: Sequence[float] | np.ndarray) -> None:
         """Put the arm's joints (order of `Arm.joint_names`) at `q`."""
-        self.skeleton.setPositions(self._dofs, np.asarray(q, dtype=float))
+        if self._all_dofs:
+            self.skeleton.setPositions(np.asarray(q, dtype=float))
+        else:
+            self.skeleton.setPositions(self._dofs, np.asarray(q, dtype=float))
 
     def effector_pose(self) -> np.ndarray:
         """The world pose of the effector frame at the current configuration (equals `Arm.fk(q)`)."""

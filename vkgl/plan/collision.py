@@ -133,7 +133,11 @@ class CollisionScene:
 
     def group(self, names: Iterable[str]) -> Any:
         """The (cached) DART collision group of the shapes of `names`."""
-        key = tuple(sorted(set(names)))
+        given = tuple(names)
+        group = self._groups.get(given)  # the same names in the same order: no sorting (the hot path)
+        if group is not None:
+            return group
+        key = tuple(sorted(set(given)))
         group = self._groups.get(key)
         if group is None:
             group = self.detector.createCollisionGroup()
@@ -141,6 +145,7 @@ class CollisionScene:
                 for frame, _ in self._frames[name]:
                     group.addShapeFrame(frame)
             self._groups[key] = group
+        self._groups[given] = group
         return group
 
     def owner(self, frame_name: str) -> str | None:
