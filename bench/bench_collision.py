@@ -454,16 +454,53 @@ def backends() -> list[Any]:
     return out
 
 
-def paper_tasks() -> None:
-    """Per paper task: build the scene and the arm, then checks (a)-(d) along its found plan; ms, and what overlaps."""
-    from vkgl.lang.compiler import compile_file
+EXTRA = [(0.9 + 0.12 * (i % 4), (-0.5, 0.5)[i // 4]) for i in range(8)]
+"""Where 8 extra blocks stand on the tabletop scene's table for the `--tasks` scaling column: off the plans' way."""
+
+
+def _check_plan(problem: Any, result: Any, extra: int) -> tuple[float, float, float, list[Any]]:
+    """Build scene and arm, then checks (a)-(d) along the found plan, with `extra` more blocks: (ms, ms, ms, contacts)."""
     from vkgl.plan.arm_collision import ArmCollision
     from vkgl.plan.collision import CollisionScene, pair
-    from vkgl.plan.model import build_problem
-    from vkgl.plan.search import search
     from vkgl.plan.sweep import sweep_mode
 
-    print(f"{'task':>22} | build ms | bodies ms | arm ms | overlaps")
+    block = problem.bodies["block"]
+    more = {f"extra{i}": _pose(x, y, block.rest[2, 3]) for i, (x, y) in enumerate(EXTRA[:extra])}
+    start = time.perf_counter()
+    shapes = {name: body.type.shape for name, body in problem.bodies.items()}
+    shapes.update({name: block.type.shape for name in more})
+    scene = CollisionScene(shapes, table_center=problem.table_center, table_size=problem.table_size,
+                           table_z=problem.table_z)
+    arm = ArmCollision(scene, problem.arm)
+    built = time.perf_counter()
+    found = []
+    graphs = result.sequence.graphs
+    traces = [(dict(t.start, **more), dict(t.end, **more), t) for t in result.task.traces]
+    for k, (first, last, trace) in enumerate(traces):
+        tools = [(problem.effector(e.effector).tool, e.body) for e in graphs[k].engaged]
+        ignore = {pair(tool, body) for tool, body in tools if tool is not None}
+        for poses in (first, last):
+            found += scene.overlap(poses, ignore)
+        trace.start, trace.end = first, last
+        found += sweep_mode(scene, problem, trace)
+    bodies = time.perf_counter()
+    for k, (first, last, _) in enumerate(traces):
+        touched = {e.body for e in graphs[k].engaged}
+        for q, poses in ((result.joints.q_start[k], first), (result.joints.q_end[k], last)):
+            found += arm.overlap(q, poses, ignore=touched)
+    done = time.perf_counter()
+    return 1e3 * (built - start), 1e3 * (bodies - built), 1e3 * (done - bodies), found
+
+
+def paper_tasks() -> None:
+    """Per paper task: the checks along its found plan (ms), what overlaps, and the same with 8 more blocks."""
+    import copy
+
+    from vkgl.lang.compiler import compile_file
+    from vkgl.plan.model import build_problem
+    from vkgl.plan.search import search
+
+    print(f"{'task':>22} | build ms | bodies ms | arm ms | +8 blocks: build, bodies, arm ms | overlaps")
     for path in sorted((REPO / "examples" / "tasks").glob("*.vkg")):
         program = compile_file(str(path))
         problem = build_problem(program, program.task())
@@ -471,27 +508,11 @@ def paper_tasks() -> None:
         if result.task is None or result.joints is None or result.sequence is None:
             print(f"{path.stem:>22} | not solved")
             continue
-        start = time.perf_counter()
-        scene = CollisionScene.from_problem(problem)
-        arm = ArmCollision(scene, problem.arm)
-        built = time.perf_counter()
-        found = []
-        graphs = result.sequence.graphs
-        for k, trace in enumerate(result.task.traces):
-            tools = [(problem.effector(e.effector).tool, e.body) for e in graphs[k].engaged]
-            ignore = {pair(tool, body) for tool, body in tools if tool is not None}
-            for poses in (trace.start, trace.end):
-                found += scene.overlap(poses, ignore)
-            found += sweep_mode(scene, problem, trace)
-        bodies = time.perf_counter()
-        for k, trace in enumerate(result.task.traces):
-            touched = {e.body for e in graphs[k].engaged}
-            for q, poses in ((result.joints.q_start[k], trace.start), (result.joints.q_end[k], trace.end)):
-                found += arm.overlap(q, poses, ignore=touched)
-        done = time.perf_counter()
-        what = ", ".join(f"{c.body_a}/{c.body_b} {c.depth * 1000:.1f} mm" for c in found) or "none"
-        print(f"{path.stem:>22} | {1e3 * (built - start):8.1f} | {1e3 * (bodies - built):9.1f} | "
-              f"{1e3 * (done - bodies):6.1f} | {what}")
+        build, bodies, arm, found = _check_plan(problem, copy.deepcopy(result), 0)
+        build8, bodies8, arm8, found8 = _check_plan(problem, copy.deepcopy(result), 8)
+        what = ", ".join(f"{c.body_a}/{c.body_b} {c.depth * 1000:.1f} mm" for c in found + found8) or "none"
+        print(f"{path.stem:>22} | {build:8.1f} | {bodies:9.1f} | {arm:6.1f} | "
+              f"{build8:9.1f}, {bodies8:6.1f}, {arm8:5.1f} {'':>9} | {what}")
 
 
 def main() -> None:

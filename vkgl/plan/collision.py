@@ -22,7 +22,6 @@ The boundary is plain numpy: poses are 4x4 world matrices keyed by body name.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -106,6 +105,7 @@ class CollisionScene:
             self._place(TABLE, _translation(centre))
             self.table_box = (centre - size / 2, centre + size / 2)
         self._groups: dict[tuple[str, ...], Any] = {}
+        self._table_memo: dict[tuple[str, bytes], bool] = {}
 
     @classmethod
     def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL) -> CollisionScene:
@@ -236,20 +236,29 @@ class CollisionScene:
         self.place(poses)
         skip = set(ignore)
         names = [n for n in poses if n != TABLE]
-        centres = {n: np.asarray(poses[n], dtype=float)[:3, 3] for n in names}
-        points = {n: tuple(c) for n, c in centres.items()}
+        centres = np.array([np.asarray(poses[n], dtype=float)[:3, 3] for n in names]).reshape(-1, 3)
+        radii = np.array([self.radius[n] for n in names])
+        apart = np.linalg.norm(centres[:, None] - centres[None], axis=2) >= radii[:, None] + radii[None]
         out: list[Contact] = []
         for i, a in enumerate(names):
-            near = [b for b in names[i + 1:] if pair(a, b) not in skip
-                    and math.dist(points[a], points[b]) < self.radius[a] + self.radius[b]]
-            if table and self.table_box is not None and pair(a, TABLE) not in skip \
-                    and self.near_table(a, np.asarray(poses[a], dtype=float)[None])[0]:
+            near = [b for j, b in enumerate(names[i + 1:], i + 1) if not apart[i, j] and pair(a, b) not in skip]
+            if table and self.table_box is not None and pair(a, TABLE) not in skip and self._on_table(a, poses[a]):
                 near.append(TABLE)
             if near:
                 mine, theirs = self.group([a]), self.group(near)
                 if self.collides(mine, theirs):
                     out.extend(self.collide(mine, theirs))
         return out
+
+    def _on_table(self, name: str, pose: np.ndarray) -> bool:
+        """`near_table` at one pose, remembered: still bodies are asked about the same pose again and again."""
+        key = (name, np.asarray(pose, dtype=float).tobytes())
+        known = self._table_memo.get(key)
+        if known is None:
+            if len(self._table_memo) > 4096:
+                self._table_memo.clear()
+            known = self._table_memo[key] = bool(self.near_table(name, np.asarray(pose, dtype=float)[None])[0])
+        return known
 
     def near_table(self, name: str, poses: np.ndarray) -> np.ndarray:
         """For each of `poses` (n x 4 x 4) of body `name`, whether it may sink into the table deeper than the tolerance.
