@@ -41,8 +41,8 @@ def box_case(arm: Arm) -> tuple[BoxWorld, np.ndarray, np.ndarray, TransitPath | 
 
 
 def wall(q: np.ndarray) -> bool:
-    """A joint-space wall across joint 1 with a gap at joint 2 > 1.5."""
-    return not (abs(q[0]) < 0.3 and q[1] < 1.5)
+    """A joint-space wall across joint 1 with a gap at joint 2 > 0.8."""
+    return not (abs(q[0]) < 0.3 and q[1] < 0.8)
 
 
 def test_resolution_bounds_link_motion(arm: Arm) -> None:
@@ -86,9 +86,9 @@ def test_blocked_transit_goes_around_the_box(box_case) -> None:
 def test_same_seed_same_path() -> None:
     start, goal = np.zeros(7), np.zeros(7)
     start[0], goal[0] = -1.0, 1.0
-    first = plan_transit(start, goal, wall, LOWER, UPPER, seed=7)
-    second = plan_transit(start, goal, wall, LOWER, UPPER, seed=7)
-    other = plan_transit(start, goal, wall, LOWER, UPPER, seed=8)
+    first = plan_transit(start, goal, wall, LOWER, UPPER, seed=7, time_limit=5.0)
+    second = plan_transit(start, goal, wall, LOWER, UPPER, seed=7, time_limit=5.0)
+    other = plan_transit(start, goal, wall, LOWER, UPPER, seed=8, time_limit=5.0)
     assert isinstance(first, TransitPath) and isinstance(second, TransitPath) and isinstance(other, TransitPath)
     assert first.method == "rrtconnect"
     assert np.array_equal(first.waypoints, second.waypoints)
@@ -144,7 +144,7 @@ def test_ompl_prints_nothing(tmp_path) -> None:
             from vkgl.plan.transit import plan_transit, TransitPath, TransitFailure
 
             def wall(q):
-                return not (abs(q[0]) < 0.3 and q[1] < 1.5)
+                return not (abs(q[0]) < 0.3 and q[1] < 0.8)
 
             def broken(q):
                 raise ValueError("no")
