@@ -135,7 +135,8 @@ def test_exception_of_the_validity_function_propagates() -> None:
 
 
 def test_ompl_prints_nothing(tmp_path) -> None:
-    """No OMPL log and no nanobind leak warning at exit, after a found path, a failure and an exception."""
+    """No OMPL log and no nanobind leak warning at exit, after a found path, a failure and an exception;
+    and the path found in a fresh process is the one found here."""
     script = tmp_path / "quiet.py"
     script.write_text(
         textwrap.dedent(
@@ -160,6 +161,7 @@ def test_ompl_prints_nothing(tmp_path) -> None:
             except ValueError:
                 pass
             print(type(found).__name__, found.method, type(lost).__name__)
+            print(found.waypoints.tobytes().hex())
             """
         )
     )
@@ -167,5 +169,11 @@ def test_ompl_prints_nothing(tmp_path) -> None:
         [sys.executable, str(script)], capture_output=True, text=True, cwd=REPO, env={"PYTHONPATH": str(REPO)}
     )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "TransitPath rrtconnect TransitFailure"
+    summary, digest = done.stdout.strip().splitlines()
+    assert summary == "TransitPath rrtconnect TransitFailure"
     assert done.stderr == ""
+    # the same path in this process, after other plans: the seed alone decides it
+    start, goal = np.zeros(7), np.zeros(7)
+    start[0], goal[0] = -1.0, 1.0
+    here = plan_transit(start, goal, wall, LOWER, UPPER, seed=3)
+    assert isinstance(here, TransitPath) and here.waypoints.tobytes().hex() == digest

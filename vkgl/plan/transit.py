@@ -9,10 +9,13 @@
    bounded by the joint limits, extensions at most `RRT_RANGE` long, its edges checked by OMPL's discrete motion
    validator at the same Euclidean step `resolution` (the state validity
    checking resolution is `resolution / maximum extent` of the space), then
-   OMPL's `PathSimplifier`: `ropeShortcutPath` (shortcutting) and one round of
+   OMPL's `PathSimplifier`: `reduceVertices` (shortcutting: random pairs of
+   vertices joined by a straight edge when it is valid) and one round of
    `smoothBSpline` (smoothing). Both run without a clock, so they are
-   deterministic; `simplifyMax` shortens the path a little more (about 10 %
-   on the benchmark) for 3 to 4 times the collision checks;
+   deterministic. `simplifyMax` shortens paths by about 10 % more for 3 to 4
+   times the collision checks; `ropeShortcutPath` or `partialShortcutPath`
+   instead of `reduceVertices` cost 10 to 20 % more checks for the same
+   length (docs/transit.md);
 4. the result is re-validated densely in Python, independently of how OMPL was
    configured (if the simplified path fails, the raw one is tried).
 
@@ -246,7 +249,7 @@ def _run_ompl(
         path = og.PathGeometric(pdef.getSolutionPath())
         raw = _waypoints(path, n)
         simplifier = og.PathSimplifier(si)
-        simplifier.ropeShortcutPath(path)
+        simplifier.reduceVertices(path)
         simplifier.smoothBSpline(path, 1)
         stage("simplify")
         simplified = _waypoints(path, n)
