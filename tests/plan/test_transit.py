@@ -11,6 +11,7 @@ import subprocess
 import sys
 import textwrap
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -94,6 +95,18 @@ def test_same_seed_same_path() -> None:
     assert np.array_equal(first.waypoints, second.waypoints)
     assert not np.array_equal(first.waypoints, other.waypoints)
     assert all(wall(q) for q in densify(first.waypoints, DEFAULT_RESOLUTION))
+
+
+def test_threads_planning_at_once_get_their_seeded_paths() -> None:
+    start, goal = np.zeros(7), np.zeros(7)
+    start[0], goal[0] = -1.0, 1.0
+    alone = plan_transit(start, goal, wall, LOWER, UPPER, seed=11, time_limit=5.0)
+    with ThreadPoolExecutor(3) as pool:
+        together = list(
+            pool.map(lambda _: plan_transit(start, goal, wall, LOWER, UPPER, seed=11, time_limit=5.0), [0, 1, 2])
+        )
+    assert isinstance(alone, TransitPath)
+    assert all(isinstance(r, TransitPath) and np.array_equal(r.waypoints, alone.waypoints) for r in together)
 
 
 def test_invalid_goal_fails_at_once() -> None:

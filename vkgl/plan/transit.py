@@ -26,7 +26,9 @@ Seeding: every call sets OMPL's seed generator (`ompl.util.RNG.setSeed`) to a
 value derived from `seed` and then builds fresh OMPL objects, whose RNGs draw
 their seeds from it in a fixed order; the same input therefore gives the same
 path (as long as the planner finishes within `time_limit`: a search cut by
-the clock is a failure, whose timing depends on the machine).
+the clock is a failure, whose timing depends on the machine). OMPL's seed
+generator is global, so the OMPL part of planning calls is serialised by a
+lock: threads planning at the same time still get their seeded paths.
 
 Quiet: OMPL's log level is `LOG_NONE` while it runs (then restored). nanobind
 prints "leaked instances" warnings at interpreter exit for OMPL objects still
@@ -38,6 +40,7 @@ gone), and nothing OMPL-owned escapes this module.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -140,7 +143,8 @@ def plan_transit(
     time_left = time_limit - (time.perf_counter() - began)
     if time_left <= 0:
         return failed(f"no time left for {PLANNER} within {time_limit:g} s")
-    outcome = _quiet_ompl(start, goal, check, stage, low, high, seed=seed, time_limit=time_left, resolution=resolution)
+    inside = np.clip(start, low, high), np.clip(goal, low, high)  # within 1e-9: OMPL would reject the ends
+    outcome = _quiet_ompl(*inside, check, stage, low, high, seed=seed, time_limit=time_left, resolution=resolution)
     if isinstance(outcome, str):
         return failed(outcome)
     for waypoints in outcome:
@@ -149,6 +153,11 @@ def plan_transit(
         if valid:
             return found(waypoints, "rrtconnect")
     return failed(f"{PLANNER}'s path failed the dense re-validation")
+
+
+_OMPL_LOCK = threading.Lock()
+"""OMPL's seed generator and log level are global: one planning call at a time in a process, so that threads
+planning at once still get their seeded paths."""
 
 
 def _ompl_seed(seed: int) -> int:
@@ -171,13 +180,14 @@ def _quiet_ompl(
     """`_run_ompl` with OMPL's log silenced, re-raising an exception of `is_valid` after OMPL is done."""
     from ompl import util as ou
 
-    previous = ou.getLogLevel()
-    ou.setLogLevel(ou.LogLevel.LOG_NONE)
     errors: list[BaseException] = []
-    try:
-        outcome = _run_ompl(start, goal, check, stage, low, high, errors, seed, time_limit, resolution)
-    finally:
-        ou.setLogLevel(previous)
+    with _OMPL_LOCK:
+        previous = ou.getLogLevel()
+        ou.setLogLevel(ou.LogLevel.LOG_NONE)
+        try:
+            outcome = _run_ompl(start, goal, check, stage, low, high, errors, seed, time_limit, resolution)
+        finally:
+            ou.setLogLevel(previous)
     if errors:
         raise errors[0]
     return outcome
