@@ -27,7 +27,7 @@ def test_velocity_limits_come_from_the_urdf() -> None:
         velocity_limits(URDF, ["panda_joint1", "nope"])
 
 
-def speeds(timed, dt: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
+def speeds(timed, dt: float = 2e-3) -> tuple[np.ndarray, np.ndarray]:
     """Finite-difference joint velocities and accelerations along the timed path."""
     t = np.arange(0.0, timed.duration + dt, dt)
     q = np.array([timed.at(x) for x in t])
@@ -59,7 +59,7 @@ def test_acceleration_limits_are_kept_within_segments(rest: bool) -> None:
     assert timed.duration > time_path(PATH, limits).duration  # ramps take time
     for k in range(len(PATH)):
         assert np.allclose(timed.at(timed.times[k]), PATH[k], atol=1e-6)
-    dt = 1e-3
+    dt = 2e-3
     velocity, acceleration = speeds(timed, dt)
     assert (np.abs(velocity) <= limits * (1 + 1e-3)).all()
     t = np.arange(0.0, timed.duration + dt, dt)[1:-1]

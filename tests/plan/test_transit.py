@@ -38,7 +38,7 @@ def box_case(arm: Arm) -> tuple[BoxWorld, np.ndarray, np.ndarray, TransitPath | 
     world = BoxWorld(arm, [((0.55, 0.0, 0.3), (0.1, 0.1, 0.3))])
     start, goal = arm.home.copy(), arm.home.copy()
     start[0], goal[0] = 1.0, -1.0
-    return world, start, goal, plan_transit(start, goal, world.is_valid, arm.lower, arm.upper, seed=1, time_limit=5.0)
+    return world, start, goal, plan_transit(start, goal, world.is_valid, arm.lower, arm.upper, seed=0, time_limit=5.0)
 
 
 def wall(q: np.ndarray) -> bool:
