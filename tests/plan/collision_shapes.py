@@ -22,10 +22,12 @@ def cylinder(radius: float, height: float) -> CylinderShape:
 
 def hook() -> UnionShape:
     """The stdlib Hook: a 40 cm shaft along x and a 16 cm cross-piece at its +x end, toward +y."""
-    return UnionShape(parts=[
-        ShapePart(shape=box(0.40, 0.02, 0.02), pose=Pose(position=Vector(values=(0.0, 0.0, 0.0)))),
-        ShapePart(shape=box(0.02, 0.16, 0.02), pose=Pose(position=Vector(values=(0.19, 0.07, 0.0)))),
-    ])
+    return UnionShape(
+        parts=[
+            ShapePart(shape=box(0.40, 0.02, 0.02), pose=Pose(position=Vector(values=(0.0, 0.0, 0.0)))),
+            ShapePart(shape=box(0.02, 0.16, 0.02), pose=Pose(position=Vector(values=(0.19, 0.07, 0.0)))),
+        ]
+    )
 
 
 def pose(x: float, y: float, z: float, yaw: float = 0.0) -> np.ndarray:

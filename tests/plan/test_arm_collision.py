@@ -20,8 +20,9 @@ def setup(compiled):  # noqa: F811 (the fixture)
     problem = build_problem(program, program.task())
     shapes = {name: body.type.shape for name, body in problem.bodies.items()}
     shapes["post"] = box(0.1, 0.1, 1.0)
-    scene = CollisionScene(shapes, table_center=problem.table_center, table_size=problem.table_size,
-                           table_z=problem.table_z)
+    scene = CollisionScene(
+        shapes, table_center=problem.table_center, table_size=problem.table_size, table_z=problem.table_z
+    )
     arm = ArmCollision(scene, problem.arm)
     poses = {name: body.rest for name, body in problem.bodies.items()}
     poses["post"] = pose(5.0, 5.0, 0.5)

@@ -41,8 +41,11 @@ def test_touching_is_allowed_and_penetration_beyond_the_tolerance_is_not(gap: fl
 def test_ignored_pairs_may_overlap() -> None:
     scene = CollisionScene({"a": box(0.1, 0.1, 0.1), "b": box(0.1, 0.1, 0.1), "c": box(0.1, 0.1, 0.1)})
     poses = {"a": pose(0, 0, 0), "b": pose(0.05, 0, 0), "c": pose(0.0, 0.05, 0)}
-    assert {frozenset((c.body_a, c.body_b)) for c in scene.overlap(poses)} == {pair("a", "b"), pair("a", "c"),
-                                                                               pair("b", "c")}
+    assert {frozenset((c.body_a, c.body_b)) for c in scene.overlap(poses)} == {
+        pair("a", "b"),
+        pair("a", "c"),
+        pair("b", "c"),
+    }
     left = scene.overlap(poses, ignore={pair("a", "b"), pair("c", "b")})
     assert [{c.body_a, c.body_b} for c in left] == [{"a", "c"}]
 

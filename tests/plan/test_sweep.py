@@ -89,8 +89,9 @@ def test_a_revolute_sweep_hits_what_lies_within_the_turn_only() -> None:
 
 
 def test_the_table_counts_in_a_sweep() -> None:
-    scene = CollisionScene({"block": box(0.1, 0.2, 0.05)}, table_center=np.array([0.5, 0.0]),
-                           table_size=np.array([1.6, 1.2]))
+    scene = CollisionScene(
+        {"block": box(0.1, 0.2, 0.05)}, table_center=np.array([0.5, 0.0]), table_size=np.array([1.6, 1.2])
+    )
     start = pose(0.4, 0, 0.025)  # resting on the top
     assert sweep(scene, start, ALONG_X, 0.3, {"block": start}, {}) == []  # sliding on the table is touching
     down = PrismaticC(axis=Vector(values=(0.0, 0.0, -1.0)))

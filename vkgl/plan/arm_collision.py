@@ -84,8 +84,14 @@ class ArmCollision:
         """The world pose of the effector frame at the current configuration (equals `Arm.fk(q)`)."""
         return self._link.getWorldTransform().matrix() @ self.arm.link_offset
 
-    def overlap(self, q: Sequence[float] | np.ndarray, poses: Mapping[str, np.ndarray] | None = None,
-                ignore: Iterable[str] = (), held: Held | None = None, table: bool = True) -> list[Contact]:
+    def overlap(
+        self,
+        q: Sequence[float] | np.ndarray,
+        poses: Mapping[str, np.ndarray] | None = None,
+        ignore: Iterable[str] = (),
+        held: Held | None = None,
+        table: bool = True,
+    ) -> list[Contact]:
         """The overlaps of the arm at `q` (and of a held tool) with the bodies and the table.
 
         `poses`: world poses of bodies to place first (bodies not given stay where
@@ -106,8 +112,14 @@ class ArmCollision:
             out.extend(self.scene.against(held.body, tool_pose, targets))
         return out
 
-    def free(self, q: Sequence[float] | np.ndarray, poses: Mapping[str, np.ndarray] | None = None,
-             ignore: Iterable[str] = (), held: Held | None = None, table: bool = True) -> bool:
+    def free(
+        self,
+        q: Sequence[float] | np.ndarray,
+        poses: Mapping[str, np.ndarray] | None = None,
+        ignore: Iterable[str] = (),
+        held: Held | None = None,
+        table: bool = True,
+    ) -> bool:
         """Whether nothing overlaps at `q` (see `overlap`): the state-validity check of transit planning.
 
         Faster than `overlap` where something does: it stops at the first deep contact.
@@ -130,4 +142,3 @@ class ArmCollision:
         if held is not None:
             skip.add(held.body)
         return [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
-

@@ -73,8 +73,15 @@ class CollisionScene:
     others" is one call to FCL after the first time.
     """
 
-    def __init__(self, shapes: Mapping[str, Shape], *, table_center: np.ndarray | None = None,
-                 table_size: np.ndarray | None = None, table_z: float = 0.0, tol: float = TOUCH_TOL) -> None:
+    def __init__(
+        self,
+        shapes: Mapping[str, Shape],
+        *,
+        table_center: np.ndarray | None = None,
+        table_size: np.ndarray | None = None,
+        table_z: float = 0.0,
+        tol: float = TOUCH_TOL,
+    ) -> None:
         """Bodies named by `shapes` (IR shapes, body frame), and a table when `table_center` and `table_size` (x, y) are given."""
         if TABLE in shapes:
             raise ValueError(f"a body may not be called `{TABLE}` in a collision scene: that name is the table's")
@@ -111,8 +118,9 @@ class CollisionScene:
     def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL) -> CollisionScene:
         """The scene of a `vkgl.plan.model.Problem`: its bodies' shapes and its table (if the scene has one)."""
         shapes = {name: body.type.shape for name, body in problem.bodies.items()}
-        return cls(shapes, table_center=problem.table_center, table_size=problem.table_size,
-                   table_z=problem.table_z, tol=tol)
+        return cls(
+            shapes, table_center=problem.table_center, table_size=problem.table_size, table_z=problem.table_z, tol=tol
+        )
 
     # ------------------------------------------------------------ building
 
@@ -225,8 +233,9 @@ class CollisionScene:
         mine, theirs = self.group([name]), self.group(others)
         return self.collide(mine, theirs) if self.collides(mine, theirs) else []
 
-    def overlap(self, poses: Mapping[str, np.ndarray], ignore: Iterable[frozenset[str]] = (),
-                table: bool = True) -> list[Contact]:
+    def overlap(
+        self, poses: Mapping[str, np.ndarray], ignore: Iterable[frozenset[str]] = (), table: bool = True
+    ) -> list[Contact]:
         """Every pair of the bodies in `poses` (and the table, if `table`) that overlaps, but the `ignore` pairs.
 
         `ignore`: unordered pairs (`pair(a, b)`) allowed to overlap, e.g. a tool
@@ -241,7 +250,7 @@ class CollisionScene:
         apart = np.linalg.norm(centres[:, None] - centres[None], axis=2) >= radii[:, None] + radii[None]
         out: list[Contact] = []
         for i, a in enumerate(names):
-            near = [b for j, b in enumerate(names[i + 1:], i + 1) if not apart[i, j] and pair(a, b) not in skip]
+            near = [b for j, b in enumerate(names[i + 1 :], i + 1) if not apart[i, j] and pair(a, b) not in skip]
             if table and self.table_box is not None and pair(a, TABLE) not in skip and self._on_table(a, poses[a]):
                 near.append(TABLE)
             if near:

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vkgl.plan.feasible import Counters, JointSolution, TaskSolution, goal_holds, joint_space, task_space
+from vkgl.plan.geometry_check import GeometryCheck
 from vkgl.plan.graph import successors
 from vkgl.plan.model import Problem
 from vkgl.plan.reach import Rejection, unreachable
@@ -43,6 +44,7 @@ class SearchStats:
     passed_over: int = 0  # sequences whose last mode moves no goal body: extended, never checked themselves
     cut_by_depth: int = 0  # sequences at max_depth that could have been extended further
     task_space_checks: int = 0
+    geometry_checks: int = 0
     joint_space_checks: int = 0
     work: Counters = field(default_factory=Counters)
     depth_reached: int = 1
@@ -73,9 +75,10 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     """Breadth-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs)."""
     stats = SearchStats()
     reporter = _Progress(progress)
+    geometry = GeometryCheck(problem)
     root = start_sequence(problem)
     if goal_holds(problem, root.zero_poses):
-        return _check(problem, root, stats, deadline) or SearchResult("infeasible", "", stats)
+        return _check(problem, root, stats, deadline, geometry) or SearchResult("infeasible", "", stats)
     queue: deque[Sequence] = deque([root])
     try:
         while queue:
@@ -96,7 +99,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                     stats.reject(rejection, action.label(problem))
                     continue
                 if _moves_goal_body(problem, child):
-                    found = _check(problem, child, stats, deadline)
+                    found = _check(problem, child, stats, deadline, geometry)
                     if found is not None:
                         return found
                 else:
@@ -119,8 +122,10 @@ def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
     return any(m == mode and e.body in goal_bodies for m, e in seq.variables)
 
 
-def _check(problem: Problem, seq: Sequence, stats: SearchStats, deadline: float) -> SearchResult | None:
-    """Task space, then joint space; a SearchResult when both hold, else None (rejection counted)."""
+def _check(
+    problem: Problem, seq: Sequence, stats: SearchStats, deadline: float, geometry: GeometryCheck
+) -> SearchResult | None:
+    """Task space, collision geometry, joint space, the arm's geometry; a SearchResult when all hold, else None."""
     label = " -> ".join(a.label(problem) for a in seq.actions) or "G0"
     if seq.variables or seq.actions:
         stats.task_space_checks += 1
@@ -130,10 +135,19 @@ def _check(problem: Problem, seq: Sequence, stats: SearchStats, deadline: float)
     if isinstance(solution, Rejection):
         stats.reject(solution, label)
         return None
+    stats.geometry_checks += 1
+    clash = geometry.bodies(seq.graphs, solution.traces)
+    if clash is not None:
+        stats.reject(clash, label)
+        return None
     stats.joint_space_checks += 1
     joints = joint_space(problem, solution, deadline, stats.work)
     if isinstance(joints, Rejection):
         stats.reject(joints, label)
+        return None
+    clash = geometry.arm(seq.graphs, solution.traces, joints.q_start, joints.q_end)
+    if clash is not None:
+        stats.reject(clash, label)
         return None
     return SearchResult("solved", "", stats, seq, solution, joints)
 
@@ -145,12 +159,13 @@ _KIND_WORDS = {
     "goal": "found no motion values reaching the goal",
     "table": "would push a body off the table or past its joint's limits",
     "ik": "failed inverse kinematics",
+    "collision": "would make a body pass through another (or the arm hit one)",
     "timeout": "ran out of time",
 }
 
 # How far a rejected sequence got: a failure in joint space came closer to a plan than one in task space,
 # which came closer than a hand pose out of reach. The decisive cause is the furthest stage's.
-_STAGE = {"reach": 0, "yaw": 1, "position": 1, "goal": 1, "table": 1, "ik": 2, "timeout": 2}
+_STAGE = {"reach": 0, "yaw": 1, "position": 1, "goal": 1, "table": 1, "collision": 2, "ik": 2, "timeout": 2}
 
 
 def _summary(stats: SearchStats) -> str:

@@ -89,6 +89,7 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
     details = {
         "sequences": result.stats.sequences,
         "pruned": result.stats.pruned,
+        "geometry_checks": result.stats.geometry_checks,
         "optimisations": result.stats.work.optimisations,
         "ik_calls": result.stats.work.ik_calls,
         "rejections": dict(result.stats.rejections),

@@ -56,9 +56,17 @@ def sample_values(constraint: PrismaticC | RevoluteC, value: float, reach: float
     return np.linspace(0.0, value, max(2, math.ceil(travel / step) + 1))
 
 
-def sweep(scene: CollisionScene, frame: np.ndarray, constraint: PrismaticC | RevoluteC, value: float,
-          movers: Mapping[str, np.ndarray], still: Mapping[str, np.ndarray],
-          ignore: Iterable[frozenset[str]] = (), table: bool = True, step: float = STEP) -> list[Contact]:
+def sweep(
+    scene: CollisionScene,
+    frame: np.ndarray,
+    constraint: PrismaticC | RevoluteC,
+    value: float,
+    movers: Mapping[str, np.ndarray],
+    still: Mapping[str, np.ndarray],
+    ignore: Iterable[frozenset[str]] = (),
+    table: bool = True,
+    step: float = STEP,
+) -> list[Contact]:
     """The overlaps of the first sample along a motion at which a mover hits a still body; [] if none does.
 
     `frame`: the world pose of the body whose affordance moves (the motion's
@@ -104,8 +112,9 @@ def sweep(scene: CollisionScene, frame: np.ndarray, constraint: PrismaticC | Rev
     return []
 
 
-def sweep_mode(scene: CollisionScene, problem: Problem, trace: ModeTrace,
-               ignore: Iterable[frozenset[str]] = (), step: float = STEP) -> list[Contact]:
+def sweep_mode(
+    scene: CollisionScene, problem: Problem, trace: ModeTrace, ignore: Iterable[frozenset[str]] = (), step: float = STEP
+) -> list[Contact]:
     """The overlaps along one mode of a rollout: every moving affordance's body and what moves with it vs the rest.
 
     `problem` gives the affordances' motions and the effectors' tools. The
