@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from vkgl.formats.files import write_atomically
+from vkgl.formats.atomic import write_text
 from vkgl.se3 import yaw_of
 
 FORMAT = "vkg-execution/1"
@@ -195,4 +195,4 @@ class ExecutionReport:
 
 def write(path: str | Path, report: ExecutionReport) -> None:
     """Write the report as `vkg-execution/1` JSON to `path`, atomically (temporary file, then renamed)."""
-    write_atomically(path, json.dumps(report.to_json(), indent=1) + "\n")
+    write_text(path, json.dumps(report.to_json(), indent=1) + "\n")

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError, PlanFormatError
-from vkgl.formats.files import write_atomically
+from vkgl.formats.atomic import write_text
 
 PLAN_FORMAT = "vkg-plan/1"
 STATUSES = ("solved", "infeasible", "timeout")
@@ -171,7 +171,7 @@ def dumps(doc: PlanDocument) -> str:
 
 def write(path: str | Path, doc: PlanDocument) -> None:
     """Write `doc` to `path` atomically: a temporary file in the same folder, then renamed over `path`."""
-    write_atomically(path, dumps(doc))
+    write_text(path, dumps(doc))
 
 
 def matrix_json(pose: np.ndarray) -> list[list[float]]:
