@@ -37,7 +37,7 @@ def _plan(program, task: str):
     """The planner's plan as a vkg-plan/1 document (`vkgl.formats.plan.PlanDocument`)."""
     from vkgl.plan.solve import solve
 
-    return solve((program, task)).document()
+    return solve(program, program.task(task)).document()
 
 
 def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):

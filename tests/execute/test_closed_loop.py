@@ -49,7 +49,7 @@ def _push_steps(plan: dict[str, Any]) -> list[dict[str, Any]]:
 def _resolve_with_the_planner(program: Program, task: str) -> PlanDocument:
     from vkgl.plan.solve import solve
 
-    return solve((program, task)).document()
+    return solve(program, program.task(task)).document()
 
 
 def test_the_planned_push_reaches_the_goal_in_physics(open_loop, task_a):
@@ -222,7 +222,7 @@ def test_the_planners_plan_reaches_the_goal(task_a):
     from vkgl.plan.solve import solve
 
     program, _ = task_a
-    plan = solve((program, TASK))
+    plan = solve(program, program.task(TASK))
     assert plan.status == "solved", plan.reason
     report = execute(program, TASK, plan.document(), replan=True, resolve=_resolve_with_the_planner)
     assert report.status == "reached", report.text()
@@ -288,5 +288,5 @@ def test_a_re_solve_keeps_a_margin_inside_the_tolerance():
         end = np.asarray(plan.steps[-1].poses_end["block"], dtype=float).reshape(4, 4)
         return float(np.linalg.norm(end[:2, 3] - (0.95, 0.0)))
 
-    assert 0.005 < miss(solve((world, "b_stick_push")).document()) <= 0.01
+    assert 0.005 < miss(solve(world, world.task("b_stick_push")).document()) <= 0.01
     assert miss(resolve_with_margin(_resolve_with_the_planner, world, "b_stick_push")) <= 0.005

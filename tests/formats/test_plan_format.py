@@ -16,13 +16,13 @@ from typing import Any
 
 import numpy as np
 import pytest
-
 from conftest import EXAMPLES, REPO, example_tasks
+from plan_script import EXAMPLE_SCRIPTS, scripted_plan
+
 from vkgl.errors import InputError, PlanFormatError
 from vkgl.formats import plan as plan_format
 from vkgl.formats.plan import PlanDocument, dumps, from_json, read, to_json, write
 from vkgl.lang.compiler import compile_file
-from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 GOLDEN = Path(__file__).resolve().parent / "golden"
 """The `vkgc solve --json` output of each example task before formats/plan.py existed (timings zeroed)."""
@@ -40,7 +40,8 @@ def solved() -> dict[str, Any]:
     """The planner's plan of every example task."""
     from vkgl.plan.solve import solve
 
-    return {path.stem: solve(compile_file(str(path))) for path in example_tasks()}
+    programs = {path.stem: compile_file(str(path)) for path in example_tasks()}
+    return {name: solve(program, program.task()) for name, program in programs.items()}
 
 
 @pytest.fixture(scope="module")
