@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord, to_json
+from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord, from_json, to_json
 from vkgl.plan.graph import edges
 from vkgl.plan.model import Problem
 from vkgl.se3 import yaw_of
@@ -60,7 +60,15 @@ class Plan:
     # ------------------------------------------------------------ the document
 
     def document(self) -> PlanDocument:
-        """The plan as a `vkg-plan/1` document (`vkgl.formats.plan`)."""
+        """The plan as a `vkg-plan/1` document (`vkgl.formats.plan`), exactly as its JSON reads back.
+
+        Numbers are rounded as the JSON writes them, so that carrying out the
+        document in memory and carrying out the file `vkgc solve --json`
+        wrote give bit for bit the same result.
+        """
+        return from_json(to_json(self._unrounded_document()))
+
+    def _unrounded_document(self) -> PlanDocument:
         return PlanDocument(
             task=self.task,
             status=self.status,
@@ -75,7 +83,7 @@ class Plan:
 
     def to_json(self) -> dict[str, Any]:
         """The plan in the `vkg-plan/1` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
-        return to_json(self.document())
+        return to_json(self._unrounded_document())
 
     # ------------------------------------------------------------ text
 
