@@ -29,7 +29,8 @@ def test_an_animation_that_cannot_be_written_is_refused_before_executing(tmp_pat
 
 def test_a_negative_max_replans_is_an_input_error(capsys):
     assert main(["solve", str(EXAMPLES / "tasks" / "a_push.vkg"), "--replan", "--max-replans", "-1"]) == 1
-    assert "--max-replans must be 0 or more" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "--max-replans" in err and "-1" in err  # refused by the argument parser, before solving
 
 
 def test_an_execution_that_misses_the_goal_exits_5(tmp_path, capsys):
