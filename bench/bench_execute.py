@@ -2,8 +2,7 @@
 
     python bench/bench_execute.py [--gif DIR] [--disturb DY,DYAW] [TASK.vkg ...]
 
-For each task: solve it (with the planner; without it, with the hand-derived
-plan of `plan_script.EXAMPLE_SCRIPTS`), replay the plan open loop
+For each task: solve it with the planner, replay the plan open loop
 (the plan as planned) and closed loop (re-solving when a body strays by more
 than half the tolerance), and print one Markdown table with the goal errors,
 the number of replans, the simulated duration and the wall time of the
@@ -34,15 +33,11 @@ def _errors(report) -> str:
     return f"{pos:5.2f} cm {yaw:5.2f} deg"
 
 
-def _plan(program, task: str) -> dict:
-    """The planner's plan as vkg-plan/1, or the hand-derived script of the example if there is no planner."""
-    try:
-        from vkgl.plan.solve import solve
-    except ImportError:
-        from plan_script import EXAMPLE_SCRIPTS, scripted_plan
+def _plan(program, task: str):
+    """The planner's plan as a vkg-plan/1 document (`vkgl.formats.plan.PlanDocument`)."""
+    from vkgl.plan.solve import solve
 
-        return scripted_plan(program, task, EXAMPLE_SCRIPTS[task])
-    return solve((program, task)).to_json()
+    return solve(program, program.task(task)).document()
 
 
 def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
@@ -70,14 +65,14 @@ def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -
     program = compile_file(str(path))
     task = program.task()
     started = time.perf_counter()
-    plan_json = _plan(program, task.name)
+    plan = _plan(program, task.name)
     solve_s = time.perf_counter() - started
-    if plan_json["status"] != "solved":
-        return [task.name, plan_json["status"]] + [""] * 8, [task.name, plan_json["status"]] + [""] * 8
+    if not plan.solved:
+        return [task.name, plan.status] + [""] * 8, [task.name, plan.status] + [""] * 8
     rows = []
     for kind, world in (("", program), ("_disturbed", _disturbed(program, task.name, *disturb))):
-        opened = execute(world, task.name, plan_json, record=gif_dir is not None)
-        closed = execute(world, task.name, plan_json, replan=True, record=gif_dir is not None)
+        opened = execute(world, task.name, plan, record=gif_dir is not None)
+        closed = execute(world, task.name, plan, replan=True, record=gif_dir is not None, resolve=_plan)
         if gif_dir is not None:
             from vkgl.execute.animate import animate
 
@@ -86,7 +81,7 @@ def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -
         rows.append(
             [
                 task.name,
-                f"{len(plan_json['steps'])} ({solve_s:.1f} s)",
+                f"{len(plan.steps)} ({solve_s:.1f} s)",
                 f"{opened.status} {_errors(opened)}",
                 f"{opened.sim_time:.1f}",
                 f"{opened.wall_time:.1f}",

@@ -35,6 +35,15 @@ class CompileError(InputError):
         super().__init__(first + more)
 
 
+class PlanFormatError(InputError):
+    """A `vkg-plan/1` document is malformed; `path` is the JSON path of the bad field (e.g. `steps[2].value`)."""
+
+    def __init__(self, path: str, problem: str) -> None:
+        self.path = path
+        self.problem = problem
+        super().__init__(f"{path}: {problem}" if path else problem)
+
+
 class SimulationError(VkgError):
     """The simulator could not run what was asked (e.g. DART rejected a mesh)."""
 

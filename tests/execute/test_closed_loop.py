@@ -1,9 +1,10 @@
 """Executing plans in DART: the pushed block really ends at the goal, and a wrong plan is caught.
 
-The plans are `vkg-plan/1` JSON written by `plan_script` from the
+The plans are `vkg-plan/1` documents written by `plan_script` from the
 hand-derived step scripts of the example tasks (so these tests do not depend
-on the search); wrong plans are made by mutating that JSON. The last test
-replays the planner's own plan and is skipped while `vkgl.plan.solve` is absent.
+on the search); wrong plans are made by mutating their JSON and reading it
+back (`vkgl.formats.plan`). The last tests replay the planner's own plan and
+re-solve with the planner (`vkgl.plan.solve`) as the resolver.
 """
 
 from __future__ import annotations
@@ -13,22 +14,23 @@ from typing import Any
 
 import numpy as np
 import pytest
-
 from conftest import EXAMPLES
+from plan_script import EXAMPLE_SCRIPTS, scripted_plan
+
 from vkgl.errors import InputError
+from vkgl.execute.closed_loop import execute, program_with_observed_scene
+from vkgl.formats.plan import PlanDocument, from_json, to_json
 from vkgl.lang.compiler import compile_file
 from vkgl.lang.geometry import scene_body_pose
 from vkgl.lang.program import Program
-from vkgl.execute.closed_loop import execute, program_with_observed_scene
-from vkgl.formats.execution_report import yaw_of
-from plan_script import EXAMPLE_SCRIPTS, scripted_plan
+from vkgl.se3 import yaw_of
 
 TASK = "a_push"
 
 
 @pytest.fixture(scope="module")
-def task_a() -> tuple[Program, dict[str, Any]]:
-    """Task (a) compiled, and its plan (push the block 15 cm) as vkg-plan/1 JSON."""
+def task_a() -> tuple[Program, PlanDocument]:
+    """Task (a) compiled, and its plan (push the block 15 cm) as a vkg-plan/1 document."""
     program = compile_file(str(EXAMPLES / "tasks" / "a_push.vkg"))
     return program, scripted_plan(program, TASK, EXAMPLE_SCRIPTS[TASK])
 
@@ -44,6 +46,12 @@ def _push_steps(plan: dict[str, Any]) -> list[dict[str, Any]]:
     return [s for s in plan["steps"] if s["op"] == "add" and s["motion"] in ("prismatic", "revolute")]
 
 
+def _resolve_with_the_planner(program: Program, task: str) -> PlanDocument:
+    from vkgl.plan.solve import solve
+
+    return solve(program, program.task(task)).document()
+
+
 def test_the_planned_push_reaches_the_goal_in_physics(open_loop, task_a):
     _, plan = task_a
     report = open_loop
@@ -51,21 +59,21 @@ def test_the_planned_push_reaches_the_goal_in_physics(open_loop, task_a):
     (goal,) = report.goals
     assert goal.position_error < goal.tol_position and abs(goal.yaw_error) < goal.tol_yaw
     # the block really moved: it started 15 cm from where it ended, pushed by contact alone
-    start = np.array(plan["steps"][0]["poses_start"]["block"])
+    start = np.array(plan.steps[0].poses_start["block"])
     assert np.linalg.norm(report.final["block"][:2, 3] - start[:2, 3]) > 0.1
-    assert len(report.steps) == len(plan["steps"])
+    assert len(report.steps) == len(plan.steps)
     assert report.text().splitlines()[-1].startswith("reached")
     assert report.to_json()["format"] == "vkg-execution/1"
 
 
 def test_a_push_from_the_wrong_side_is_reported_as_not_reached(task_a):
     program, plan = task_a
-    wrong = copy.deepcopy(plan)
+    wrong = to_json(plan)
     for step in _push_steps(wrong):
         # the mirror affordance: the fingertip comes from +x and pushes toward -x,
         # while the planned poses still ask for the block to go +x
         step["affordance"] = step["affordance"].replace("_px", "_nx")
-    report = execute(program, TASK, wrong)
+    report = execute(program, TASK, from_json(wrong))
     assert report.status != "reached"
     assert "block is off its goal" in report.reason
     assert report.goals[0].position_error > 0.05
@@ -79,13 +87,13 @@ def test_replay_is_deterministic(task_a, open_loop):
     assert again.sim_time == open_loop.sim_time
 
 
-def _stray_plan(plan: dict[str, Any]) -> dict[str, Any]:
+def _stray_plan(plan: PlanDocument) -> PlanDocument:
     """The plan with a wrong first step: it claims to pull the block 8 mm back.
 
     A fingertip cannot pull: it backs away and the block stays where it is,
     8 mm (> half the 1 cm tolerance) from where this plan says it is.
     """
-    stray = copy.deepcopy(plan)
+    stray = to_json(plan)
     push = _push_steps(stray)[0]
     start = np.array(push["poses_start"]["block"])
     direction = np.array(push["poses_end"]["block"])[:3, 3] - start[:3, 3]
@@ -95,10 +103,12 @@ def _stray_plan(plan: dict[str, Any]) -> dict[str, Any]:
     rest = {**copy.deepcopy(push), "poses_start": {**push["poses_start"], "block": claimed.tolist()}}
     index = stray["steps"].index(push)
     stray["steps"][index : index + 1] = [pull, rest]
-    return stray
+    stray["graphs"][index + 1 : index + 1] = [copy.deepcopy(stray["graphs"][index + 1])]
+    stray["depth"] = len(stray["graphs"])
+    return from_json(stray)
 
 
-def _push_the_rest(program: Program, task: str) -> dict[str, Any]:
+def _push_the_rest(program: Program, task: str) -> PlanDocument:
     """A stand-in for the planner in task (a): push the block, as observed, straight on to the goal."""
     scene = program.scenes[program.task(task).scene.name]
     block = next(b for b in scene.bodies if b.name == "block")
@@ -111,7 +121,7 @@ def test_closed_loop_replans_when_the_block_strays_from_the_plan(task_a):
     program, plan = task_a
     observed_starts = []
 
-    def resolve(observed: Program, task: str) -> dict[str, Any]:
+    def resolve(observed: Program, task: str) -> PlanDocument:
         observed_starts.append(observed.scenes["tabletop"])
         return _push_the_rest(observed, task)
 
@@ -145,12 +155,24 @@ def test_closed_loop_gives_up_after_max_replans(task_a):
 
 def test_a_plan_for_another_task_is_rejected(task_a):
     program, plan = task_a
+    data = to_json(plan)
     with pytest.raises(InputError, match="not `a_push`"):
-        execute(program, TASK, {**plan, "task": "b_stick_push"})
+        execute(program, TASK, from_json({**data, "task": "b_stick_push"}))
     with pytest.raises(InputError, match="vkg-plan/1"):
-        execute(program, TASK, {**plan, "format": "vkg-plan/0"})
+        execute(program, TASK, from_json({**data, "format": "vkg-plan/0"}))
+    unsolved = {**data, "status": "infeasible", "depth": None, "graphs": [], "steps": [], "reason": "none found"}
     with pytest.raises(InputError, match="nothing to execute"):
-        execute(program, TASK, {**plan, "status": "infeasible"})
+        execute(program, TASK, from_json(unsolved))
+
+
+def test_execute_refuses_bad_arguments_before_any_work(task_a):
+    program, plan = task_a
+    with pytest.raises(InputError, match="max_replans must be 0 or more"):
+        execute(program, TASK, plan, max_replans=-1)
+    with pytest.raises(ValueError, match="needs `resolve`"):
+        execute(program, TASK, plan, replan=True)
+    with pytest.raises(TypeError, match="PlanDocument"):
+        execute(program, TASK, to_json(plan))  # type: ignore[arg-type]
 
 
 def test_observed_scene_starts_where_the_bodies_are(task_a):
@@ -197,20 +219,18 @@ def test_a_long_stick_push_keeps_one_arm_configuration():
 
 
 def test_the_planners_plan_reaches_the_goal(task_a):
-    pytest.importorskip("vkgl.plan.solve", reason="the planner (vkgl.plan.solve, issue 5) is not there yet")
     from vkgl.plan.solve import solve
 
     program, _ = task_a
-    plan = solve((program, TASK))
+    plan = solve(program, program.task(TASK))
     assert plan.status == "solved", plan.reason
-    report = execute(program, TASK, plan.to_json(), replan=True)
+    report = execute(program, TASK, plan.document(), replan=True, resolve=_resolve_with_the_planner)
     assert report.status == "reached", report.text()
 
 
 def test_the_planner_re_solves_from_the_observed_scene(task_a):
-    pytest.importorskip("vkgl.plan.solve", reason="the planner (vkgl.plan.solve, issue 5) is not there yet")
     program, plan = task_a
-    report = execute(program, TASK, _stray_plan(plan), replan=True)
+    report = execute(program, TASK, _stray_plan(plan), replan=True, resolve=_resolve_with_the_planner)
     assert report.replans == 1, report.text()
     assert report.status == "reached", report.text()
     assert [s.plan for s in report.steps][-1] == 1  # the last step came from the new plan
@@ -220,7 +240,7 @@ def test_closed_loop_looks_before_the_first_step(task_a):
     """The block really lies 1.5 cm closer to the robot than the plan says: re-solve before touching it."""
     program, plan = task_a
     task = program.task(TASK)
-    start = np.array(plan["steps"][0]["poses_start"]["block"])
+    start = np.array(plan.steps[0].poses_start["block"])
     start[0, 3] -= 0.015
     world = program_with_observed_scene(program, task, {"block": start})
     report = execute(world, TASK, plan, replan=True, resolve=_push_the_rest)
@@ -231,12 +251,12 @@ def test_closed_loop_looks_before_the_first_step(task_a):
 
 def test_when_re_solving_finds_no_plan_the_current_plan_is_carried_on(task_a):
     program, plan = task_a
-    start = np.array(plan["steps"][0]["poses_start"]["block"])
+    start = np.array(plan.steps[0].poses_start["block"])
     start[0, 3] -= 0.006  # 6 mm closer: more than half the tolerance off, yet the plan still ends within it
     world = program_with_observed_scene(program, program.task(TASK), {"block": start})
 
-    def no_plan(observed: Program, task: str) -> dict[str, Any]:
-        return {"format": "vkg-plan/1", "task": task, "status": "infeasible", "reason": "nothing found"}
+    def no_plan(observed: Program, task: str) -> PlanDocument:
+        return PlanDocument(task, "infeasible", None, plan.stats, plan.robot, reason="nothing found")
 
     report = execute(world, TASK, plan, replan=True, resolve=no_plan)
     assert "found no plan (infeasible: nothing found); carrying on with the current plan" in report.replan_log[0]
@@ -251,8 +271,8 @@ def test_a_re_solve_keeps_a_margin_inside_the_tolerance():
     for half the tolerance first and finds a plan (turn, then push) that ends well inside it."""
     from scipy.spatial.transform import Rotation
 
+    from vkgl.execute.closed_loop import resolve_with_margin
     from vkgl.plan.solve import solve
-    from vkgl.execute.closed_loop import solve_with_planner
 
     program = compile_file(str(EXAMPLES / "tasks" / "b_stick_push.vkg"))
     task = program.task("b_stick_push")
@@ -264,9 +284,9 @@ def test_a_re_solve_keeps_a_margin_inside_the_tolerance():
     pose = scene_body_pose(scene, block, program.bodies["Block"]) @ disturbance
     world = program_with_observed_scene(program, task, {"block": pose})
 
-    def miss(plan: dict[str, Any]) -> float:
-        end = np.asarray(plan["steps"][-1]["poses_end"]["block"], dtype=float).reshape(4, 4)
+    def miss(plan: PlanDocument) -> float:
+        end = np.asarray(plan.steps[-1].poses_end["block"], dtype=float).reshape(4, 4)
         return float(np.linalg.norm(end[:2, 3] - (0.95, 0.0)))
 
-    assert 0.005 < miss(solve((world, "b_stick_push")).to_json()) <= 0.01
-    assert miss(solve_with_planner(world, "b_stick_push")) <= 0.005
+    assert 0.005 < miss(solve(world, world.task("b_stick_push")).document()) <= 0.01
+    assert miss(resolve_with_margin(_resolve_with_the_planner, world, "b_stick_push")) <= 0.005

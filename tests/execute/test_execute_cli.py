@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import json
 
+import pytest
 from conftest import EXAMPLES
+
 from vkgl.cli import main
 
 
@@ -27,8 +29,10 @@ def test_an_animation_that_cannot_be_written_is_refused_before_executing(tmp_pat
 
 
 def test_a_negative_max_replans_is_an_input_error(capsys):
-    assert main(["solve", str(EXAMPLES / "tasks" / "a_push.vkg"), "--replan", "--max-replans", "-1"]) == 1
-    assert "--max-replans must be 0 or more" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:  # a usage error: the argument parser refuses it before solving
+        main(["solve", str(EXAMPLES / "tasks" / "a_push.vkg"), "--replan", "--max-replans", "-1"])
+    assert stop.value.code == 1
+    assert "--max-replans: expected a whole number from 0" in capsys.readouterr().err
 
 
 def test_an_execution_that_misses_the_goal_exits_5(tmp_path, capsys):

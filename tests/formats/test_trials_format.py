@@ -71,7 +71,7 @@ def test_sizes_are_checked_before_anything_is_unpacked(tmp_path, monkeypatch) ->
 def test_not_an_archive_is_an_input_error(tmp_path) -> None:
     path = tmp_path / "t.npz"
     path.write_bytes(b"PK\x03\x04 nonsense")
-    with pytest.raises(InputError, match="not a `vkg-trials/1` .npz file"):
+    with pytest.raises(InputError, match=r"not a `vkg-trials/1` \.npz file"):
         Trials.load(path)
 
 

@@ -2,14 +2,15 @@
 
     from plan_script import scripted_plan
     plan = scripted_plan(program, "a_push", ["add Block.push_center_px block arm.fingertip 0.15"])
+    # a vkgl.formats.plan.PlanDocument; vkgl.formats.plan.to_json(plan) is its vkg-plan/1 JSON
 
 The planner (`vkgl.plan.solve`) finds the steps; this module only carries out
 given ones on paper: each pushed body moves by its affordance's motion
 (prismatic: along the axis; revolute: about the axis through the centre), a
 held tool moves rigidly with the effector, and the arm's joints come from its
 IK. It exists so that execution can be checked (and deliberately wrong plans
-written) independently of the search, and so that `vkgc solve --execute` can
-replay a plan JSON written by another tool.
+written) independently of the search, the way another tool would write them:
+through `vkgl.formats.plan`, the one definition of the format.
 
 A script step is `OP AFFORDANCE BODY EFFECTOR [VALUE]` (value in metres or
 radians; a tuple of the same five items works too), e.g.
@@ -26,11 +27,11 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from vkgl.errors import InputError
+from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord
 from vkgl.lang.geometry import resting_height, scene_body_pose, table_top
 from vkgl.lang.ir import Affordance, FixedC, FreeC, PrismaticC, RevoluteC, Task
 from vkgl.lang.program import Program
 
-PLAN_FORMAT = "vkg-plan/1"
 _TURN = "0.3490658503988659"  # 20 deg
 
 EXAMPLE_SCRIPTS: dict[str, list[str]] = {
@@ -104,8 +105,8 @@ def affordance_motion(aff: Affordance, body_start: np.ndarray, value: float) -> 
     return body_start @ local
 
 
-def scripted_plan(program: Program, task: str | Task | None, script: list[str | tuple]) -> dict[str, Any]:
-    """A solved `vkg-plan/1` plan for `task` made of the scripted steps (see the module docstring).
+def scripted_plan(program: Program, task: str | Task | None, script: list[str | tuple]) -> PlanDocument:
+    """A solved `vkg-plan/1` document for `task` made of the scripted steps (see the module docstring).
 
     Raises InputError for an unknown affordance, body or effector, or when the
     arm has no IK solution for a step's effector pose.
@@ -139,51 +140,50 @@ def scripted_plan(program: Program, task: str | Task | None, script: list[str | 
             _remove(state, aff, body, scene, types)
             state.edges.pop(body, None)
         steps.append(
-            {
-                "op": op,
-                "affordance": aff_name,
-                "body": body,
-                "effector": eff,
-                "motion": aff.motion.type,
-                "value": abs(value),
-                "poses_start": {n: p.tolist() for n, p in start.items()},
-                "poses_end": {n: p.tolist() for n, p in state.poses.items()},
-                "q_start": q_start.tolist(),
-                "q_end": state.q.tolist(),
-            }
+            PlanStepRecord(
+                op=op,
+                affordance=aff_name,
+                body=body,
+                effector=eff,
+                motion=aff.motion.type,
+                value=abs(value),
+                poses_start={n: p.copy() for n, p in start.items()},
+                poses_end={n: p.copy() for n, p in state.poses.items()},
+                q_start=q_start.copy(),
+                q_end=state.q.copy(),
+            )
         )
         graphs.append(_graph(scene_robot.name, state.poses, state))
-    return {
-        "format": PLAN_FORMAT,
-        "task": task.name,
-        "status": "solved",
-        "depth": len(graphs),
-        "stats": {"solve_time_s": 0.0, "graphs_expanded": 0, "task_space_checks": 0, "joint_space_checks": 0},
-        "robot": {
-            "name": scene_robot.name,
-            "urdf": robot.urdf_resolved or robot.urdf,
-            "base": base.tolist(),
-            "effector": effector.name,
-            "effector_link": effector.link,
-            "effector_offset": effector.offset.matrix().tolist(),
-            "joints": list(arm.joint_names),
-        },
-        "graphs": graphs,
-        "steps": steps,
-        "final": {n: p.tolist() for n, p in state.poses.items()},
-    }
+    return PlanDocument(
+        task=task.name,
+        status="solved",
+        depth=len(graphs),
+        stats=PlanStats(solve_time_s=0.0, graphs_expanded=0, task_space_checks=0, joint_space_checks=0),
+        robot=PlanRobot(
+            name=scene_robot.name,
+            urdf=robot.urdf_resolved or robot.urdf,
+            base=base,
+            effector=effector.name,
+            effector_link=effector.link,
+            effector_offset=np.asarray(arm.link_offset, dtype=float),  # FK(q) = base @ link(q) @ effector_offset
+            joints=tuple(arm.joint_names),
+        ),
+        graphs=tuple(graphs),
+        steps=tuple(steps),
+        final={n: p.copy() for n, p in state.poses.items()},
+    )
 
 
-def _graph(robot: str, poses: dict[str, np.ndarray], state: _State) -> dict[str, Any]:
-    edges = [[robot, "world", "free"]]
+def _graph(robot: str, poses: dict[str, np.ndarray], state: _State) -> tuple[tuple[str, str, str], ...]:
+    edges = [(robot, "world", "free")]
     for name in poses:
         if name in state.edges:
             eff, motion = state.edges[name]
-            edges.append([eff.partition(".")[0], name, "fixed"])
-            edges.append([name, "world", motion])
+            edges.append((eff.partition(".")[0], name, "fixed"))
+            edges.append((name, "world", motion))
         else:
-            edges.append([name, "world", "fixed"])
-    return {"edges": edges}
+            edges.append((name, "world", "fixed"))
+    return tuple(edges)
 
 
 def _ik(arm: Any, hand: np.ndarray, q0: np.ndarray, raw: Any) -> np.ndarray:

@@ -208,7 +208,7 @@ def _joint_details(plan: Any) -> str:
     """`solve -v`: the arm's joint configuration at the start and end of every step (radians)."""
     if not plan.steps:
         return "joints: none (no plan)"
-    names = plan.robot.get("joints", [])
+    names = plan.robot.joints
     lines = [f"joints (rad; {', '.join(names)}):"]
     for k, step in enumerate(plan.steps, start=1):
         for when, q in (("start", step.q_start), ("end", step.q_end)):

@@ -74,18 +74,17 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
     fig, ax = plt.subplots(figsize=(7.0, 5.6), dpi=80)
     _draw_table(ax, report.table, Rectangle)
     outlines = {name: footprints(report.bodies[name]) for name in frames.bodies}
-    real_patches, ghost_patches = {}, {}
+    real_patches: dict[str, list[Polygon]] = {}
+    ghost_patches: dict[str, list[Polygon]] = {}
     for k, name in enumerate(frames.bodies):
         color = COLORS[k % len(COLORS)]
         real_patches[name] = [
-            ax.add_patch(
-                Polygon(o, closed=True, fc=color, ec="black", lw=0.8, alpha=0.75, label=name if i == 0 else None)
-            )
+            Polygon(o, closed=True, fc=color, ec="black", lw=0.8, alpha=0.75, label=name if i == 0 else None)
             for i, o in enumerate(outlines[name])
         ]
-        ghost_patches[name] = [
-            ax.add_patch(Polygon(o, closed=True, fill=False, ec=color, lw=1.2, ls="--")) for o in outlines[name]
-        ]
+        ghost_patches[name] = [Polygon(o, closed=True, fill=False, ec=color, lw=1.2, ls="--") for o in outlines[name]]
+        for patch in (*real_patches[name], *ghost_patches[name]):
+            ax.add_patch(patch)
     (arm_line,) = ax.plot([], [], "-o", color="0.35", lw=3, ms=3, zorder=5)
     (tip,) = ax.plot([], [], "o", color="black", ms=5, zorder=6)
     title = ax.set_title("")

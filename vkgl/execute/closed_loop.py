@@ -1,8 +1,13 @@
 """Execute a plan in DART: `vkgc solve TASK --execute [--replan]`.
 
     from vkgl.execute.closed_loop import execute
-    report = execute(program, "a_push", plan.to_json(), replan=True)
+    report = execute(program, "a_push", plan_document, replan=True, resolve=resolver)
     print(report.text())
+
+The plan is a `vkgl.formats.plan.PlanDocument` (read it with
+`vkgl.formats.plan.read` or `from_json`); the executor never reads files,
+never compiles and never imports the planner: re-solving goes through the
+`resolve` function the caller (the driver) supplies.
 
 Open loop (`replan=False`) the plan's steps are carried out one after another
 (`vkgl.execute.replay`) and the bodies end wherever physics puts them. Closed loop
@@ -11,6 +16,8 @@ compared with the plan; when a body is off by more than half the goal's
 tolerance the robot lets go, puts down what it holds, and the task is solved
 again from the observed scene (the same task, its scene's start poses replaced
 by the observed ones); after `max_replans` re-solves it gives up and says why.
+A re-solve first asks for half of every goal tolerance (`RESOLVE_MARGIN`), and
+for all of it only when that finds no plan: an execution policy, kept here.
 If a re-solve finds no plan and nothing was put down, the current plan goes on.
 The report's status is `reached` when every goal of the task holds at the end.
 """
@@ -19,23 +26,16 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from vkgl.errors import InputError, VkgError
 from vkgl.execute.effector_path import rotation_angle
-from vkgl.execute.replay import PlannedStep, Replay, read_plan
+from vkgl.execute.replay import Replay
 from vkgl.execute.world_arm import ArmStuck
-from vkgl.formats.execution_report import (
-    Deviation,
-    ExecutionReport,
-    GoalResult,
-    StepReport,
-    angle_difference,
-    yaw_of,
-)
+from vkgl.formats.execution_report import Deviation, ExecutionReport, GoalResult, StepReport
+from vkgl.formats.plan import PlanDocument, PlanStepRecord
 from vkgl.lang.ir import (
     DEFAULT_TOL_POSITION,
     DEFAULT_TOL_YAW,
@@ -48,9 +48,15 @@ from vkgl.lang.ir import (
     Vector,
 )
 from vkgl.lang.program import Program
+from vkgl.se3 import angle_difference, yaw_of
 
-Resolver = Callable[[Program, str], dict[str, Any]]
-"""Re-solves a task of a program; returns a `vkg-plan/1` plan (any status)."""
+Resolver = Callable[[Program, str], PlanDocument]
+"""Solves a task (by name) of a program; returns its `vkg-plan/1` document, of any status.
+
+May raise VkgError (reported as a re-solve that found no plan)."""
+
+Step = tuple[int, PlanStepRecord]
+"""A plan step with its number in its plan (from 1)."""
 
 FINAL_SETTLE = 0.5  # s the world runs after the last step before the goal is checked
 LEVEL_TILT = np.radians(2.0)  # a body tilted less than this still counts as lying on the table
@@ -59,34 +65,43 @@ LEVEL_TILT = np.radians(2.0)  # a body tilted less than this still counts as lyi
 def execute(
     program: Program,
     task: Task | str | None,
-    plan_json: dict[str, Any],
+    plan: PlanDocument,
     *,
     replan: bool = False,
     max_replans: int = 3,
     record: bool = False,
     resolve: Resolver | None = None,
 ) -> ExecutionReport:
-    """Carry out a `vkg-plan/1` plan for `task` in DART and report how close it got to the goal.
+    """Carry out a solved `vkg-plan/1` plan for `task` in DART and report how close it got to the goal.
 
     `task` is the Task IR, its name, or None for the program's first task.
     With `replan`, re-solve from the observed scene whenever a body strays
     from the plan by more than half its tolerance (at most `max_replans`
-    times). With `record`, the report keeps frames for `animate`.
-    `resolve(program, task_name) -> vkg-plan/1 dict` re-solves; the default
-    is the planner (`vkgl.plan.solve.solve`).
-    Raises InputError when the plan does not fit the program.
+    times) with `resolve(program, task_name) -> PlanDocument`, which the
+    caller must then supply (ValueError otherwise). With `record`, the
+    report keeps frames for `animate`.
+    Raises InputError when `max_replans` is negative (before any work), when
+    the plan is not solved or does not fit the program.
     """
+    if max_replans < 0:
+        raise InputError(f"max_replans must be 0 or more, not {max_replans}")
+    if replan and resolve is None:
+        raise ValueError("execute(replan=True) needs `resolve`, a function (program, task name) -> PlanDocument")
+    if not isinstance(plan, PlanDocument):
+        raise TypeError(
+            f"execute() takes a vkgl.formats.plan.PlanDocument, not {type(plan).__name__} "
+            "(vkgl.formats.plan.from_json reads one from JSON data)"
+        )
     started = time.perf_counter()
     task = _task(program, task)
     scene = program.scenes.get(task.scene.name)
     if scene is None:
         raise InputError(f"task {task.name}: no scene `{task.scene.name}` in the program")
-    if plan_json.get("task") not in (None, task.name):
-        raise InputError(f"the plan is for task `{plan_json.get('task')}`, not `{task.name}`")
-    steps, robot_entry = read_plan(plan_json)
-    replay = Replay(program, scene, robot_entry, record=record)
-    loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve or solve_with_planner)
-    status, reason = loop.run(steps)
+    if plan.task != task.name:
+        raise InputError(f"the plan is for task `{plan.task}`, not `{task.name}`")
+    replay = Replay(program, scene, _solved(plan).robot, record=record)
+    loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve)
+    status, reason = loop.run(_numbered(plan))
     return ExecutionReport(
         task=task.name,
         status=status,
@@ -106,21 +121,14 @@ def execute(
     )
 
 
-def execute_file(
-    path: str,
-    plan_json: dict[str, Any],
-    *,
-    replan: bool = False,
-    max_replans: int = 3,
-    record: bool = False,
-) -> ExecutionReport:
-    """Compile the task file at `path` and execute `plan_json` for the task the plan names (see `execute`)."""
-    from vkgl.lang.compiler import compile_file
+def _solved(plan: PlanDocument) -> PlanDocument:
+    if not plan.solved:
+        raise InputError(f"plan for `{plan.task}` is {plan.status!r}: there is nothing to execute")
+    return plan
 
-    if max_replans < 0:
-        raise InputError(f"--max-replans must be 0 or more, not {max_replans}")
-    program = compile_file(path)
-    return execute(program, plan_json.get("task"), plan_json, replan=replan, max_replans=max_replans, record=record)
+
+def _numbered(plan: PlanDocument) -> list[Step]:
+    return list(enumerate(_solved(plan).steps, start=1))
 
 
 def _task(program: Program, task: Task | str | None) -> Task:
@@ -137,7 +145,14 @@ class _Loop:
     """The step loop with optional replanning; fills the per-step reports."""
 
     def __init__(
-        self, program: Program, task: Task, replay: Replay, *, replan: bool, max_replans: int, resolve: Resolver
+        self,
+        program: Program,
+        task: Task,
+        replay: Replay,
+        *,
+        replan: bool,
+        max_replans: int,
+        resolve: Resolver | None,
     ) -> None:
         self.resolve = resolve
         self.program = program
@@ -152,7 +167,7 @@ class _Loop:
         self.log: list[str] = []
         self.watching = True  # False while carrying on with a plan that could not be replaced
 
-    def run(self, steps: list[PlannedStep]) -> tuple[str, str]:
+    def run(self, steps: list[Step]) -> tuple[str, str]:
         """Execute `steps` (and the plans that replace them); return (status, reason).
 
         Closed loop, a step the arm could not carry out (say, a held tool
@@ -160,9 +175,10 @@ class _Loop:
         the world may no longer be what the plan assumed.
         """
         if self.replan and steps:  # look before the first step too: the world may not be what was planned
-            strays = [d for d in self._deviations(steps[0], steps[0].poses_start) if d.exceeded]
+            first_index, first = steps[0]
+            strays = [d for d in self._deviations(first, first.poses_start) if d.exceeded]
             if strays:
-                new_steps = self._replan(_stray(f"before step {steps[0].index}", strays[0]), remaining=steps)
+                new_steps = self._replan(_stray(f"before step {first_index}", strays[0]), remaining=steps)
                 if isinstance(new_steps, tuple):
                     return new_steps
                 steps = new_steps
@@ -178,7 +194,8 @@ class _Loop:
                     return "reached", ""
                 if not self.replan:
                     return "missed", self._miss_reason()
-                status, why, remaining = "missed", f"at the end of plan {self.plan_no}: {self._miss_reason()}", []
+                remaining: list[Step] = []
+                status, why = "missed", f"at the end of plan {self.plan_no}: {self._miss_reason()}"
             elif outcome[0] == "failed" and not self.replan:
                 return outcome[0], outcome[1]
             else:
@@ -189,23 +206,23 @@ class _Loop:
                 return new_steps
             steps = new_steps
 
-    def _run_plan(self, steps: list[PlannedStep]) -> tuple[str, str, list[PlannedStep]] | None:
+    def _run_plan(self, steps: list[Step]) -> tuple[str, str, list[Step]] | None:
         """Carry out `steps`; None when all were, else (kind, why, the steps not carried out)."""
-        for i, step in enumerate(steps):
+        for i, (index, step) in enumerate(steps):
             try:
-                self.replay.run_step(step)
+                self.replay.run_step(index, step)
             except ArmStuck as exc:
-                self._report(step, [])
-                return "failed", f"step {step.index} ({step.title()}): {exc}", []
+                self._report(index, step, [])
+                return "failed", f"step {index} ({step.title()}): {exc}", []
             deviations = self._deviations(step)
-            self._report(step, deviations)
+            self._report(index, step, deviations)
             strays = [d for d in deviations if d.exceeded]
-            if self.replan and self.watching and strays and step is not steps[-1]:
-                return "stray", _stray(f"after step {step.index}", strays[0]), steps[i + 1 :]
+            if self.replan and self.watching and strays and i < len(steps) - 1:
+                return "stray", _stray(f"after step {index}", strays[0]), steps[i + 1 :]
         return None
 
-    def _report(self, step: PlannedStep, deviations: list[Deviation]) -> None:
-        self.reports.append(StepReport(self.plan_no, step.index, step.title(), self.replay.time, deviations))
+    def _report(self, index: int, step: PlanStepRecord, deviations: list[Deviation]) -> None:
+        self.reports.append(StepReport(self.plan_no, index, step.title(), self.replay.time, deviations))
 
     # ------------------------------------------------------------ comparisons
 
@@ -216,7 +233,9 @@ class _Loop:
         tol_a = goal.tol_yaw.value if goal is not None and goal.tol_yaw is not None else DEFAULT_TOL_YAW
         return tol_p / 2, tol_a / 2
 
-    def _deviations(self, step: PlannedStep, planned_poses: dict[str, np.ndarray] | None = None) -> list[Deviation]:
+    def _deviations(
+        self, step: PlanStepRecord, planned_poses: Mapping[str, np.ndarray] | None = None
+    ) -> list[Deviation]:
         """Real vs planned poses (default: the step's end poses) of the bodies that matter: the goal
         bodies and the step's body."""
         planned_poses = step.poses_end if planned_poses is None else planned_poses
@@ -269,8 +288,8 @@ class _Loop:
             self.reports[-1].replan = text
 
     def _replan(
-        self, why: str, status: str = "missed", remaining: list[PlannedStep] | None = None
-    ) -> list[PlannedStep] | tuple[str, str]:
+        self, why: str, status: str = "missed", remaining: list[Step] | None = None
+    ) -> list[Step] | tuple[str, str]:
         """Put things down, re-solve from the observed scene; the new plan's steps, or (status, reason).
 
         When no plan is found but the robot held nothing (so nothing of the
@@ -290,15 +309,17 @@ class _Loop:
         observed = program_with_observed_scene(self.program, self.task, self.replay.poses())
         self.replans += 1
         self.plan_no += 1
+        assert self.resolve is not None  # execute() refuses replan=True without one
         started = time.perf_counter()
+        plan: PlanDocument | None = None
         try:
-            plan = self.resolve(observed, self.task.name)
+            plan = resolve_with_margin(self.resolve, observed, self.task.name)
+            found = f"{plan.status}: {plan.reason}"
         except VkgError as exc:
-            plan = {"status": "error", "reason": str(exc)}
+            found = f"error: {exc}"
         finally:
             self.solve_time += time.perf_counter() - started
-        if plan.get("status") != "solved":
-            found = f"{plan.get('status')}: {plan.get('reason', '')}"
+        if plan is None or not plan.solved:
             if remaining and not undoes_plan:
                 self.plan_no -= 1  # still the same plan
                 self.watching = False
@@ -306,7 +327,7 @@ class _Loop:
                 return remaining
             self._note(f"{why}; re-solving found no plan ({found})")
             return "missed", f"replan {self.replans} found no plan ({found})"
-        steps, _ = read_plan(plan)
+        steps = _numbered(plan)
         self.watching = True
         self._note(f"{why}; re-solved from the observed scene: {len(steps)} step(s)")
         return steps
@@ -323,24 +344,19 @@ RESOLVE_MARGIN = 0.5
 """A re-solve first asks for this fraction of each goal tolerance, then (if that finds no plan) for all of it."""
 
 
-def solve_with_planner(program: Program, task: str) -> dict[str, Any]:
-    """Re-solve `task` of `program` with the planner; the plan as `vkg-plan/1`.
+def resolve_with_margin(resolve: Resolver, program: Program, task: str) -> PlanDocument:
+    """Re-solve `task` of `program` with `resolve`, keeping a margin inside the goal tolerance if possible.
 
-    The planner returns the first plan that meets the goal within its
+    A planner returns the first plan that meets the goal within its
     tolerance, often at the tolerance's edge; from an observed (already
     disturbed) scene that leaves physics no margin. So the re-solve first
-    asks for `RESOLVE_MARGIN` of every tolerance and only then for all of it.
+    asks for `RESOLVE_MARGIN` of every tolerance and only when that finds no
+    plan for all of it.
     """
-    try:
-        from vkgl.plan.solve import solve
-    except ImportError as exc:  # the planner is a separate stage; execution alone does not need it
-        raise InputError(f"re-solving {task} needs the planner (vkgl.plan.solve), which is not available") from exc
-    plan = solve((_with_tighter_goals(program, task, RESOLVE_MARGIN), task))
-    if plan.status != "solved":
-        plan = solve((program, task))
-    out = plan.to_json()
-    out.setdefault("reason", getattr(plan, "reason", ""))
-    return out
+    plan = resolve(_with_tighter_goals(program, task, RESOLVE_MARGIN), task)
+    if not plan.solved:
+        plan = resolve(program, task)
+    return plan
 
 
 def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Program:

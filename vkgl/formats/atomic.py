@@ -25,6 +25,7 @@ def write_bytes(path: str | Path, data: bytes) -> None:
             stream.write(data)
             stream.flush()
             os.fsync(stream.fileno())
+        os.chmod(temporary, _mode_for(destination))  # mkstemp makes 0600; give what a plain write would
         os.replace(temporary, destination)
     except BaseException:
         with contextlib.suppress(OSError):
@@ -32,6 +33,16 @@ def write_bytes(path: str | Path, data: bytes) -> None:
         raise
     finally:
         _IN_FLIGHT.discard(temporary)
+
+
+def _mode_for(destination: Path) -> int:
+    """The old file's permissions when replacing one, else 0666 less the umask (as `open(..., "w")` gives)."""
+    try:
+        return destination.stat().st_mode & 0o777
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
 
 
 def discard_temporaries() -> None:

@@ -1,34 +1,40 @@
 """What an execution in DART did: per step, real vs planned poses; at the end, the error to the goal.
 
 `ExecutionReport.text()` is what `vkgc solve --execute` prints;
-`ExecutionReport.to_json()` is the `vkg-execution/1` record of the same.
+`ExecutionReport.to_json()` is the `vkg-execution/1` record of the same, and
+`write(path, report)` puts it in a file.
 """
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
-from vkgl.execute.replay import Frames
+from vkgl.formats.atomic import write_text
+from vkgl.se3 import yaw_of
 
 FORMAT = "vkg-execution/1"
 
 
-def yaw_of(pose: np.ndarray) -> float:
-    """The heading of a pose: rotation about the world z axis (rad, in (-pi, pi])."""
-    return float(Rotation.from_matrix(pose[:3, :3]).as_euler("ZYX")[0])
-
-
-def angle_difference(a: float, b: float) -> float:
-    """a - b wrapped to (-pi, pi]."""
-    return float((a - b + np.pi) % (2 * np.pi) - np.pi)
-
-
 def _planar(pose: np.ndarray) -> str:
     return f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}) m yaw {np.degrees(yaw_of(pose)):6.1f} deg"
+
+
+@dataclass
+class Frames:
+    """What the simulation looked like, sampled at a fixed period (for the animation; not part of the JSON)."""
+
+    bodies: list[str]
+    t: list[float] = field(default_factory=list)
+    real: list[np.ndarray] = field(default_factory=list)  # (n_bodies, 4, 4) per frame
+    planned: list[np.ndarray] = field(default_factory=list)  # (n_bodies, 4, 4) per frame
+    effector: list[np.ndarray] = field(default_factory=list)  # (4, 4) per frame
+    arm: list[np.ndarray] = field(default_factory=list)  # (n_links, 3) link origins per frame
+    label: list[str] = field(default_factory=list)  # "step 2 motion" etc.
 
 
 @dataclass
@@ -185,3 +191,8 @@ class ExecutionReport:
             ],
             "final": {name: pose.tolist() for name, pose in self.final.items()},
         }
+
+
+def write(path: str | Path, report: ExecutionReport) -> None:
+    """Write the report as `vkg-execution/1` JSON to `path`, atomically (temporary file, then renamed)."""
+    write_text(path, json.dumps(report.to_json(), indent=1) + "\n")

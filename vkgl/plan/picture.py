@@ -54,14 +54,10 @@ def plot_plan(plan: Any, path: str | Path) -> None:
 
 def _modes(plan: Any) -> list[tuple[str, dict, dict, list]]:
     """(title, poses at start, poses at end, hand poses) of every mode; G0 is the scene at rest."""
-    out = [("G0: start", plan.start, plan.start, [])]
+    out: list[tuple[str, dict, dict, list]] = [("G0: start", plan.start, plan.start, [])]
     for k, step in enumerate(plan.steps, start=1):
-        what = f"{step.op} {step.affordance}\nwith {step.effector}"
-        if step.op == "add" and step.motion == "prismatic":
-            what += f", slide {step.value * 100:.1f} cm"
-        elif step.op == "add" and step.motion == "revolute":
-            what += f", turn {math.degrees(step.value):.1f} deg"
-        out.append((f"G{k}: {what}", step.poses_start, step.poses_end, step.hand))
+        what = step.title().replace(" with ", "\nwith ", 1)
+        out.append((f"G{k}: {what}", dict(step.poses_start), dict(step.poses_end), step.hand))
     return out
 
 

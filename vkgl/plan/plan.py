@@ -1,4 +1,4 @@
-"""The result of `vkgc solve`: a Plan, printed as text, as `vkg-plan/1` JSON, or drawn (`vkgl.plan.picture`).
+"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/1` document, or drawn (`vkgl.plan.picture`).
 
 A plan of depth D has D graphs (G0 included) and D - 1 steps. Step k is the
 transition into G_k followed by the motion G_k allows: `poses_start` are the
@@ -17,42 +17,34 @@ from typing import Any
 
 import numpy as np
 
+from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord, from_json, to_json
 from vkgl.plan.graph import edges
-from vkgl.plan.model import Problem, yaw_of
+from vkgl.plan.model import Problem
+from vkgl.se3 import yaw_of
 
-PLAN_FORMAT = "vkg-plan/1"
 
+@dataclass(frozen=True, eq=False)
+class PlanStep(PlanStepRecord):
+    """One step of a plan: the `vkg-plan/1` step record, plus the hand's poses along it (for pictures)."""
 
-@dataclass
-class PlanStep:
-    """One step of a plan (see the module docstring)."""
-
-    op: str
-    affordance: str
-    body: str
-    effector: str
-    motion: str
-    value: float
-    poses_start: dict[str, np.ndarray]
-    poses_end: dict[str, np.ndarray]
-    q_start: np.ndarray
-    q_end: np.ndarray
-    hand: list[np.ndarray] = field(default_factory=list)  # hand poses along the step (for pictures)
+    hand: list[np.ndarray] = field(default_factory=list)
 
 
 @dataclass
 class Plan:
-    """A solved, infeasible or timed-out plan for one task.
+    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/1`.
 
     `status` is "solved", "infeasible" or "timeout"; `reason` says why when it
     is not solved. `graphs` holds each graph's edges `(parent, child, type)`.
+    `start` (the bodies at rest), `problem` and `details` (more counters) are
+    the planner's: `document()` is what leaves it.
     """
 
     task: str
     status: str
     reason: str
     stats: dict[str, Any]
-    robot: dict[str, Any]
+    robot: PlanRobot
     graphs: list[list[tuple[str, str, str]]] = field(default_factory=list)
     steps: list[PlanStep] = field(default_factory=list)
     final: dict[str, np.ndarray] = field(default_factory=dict)
@@ -65,24 +57,33 @@ class Plan:
         """Graphs in the sequence, G0 included (None when not solved)."""
         return len(self.graphs) if self.status == "solved" else None
 
-    # ------------------------------------------------------------ JSON
+    # ------------------------------------------------------------ the document
+
+    def document(self) -> PlanDocument:
+        """The plan as a `vkg-plan/1` document (`vkgl.formats.plan`), exactly as its JSON reads back.
+
+        Numbers are rounded as the JSON writes them, so that carrying out the
+        document in memory and carrying out the file `vkgc solve --json`
+        wrote give bit for bit the same result.
+        """
+        return from_json(to_json(self._unrounded_document()))
+
+    def _unrounded_document(self) -> PlanDocument:
+        return PlanDocument(
+            task=self.task,
+            status=self.status,
+            depth=self.depth,
+            stats=PlanStats(**self.stats),
+            robot=self.robot,
+            graphs=tuple(tuple(graph) for graph in self.graphs),
+            steps=tuple(self.steps),
+            final=dict(self.final),
+            reason="" if self.status == "solved" else self.reason,
+        )
 
     def to_json(self) -> dict[str, Any]:
         """The plan in the `vkg-plan/1` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
-        out: dict[str, Any] = {
-            "format": PLAN_FORMAT,
-            "task": self.task,
-            "status": self.status,
-            "depth": self.depth,
-            "stats": dict(self.stats),
-            "robot": self.robot,
-            "graphs": [{"edges": [list(e) for e in graph]} for graph in self.graphs],
-            "steps": [_step_json(s) for s in self.steps],
-            "final": _poses_json(self.final),
-        }
-        if self.status != "solved":
-            out["reason"] = self.reason
-        return out
+        return to_json(self._unrounded_document())
 
     # ------------------------------------------------------------ text
 
@@ -99,7 +100,7 @@ class Plan:
         for k, graph in enumerate(self.graphs):
             lines.append(f"G{k}: " + ", ".join(f"{a}-{b} {t}" for a, b, t in graph))
             if k < len(self.steps):
-                lines.append(f"  step {k + 1}: {_step_title(self.steps[k])}")
+                lines.append(f"  step {k + 1}: {self.steps[k].title()}")
         for name, pose in self.final.items():
             if self.start.get(name) is None or np.abs(self.start[name] - pose).max() > 1e-9:
                 lines.append(
@@ -109,40 +110,7 @@ class Plan:
         return "\n".join(lines)
 
 
-def _step_title(step: PlanStep) -> str:
-    text = f"{step.op} {step.affordance} on {step.body} with {step.effector}"
-    if step.op == "add" and step.motion == "prismatic":
-        text += f": slide {step.value * 100:.1f} cm"
-    elif step.op == "add" and step.motion == "revolute":
-        text += f": turn {math.degrees(step.value):.1f} deg"
-    return text
-
-
-def _poses_json(poses: dict[str, np.ndarray]) -> dict[str, list[list[float]]]:
-    return {name: _matrix(pose) for name, pose in poses.items()}
-
-
-def _matrix(pose: np.ndarray) -> list[list[float]]:
-    # rounding to 1e-12 m keeps the JSON identical across runs where only the last bits of a product differ
-    return [[float(round(v, 12)) + 0.0 for v in row] for row in np.asarray(pose)]
-
-
-def _step_json(step: PlanStep) -> dict[str, Any]:
-    return {
-        "op": step.op,
-        "affordance": step.affordance,
-        "body": step.body,
-        "effector": step.effector,
-        "motion": step.motion,
-        "value": float(round(step.value, 12)),
-        "poses_start": _poses_json(step.poses_start),
-        "poses_end": _poses_json(step.poses_end),
-        "q_start": [float(round(v, 12)) for v in step.q_start],
-        "q_end": [float(round(v, 12)) for v in step.q_end],
-    }
-
-
-def robot_entry(problem: Problem) -> dict[str, Any]:
+def robot_entry(problem: Problem) -> PlanRobot:
     """The `robot` entry of a plan: what an external tool needs to recompute FK from the URDF.
 
     `effector_offset` is the effector frame in the link's frame (the declared
@@ -150,15 +118,15 @@ def robot_entry(problem: Problem) -> dict[str, Any]:
     FK(q) = base @ link(q) @ effector_offset.
     """
     arm = problem.arm
-    return {
-        "name": problem.robot_name,
-        "urdf": arm.urdf,
-        "base": _matrix(arm.base),
-        "effector": arm.effector,
-        "effector_link": arm.effector_link,
-        "effector_offset": _matrix(arm.link_offset),
-        "joints": list(arm.joint_names),
-    }
+    return PlanRobot(
+        name=problem.robot_name,
+        urdf=arm.urdf,
+        base=np.asarray(arm.base, dtype=float),
+        effector=arm.effector,
+        effector_link=arm.effector_link,
+        effector_offset=np.asarray(arm.link_offset, dtype=float),
+        joints=tuple(arm.joint_names),
+    )
 
 
 def graph_edges(problem: Problem, graphs: list[Any]) -> list[list[tuple[str, str, str]]]:

@@ -1,0 +1,272 @@
+"""`vkg-plan/1` (vkgl.formats.plan): round trips, the example plans' JSON byte for byte, and every bad
+field named by its JSON path."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+import os
+import re
+import stat
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES, REPO, example_tasks
+from plan_script import EXAMPLE_SCRIPTS, scripted_plan
+
+from vkgl.errors import InputError, PlanFormatError
+from vkgl.formats import plan as plan_format
+from vkgl.formats.plan import PlanDocument, dumps, from_json, read, to_json, write
+from vkgl.lang.compiler import compile_file
+
+GOLDEN = Path(__file__).resolve().parent / "golden"
+"""The `vkgc solve --json` output of each example task before formats/plan.py existed (timings zeroed)."""
+
+
+def _normalised(text: str) -> str:
+    text = re.sub(r'"solve_time_s": [0-9.eE+-]+', '"solve_time_s": 0.0', text)
+    return text.replace(json.dumps(str(REPO / "stdlib")), json.dumps("<repo>/stdlib")).replace(
+        f'"{REPO}/stdlib/', '"<repo>/stdlib/'
+    )
+
+
+@pytest.fixture(scope="module")
+def solved() -> dict[str, Any]:
+    """The planner's plan of every example task."""
+    from vkgl.plan.solve import solve
+
+    programs = {path.stem: compile_file(str(path)) for path in example_tasks()}
+    return {name: solve(program, program.task()) for name, program in programs.items()}
+
+
+@pytest.fixture(scope="module")
+def scripted() -> dict[str, Any]:
+    """Task (b)'s hand-scripted plan as JSON data: a grasp and a push with the held stick."""
+    program = compile_file(str(EXAMPLES / "tasks" / "b_stick_push.vkg"))
+    return to_json(scripted_plan(program, "b_stick_push", EXAMPLE_SCRIPTS["b_stick_push"]))
+
+
+# ---------------------------------------------------------------- round trips
+
+
+@pytest.mark.parametrize("name", [p.stem for p in example_tasks()])
+def test_the_json_of_each_example_plan_is_unchanged(solved, name):
+    text = dumps(solved[name].document())
+    assert text == json.dumps(solved[name].to_json(), indent=1) + "\n"
+    assert _normalised(text) == (GOLDEN / f"{name}.json").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("name", [p.stem for p in example_tasks()])
+def test_reading_back_a_plan_gives_the_same_json(solved, name):
+    data = json.loads(dumps(solved[name].document()))
+    doc = from_json(data)
+    assert to_json(doc) == data
+    assert dumps(doc) == dumps(solved[name].document())
+    assert doc.depth == len(doc.graphs) == len(doc.steps) + 1
+    assert all(isinstance(s.q_start, np.ndarray) and s.q_start.shape == (len(doc.robot.joints),) for s in doc.steps)
+
+
+def test_an_unsolved_plan_carries_its_reason(scripted):
+    data = {**scripted, "status": "infeasible", "depth": None, "graphs": [], "steps": [], "final": {}}
+    data["reason"] = "the goal is off the table"
+    doc = from_json(data)
+    assert not doc.solved and doc.reason == "the goal is off the table"
+    out = to_json(doc)
+    assert list(out)[-1] == "reason" and out == data
+
+
+def test_write_is_atomic_and_read_gives_the_document_back(scripted, tmp_path):
+    path = tmp_path / "plan.json"
+    path.write_text("old", encoding="utf-8")
+    os.chmod(path, 0o640)
+    doc = from_json(scripted)
+    write(path, doc)
+    assert path.read_text(encoding="utf-8") == dumps(doc)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o640  # replacing a file keeps its permissions
+    assert [p.name for p in tmp_path.iterdir()] == ["plan.json"]  # no temporary file left behind
+    assert to_json(read(path)) == scripted
+
+
+def test_a_write_into_a_missing_folder_leaves_nothing(scripted, tmp_path):
+    with pytest.raises(OSError):
+        write(tmp_path / "nowhere" / "plan.json", from_json(scripted))
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_read_names_the_file(scripted, tmp_path):
+    path = tmp_path / "bad.json"
+    path.write_text(json.dumps({**scripted, "task": None}), encoding="utf-8")
+    with pytest.raises(PlanFormatError, match=r"^task: expected a non-empty string, found null \(in .*bad\.json\)$"):
+        read(path)
+    path.write_text("{not json", encoding="utf-8")
+    with pytest.raises(InputError, match="not JSON"):
+        read(path)
+    with pytest.raises(InputError, match="cannot read the plan"):
+        read(tmp_path / "missing.json")
+
+
+def test_a_step_title_says_what_moves_and_how_far(scripted):
+    doc = from_json(scripted)
+    assert doc.steps[0].title() == "add Stick.wield on stick with arm.fingertip"
+    assert doc.steps[1].title() == "add Block.push_center_px on block with stick.tip: slide 25.0 cm"
+    data = copy.deepcopy(scripted)
+    data["steps"][1].update(motion="revolute", value=math.radians(20))
+    assert from_json(data).steps[1].title().endswith(": turn 20.0 deg")
+
+
+def test_documents_read_from_json_are_read_only(scripted):
+    doc = from_json(scripted)
+    with pytest.raises(AttributeError):
+        doc.task = "other"  # type: ignore[misc]
+    with pytest.raises(ValueError):
+        doc.steps[0].poses_start["block"][0, 3] = 1.0
+
+
+# ---------------------------------------------------------------- bad fields
+
+
+def _nan_pose() -> list[list[float]]:
+    pose = np.eye(4).tolist()
+    pose[0][3] = float("nan")
+    return pose
+
+
+def _parent(data: dict[str, Any], path: str) -> tuple[Any, Any]:
+    """The container of the field at `path` (dots and [k]) and the field's key in it."""
+    *parents, last = re.findall(r"[^.\[\]]+", path)
+    node: Any = data
+    for key in parents:
+        node = node[int(key)] if isinstance(node, list) else node[key]
+    return node, int(last) if isinstance(node, list) else last
+
+
+def _set(path: str, value: Any):
+    """A mutation that sets the field at `path` to `value`."""
+
+    def mutate(data: dict[str, Any]) -> None:
+        node, key = _parent(data, path)
+        node[key] = value
+
+    return mutate
+
+
+def _delete(path: str):
+    """A mutation that deletes the field at `path`."""
+
+    def mutate(data: dict[str, Any]) -> None:
+        node, key = _parent(data, path)
+        del node[key]
+
+    return mutate
+
+
+BAD_FIELDS = [
+    # (mutation, the message: path first)
+    (_set("steps[1].affordance", None), "steps[1].affordance: expected a non-empty string, found null"),
+    (_set("steps[0].effector", None), "steps[0].effector: expected a non-empty string, found null"),
+    (_set("steps[0].effector", "fingertip"), "steps[0].effector: expected `owner.frame`"),
+    (_set("robot", None), "robot: expected a JSON object, found null"),
+    (_set("robot.effector", None), "robot.effector: expected a non-empty string, found null"),
+    (_set("steps[1].poses_start.block", _nan_pose()), "steps[1].poses_start.block: expected a 4x4 matrix of finite"),
+    (_set("final.block", _nan_pose()), "final.block: expected a 4x4 matrix of finite numbers"),
+    (_set("steps[1].q_end[2]", float("inf")), "steps[1].q_end: expected a list of finite numbers"),
+    (_set("steps[1].value", float("nan")), "steps[1].value: expected a finite number, found NaN"),
+    (_set("steps[1].value", -0.1), "steps[1].value: expected an amount >= 0"),
+    (_set("steps[1].op", "push"), 'steps[1].op: expected one of add, remove, found "push"'),
+    (_set("steps[1].motion", "spiral"), "steps[1].motion: expected one of fixed, prismatic, revolute, free"),
+    (_set("graphs[1].edges[0][2]", "glued"), "graphs[1].edges[0][2]: expected one of fixed, prismatic"),
+    (_set("graphs[0].edges[0]", ["arm", "world"]), "graphs[0].edges[0]: expected [parent, child, type]"),
+    (_set("status", "done"), "status: expected one of solved, infeasible, timeout"),
+    (_set("format", "vkg-plan/0"), "format: expected 'vkg-plan/1', found 'vkg-plan/0'"),
+    (_set("depth", 2), "depth: is 2 but the plan has 3 graphs"),
+    (_set("stats.graphs_expanded", 1.5), "stats.graphs_expanded: expected a count"),
+    (_set("stats.solve_time_s", "fast"), "stats.solve_time_s: expected a finite number"),
+    (_delete("steps[0].q_end"), "steps[0].q_end: missing"),
+    (_delete("final"), "final: missing"),
+    (_delete("robot.joints"), "robot.joints: missing"),
+    (_delete("stats.task_space_checks"), "stats.task_space_checks: missing"),
+    (_set("steps[0].colour", "red"), "steps[0].colour: unknown key"),
+    (_set("reason", "why not"), "reason: only a plan that is not solved has a reason"),
+    (
+        _set("steps[1].poses_end.stick", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+        "steps[1].poses_end.stick: expected a 4x4",
+    ),
+    (
+        _set("robot.base", [[1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]),
+        "robot.base: expected a rotation",
+    ),
+    (
+        _set("robot.effector_offset", np.diag([1.0, 1.0, 1.0, 2.0]).tolist()),
+        "robot.effector_offset: expected a homogeneous",
+    ),
+    (
+        _set("steps[0].q_start", [0.0, 0.1]),
+        "steps[0].q_start: expected 7 joint positions (one per robot.joints), found 2",
+    ),
+    (_set("steps", {}), "steps: expected a list, found {}"),
+    (_set("steps[1].poses_start", []), "steps[1].poses_start: expected an object of body name -> 4x4 pose"),
+]
+
+
+@pytest.mark.parametrize(("mutate", "message"), BAD_FIELDS, ids=[m for _, m in BAD_FIELDS])
+def test_every_bad_field_is_named_by_its_path(scripted, mutate, message):
+    data = copy.deepcopy(scripted)
+    mutate(data)
+    with pytest.raises(PlanFormatError) as caught:
+        from_json(data)
+    assert str(caught.value).startswith(message), str(caught.value)
+    assert caught.value.path == message.split(":")[0]
+    assert isinstance(caught.value, InputError)  # the CLI reports it as an input error (exit 1)
+
+
+def test_an_unsolved_plan_must_say_why(scripted):
+    data = {**scripted, "status": "timeout", "depth": None, "graphs": [], "steps": [], "final": {}}
+    with pytest.raises(PlanFormatError, match=r"^reason: missing"):
+        from_json(data)
+    with pytest.raises(PlanFormatError, match=r"^depth: expected null"):
+        from_json({**data, "depth": 3, "reason": "out of time"})
+
+
+def test_not_an_object_at_all():
+    with pytest.raises(PlanFormatError, match="expected a JSON object, found \\[\\]"):
+        from_json([])
+
+
+# ---------------------------------------------------------------- layering
+
+
+@pytest.mark.parametrize(
+    ("module", "forbidden"),
+    [
+        ("vkgl.formats.plan", ("vkgl.plan", "vkgl.execute", "vkgl.lang")),
+        ("vkgl.formats.execution_report", ("vkgl.plan", "vkgl.execute", "vkgl.lang")),
+        ("vkgl.execute.closed_loop", ("vkgl.plan", "vkgl.infer", "vkgl.lang.compiler")),
+    ],
+)
+def test_formats_sit_below_the_stages_and_the_executor_never_imports_the_planner(module, forbidden):
+    code = f"import sys, {module}; print(' '.join(sorted(sys.modules)))"
+    loaded = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO, env={**os.environ}
+    ).stdout.split()
+    bad = [m for m in loaded if any(m == f or m.startswith(f + ".") for f in forbidden)]
+    assert bad == [], f"{module} imports {bad}"
+
+
+def test_the_format_has_one_definition():
+    assert plan_format.PLAN_FORMAT == "vkg-plan/1"
+    for path in [*(REPO / "vkgl").rglob("*.py"), REPO / "tests" / "support" / "plan_script.py"]:
+        if path.name == "plan.py" and path.parent.name == "formats":
+            continue
+        assert '"vkg-plan/1"' not in path.read_text(encoding="utf-8"), path
+
+
+def test_documents_are_typed(scripted):
+    doc = from_json(scripted)
+    assert isinstance(doc, PlanDocument)
+    assert doc.robot.joints == tuple(scripted["robot"]["joints"])
+    assert doc.graphs[0][0] == ("arm", "world", "free")

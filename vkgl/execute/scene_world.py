@@ -1,0 +1,211 @@
+"""The DART world of a task's scene, in which a plan is carried out (`vkgl.execute.replay`).
+
+`SceneWorld` holds one simulated world: the table, every scene body with its
+physics (built by `vkgl.sim.world`, exactly as for exploration), and the arm
+(`vkgl.execute.world_arm`). It steps the physics, records frames for the
+animation, watches for touches while the arm moves through free space, and
+answers where the bodies are and how high the arm must travel to clear them.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from vkgl.errors import InputError, SimulationError
+from vkgl.execute.world_arm import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
+from vkgl.formats.execution_report import Frames
+from vkgl.formats.plan import PlanRobot
+from vkgl.lang.geometry import body_mesh, scene_body_pose, table_top
+from vkgl.lang.ir import Body, Scene
+from vkgl.lang.program import Program
+
+TIME_STEP = 0.001  # s, fixed physics step
+CLEARANCE = 0.04  # m above the highest body when travelling
+FRAME_PERIOD = 0.04  # s between recorded frames (25 frames per simulated second)
+
+
+class SceneWorld:
+    """A DART world of one task's scene with the plan's robot in it; the bodies move only through contact."""
+
+    def __init__(self, program: Program, scene: Scene, robot: PlanRobot, *, record: bool) -> None:
+        from vkgl.robot import Arm
+        from vkgl.sim import world as sim_world
+
+        self.program = program
+        self.scene = scene
+        self.types: dict[str, Body] = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
+        self.table_z = table_top(scene)
+        self.world = sim_world.new_world(TIME_STEP)
+        use_coulomb_friction(self.world)
+        self.table = sim_world.add_table(self.world, scene.table)[1] if scene.table is not None else None
+        self.nodes: dict[str, tuple[Any, Any]] = {}
+        for sb in scene.bodies:
+            pose = scene_body_pose(scene, sb, self.types[sb.name])
+            self.nodes[sb.name] = sim_world.add_body(self.world, sb.name, self.types[sb.name], pose)
+        self.robot_name, robot_ir, base = self._robot(robot)
+        self.base_xy = base[:2, 3].copy()
+        self.effector_name = robot.effector
+        effector = robot_ir.effector(self.effector_name)
+        if effector is None:
+            raise InputError(f"robot {robot_ir.name} has no effector `{self.effector_name}`")
+        self.arm_model = Arm.load(robot_ir, self.effector_name, base)
+        skeleton = _world_skeleton(self.arm_model, robot_ir)
+        self.arm = WorldArm(
+            self.world,
+            self.arm_model,
+            skeleton,
+            effector.link,
+            effector.offset.matrix() @ rx_pi(),
+            base,
+            np.asarray(self.arm_model.home, dtype=float),
+            table=self.table,
+        )
+        self.meshes = {name: body_mesh(body) for name, body in self.types.items()}
+        self.skeleton_names = {skeleton.getName(): name for name, (skeleton, _) in self.nodes.items()}
+        self.guarded = False  # True while moving through free space: touching a body there is a failure
+        self.planned = self.poses()  # the ghost: where the current plan wants every body now
+        self.frames = Frames(list(self.nodes)) if record else None
+        self.label = "start"
+        self._next_frame = 0.0
+        self.record()
+
+    def _robot(self, entry: PlanRobot) -> tuple[str, Any, np.ndarray]:
+        name = entry.name
+        scene_robot = next((r for r in self.scene.robots if r.name == name), None)
+        if scene_robot is None:
+            raise InputError(f"the plan's robot `{name}` is not in scene {self.scene.name}")
+        robot_ir = self.program.robots[scene_robot.type.name]
+        return name, robot_ir, scene_robot.pose.matrix()
+
+    # ------------------------------------------------------------ observation
+
+    @property
+    def time(self) -> float:
+        """Simulated time since the start (s)."""
+        return float(self.world.getTime())
+
+    def poses(self) -> dict[str, np.ndarray]:
+        """The real world poses of every scene body now."""
+        return {name: node.getWorldTransform().matrix().copy() for name, (_, node) in self.nodes.items()}
+
+    def holding(self) -> str | None:
+        """The name of the tool in the hand, if any."""
+        return None if self.arm.held is None else self.arm.held.name
+
+    # ------------------------------------------------------------ running
+
+    def advance(self, n: int) -> None:
+        """Run `n` physics steps with the arm's current commands (recording frames, watching for touches)."""
+        for _ in range(n):
+            self.world.step(False)  # keep the arm's velocity commands for the whole control period
+            if self.frames is not None and self.time >= self._next_frame - 1e-9:
+                self.record()
+        if self.guarded:  # once per control period is enough to stop in time
+            self._check_clear()
+
+    def _check_clear(self) -> None:
+        """Stop a move through free space as soon as the robot or what it holds touches a body."""
+        robot = {self.arm.skeleton.getName()}
+        if self.arm.held is not None:
+            robot.add(self.arm.held.skeleton.getName())
+        result = self.world.getLastCollisionResult()
+        for i in range(result.getNumContacts()):
+            contact = result.getContact(i)
+            if not (_collidable(contact.collisionObject1) and _collidable(contact.collisionObject2)):
+                continue  # DART reports them, but makes no contact force (fingertip switched off)
+            a = _skeleton_name(contact.collisionObject1)
+            b = _skeleton_name(contact.collisionObject2)
+            for mine, other in ((a, b), (b, a)):
+                if mine in robot and other in self.skeleton_names and other not in robot:  # not arm vs. held tool
+                    what = "the fingertip" if mine == self.arm.skeleton.getName() else f"the held {self.holding()}"
+                    raise ArmStuck(
+                        f"{what} touched {self.skeleton_names[other]} on its way to the contact "
+                        "(the way down from above must be clear: is the body where the plan expects it?)"
+                    )
+
+    def record(self) -> None:
+        """Keep a frame of the world now (nothing unless recording)."""
+        if self.frames is None:
+            return
+        f = self.frames
+        real = self.poses()
+        f.t.append(self.time)
+        f.real.append(np.stack([real[n] for n in f.bodies]))
+        f.planned.append(np.stack([self.planned[n] for n in f.bodies]))
+        f.effector.append(self.arm.effector_pose())
+        skel = self.arm.skeleton
+        f.arm.append(
+            np.array([skel.getBodyNode(i).getWorldTransform().translation() for i in range(skel.getNumBodyNodes())])
+        )
+        f.label.append(self.label)
+        self._next_frame = self.time + FRAME_PERIOD
+
+    def lowest_offset(self) -> float:
+        """How far below the effector frame the lowest point of what the robot holds is (m)."""
+        hand = self.arm.effector_pose()
+        if self.arm.held is None:
+            return FINGERTIP_RADIUS
+        tool_pose = self.arm.held.body_node.getWorldTransform().matrix()
+        vertices = self.meshes[self.arm.held.name].vertices @ tool_pose[:3, :3].T + tool_pose[:3, 3]
+        return float(hand[2, 3] - vertices[:, 2].min())
+
+    def safe_height(self) -> float:
+        """The effector height at which what the robot holds clears every other body."""
+        tops = [self.table_z]
+        held = self.holding()
+        for name, (_, node) in self.nodes.items():
+            if name == held:
+                continue
+            pose = node.getWorldTransform().matrix()
+            vertices = self.meshes[name].vertices @ pose[:3, :3].T + pose[:3, 3]
+            tops.append(float(vertices[:, 2].max()))
+        return max(tops) + CLEARANCE + self.lowest_offset()
+
+
+def use_coulomb_friction(world: Any) -> None:
+    """Solve contacts with DART's friction-cone solver (NSGS, Coulomb law) instead of the boxed LCP.
+
+    The boxed LCP bounds friction separately along two fixed tangent axes
+    (world x and y on the table): a body pushed at an angle to them slides
+    along the nearer axis instead of the way it is pushed (a block pushed
+    10 cm along a heading of -20 deg ended 3.6 cm to the side). The cone
+    treats every direction alike.
+    """
+    import dartpy as dart
+
+    solver = dart.constraint.NsgsFrictionSolver()
+    options = dart.constraint.NsgsFrictionSolver.Options()
+    options.law = dart.constraint.NsgsFrictionSolver.Law.Coulomb
+    solver.setOptions(options)
+    world.getConstraintSolver().setBoxedLcpSolver(solver)
+
+
+def _collidable(collision_object: Any) -> bool:
+    aspect = collision_object.getShapeFrame().asShapeNode().getCollisionAspect()
+    return aspect is None or aspect.isCollidable()
+
+
+def _skeleton_name(collision_object: Any) -> str:
+    return collision_object.getShapeFrame().asShapeNode().getBodyNodePtr().getSkeleton().getName()
+
+
+def _world_skeleton(arm: Any, robot_ir: Any) -> Any:
+    """A fresh DART skeleton of the arm for the world (a clone of the arm model's, if it has one)."""
+    skeleton = getattr(arm, "skeleton", None)
+    if skeleton is not None:
+        return skeleton.clone()
+    import dartpy as dart
+
+    loader = dart.utils.DartLoader()
+    options = dart.utils.DartLoaderOptions()
+    options.mDefaultRootJointType = dart.utils.DartLoaderRootJointType.FIXED
+    loader.setOptions(options)
+    skeleton = loader.parseSkeleton(robot_ir.urdf_resolved or robot_ir.urdf)
+    if skeleton is None:
+        raise SimulationError(f"DART cannot load the URDF {robot_ir.urdf_resolved or robot_ir.urdf}")
+    return skeleton
+
+
+__all__ = ["CLEARANCE", "TIME_STEP", "SceneWorld", "use_coulomb_friction"]

@@ -1,0 +1,170 @@
+"""The kinds of plan step, carried out by the arm in the scene's world (`vkgl.execute.replay`).
+
+From the step's `op` and the affordance's motion:
+- push (add, prismatic/revolute): travel above the table to a point behind
+  the contact, approach, make contact, move the effector with the body's
+  planned motion (planned poses_start -> poses_end), settle;
+- let go (remove of a push): back off along the push direction and lift;
+- grasp (add, free motion, e.g. Stick.wield): come down onto the tool's grasp
+  frame, hold the tool;
+- release (remove of a grasp): lower the tool to the table and let go.
+
+The bodies move only through contact and friction with the fingertip or a
+held tool: their poses are never set after the start.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from vkgl.errors import InputError, SimulationError
+from vkgl.execute import effector_path as paths
+from vkgl.execute.arm_moves import ArmMoves
+from vkgl.execute.scene_world import SceneWorld
+from vkgl.formats.plan import PlanStepRecord
+from vkgl.lang.ir import Affordance, Body, FixedC
+
+STANDOFF = 0.01  # m behind the contact where the descent from above ends and the approach starts
+LIFT = 0.04  # m the effector rises after letting go
+SETTLE = 0.3  # s of stillness after a push, before observing
+
+
+class StepKinds:
+    """Carries out plan steps one after another, remembering the contact and the grasp between them."""
+
+    def __init__(self, sim: SceneWorld, moves: ArmMoves) -> None:
+        self.sim = sim
+        self.moves = moves
+        self.grasp_planned: np.ndarray | None = None  # effector frame in the held tool's frame, as planned
+        self.push_direction: np.ndarray | None = None  # x axis of the pushing frame while in contact
+
+    def _frame_of(self, body_type: Body, frame: str, where: str) -> np.ndarray:
+        found = body_type.frame(frame)
+        if found is None:
+            raise InputError(f"{where}: body {body_type.name} has no frame `{frame}`")
+        return found.pose.matrix()
+
+    def _affordance(self, step: PlanStepRecord, label: str) -> Affordance:
+        type_name, _, name = step.affordance.partition(".")
+        for aff in self.sim.program.affordances.get(type_name, []):
+            if aff.name == name:
+                return aff
+        raise InputError(f"{label}: the program has no affordance {step.affordance}")
+
+    def _action_pose(self, step: PlanStepRecord, label: str) -> np.ndarray:
+        action = self._affordance(step, label).action
+        if not isinstance(action, FixedC):
+            raise SimulationError(
+                f"{label}: only fixed actions can be executed, {step.affordance} has a {action.type} action"
+            )
+        return np.eye(4) if action.pose is None else action.pose.matrix()
+
+    def _hand_from_pusher(self, step: PlanStepRecord, pusher_pose: np.ndarray, label: str) -> np.ndarray:
+        """The effector pose that puts the pushing frame (fingertip or tool frame) at `pusher_pose`."""
+        owner, _, frame = step.effector.partition(".")
+        if owner == self.sim.robot_name:
+            if frame != self.sim.effector_name:
+                raise SimulationError(f"{label}: the arm's effector is {self.sim.effector_name}, not {frame}")
+            return pusher_pose
+        if self.sim.holding() != owner or self.grasp_planned is None:
+            raise SimulationError(f"{label} pushes with {step.effector} but the robot does not hold {owner}")
+        tool_frame = self._frame_of(self.sim.types[owner], frame, label)
+        return pusher_pose @ np.linalg.inv(tool_frame) @ self.grasp_planned
+
+    # ------------------------------------------------------------ step kinds
+
+    def run_step(self, index: int, step: PlanStepRecord) -> None:
+        """Carry out step `index` (from 1) of a plan. Raises ArmStuck if the arm cannot follow the path."""
+        label = f"step {index}"
+        self.sim.planned = {**self.sim.planned, **step.poses_start}
+        if step.motion == "free":
+            (self._grasp if step.op == "add" else self._release)(step, label)
+        elif step.op == "add":
+            self._push(step, label)
+        else:
+            self.let_go(label)
+        self.sim.planned = {**self.sim.planned, **step.poses_end}
+
+    def _push(self, step: PlanStepRecord, label: str) -> None:
+        if step.body not in self.sim.nodes:
+            raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
+        body_start, body_end = step.poses_start[step.body], step.poses_end[step.body]
+        pusher = body_start @ self._action_pose(step, label)
+        hand = self._hand_from_pusher(step, pusher, label)
+        direction = pusher[:3, 0].copy()
+        before = paths.backed_off(hand, STANDOFF, direction)
+        motion = paths.screw_motion(body_start, body_end)
+        moving = [
+            n
+            for n in step.poses_start
+            if n in step.poses_end and np.abs(step.poses_start[n] - step.poses_end[n]).max() > 1e-9
+        ]
+
+        def ghost(s: float) -> None:
+            now = motion.at(s)
+            self.sim.planned = {**self.sim.planned, **{n: now @ step.poses_start[n] for n in moving}}
+
+        self.sim.arm.fingertip_collides(self.sim.arm.held is None)
+        if self.push_direction is not None:
+            self.let_go(label)
+        push = paths.screw("motion", hand, motion)
+        chain = self.moves.motion_chain(push, [step.q_start, step.q_end])
+        self.moves.travel(before, label, [chain[0], step.q_start, step.q_end], contact=hand)
+        self.push_direction = direction
+        self.moves.run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
+        end = self.sim.arm.effector_pose()
+        self.push_direction = motion.at(1.0)[:3, :3] @ direction
+        self.moves.run([paths.hold("settle", end, SETTLE)], label)
+
+    def let_go(self, label: str = "end") -> None:
+        """Break contact: back off against the push direction, then lift. Nothing if not in contact."""
+        if self.push_direction is None:
+            return
+        start = self.sim.arm.effector_pose()
+        back = paths.backed_off(start, STANDOFF, self.push_direction)
+        up = paths.at_height(back, back[2, 3] + LIFT)
+        self.moves.run(
+            [paths.line("retreat", start, back, paths.APPROACH_SPEED), paths.line("retreat", back, up)], label
+        )
+        self.push_direction = None
+
+    def _grasp(self, step: PlanStepRecord, label: str) -> None:
+        tool = step.body
+        if tool not in self.sim.nodes:
+            raise InputError(f"{label}: no body `{tool}` in scene {self.sim.scene.name}")
+        if self.sim.holding() is not None:
+            raise SimulationError(f"{label}: the robot already holds {self.sim.holding()}")
+        self.let_go(label)
+        grasp = self._action_pose(step, label)
+        hand = step.poses_start[tool] @ grasp
+        self.sim.arm.fingertip_collides(False)  # the open gripper closes around the tool, it does not push it
+        self.moves.travel(hand, label, [step.q_start, step.q_end])
+        _, node = self.sim.nodes[tool]
+        self.sim.arm.grasp(tool, self.sim.nodes[tool][0], node)
+        self.grasp_planned = grasp
+
+    def _release(self, step: PlanStepRecord, label: str) -> None:
+        self.put_down(label)
+
+    def put_down(self, label: str) -> None:
+        """Lower the held tool onto the table and let go of it; then lift the empty hand."""
+        if self.sim.arm.held is None:
+            return
+        self.let_go(label)
+        start = self.sim.arm.effector_pose()
+        drop = self.sim.lowest_offset() - 0.002
+        low = paths.at_height(start, self.sim.table_z + drop) if start[2, 3] > self.sim.table_z + drop else start
+        self.moves.run([paths.line("release", start, low, paths.APPROACH_SPEED)], label)
+        self.sim.arm.release()
+        self.grasp_planned = None
+        up = paths.at_height(low, low[2, 3] + LIFT)
+        self.moves.run([paths.line("release", low, up), paths.hold("settle", up, SETTLE)], label)
+        self.sim.arm.fingertip_collides(True)
+
+    def settle(self, seconds: float, label: str = "settle") -> None:
+        """Let the world run with the arm still."""
+        pose = self.sim.arm.effector_pose()
+        self.moves.run([paths.hold("settle", pose, seconds)], label)
+
+
+__all__ = ["StepKinds"]
