@@ -160,8 +160,11 @@ class PyFclBackend:
 
     def pair(self, a: BodyParts, b: BodyParts) -> Callable[[np.ndarray, np.ndarray], bool]:
         fcl = self.fcl
-        objs = [(fcl.CollisionObject(self.geom(sa)), la, fcl.CollisionObject(self.geom(sb)), lb)
-                for sa, la in a for sb, lb in b]
+        objs = [
+            (fcl.CollisionObject(self.geom(sa)), la, fcl.CollisionObject(self.geom(sb)), lb)
+            for sa, la in a
+            for sb, lb in b
+        ]
         req = fcl.CollisionRequest(enable_contact=True)
 
         def query(pose_a: np.ndarray, pose_b: np.ndarray) -> bool:
@@ -186,8 +189,11 @@ class DartBackend:
 
         self.dart = dart
         self.name = f"dart-{detector}"
-        self.detector = {"fcl": dart.collision.FCLCollisionDetector, "dart": dart.collision.DARTCollisionDetector,
-                         "bullet": dart.collision.BulletCollisionDetector}[detector]()
+        self.detector = {
+            "fcl": dart.collision.FCLCollisionDetector,
+            "dart": dart.collision.DARTCollisionDetector,
+            "bullet": dart.collision.BulletCollisionDetector,
+        }[detector]()
         if detector == "fcl":
             self.detector.setPrimitiveShapeType(dart.collision.FCLCollisionDetector.PRIMITIVE)
         self.option = dart.collision.CollisionOption()
@@ -205,7 +211,7 @@ class DartBackend:
         path = Path("/tmp/bench_collision_hull.stl")
         hull.export(path)
         from vkgl.lang.ir import MeshShape
-        from vkgl.sim.world import load_mesh_shape
+        from vkgl.shapes import load_mesh_shape
 
         return load_mesh_shape(MeshShape(path=str(path)))
 
@@ -400,12 +406,16 @@ def _ir(parts: BodyParts) -> Any:
 
     if len(parts) == 1 and np.allclose(parts[0][1], np.eye(4)):
         return one(parts[0][0])
-    return UnionShape(parts=[ShapePart(shape=one(spec), pose=Pose(position=Vector(values=tuple(local[:3, 3]))))
-                             for spec, local in parts])  # the bench's unions are not turned
+    return UnionShape(
+        parts=[
+            ShapePart(shape=one(spec), pose=Pose(position=Vector(values=tuple(local[:3, 3])))) for spec, local in parts
+        ]
+    )  # the bench's unions are not turned
 
 
-def vkgl_row(repeat: int, qs: list[np.ndarray]) -> tuple[str, dict[str, float], float, float, list[list[bool]],
-                                                          list[bool], str]:
+def vkgl_row(
+    repeat: int, qs: list[np.ndarray]
+) -> tuple[str, dict[str, float], float, float, list[list[bool]], list[bool], str]:
     """The same queries through vkgl.plan.collision / sweep / arm_collision (DART's FCL + a numpy cull)."""
     from vkgl.lang.compiler import compile_file
     from vkgl.lang.ir import PrismaticC, Vector
@@ -445,8 +455,13 @@ def vkgl_row(repeat: int, qs: list[np.ndarray]) -> tuple[str, dict[str, float], 
 
 def backends() -> list[Any]:
     out: list[Any] = []
-    for make in (CoalBackend, PyFclBackend, lambda: DartBackend("fcl"), lambda: DartBackend("dart"),
-                 lambda: DartBackend("bullet")):
+    for make in (
+        CoalBackend,
+        PyFclBackend,
+        lambda: DartBackend("fcl"),
+        lambda: DartBackend("dart"),
+        lambda: DartBackend("bullet"),
+    ):
         try:
             out.append(make())
         except (ImportError, AttributeError, RuntimeError) as error:
@@ -459,7 +474,10 @@ EXTRA = [(0.9 + 0.12 * (i % 4), (-0.5, 0.5)[i // 4]) for i in range(8)]
 
 
 def _check_plan(problem: Any, result: Any, extra: int) -> tuple[float, float, float, list[Any]]:
-    """Build scene and arm, then checks (a)-(d) along the found plan, with `extra` more blocks: (ms, ms, ms, contacts)."""
+    """Build scene and arm, then checks (a)-(d) along the found plan, with `extra` more blocks.
+
+    Returns (ms, ms, ms, contacts).
+    """
     from vkgl.plan.arm_collision import ArmCollision
     from vkgl.plan.collision import CollisionScene, pair
     from vkgl.plan.sweep import sweep_mode
@@ -469,8 +487,9 @@ def _check_plan(problem: Any, result: Any, extra: int) -> tuple[float, float, fl
     start = time.perf_counter()
     shapes = {name: body.type.shape for name, body in problem.bodies.items()}
     shapes.update({name: block.type.shape for name in more})
-    scene = CollisionScene(shapes, table_center=problem.table_center, table_size=problem.table_size,
-                           table_z=problem.table_z)
+    scene = CollisionScene(
+        shapes, table_center=problem.table_center, table_size=problem.table_size, table_z=problem.table_z
+    )
     arm = ArmCollision(scene, problem.arm)
     built = time.perf_counter()
     found = []
@@ -511,8 +530,10 @@ def paper_tasks() -> None:
         build, bodies, arm, found = _check_plan(problem, copy.deepcopy(result), 0)
         build8, bodies8, arm8, found8 = _check_plan(problem, copy.deepcopy(result), 8)
         what = ", ".join(f"{c.body_a}/{c.body_b} {c.depth * 1000:.1f} mm" for c in found + found8) or "none"
-        print(f"{path.stem:>22} | {build:8.1f} | {bodies:9.1f} | {arm:6.1f} | "
-              f"{build8:9.1f}, {bodies8:6.1f}, {arm8:5.1f} {'':>9} | {what}")
+        print(
+            f"{path.stem:>22} | {build:8.1f} | {bodies:9.1f} | {arm:6.1f} | "
+            f"{build8:9.1f}, {bodies8:6.1f}, {arm8:5.1f} {'':>9} | {what}"
+        )
 
 
 def main() -> None:
@@ -547,8 +568,14 @@ def main() -> None:
     header = ["library", *PAIRS, "sweep 50x11", "arm 18x11", "pairs agree", "arm agrees"]
     print(" | ".join(f"{h:>12}" for h in header))
     for name, pairs, sweep, arm, agree, arm_agree in rows:
-        cells = [name, *(f"{pairs[k]:.1f}" for k in PAIRS), f"{sweep:.0f}", f"{arm:.0f}", f"{agree:.1%}",
-                 f"{arm_agree:.1%}"]
+        cells = [
+            name,
+            *(f"{pairs[k]:.1f}" for k in PAIRS),
+            f"{sweep:.0f}",
+            f"{arm:.0f}",
+            f"{agree:.1%}",
+            f"{arm_agree:.1%}",
+        ]
         print(" | ".join(f"{c:>12}" for c in cells))
     overlap = {k: sum(v) / len(v) for k, v in truth_pairs.items()}
     print("µs per query. Pair columns: one query of two bodies at given poses (a union = all its part pairs),")
@@ -556,8 +583,10 @@ def main() -> None:
     print("  arm: FK + 18 URDF collision shapes x (10 bodies + table) at one joint configuration.")
     print("pairs agree: worst share over the pair types of 400 random queries answered like coal's signed")
     print(f"  penetration > 1 mm (overlap shares: {', '.join(f'{k} {v:.0%}' for k, v in overlap.items())});")
-    print(f"arm agrees: share of {len(qs)} random configurations answered like coal's "
-          f"({sum(truth_arm or [])} in collision).")
+    print(
+        f"arm agrees: share of {len(qs)} random configurations answered like coal's "
+        f"({sum(truth_arm or [])} in collision)."
+    )
     print(note)
 
 

@@ -44,7 +44,6 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
     """The program with the block `dy` m to the side and `dyaw_deg` turned (the world the robot really meets)."""
     from scipy.spatial.transform import Rotation
 
-    from vkgl.execute.closed_loop import program_with_observed_scene
     from vkgl.lang.geometry import scene_body_pose
 
     task = program.task(task_name)
@@ -54,7 +53,7 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
     error = np.eye(4)  # in the block's own frame: sideways along its y, turned about its centre
     error[:3, :3] = Rotation.from_euler("z", dyaw_deg, degrees=True).as_matrix()
     error[:3, 3] = [0.0, dy, 0.0]
-    return program_with_observed_scene(program, task, {"block": pose @ error})
+    return program.with_start_poses(task, {"block": pose @ error})
 
 
 def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -> tuple[list[str], list[str]]:

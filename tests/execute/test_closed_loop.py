@@ -18,7 +18,7 @@ from conftest import EXAMPLES
 from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 from vkgl.errors import InputError
-from vkgl.execute.closed_loop import execute, program_with_observed_scene
+from vkgl.execute.closed_loop import execute
 from vkgl.formats.plan import PlanDocument, from_json, to_json
 from vkgl.lang.compiler import compile_file
 from vkgl.lang.geometry import scene_body_pose
@@ -182,7 +182,7 @@ def test_observed_scene_starts_where_the_bodies_are(task_a):
     moved = np.eye(4)
     moved[:3, :3] = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # yaw 90 deg
     moved[:3, 3] = [0.52, 0.07, 0.3]  # z is recomputed: the block lies on the table
-    observed = program_with_observed_scene(program, task, {"block": moved})
+    observed = program.with_start_poses(task, {"block": moved})
     new_scene = observed.scenes[scene.name]
     block = next(b for b in new_scene.bodies if b.name == "block")
     pose = scene_body_pose(new_scene, block, observed.bodies[block.type.name])
@@ -242,7 +242,7 @@ def test_closed_loop_looks_before_the_first_step(task_a):
     task = program.task(TASK)
     start = np.array(plan.steps[0].poses_start["block"])
     start[0, 3] -= 0.015
-    world = program_with_observed_scene(program, task, {"block": start})
+    world = program.with_start_poses(task, {"block": start})
     report = execute(world, TASK, plan, replan=True, resolve=_push_the_rest)
     assert report.replan_log[0].startswith("before step 1 block is off the plan by 1.50 cm"), report.text()
     assert report.status == "reached", report.text()
@@ -253,7 +253,7 @@ def test_when_re_solving_finds_no_plan_the_current_plan_is_carried_on(task_a):
     program, plan = task_a
     start = np.array(plan.steps[0].poses_start["block"])
     start[0, 3] -= 0.006  # 6 mm closer: more than half the tolerance off, yet the plan still ends within it
-    world = program_with_observed_scene(program, program.task(TASK), {"block": start})
+    world = program.with_start_poses(program.task(TASK), {"block": start})
 
     def no_plan(observed: Program, task: str) -> PlanDocument:
         return PlanDocument(task, "infeasible", None, plan.stats, plan.robot, reason="nothing found")
@@ -282,7 +282,7 @@ def test_a_re_solve_keeps_a_margin_inside_the_tolerance():
     disturbance[:3, :3] = Rotation.from_euler("z", 1.0, degrees=True).as_matrix()
     disturbance[1, 3] = 0.005
     pose = scene_body_pose(scene, block, program.bodies["Block"]) @ disturbance
-    world = program_with_observed_scene(program, task, {"block": pose})
+    world = program.with_start_poses(task, {"block": pose})
 
     def miss(plan: PlanDocument) -> float:
         end = np.asarray(plan.steps[-1].poses_end["block"], dtype=float).reshape(4, 4)

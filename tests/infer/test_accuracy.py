@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from synthetic import score, synthetic_trials
+
 from vkgl.infer.trial import infer_trials
 
 

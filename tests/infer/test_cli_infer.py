@@ -5,9 +5,9 @@ from __future__ import annotations
 import json
 
 import numpy as np
+from synthetic import block_pushes
 
 from vkgl.cli import main
-from synthetic import block_pushes
 
 
 def test_infer_writes_module_report_and_plot(tmp_path, capsys) -> None:

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from synthetic import block_pushes
 
 from vkgl.errors import InputError
 from vkgl.infer.library import infer_library
-from synthetic import block_pushes
 from vkgl.infer.trial import infer_trial
 
 
@@ -62,7 +62,7 @@ def test_all_trials_failed_is_a_clear_error() -> None:
     trials = block_pushes()
     trials.ok[:] = False
     trials.reason[:] = "penetration"
-    with pytest.raises(InputError, match="none of the 10 trials can be used.*penetration"):
+    with pytest.raises(InputError, match=r"none of the 10 trials can be used.*penetration"):
         _infer(trials)
 
 

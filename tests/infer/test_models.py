@@ -29,7 +29,7 @@ def _slide(axis, length=0.2, n=80) -> np.ndarray:
     return T
 
 
-def _turn(axis, center, angle=np.deg2rad(60), n=80) -> np.ndarray:
+def _turn(axis, center, angle=float(np.deg2rad(60)), n=80) -> np.ndarray:  # noqa: B008 - a constant
     axis, center = np.asarray(axis, float), np.asarray(center, float)
     rot = Rotation.from_rotvec(np.outer(np.linspace(0, angle, n), axis)).as_matrix()
     T = np.tile(np.eye(4), (n, 1, 1))

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from vkgl.infer.library import infer_library
 from vkgl.formats.trials import Trials
+from vkgl.infer.library import infer_library
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data" / "articulation"
 

@@ -260,7 +260,8 @@ def test_random_bytes_give_only_diagnostics(tmp_path: Path, data: bytes) -> None
         + "} mass 1 kg }",
         "body B { shape box (" + "1, " * 5000 + "1) cm mass 1 kg }",
         "body B { shape box (1e999, 1, 1) cm mass 1e-999 kg }",
-        "body B { shape box (1, 1, 1) m mass 99999999999999999999999999 kg explore e { contacts on faces +x steps 99999999999999999999 } }",
+        "body B { shape box (1, 1, 1) m mass 99999999999999999999999999 kg "
+        "explore e { contacts on faces +x steps 99999999999999999999 } }",
         "x" * 100_000,
         "body B { mass = 1 kg }\n" * 3000,
     ],
@@ -297,7 +298,10 @@ def test_vkgc_check_on_a_directory_says_to_name_files(tmp_path: Path, capsys: py
 
 
 def test_each_broken_declaration_gives_one_error_without_cascade(tmp_path: Path) -> None:
-    """After a syntax error the parser resumes at the next declaration: one error per broken body, none for good ones."""
+    """After a syntax error the parser resumes at the next declaration.
+
+    One error per broken body, none for good ones.
+    """
     text = "body A { mass = 1 kg }\nbody B { shape box (1, 1, 1) cm mass 1 kg }\nbody C { mass 1 kg frame }\n"
     diagnostics = _check_text(tmp_path, text)
     assert [(d.code, d.span.line) for d in diagnostics] == [("E101", 1), ("E101", 3)]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from robot.test_arm import panda_robot
+from panda_fixtures import panda_robot
 
 from vkgl.plan.approach import (
     CartesianFailure,

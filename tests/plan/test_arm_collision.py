@@ -14,7 +14,7 @@ from vkgl.robot import Arm
 
 
 @pytest.fixture(scope="module")
-def setup(compiled):  # noqa: F811 (the fixture)
+def setup(compiled):
     """The a_push problem's arm, with its scene's bodies and a tall post (parked far away) added."""
     program = compiled("a_push")
     problem = build_problem(program, program.task())
@@ -37,7 +37,7 @@ def test_the_links_are_the_urdfs_and_the_effector_is_where_fk_puts_it(setup) -> 
     assert np.allclose(arm.effector_pose(), problem.arm.fk(q), atol=1e-9)
 
 
-def test_a_moved_base_moves_the_links(setup, compiled) -> None:  # noqa: F811 (the fixture)
+def test_a_moved_base_moves_the_links(setup, compiled) -> None:
     problem, arm, _ = setup
     robot = compiled("a_push").robots["Panda"]
     moved = Arm.load(robot, problem.arm.effector, pose(0.3, -0.2, 0.05, yaw=0.4))

@@ -10,9 +10,8 @@ from __future__ import annotations
 import json
 
 import pytest
-from replay_check import check_plan
-
 from plan_programs import compiled  # noqa: F401 (fixture)
+from replay_check import check_plan
 
 from vkgl.api import solve
 

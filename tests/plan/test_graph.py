@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-
 from plan_programs import compiled  # noqa: F401 (fixture)
 
 from vkgl.plan.closed_form import Rejection, closed_form

@@ -6,12 +6,11 @@ import time
 from pathlib import Path
 
 import pytest
-
 from plan_programs import compiled  # noqa: F401 (fixture)
 
+from vkgl.api import solve
 from vkgl.cli import main
 from vkgl.errors import InputError
-from vkgl.api import solve
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "tabletop.vkg"
 

@@ -101,7 +101,7 @@ def test_the_table_counts_in_a_sweep() -> None:
 
 
 @pytest.fixture(scope="module")
-def problem(compiled):  # noqa: F811 (the fixture)
+def problem(compiled):
     program = compiled("a_push")
     return build_problem(program, program.task())
 
@@ -125,7 +125,7 @@ def test_sweep_mode_sweeps_a_rollouts_pushed_block_against_the_other_bodies(prob
     assert sweep_mode(scene, problem, trace(0.05, blocked)) == []  # a short push stops before it
 
 
-def test_sweep_mode_sweeps_the_tool_that_turns_a_block_with_it(compiled) -> None:  # noqa: F811 (the fixture)
+def test_sweep_mode_sweeps_the_tool_that_turns_a_block_with_it(compiled) -> None:
     program = compiled("e_rotate_stick_push")
     problem = build_problem(program, program.task())
     scene = CollisionScene.from_problem(problem)

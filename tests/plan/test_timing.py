@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from robot.test_arm import URDF
+from panda_fixtures import URDF
 
 from vkgl.errors import InputError
 from vkgl.plan.timing import PANDA_ACCELERATION_LIMITS, time_path, velocity_limits

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 from box_world import BoxWorld
 from conftest import REPO
-from robot.test_arm import panda_robot
+from panda_fixtures import panda_robot
 
 from vkgl.plan.density import DEFAULT_RESOLUTION, densify, edge_resolution, link_reach, segment_is_valid
 from vkgl.plan.transit import TransitFailure, TransitPath, plan_transit

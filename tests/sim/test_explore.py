@@ -7,8 +7,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 from sim_bodies import stdlib_body, with_joint_limits, with_policy
 
-from vkgl.sim.explore import explore
 from vkgl.formats.trials import Trials
+from vkgl.sim.explore import explore
 
 
 def yaw_deg(T: np.ndarray) -> float:

@@ -9,9 +9,9 @@ import pytest
 from sim_bodies import stdlib_body, with_policy
 
 from vkgl.errors import InputError
+from vkgl.formats.trials import Trials
 from vkgl.sim.explore import explore
 from vkgl.sim.plot import plot_trials
-from vkgl.formats.trials import Trials
 
 
 def test_plot_trials_writes_a_png(tmp_path: Path) -> None:

@@ -37,15 +37,9 @@ from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.execution_report import Deviation, ExecutionReport, GoalResult, StepReport
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
 from vkgl.lang.ir import (
-    DEFAULT_TOL_POSITION,
-    DEFAULT_TOL_YAW,
     Goal,
-    Placement,
-    Pose,
     Quantity,
-    Scene,
     Task,
-    Vector,
 )
 from vkgl.lang.program import Program
 from vkgl.se3 import angle_difference, yaw_of
@@ -59,7 +53,6 @@ Step = tuple[int, PlanStepRecord]
 """A plan step with its number in its plan (from 1)."""
 
 FINAL_SETTLE = 0.5  # s the world runs after the last step before the goal is checked
-LEVEL_TILT = np.radians(2.0)  # a body tilted less than this still counts as lying on the table
 
 
 def execute(
@@ -229,8 +222,7 @@ class _Loop:
     def _limits(self, body: str) -> tuple[float, float]:
         """Half the goal tolerance of `body` (position m, angle rad); defaults for bodies without a goal."""
         goal = next((g for g in self.task.goals if g.body.name == body), None)
-        tol_p = goal.tol_position.value if goal is not None and goal.tol_position is not None else DEFAULT_TOL_POSITION
-        tol_a = goal.tol_yaw.value if goal is not None and goal.tol_yaw is not None else DEFAULT_TOL_YAW
+        tol_p, tol_a = goal.tolerance() if goal is not None else Goal.default_tolerance()
         return tol_p / 2, tol_a / 2
 
     def _deviations(
@@ -306,7 +298,7 @@ class _Loop:
             self.replay.settle(0.2, "replan")
         except ArmStuck as exc:
             return "failed", f"{why}; then, putting things down to re-solve: {exc}"
-        observed = program_with_observed_scene(self.program, self.task, self.replay.poses())
+        observed = self.program.with_start_poses(self.task, self.replay.poses())
         self.replans += 1
         self.plan_no += 1
         assert self.resolve is not None  # execute() refuses replan=True without one
@@ -364,8 +356,7 @@ def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Pr
     task = program.task(task_name)
     goals = []
     for goal in task.goals:
-        tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
-        tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
+        tol_p, tol_y = goal.tolerance()
         goals.append(
             goal.model_copy(
                 update={
@@ -378,8 +369,7 @@ def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Pr
 
 
 def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:
-    tol_p = goal.tol_position.value if goal.tol_position is not None else DEFAULT_TOL_POSITION
-    tol_y = goal.tol_yaw.value if goal.tol_yaw is not None else DEFAULT_TOL_YAW
+    tol_p, tol_y = goal.tolerance()
     position_error = None
     parts = [goal.body.name]
     if goal.position is not None:
@@ -392,42 +382,3 @@ def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:
         parts.append(f"yaw {np.degrees(goal.yaw.value):.1f} deg")
     parts.append(f"within {tol_p * 100:.1f} cm, {np.degrees(tol_y):.1f} deg")
     return GoalResult(goal.body.name, " ".join(parts), position_error, yaw_error, tol_p, tol_y)
-
-
-def program_with_observed_scene(program: Program, task: Task, poses: dict[str, np.ndarray]) -> Program:
-    """A copy of `program` whose task scene starts where the bodies are now (`poses`).
-
-    A body that lies level on the table is placed `on table at (x, y) yaw`;
-    one that is tilted is placed at its full pose. Everything else (task,
-    goals, affordances, the robot) is the same.
-    """
-    scene: Scene = program.scenes[task.scene.name]
-    bodies = []
-    for scene_body in scene.bodies:
-        pose = poses.get(scene_body.name)
-        if pose is None:
-            bodies.append(scene_body)
-            continue
-        placement = _observed_placement(pose, scene_body.placement.on_table)
-        bodies.append(scene_body.model_copy(update={"placement": placement}))
-    observed = scene.model_copy(update={"bodies": bodies})
-    return dataclasses.replace(program, scenes={**program.scenes, scene.name: observed})
-
-
-def _observed_placement(pose: np.ndarray, was_on_table: bool) -> Placement:
-    yaw = yaw_of(pose)
-    tilt = float(np.arccos(np.clip(pose[2, 2], -1.0, 1.0)))
-    if was_on_table and tilt < LEVEL_TILT:
-        planar = Pose(
-            position=Vector(values=(float(pose[0, 3]), float(pose[1, 3])), unit="m"),
-            yaw=Quantity(value=yaw, unit="rad"),
-        )
-        return Placement(on_table=True, pose=planar)
-    from scipy.spatial.transform import Rotation
-
-    rpy = Rotation.from_matrix(pose[:3, :3]).as_euler("xyz")
-    full = Pose(
-        position=Vector(values=tuple(float(v) for v in pose[:3, 3]), unit="m"),
-        rpy=Vector(values=tuple(float(v) for v in rpy), unit="rad"),
-    )
-    return Placement(on_table=False, pose=full)

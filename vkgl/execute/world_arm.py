@@ -37,8 +37,8 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.errors import SimulationError
 from vkgl.execute.effector_path import Segment
+from vkgl.shapes import isometry
 from vkgl.sim.fingertip import FINGERTIP_FRICTION, FINGERTIP_RADIUS  # the same fingertip as in exploration
-from vkgl.sim.world import isometry
 
 CONTROL_PERIOD = 0.02  # s between two IK solutions
 FINGER_PAD_WIDTH = 0.02  # m: the closed fingers of a Panda hand push with a pad about this wide

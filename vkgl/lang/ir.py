@@ -394,6 +394,11 @@ class Goal(Node):
         yaw = self.tol_yaw.value if self.tol_yaw is not None else DEFAULT_TOL_YAW
         return float(position), float(yaw)
 
+    @staticmethod
+    def default_tolerance() -> tuple[float, float]:
+        """The tolerances of a goal that gives none, `(metres, radians)`."""
+        return float(DEFAULT_TOL_POSITION), float(DEFAULT_TOL_YAW)
+
 
 class SearchSpec(Node):
     """`search { max_depth N  timeout Q }`."""

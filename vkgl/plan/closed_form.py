@@ -26,7 +26,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from vkgl.plan.graph import motion_type
-from vkgl.plan.model import GoalSpec, Problem, wrap_angle, yaw_of
+from vkgl.plan.model import GoalSpec, Problem
 from vkgl.plan.reach import Rejection, reach_violation, unreachable
 from vkgl.plan.rollout import (
     Sequence,
@@ -35,6 +35,7 @@ from vkgl.plan.rollout import (
     motion_matrices,
     unit_axis_and_center,
 )
+from vkgl.se3 import wrap_angle, yaw_of
 
 TURN_GRID = 181
 """Angles scanned for the first of two turns of one body (1 deg apart over half a turn)."""

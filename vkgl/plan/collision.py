@@ -2,7 +2,7 @@
 
 A `CollisionScene` is built once per planning problem from the bodies' real
 shapes and the table; a query only moves frames and asks the detector. The
-shapes are the simulator's (`vkgl.sim.world.dart_shapes`): boxes and cylinders
+shapes are the simulator's (`vkgl.shapes.dart_shapes`): boxes and cylinders
 as primitives, a mesh as DART loads it, a union as one shape per part. The
 table is a slab of the table's footprint whose top is the table's z and which
 reaches `TABLE_DEPTH` below it, so that nothing can hide under the top.
@@ -31,7 +31,7 @@ import numpy as np
 
 from vkgl.lang.geometry import shape_mesh
 from vkgl.lang.ir import Shape
-from vkgl.sim.world import dart_shapes
+from vkgl.shapes import dart_shapes
 
 if TYPE_CHECKING:
     from vkgl.plan.model import Problem
@@ -82,7 +82,10 @@ class CollisionScene:
         table_z: float = 0.0,
         tol: float = TOUCH_TOL,
     ) -> None:
-        """Bodies named by `shapes` (IR shapes, body frame), and a table when `table_center` and `table_size` (x, y) are given."""
+        """Bodies named by `shapes` (IR shapes, body frame).
+
+        A table too, when `table_center` and `table_size` (x, y) are given.
+        """
         if TABLE in shapes:
             raise ValueError(f"a body may not be called `{TABLE}` in a collision scene: that name is the table's")
         self.tol = tol

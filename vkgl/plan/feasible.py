@@ -29,9 +29,10 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from vkgl.plan.closed_form import closed_form
-from vkgl.plan.model import GoalSpec, Problem, wrap_angle, yaw_of
+from vkgl.plan.model import GoalSpec, Problem
 from vkgl.plan.reach import Rejection, reach_violations, unreachable
 from vkgl.plan.rollout import ModeTrace, Sequence, bounds, rollout
+from vkgl.se3 import wrap_angle, yaw_of
 
 TASK_SAMPLES = 5
 """Hand poses checked against the reach along each motion in task space (ends included)."""

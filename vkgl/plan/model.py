@@ -273,13 +273,3 @@ def _table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
     return np.asarray(scene.table.position.values[:2], dtype=float), np.asarray(
         scene.table.size.values[:2], dtype=float
     )
-
-
-def yaw_of(pose: np.ndarray) -> float:
-    """The heading (rad) of a pose: the angle of its x axis about the world z axis."""
-    return math.atan2(pose[1, 0], pose[0, 0])
-
-
-def wrap_angle(angle: float) -> float:
-    """`angle` wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2 * math.pi) - math.pi

@@ -49,7 +49,10 @@ assert MAX_SLIP - STEP / 2 > TOUCH_TOL, "the sampling bound needs MAX_SLIP - STE
 
 
 def sample_values(constraint: PrismaticC | RevoluteC, value: float, reach: float, step: float = STEP) -> np.ndarray:
-    """Motion values from 0 to `value`, evenly spaced so that no point within `reach` of the frame moves more than `step`."""
+    """Motion values from 0 to `value`, evenly spaced.
+
+    No point within `reach` of the frame moves more than `step` between two of them.
+    """
     _, center = unit_axis_and_center(constraint)
     lever = 1.0 if center is None else reach + float(np.linalg.norm(center))
     travel = abs(value) * lever

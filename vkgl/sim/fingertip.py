@@ -37,7 +37,8 @@ from typing import Any
 import dartpy as dart
 import numpy as np
 
-from vkgl.sim.world import dress_body_node, isometry, translation
+from vkgl.shapes import isometry, translation
+from vkgl.sim.world import dress_body_node
 
 FINGERTIP_RADIUS = 0.005  # m
 FINGERTIP_MASS = 0.05  # kg

@@ -80,7 +80,7 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float,
     contacts = policy.contacts
     assert contacts is not None
     mesh = body_mesh(body)
-    specs = []
+    specs: list[TrialSpec] = []
     for face in contacts.faces:
         outward = FACES[face]
         line_axis, points = face_line(mesh, outward, contacts.steps)

@@ -22,17 +22,16 @@ the world where the body stands, with its limits enforced.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
-from xml.sax.saxutils import quoteattr
 
 import dartpy as dart
 import numpy as np
 import trimesh
 
-from vkgl.errors import InputError, SimulationError
+from vkgl.errors import InputError
 from vkgl.lang.geometry import shape_mesh
-from vkgl.lang.ir import Body, BoxShape, CylinderShape, MeshShape, Shape, Table, UnionShape
+from vkgl.lang.ir import Body, Table
+from vkgl.shapes import dart_shapes, isometry, translation
 
 TIME_STEP = 0.001  # s
 GRAVITY = (0.0, 0.0, -9.81)  # m/s^2
@@ -41,20 +40,6 @@ TABLE_FRICTION = 1.0  # >= any sensible body coefficient: the body's own coeffic
 TABLE_THICKNESS = 0.05  # m
 EXPLORATION_TABLE_SIZE = (2.0, 2.0)  # m, centred under the explored body
 JOINT_CLEARANCE = 0.001  # m a jointed body is lifted so that it hangs on its joint, not on the table
-
-
-def isometry(matrix: np.ndarray) -> Any:
-    """A 4x4 numpy pose as a dartpy Isometry3."""
-    iso = dart.math.Isometry3()
-    iso.set_matrix(np.asarray(matrix, dtype=float))
-    return iso
-
-
-def translation(p: np.ndarray) -> np.ndarray:
-    """The 4x4 pose that translates by `p`."""
-    m = np.eye(4)
-    m[:3, 3] = p
-    return m
 
 
 def new_world(time_step: float = TIME_STEP) -> Any:
@@ -154,51 +139,6 @@ def dress_body_node(node: Any, body: Body) -> None:
         shape_node.createDynamicsAspect().setFrictionCoeff(friction)
     mass, com, inertia = mass_properties(body)
     node.setInertia(dart.dynamics.Inertia(mass, com, inertia))
-
-
-def dart_shapes(shape: Shape, pose: np.ndarray | None = None) -> list[tuple[Any, np.ndarray]]:
-    """The DART shapes of an IR shape, each with its 4x4 pose in the body frame."""
-    pose = np.eye(4) if pose is None else pose
-    if isinstance(shape, BoxShape):
-        return [(dart.dynamics.BoxShape(shape.size.array()), pose)]
-    if isinstance(shape, CylinderShape):
-        return [(dart.dynamics.CylinderShape(shape.radius.value, shape.height.value), pose)]
-    if isinstance(shape, MeshShape):
-        return [(load_mesh_shape(shape), pose)]
-    if isinstance(shape, UnionShape):
-        return [item for part in shape.parts for item in dart_shapes(part.shape, pose @ part.pose.matrix())]
-    raise TypeError(f"unknown shape {shape!r}")
-
-
-def load_mesh_shape(shape: MeshShape) -> Any:
-    """DART's MeshShape of a mesh file (through DART's own loader, assimp).
-
-    dartpy cannot build a MeshShape from vertices, so the file is loaded the
-    way DART loads URDF meshes. A file DART cannot read is a SimulationError
-    that names it.
-    """
-    path = Path(shape.resolved or shape.path).resolve()
-    if not path.is_file():
-        raise InputError(f"{path}: no such mesh file")
-    scale = f"{shape.scale!r} {shape.scale!r} {shape.scale!r}"
-    uri = dart.common.Uri.createFromPath(str(path)).toString()
-    urdf = (
-        '<robot name="mesh"><link name="mesh"><collision><geometry>'
-        f"<mesh filename={quoteattr(uri)} scale={quoteattr(scale)}/>"
-        "</geometry></collision></link></robot>"
-    )
-    skeleton = dart.utils.DartLoader().parseSkeletonString(urdf, dart.common.Uri.createFromPath(str(path.parent) + "/"))
-    node = skeleton.getBodyNode(0) if skeleton is not None and skeleton.getNumBodyNodes() else None
-    if node is None or node.getNumShapeNodes() == 0:
-        raise SimulationError(
-            f"{path}: DART cannot load this mesh (its mesh importer rejected the file); "
-            "export it as a binary STL or OBJ and point the body's `mesh` at that file"
-        )
-    mesh_shape = node.getShapeNode(0).getShape()
-    extents = np.asarray(mesh_shape.getBoundingBox().computeFullExtents(), dtype=float)
-    if not np.all(np.isfinite(extents)) or float(extents.max()) <= 0.0:
-        raise SimulationError(f"{path}: DART loaded this mesh but it has no extent (degenerate triangles?)")
-    return mesh_shape
 
 
 def mass_properties(body: Body) -> tuple[float, np.ndarray, np.ndarray]:
