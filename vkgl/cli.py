@@ -169,6 +169,14 @@ def cmd_learn(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+@_command("lsp")
+def cmd_lsp(args: argparse.Namespace) -> int:
+    """Serve the language server over stdin/stdout (for editors)."""
+    from vkgl.editor.server import main as serve
+
+    return serve()
+
+
 @_command("solve")
 def cmd_solve(args: argparse.Namespace) -> int:
     """Plan for a task; print the graph sequence; optionally write JSON and a picture."""
@@ -288,6 +296,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--body", metavar="NAME")
     p.add_argument("-o", "--output", metavar="DIR", help="where to write <body>.vkg")
     _add_run_options(p)
+
+    p = sub.add_parser("lsp", help="run the language server for editors (LSP over stdio)")
+    p.add_argument("--stdio", action="store_true",
+                   help="talk over stdin/stdout (the default and only transport; accepted because clients pass it)")
 
     p = sub.add_parser("solve", help="plan for a task")
     p.add_argument("taskfile", metavar="TASKFILE")

@@ -21,12 +21,18 @@ DOCS = sorted((REPO / "docs").glob("*.md"))
 
 def tokens(text: str) -> list[tuple[object, str]]:
     """The non-blank tokens of `text`."""
-    return [(kind, value) for kind, value in VkgLexer().get_tokens(text) if value.strip()]
+    return [
+        (kind, value) for kind, value in VkgLexer().get_tokens(text) if value.strip()
+    ]
 
 
 @pytest.mark.parametrize("path", FILES, ids=lambda p: str(p.relative_to(REPO)))
 def test_every_example_and_stdlib_file_lexes_without_an_error_token(path: Path) -> None:
-    found = [(kind, value) for kind, value in VkgLexer().get_tokens(path.read_text(encoding="utf-8")) if kind in Error]
+    found = [
+        (kind, value)
+        for kind, value in VkgLexer().get_tokens(path.read_text(encoding="utf-8"))
+        if kind in Error
+    ]
     assert not found
 
 
@@ -35,8 +41,15 @@ def test_the_file_list_is_not_empty() -> None:
 
 
 def test_the_vkg_blocks_of_the_docs_lex_without_an_error_token() -> None:
-    blocks = [b for doc in DOCS for b in re.findall(r"^ *```vkg\n(.*?)^ *```", doc.read_text(encoding="utf-8"),
-                                                     re.MULTILINE | re.DOTALL)]
+    blocks = [
+        b
+        for doc in DOCS
+        for b in re.findall(
+            r"^ *```vkg\n(.*?)^ *```",
+            doc.read_text(encoding="utf-8"),
+            re.MULTILINE | re.DOTALL,
+        )
+    ]
     assert len(blocks) >= 15
     for block in blocks:
         assert not [t for t in tokens(block) if t[0] in Error], block
@@ -57,9 +70,11 @@ def test_keyword_categories_are_grammar_keywords() -> None:
 
 
 def test_declarations_quantities_faces_strings_and_comments() -> None:
-    found = tokens('body Block { shape box (10, 20, 5) cm  # size\n mass 0.5 kg\n'
-                   ' explore p { contacts on faces +x, -x steps 9 } mesh "a.stl" }\n'
-                   'scene s { robot arm : Panda at (0, 0, 0) m }')
+    found = tokens(
+        "body Block { shape box (10, 20, 5) cm  # size\n mass 0.5 kg\n"
+        ' explore p { contacts on faces +x, -x steps 9 } mesh "a.stl" }\n'
+        "scene s { robot arm : Panda at (0, 0, 0) m }"
+    )
     assert (Keyword.Declaration, "body") in found and (Name.Class, "Block") in found
     assert (Keyword.Type, "box") in found and (Name.Builtin, "cm") in found
     assert (Number, "0.5") in found and (Name.Builtin, "kg") in found
@@ -79,23 +94,47 @@ def test_a_name_that_looks_like_a_unit_is_a_name_when_no_number_precedes_it() ->
 
 
 def test_pyproject_declares_the_lexer_entry_point() -> None:
-    project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]
-    assert project["entry-points"]["pygments.lexers"] == {"vkg": "vkgl.editor.lexer:VkgLexer"}
+    project = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))[
+        "project"
+    ]
+    assert project["entry-points"]["pygments.lexers"] == {
+        "vkg": "vkgl.editor.lexer:VkgLexer"
+    }
     assert any(d.startswith("pygments") for d in project["dependencies"])
 
 
 def test_pygmentize_finds_the_lexer_through_the_entry_point(tmp_path: Path) -> None:
     """Pygments' plugin discovery, fed the pyproject's entry point as an installed package would be."""
-    entry = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["project"]["entry-points"]
+    entry = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))[
+        "project"
+    ]["entry-points"]
     dist = tmp_path / "site" / "vkgl_probe-0.dist-info"
     dist.mkdir(parents=True)
-    (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: vkgl-probe\nVersion: 0\n", encoding="utf-8")
-    lines = ["[pygments.lexers]", *(f"{k} = {v}" for k, v in entry["pygments.lexers"].items())]
+    (dist / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: vkgl-probe\nVersion: 0\n", encoding="utf-8"
+    )
+    lines = [
+        "[pygments.lexers]",
+        *(f"{k} = {v}" for k, v in entry["pygments.lexers"].items()),
+    ]
     (dist / "entry_points.txt").write_text("\n".join(lines) + "\n", encoding="utf-8")
     env_path = f"{tmp_path / 'site'}:{REPO}"
     done = subprocess.run(
-        [sys.executable, "-m", "pygments", "-l", "vkg", "-f", "raw", str(REPO / "stdlib" / "bodies" / "block.vkg")],
-        capture_output=True, text=True, timeout=60, env={"PYTHONPATH": env_path, "PATH": "/usr/bin:/bin"},
+        [
+            sys.executable,
+            "-m",
+            "pygments",
+            "-l",
+            "vkg",
+            "-f",
+            "raw",
+            str(REPO / "stdlib" / "bodies" / "block.vkg"),
+        ],
+        check=False,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={"PYTHONPATH": env_path, "PATH": "/usr/bin:/bin"},
     )
     assert done.returncode == 0, done.stderr
     assert "Token.Keyword.Declaration\t'body'" in done.stdout
