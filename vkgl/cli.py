@@ -154,19 +154,44 @@ def cmd_infer(args: argparse.Namespace) -> int:
 
 @_command("learn")
 def cmd_learn(args: argparse.Namespace) -> int:
-    """Explore a body and infer its affordances in one go."""
+    """Explore bodies and infer their affordances in one go (trials on the local pool, or on Ray with --ray)."""
+    import contextlib
+
+    from vkgl.errors import InputError
     from vkgl.infer.library import learn
 
-    out = learn(
-        args.bodyfile,
-        body=args.body,
-        out_dir=args.output,
-        seed=args.seed,
-        jobs=args.jobs,
-        progress=_is_terminal(sys.stderr),
-    )
-    print(f"{out}: generated")
+    if args.ray and Path(args.ray).exists():  # `learn --ray FILE`: the file is not an address
+        args.bodyfiles, args.ray = [args.ray, *args.bodyfiles], ""
+    files = _body_files(args.bodyfiles)
+    if args.body is not None and len(files) > 1:
+        raise InputError(f"--body {args.body}: names a body of one file, but {len(files)} files were given")
+    runner: Any = contextlib.nullcontext(None)
+    if args.ray is not None:
+        from vkgl.sim.ray_runner import RayRunner
+
+        runner = RayRunner(address=args.ray or None, num_cpus=args.jobs, progress=_is_terminal(sys.stderr))
+    with runner as run:
+        for file in files:
+            out = learn(file, body=args.body, out_dir=args.output, seed=args.seed, jobs=args.jobs,
+                        progress=_is_terminal(sys.stderr), runner=run)
+            print(f"{out}: generated")
     return EXIT_OK
+
+
+def _body_files(paths: Sequence[str]) -> list[str]:
+    """The body files named on the command line: files as given, folders as their *.vkg files, sorted."""
+    from vkgl.errors import InputError
+
+    files: list[str] = []
+    for name in paths:
+        if Path(name).is_dir():
+            found = sorted(str(p) for p in Path(name).glob("*.vkg"))
+            if not found:
+                raise InputError(f"{name}: a folder without .vkg files")
+            files.extend(found)
+        else:
+            files.append(name)
+    return files
 
 
 @_command("lsp")
@@ -291,10 +316,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="F.png", help="also draw the posterior over types by contact")
     p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
 
-    p = sub.add_parser("learn", help="explore + infer: generate a body's affordance module")
-    p.add_argument("bodyfile", metavar="BODYFILE")
-    p.add_argument("--body", metavar="NAME")
+    p = sub.add_parser("learn", help="explore + infer: generate the affordance module of each body")
+    p.add_argument("bodyfiles", nargs="+", metavar="BODYFILE",
+                   help="body files, or folders of them (every *.vkg inside, in name order)")
+    p.add_argument("--body", metavar="NAME", help="the body to learn (default: the file's only body; one file only)")
     p.add_argument("-o", "--output", metavar="DIR", help="where to write <body>.vkg")
+    p.add_argument("--ray", nargs="?", const="", default=None, metavar="ADDRESS",
+                   help="run the trials on Ray (pip install 'vkgl[ray]'): the cluster at ADDRESS "
+                   "(auto, HOST:6379 or ray://HOST:10001), or without ADDRESS a local Ray instance "
+                   "with --jobs CPUs; the modules written are the same as without --ray")
     _add_run_options(p)
 
     p = sub.add_parser("lsp", help="run the language server for editors (LSP over stdio)")
