@@ -56,6 +56,8 @@ def symbol_at(
     if not 0 <= line < len(lines):
         return None
     source_line = lines[line]
+    if "#" in re.sub(r'"[^"\n]*"', "", source_line[:char]):
+        return None  # in a comment
     module = _module_of(program, path)
     used = _use_at(module, source_line, line)
     if used is not None:
