@@ -92,7 +92,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
 
     p = _subcommand(sub, "learn", help="explore + infer: generate the affordance modules of bodies")
-    p.add_argument("bodyfiles", nargs="+", metavar="BODYFILE", help=".vkg files, each declaring one body to learn")
+    p.add_argument(
+        "bodyfiles",
+        nargs="+",
+        metavar="BODYFILE",
+        help="body files, or folders of them (every *.vkg inside, in name order)",
+    )
     p.add_argument("--body", metavar="NAME", help="with one BODYFILE: the body to learn when it declares several")
     p.add_argument(
         "-o",
@@ -102,7 +107,24 @@ def build_parser() -> argparse.ArgumentParser:
         "else affordances/ in the body file's folder)",
     )
     p.add_argument("--force", action="store_true", help="replace an existing <body>.vkg that learn did not generate")
+    p.add_argument(
+        "--ray",
+        nargs="?",
+        const="",
+        default=None,
+        metavar="ADDRESS",
+        help="run the trials on Ray (pip install 'vkgl[ray]'): the cluster at ADDRESS (auto, HOST:6379 or "
+        "ray://HOST:10001), or without ADDRESS a local Ray instance with --jobs CPUs; the modules written are "
+        "the same as without --ray (put --ray after the files)",
+    )
     _add_run_options(p)
+
+    p = _subcommand(sub, "lsp", help="run the language server for editors (LSP over stdio)")
+    p.add_argument(
+        "--stdio",
+        action="store_true",
+        help="talk over stdin/stdout (the default and only transport; accepted because clients pass it)",
+    )
 
     p = _subcommand(sub, "solve", help="plan for a task")
     p.add_argument("taskfile", metavar="TASKFILE", help=".vkg file that declares the task")

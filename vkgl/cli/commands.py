@@ -142,20 +142,39 @@ def cmd_infer(args: argparse.Namespace) -> int:
 
 @_command("learn")
 def cmd_learn(args: argparse.Namespace) -> int:
-    """Explore bodies and infer their affordances in one go."""
+    """Explore bodies and infer their affordances in one go (trials on the local pool, or on Ray with --ray)."""
+    import contextlib
+
     from vkgl import api
 
-    for out in api.learn(
-        args.bodyfiles,
-        body=args.body,
-        out_dir=args.output,
-        seed=args.seed,
-        jobs=args.jobs,
-        progress=_is_terminal(sys.stderr),
-        force=args.force,
-    ):
-        print(f"{out}: generated")
+    if args.ray and Path(args.ray).exists():  # `learn --ray FILE`: the file is not an address
+        args.bodyfiles, args.ray = [args.ray, *args.bodyfiles], ""
+    runner: Any = contextlib.nullcontext(None)
+    if args.ray is not None:
+        from vkgl.sim.ray_runner import RayRunner
+
+        runner = RayRunner(address=args.ray or None, num_cpus=args.jobs, progress=_is_terminal(sys.stderr))
+    with runner as run:
+        for out in api.learn(
+            args.bodyfiles,
+            body=args.body,
+            out_dir=args.output,
+            seed=args.seed,
+            jobs=args.jobs,
+            progress=_is_terminal(sys.stderr),
+            force=args.force,
+            runner=run,
+        ):
+            print(f"{out}: generated")
     return EXIT_OK
+
+
+@_command("lsp")
+def cmd_lsp(args: argparse.Namespace) -> int:
+    """Serve the language server over stdin/stdout (for editors)."""
+    from vkgl.editor.server import main as serve
+
+    return serve()
 
 
 @_command("solve")

@@ -68,15 +68,25 @@ class TrialResult:
     reason: str
 
 
-def explore(body: Body, *, seed: int = 0, jobs: int | None = None, progress: bool = False) -> Trials:
+# Runs trials elsewhere than the local pool: `runner(specs, seed)` must return
+# `run_trial(spec, seed)` for every spec, in order (e.g. `vkgl.sim.ray_runner.RayRunner`).
+Runner = Callable[[list[TrialSpec], int], list[TrialResult]]
+
+
+def explore(
+    body: Body, *, seed: int = 0, jobs: int | None = None, progress: bool = False, runner: Runner | None = None
+) -> Trials:
     """Run every trial of the body's `explore` blocks and return the dataset.
 
     `jobs`: parallel processes (default: all cores). `progress`: show a
-    progress bar on stderr. Raises CompileError for a bad policy (with the
-    source position) and SimulationError when DART cannot build the body.
+    progress bar on stderr. `runner`: run the trials with it instead of the
+    local process pool. Raises InputError for a body without an `explore`
+    block and SimulationError when DART cannot build the body.
     """
     specs = plan_trials(body)
     preflight(body)
+    if runner is not None:
+        return assemble(body.name, specs, runner(specs, seed))
     results = _run_all(specs, seed, _job_count(jobs, len(specs)), progress)
     return assemble(body.name, specs, results)
 
