@@ -189,7 +189,7 @@ def learn(
 
     files = _body_files([body_files] if isinstance(body_files, str | os.PathLike) else list(body_files))
     if body is not None and len(files) > 1:
-        raise InputError("--body names one body: give one body file with it")
+        raise InputError(f"--body {body}: names a body of one file, but {len(files)} files were given")
     programs = [compile(f) for f in files]  # every file is checked before any exploration starts
     written = []
     for source, program in zip(files, programs, strict=True):

@@ -1,25 +1,9 @@
 """Carrying a plan out in DART: the arm in the world, step replay, the closed loop, animation.
 
-`vkgl.execute` is two things by design: this package (the stage) and the
-driver's function `vkgl.execute(program, task, plan, ...)` (`vkgl.api.execute`).
-Python binds a package's name on its parent once any of its modules is
-imported, which would hide the function; so the package object itself is
-callable and calls the driver. `vkgl.execute(...)` works whichever of the two
-`vkgl.execute` currently is.
+Calling the package, `vkgl.execute(program, task, plan, ...)`, calls the
+driver's `vkgl.api.execute` (see `vkgl.callable_stage` for why).
 """
 
-from __future__ import annotations
+from vkgl.callable_stage import make_callable
 
-import sys
-import types
-from typing import Any
-
-
-class _CallableStage(types.ModuleType):
-    def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        from vkgl.api import execute
-
-        return execute(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableStage
+make_callable(__name__)
