@@ -63,7 +63,7 @@ def errors_doc(repo: Path = Path(".")) -> str:
         for case in cases:
             src = case.read_text(encoding="utf-8")
             if code == "E104":
-                lines = src.splitlines()
+                lines = src.rstrip("\n").split("\n")
                 src = (
                     "\n".join(
                         lines[:6]

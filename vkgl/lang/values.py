@@ -168,7 +168,7 @@ class ValueReader:
         """A whole plain number (`what` names it in messages); an error and a stand-in count otherwise."""
         if not self.check_unit(raw, "number"):
             return VALID_COUNT
-        if not re.fullmatch(r"[+-]?\d+", raw.text):
+        if not re.fullmatch(r"[+-]?[0-9]+", raw.text):
             self.error(codes.NOT_WHOLE_NUMBER, f"{what} must be a whole number, got `{raw.text}`", raw.span)
             return VALID_COUNT
         return int(raw.text)
