@@ -18,7 +18,7 @@ from typing import Any
 from vkgl.cli.arguments import build_parser
 from vkgl.cli.commands import COMMANDS, Command, print_diagnostics
 from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED
-from vkgl.cli.paths import check_paths
+from vkgl.cli.paths import check_inputs, check_paths
 
 __all__ = ["build_parser", "main", "run"]
 
@@ -49,6 +49,7 @@ def _run(command: Command, args: argparse.Namespace) -> int:
     from vkgl.errors import CompileError, VkgError
 
     try:
+        check_inputs(args)
         check_paths(args)
         return command(args)
     except CompileError as exc:

@@ -8,6 +8,7 @@ URDF paths.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
@@ -251,21 +252,29 @@ def _check_tools_have_correspondences(program: Program, ctx: CheckContext) -> No
 
 def _resolve_files(module: ir.Module, folder: Path | None) -> ir.Module:
     """The module with mesh and URDF paths made absolute (relative to `folder`, by default the module's file's)."""
-    folder = folder if folder is not None else Path(module.path).resolve().parent
+    folder = folder if folder is not None else _real(Path(module.path)).parent
     decls: list[Any] = []
     for decl in module.decls:
         if isinstance(decl, ir.Body):
             decl = decl.model_copy(update={"shape": _resolve_shape(decl.shape, folder)})
         elif isinstance(decl, ir.Robot):
-            decl = decl.model_copy(update={"urdf_resolved": str((folder / decl.urdf).resolve())})
+            decl = decl.model_copy(update={"urdf_resolved": str(_real(folder / decl.urdf))})
         decls.append(decl)
     return module.model_copy(update={"decls": decls})
 
 
 def _resolve_shape(shape: Any, folder: Path) -> Any:
     if isinstance(shape, ir.MeshShape):
-        return shape.model_copy(update={"resolved": str((folder / shape.path).resolve())})
+        return shape.model_copy(update={"resolved": str(_real(folder / shape.path))})
     if isinstance(shape, ir.UnionShape):
         parts = [p.model_copy(update={"shape": _resolve_shape(p.shape, folder)}) for p in shape.parts]
         return shape.model_copy(update={"parts": parts})
     return shape
+
+
+def _real(path: Path) -> Path:
+    """`path` resolved through symbolic links; absolute but unresolved for a link loop (reported as missing)."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError):  # RuntimeError: Python 3.11's "Symlink loop"
+        return Path(os.path.abspath(path))
