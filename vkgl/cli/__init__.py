@@ -49,8 +49,8 @@ def _run(command: Command, args: argparse.Namespace) -> int:
     from vkgl.errors import CompileError, VkgError
 
     try:
-        check_inputs(args)
         check_paths(args)
+        check_inputs(args)
         return command(args)
     except CompileError as exc:
         print_diagnostics(exc.diagnostics, _sources_of(exc), sys.stderr)

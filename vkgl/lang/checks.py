@@ -24,6 +24,7 @@ from vkgl.lang.check_context import (
     where_declared,
 )
 from vkgl.lang.checks_body import check_body, check_direction, check_robot
+from vkgl.lang.checks_ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
 
@@ -118,6 +119,8 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 check_direction(constraint.axis, "an axis", ctx)
         evidence = affordance.evidence
+        if evidence is not None:
+            check_evidence_ranges(evidence, ctx)
         if evidence is not None and (evidence.posterior < 0 or evidence.posterior > 1):  # (NaN fails both)
             ctx.error(
                 codes.POSTERIOR_OUT_OF_RANGE,
@@ -189,6 +192,7 @@ def _check_task(task: ir.Task, ctx: CheckContext) -> None:
             if tol is not None and tol.value <= 0:
                 ctx.error(codes.NON_POSITIVE_VALUE, f"a tolerance must be positive, got {shown(tol)}", tol.span)
     if task.search is not None:
+        check_search_ranges(task.search, ctx)
         if task.search.max_depth is not None and task.search.max_depth < 1:
             ctx.error(
                 codes.NON_POSITIVE_VALUE,
