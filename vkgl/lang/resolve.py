@@ -84,6 +84,11 @@ class _Loader:
         if real in self.by_real:
             return self.by_real[real]
         shown = _display_path(path)
+        if via is not None and real.suffix != ".vkg" and real != Path(os.path.abspath(path)):
+            # `use "x.vkg"` where x.vkg is a link to /etc/passwd: not a module, never read nor quoted.
+            message = f"`{_display_link(path)}` is a link to `{real}`, which is not a .vkg module; it is not read"
+            self.out.diagnostics.append(codes.USE_NOT_VKG.diagnostic(message, via.span))
+            return None
         source = self._read(path, shown, via)
         if source is None:
             return None
@@ -221,3 +226,13 @@ def _display_path(path: Path) -> str:
     except ValueError:  # another drive on Windows
         return str(real)
     return str(real) if relative.startswith("..") else relative
+
+
+def _display_link(path: Path) -> str:
+    """A path as written (a symbolic link not followed), relative to the working directory when inside it."""
+    absolute = os.path.abspath(path)
+    try:
+        relative = os.path.relpath(absolute)
+    except ValueError:  # another drive on Windows
+        return absolute
+    return absolute if relative.startswith("..") else relative
