@@ -167,7 +167,10 @@ def test_diagnostics_show_the_line_lark_counts(brk: str) -> None:
 
 @pytest.mark.parametrize("brk", ODD_BREAKS, ids=[f"U+{ord(c):04X}" for c in ODD_BREAKS])
 def test_fmt_keeps_comments_in_place_across_odd_breaks(brk: str) -> None:
-    text = f"body B {{\n    shape box (1, 1, 1) m\n    # a{brk}b\n    mass 1 kg  # m\n    # before friction\n    friction 0.5\n}}\n"
+    text = (
+        f"body B {{\n    shape box (1, 1, 1) m\n    # a{brk}b\n    mass 1 kg  # m\n"
+        "    # before friction\n    friction 0.5\n}\n"
+    )
     out = format_source(text, "x.vkg")
     lines = out.split("\n")
     assert lines[2] == f"    # a{brk}b" and lines[3] == "    mass 1 kg  # m" and lines[4] == "    # before friction"
@@ -183,7 +186,7 @@ def test_control_characters_are_escaped_in_the_source_line_and_messages() -> Non
     diagnostics, sources = check_files_text(text)
     rendered = "\n".join(render(d, sources.get(d.span.file) if d.span else None) for d in diagnostics)
     assert "\x1b" not in rendered and "\\x1b" in rendered
-    assert escape_controls("a\x07b\u202ec\td") == "a\\x07b\\u202ec\td"
+    assert escape_controls("a\x07b\u202ec\td") == "a\\x07b\\u202ec\\x09d"
 
 
 def check_files_text(text: str) -> tuple[list[Diagnostic], dict[str, str]]:

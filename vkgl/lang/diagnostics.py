@@ -91,9 +91,8 @@ def source_lines(source: str) -> list[str]:
 
 
 def _needs_escape(char: str) -> bool:
-    """Control characters, line and paragraph separators and bidirectional overrides."""
-    if char == "\t":
-        return False
+    """Control characters (a tab too: source lines have theirs expanded first), line and paragraph
+    separators and bidirectional overrides."""
     return unicodedata.category(char) in ("Cc", "Zl", "Zp") or char in _BIDI
 
 
