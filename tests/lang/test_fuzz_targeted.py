@@ -111,7 +111,7 @@ OFFSETS = [0, 1, 9, 24, -1]
 @pytest.mark.parametrize("bad", BAD_BYTES, ids=[b.hex() for b in BAD_BYTES])
 def test_bytes_that_are_not_utf8_anywhere(tmp_path: Path, bad: bytes, offset: int) -> None:
     """E508 at the line and column of the first bad byte, the text never shown."""
-    good = "body B {\n  shape box (1, 1, 1) cm\n  mass 1 kg\n}\n".encode()
+    good = b"body B {\n  shape box (1, 1, 1) cm\n  mass 1 kg\n}\n"
     at = len(good) if offset < 0 else offset
     data = good[:at] + bad + good[at:]
     [diag] = check_data(tmp_path, data)
@@ -174,7 +174,7 @@ COMMAND_LINE = ["pipe.vkg", "loop.vkg", "dir.vkg", "big.vkg", "dangling.vkg", "l
 @pytest.mark.parametrize("name", COMMAND_LINE + ["/dev/zero", "/dev/null", "/proc/self/environ", "missing.vkg"])
 def test_command_line_files_that_are_not_modules(odd_files: Path, name: str) -> None:
     diagnostics: list[Diagnostic] = check_path(odd_files / name)
-    assert len(diagnostics) >= 1 and diagnostics[0].is_error or name == "/dev/null" or "proc" in name
+    assert diagnostics and diagnostics[0].is_error
 
 
 def test_there_are_enough_targeted_cases() -> None:
