@@ -75,11 +75,12 @@ def _run(command: Command, args: argparse.Namespace) -> int:
 
 
 def _sources_of(exc: Any) -> dict[str, str]:
+    from vkgl.lang.sources import read_source
+
     sources: dict[str, str] = dict(getattr(exc, "sources", {}) or {})
     for diag in exc.diagnostics:
         if diag.span is not None and diag.span.file not in sources:
-            try:
-                sources[diag.span.file] = Path(diag.span.file).read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError):
-                pass
+            text = read_source(Path(diag.span.file), diag.span.file)  # regular, bounded, UTF-8, or not shown
+            if isinstance(text, str):
+                sources[diag.span.file] = text
     return sources

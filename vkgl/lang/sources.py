@@ -13,6 +13,7 @@ from __future__ import annotations
 import errno
 import os
 import stat
+from dataclasses import replace
 from pathlib import Path
 
 from vkgl.lang import codes, ir
@@ -54,7 +55,7 @@ def file_problem(path: Path, shown: str, span: ir.Span | None = None, *, limit: 
         info = os.stat(path)
     except FileNotFoundError:
         dangling = os.path.islink(path)
-        return _unreadable(shown, "a symbolic link to a missing file" if dangling else "no such file", span)
+        return _unreadable(shown, "no such file (a symbolic link points there)" if dangling else "no such file", span)
     except OSError as exc:
         if exc.errno == errno.ELOOP:
             return _not_regular(shown, "a symbolic link loop", span)
@@ -80,7 +81,7 @@ def _kind(mode: int) -> str:
         return "a block device"
     if stat.S_ISSOCK(mode):
         return "a socket"
-    return "not a regular file"
+    return "a special file"
 
 
 def _unreadable(shown: str, reason: str, span: ir.Span | None) -> Diagnostic:
@@ -89,8 +90,6 @@ def _unreadable(shown: str, reason: str, span: ir.Span | None) -> Diagnostic:
 
 def _not_regular(shown: str, what: str, span: ir.Span | None, note: str = "") -> Diagnostic:
     message = f"`{shown}` is not a regular file: it is {what}"
-    if not what.startswith("a "):
-        message = f"`{shown}` is not a regular file"
     notes = (note or "sources are regular .vkg files; name the file itself",)
     return _at(codes.NOT_REGULAR_FILE.diagnostic(message, span, *notes), shown)
 
@@ -115,8 +114,4 @@ def not_utf8(shown: str, data: bytes, exc: UnicodeDecodeError, span: ir.Span | N
 
 def _at(diag: Diagnostic, shown: str) -> Diagnostic:
     """The diagnostic naming the file it is about when it has no position."""
-    if diag.span is not None:
-        return diag
-    from dataclasses import replace
-
-    return replace(diag, file=shown)
+    return diag if diag.span is not None else replace(diag, file=shown)
