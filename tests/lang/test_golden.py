@@ -63,6 +63,17 @@ def _as_from_the_checkout(out: str) -> str:
     return out
 
 
+TOO_LARGE = GOLDEN / "lib" / "too_large.vkg"
+
+
+@pytest.fixture(autouse=True, scope="module")
+def too_large_source() -> None:
+    """E507's case uses an 11 MiB file: made sparse here (not stored in git; see .gitignore)."""
+    if not TOO_LARGE.is_file() or TOO_LARGE.stat().st_size != 11 * 1024 * 1024:
+        with open(TOO_LARGE, "wb") as stream:
+            stream.truncate(11 * 1024 * 1024)
+
+
 @pytest.fixture
 def at_repo_root(monkeypatch: pytest.MonkeyPatch) -> None:
     """Paths rendered relative to the repository root; no user VKG_PATH leaking into the output."""

@@ -18,7 +18,7 @@ from typing import Any
 from vkgl.cli.arguments import build_parser
 from vkgl.cli.commands import COMMANDS, Command, print_diagnostics
 from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED
-from vkgl.cli.paths import check_paths
+from vkgl.cli.paths import check_inputs, check_paths
 
 __all__ = ["build_parser", "main", "run"]
 
@@ -50,6 +50,7 @@ def _run(command: Command, args: argparse.Namespace) -> int:
 
     try:
         check_paths(args)
+        check_inputs(args)
         return command(args)
     except CompileError as exc:
         print_diagnostics(exc.diagnostics, _sources_of(exc), sys.stderr)
@@ -74,11 +75,12 @@ def _run(command: Command, args: argparse.Namespace) -> int:
 
 
 def _sources_of(exc: Any) -> dict[str, str]:
+    from vkgl.lang.sources import read_source
+
     sources: dict[str, str] = dict(getattr(exc, "sources", {}) or {})
     for diag in exc.diagnostics:
         if diag.span is not None and diag.span.file not in sources:
-            try:
-                sources[diag.span.file] = Path(diag.span.file).read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError):
-                pass
+            text = read_source(Path(diag.span.file), diag.span.file)  # regular, bounded, UTF-8, or not shown
+            if isinstance(text, str):
+                sources[diag.span.file] = text
     return sources

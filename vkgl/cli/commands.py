@@ -71,14 +71,14 @@ def cmd_fmt(args: argparse.Namespace) -> int:
     from vkgl.errors import CompileError
     from vkgl.formats.atomic import write_text
     from vkgl.lang.printer import format_source
+    from vkgl.lang.sources import read_source
 
     status = EXIT_OK
     for name in args.files:
         path = Path(name)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            print(f"{name}: error: cannot read: {exc}", file=sys.stderr)
+        text = read_source(path, name)
+        if not isinstance(text, str):  # missing, not a regular file, too large, not UTF-8: a diagnostic
+            print_diagnostics([text], {}, sys.stderr)
             status = EXIT_INPUT
             continue
         try:

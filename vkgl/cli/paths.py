@@ -1,5 +1,8 @@
 """The files a command reads and writes, checked before any work is done.
 
+An input file that cannot be read (missing, not a regular file, too large) is
+a diagnostic naming it (`path: error[E506]: ...`), exit 1, before any work.
+
 An output is refused (exit 1, naming both) when it is one of the command's
 inputs or another of its outputs, when it is a directory, or when its folder
 is missing or not writable: minutes of exploration or simulation must never
@@ -26,6 +29,25 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
     "infer": ("output", "report", "plot"),
     "solve": ("json", "plot", "execution_json", "animate"),
 }
+
+
+def check_inputs(args: argparse.Namespace) -> None:
+    """Raise CompileError (diagnostics naming each file, no position) for input files that cannot be read.
+
+    Looks with `stat` before anything opens them: a missing file, a directory, a
+    FIFO, a device or a symbolic-link loop, and a `.vkg` source over the size
+    limit, are reported as `path: error[CODE]: message`, exit 1.
+    """
+    from vkgl.errors import CompileError
+    from vkgl.lang.sources import file_problem
+
+    problems = []
+    for option, value in _values(args, INPUT_FILES):
+        problem = file_problem(Path(value), value, limit=option != "trials")
+        if problem is not None:
+            problems.append(problem)
+    if problems:
+        raise CompileError(problems)
 
 
 def check_paths(args: argparse.Namespace) -> None:

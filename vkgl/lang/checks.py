@@ -8,6 +8,7 @@ URDF paths.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +24,7 @@ from vkgl.lang.check_context import (
     where_declared,
 )
 from vkgl.lang.checks_body import check_body, check_direction, check_robot
+from vkgl.lang.checks_ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
 
@@ -117,6 +119,8 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 check_direction(constraint.axis, "an axis", ctx)
         evidence = affordance.evidence
+        if evidence is not None:
+            check_evidence_ranges(evidence, ctx)
         if evidence is not None and (evidence.posterior < 0 or evidence.posterior > 1):  # (NaN fails both)
             ctx.error(
                 codes.POSTERIOR_OUT_OF_RANGE,
@@ -188,6 +192,7 @@ def _check_task(task: ir.Task, ctx: CheckContext) -> None:
             if tol is not None and tol.value <= 0:
                 ctx.error(codes.NON_POSITIVE_VALUE, f"a tolerance must be positive, got {shown(tol)}", tol.span)
     if task.search is not None:
+        check_search_ranges(task.search, ctx)
         if task.search.max_depth is not None and task.search.max_depth < 1:
             ctx.error(
                 codes.NON_POSITIVE_VALUE,
@@ -251,21 +256,29 @@ def _check_tools_have_correspondences(program: Program, ctx: CheckContext) -> No
 
 def _resolve_files(module: ir.Module, folder: Path | None) -> ir.Module:
     """The module with mesh and URDF paths made absolute (relative to `folder`, by default the module's file's)."""
-    folder = folder if folder is not None else Path(module.path).resolve().parent
+    folder = folder if folder is not None else _real(Path(module.path)).parent
     decls: list[Any] = []
     for decl in module.decls:
         if isinstance(decl, ir.Body):
             decl = decl.model_copy(update={"shape": _resolve_shape(decl.shape, folder)})
         elif isinstance(decl, ir.Robot):
-            decl = decl.model_copy(update={"urdf_resolved": str((folder / decl.urdf).resolve())})
+            decl = decl.model_copy(update={"urdf_resolved": str(_real(folder / decl.urdf))})
         decls.append(decl)
     return module.model_copy(update={"decls": decls})
 
 
 def _resolve_shape(shape: Any, folder: Path) -> Any:
     if isinstance(shape, ir.MeshShape):
-        return shape.model_copy(update={"resolved": str((folder / shape.path).resolve())})
+        return shape.model_copy(update={"resolved": str(_real(folder / shape.path))})
     if isinstance(shape, ir.UnionShape):
         parts = [p.model_copy(update={"shape": _resolve_shape(p.shape, folder)}) for p in shape.parts]
         return shape.model_copy(update={"parts": parts})
     return shape
+
+
+def _real(path: Path) -> Path:
+    """`path` resolved through symbolic links; absolute but unresolved for a link loop (reported as missing)."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError):  # RuntimeError: Python 3.11's "Symlink loop"
+        return Path(os.path.abspath(path))

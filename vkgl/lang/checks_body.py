@@ -18,6 +18,7 @@ import numpy as np
 from vkgl.lang import codes, ir
 from vkgl.lang.check_context import CheckContext, did_you_mean, duplicates, shown, shown_vector
 from vkgl.lang.checks_explore import check_explore
+from vkgl.lang.checks_ranges import check_body_ranges
 
 
 def check_body(body: ir.Body, ctx: CheckContext) -> None:
@@ -43,6 +44,7 @@ def check_body(body: ir.Body, ctx: CheckContext) -> None:
     duplicates(body.explores, "exploration", ctx)
     for explore in body.explores:
         check_explore(explore, body, shape_ok, ctx)
+    check_body_ranges(body, ctx)
 
 
 def _check_shape(shape: Any, ctx: CheckContext) -> None:

@@ -14,6 +14,8 @@ import numpy as np
 
 from vkgl.lang import codes, ir
 from vkgl.lang.check_context import CheckContext, shown, unknown_frame
+from vkgl.lang.checks_ranges import check_explore_ranges
+from vkgl.lang.limits import STEPS
 
 PUSH_EXAMPLE = "contacts on faces +x, -x steps 9"
 FORCE_EXAMPLE = "`force normal 1 N` (pushes) or `force directions 3 x 3 x 3 1 N` (grasps)"
@@ -38,9 +40,10 @@ def check_explore(explore: ir.Explore, body: ir.Body, shape_ok: bool, ctx: Check
             f"the duration must be positive, got {shown(explore.duration)}",
             explore.duration.span,
         )
+    check_explore_ranges(explore, ctx)
     if contacts is not None:
         _check_faces(contacts, body, ctx)
-        if shape_ok and contacts.steps >= 1:
+        if shape_ok and 1 <= contacts.steps <= STEPS.high:
             _check_contact_points(contacts, body, ctx)
 
 

@@ -159,6 +159,25 @@ NUMBER_TOO_LARGE = _code(
         "realistic value."
     ),
 )
+OUT_OF_RANGE = _code(
+    "E209",
+    "value outside its plausible physical range",
+    (
+        "A mass, size, mesh scale, friction, force, duration or timeout is a finite number of the right unit "
+        "but far outside what a table-top manipulation task can mean (`mass 1e300 kg`, `duration 1e308 s`). "
+        "The message gives the allowed range; docs/language.md lists them all. Check the unit (`g` for `kg`, "
+        "`mm` for `m`)."
+    ),
+)
+COUNT_OUT_OF_RANGE = _code(
+    "E210",
+    "count outside its range",
+    (
+        "A count is larger than its limit: `steps` (contact points per face), a direction grid size, "
+        "`max_depth` (at most 12, as `vkgc solve --max-depth`) or evidence `trials`. The message gives the "
+        "allowed range; a number of thousands of digits is reported here too, never read."
+    ),
+)
 
 # names (checks.py)
 UNKNOWN_NAME = _code(
@@ -372,6 +391,39 @@ SOURCE_UNREADABLE = _code(
         "UTF-8."
     ),
 )
+NOT_REGULAR_FILE = _code(
+    "E506",
+    "not a regular file",
+    (
+        "A source file (given on the command line or by `use`) is a directory, a named pipe (FIFO), a device, a"
+        " socket or a symbolic-link loop. VKG reads regular files only, and looks before it opens (a FIFO would"
+        " wait forever, `/dev/zero` never ends). Name the `.vkg` file itself."
+    ),
+)
+SOURCE_TOO_LARGE = _code(
+    "E507",
+    "source file too large",
+    (
+        "A source file is larger than 10 MiB (`vkgl.lang.sources.MAX_SOURCE_BYTES`); no hand-written or "
+        "generated module comes near it. Split it into modules joined by `use`."
+    ),
+)
+NOT_UTF8 = _code(
+    "E508",
+    "source file not UTF-8",
+    (
+        "A source file holds bytes that are not UTF-8 text. The message gives the first bad byte and its line "
+        "and column (counted in characters); the file's text is not shown. Save the file as UTF-8."
+    ),
+)
+USE_NOT_VKG = _code(
+    "E509",
+    "`use` path that does not name a .vkg file",
+    (
+        '`use "PATH"` names a file whose name does not end in `.vkg` (`use "/etc/passwd"`). Only `.vkg` '
+        "modules can be used; the file is not read, and its text is never shown. Name a `.vkg` module."
+    ),
+)
 
 # warnings (checks.py)
 NOTHING_CAN_MOVE = _code(
@@ -389,5 +441,15 @@ TOOL_WITHOUT_CORRESPONDENCE = _code(
         "A warning (exit 0): a task's scene holds a tool (a body explored while grasped) but no "
         "correspondence names any of its frames, so the planner can never use it. `use stdlib.tools`, or "
         "declare `correspondences { Tool.tip ~ fingertip }`."
+    ),
+)
+SHADOWED_STDLIB = _code(
+    "W603",
+    "a local stdlib module shadows the installed one",
+    (
+        "A warning (exit 0): `use stdlib.X` found `stdlib/X.vkg` in a folder searched before the installed "
+        "stdlib (the importing file's folder or a `VKG_PATH` entry), so the installed module of that name is "
+        "not used. The message names both files. Rename the local folder, or remove it, unless the override "
+        "is intended."
     ),
 )

@@ -22,6 +22,14 @@ HELPERS = {
     "E410": ["lib/scene.vkg"],
     "W601": ["lib/scene.vkg"],
     "E502": ["lib/cycle_back.vkg"],
+    "W603": ["stdlib/tools.vkg"],
+}
+# What a case's helper file is, when it cannot be shown as text.
+FILE_NOTES = {
+    "E505": "where `golden/lib/dangling.vkg` is a symbolic link to `no_such_target.vkg`, which does not exist.",
+    "E506": "where `golden/lib/loop.vkg` is a symbolic link to itself.",
+    "E507": "where `golden/lib/too_large.vkg` is an 11 MiB file (the golden test makes it).",
+    "E508": "where `golden/lib/latin1.vkg` is saved in Latin-1 (the byte `\\xe9` for `é`).",
 }
 
 
@@ -63,7 +71,7 @@ def errors_doc(repo: Path = Path(".")) -> str:
         for case in cases:
             src = case.read_text(encoding="utf-8")
             if code == "E104":
-                lines = src.splitlines()
+                lines = src.rstrip("\n").split("\n")
                 src = (
                     "\n".join(
                         lines[:6]
@@ -80,8 +88,8 @@ def errors_doc(repo: Path = Path(".")) -> str:
             for helper in HELPERS.get(code, []):
                 text = (golden / helper).read_text(encoding="utf-8")
                 out += [f"with `golden/{helper}`:", "", "```", text.rstrip("\n"), "```", ""]
-            if code == "E505":
-                out += ["where `golden/lib/latin1.vkg` is saved in Latin-1 (the byte `\\xe9` for `é`).", ""]
+            if code in FILE_NOTES:
+                out += [FILE_NOTES[code], ""]
             if code == "E503":
                 out += ["where `golden/lib/not_a_mesh.stl` holds the text `this is not a mesh`.", ""]
             out += [

@@ -147,7 +147,7 @@ def _doc_comment(text: str, comments: list[Comment]) -> str | None:
     """
     lines: list[str] = []
     by_line = {c.line: c for c in comments}
-    for number, line in enumerate(text.splitlines(), start=1):
+    for number, line in enumerate(text.split("\n"), start=1):
         stripped = line.strip()
         if not stripped:
             if lines:
@@ -164,7 +164,7 @@ def _doc_comment(text: str, comments: list[Comment]) -> str | None:
 def doc_line_count(text: str) -> int:
     """How many lines at the top of `text` the doc comment spans (0 if none); for `vkgc fmt`."""
     last = 0
-    for number, line in enumerate(text.splitlines(), start=1):
+    for number, line in enumerate(text.split("\n"), start=1):
         stripped = line.strip()
         if not stripped:
             if last:

@@ -364,7 +364,7 @@ def format_source(text: str, path: str) -> str:
     from vkgl.lang.parser import parse_module_with_comments
 
     module, comments = parse_module_with_comments(text, path)
-    source = text.splitlines()
+    source = text.split("\n")  # lines as Lark counts them (never `str.splitlines()`)
     lines = layout(module)
     _resolve_keyword_anchors(lines, source)
     doc_lines = _doc_line_count(module, source)

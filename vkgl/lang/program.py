@@ -104,8 +104,8 @@ class Program:
             raise InputError(f"{where}: declares no task; give a file with a `task NAME {{ ... }}` declaration")
         if len(candidates) > 1:
             raise InputError(
-                f"{where}: declares {len(candidates)} tasks ({', '.join(candidates)}); say which by name "
-                "(`vkgc solve --task NAME`, or `program.task(NAME)`)"
+                f"{where}: declares {len(candidates)} tasks ({', '.join(candidates)}); "
+                "say which by name (`vkgc solve --task NAME`, or `program.task(NAME)`)"
             )
         return self.tasks[candidates[0]]
 

@@ -17,6 +17,7 @@ from pathlib import Path
 from vkgl.lang import codes, ir
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.parser import parse_collecting
+from vkgl.lang.sources import read_source
 from vkgl.resources import stdlib_dir
 
 
@@ -34,12 +35,20 @@ class LoadedProgram:
 
 def import_roots(importing_file: str) -> list[Path]:
     """Where a dotted `use` from `importing_file` is looked up, in order."""
-    roots = [Path(importing_file).resolve().parent]
+    roots = [_real(Path(importing_file)).parent]
     for entry in os.environ.get("VKG_PATH", "").split(os.pathsep):
         if entry.strip():
-            roots.append(Path(entry).expanduser().resolve())
+            roots.append(_real(Path(entry).expanduser()))
     roots.append(stdlib_dir().resolve().parent)
     return roots
+
+
+def _real(path: Path) -> Path:
+    """`path` resolved through symbolic links; absolute but unresolved when it is a link loop."""
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError):  # RuntimeError: Python 3.11's "Symlink loop"
+        return Path(os.path.abspath(path))
 
 
 def load_program(path: str) -> LoadedProgram:
@@ -68,13 +77,18 @@ class _Loader:
 
     def load(self, path: Path, via: ir.Use | None, stack: list[Path]) -> str | None:
         """Load `path` (if not yet loaded) and its imports; return its key in `modules`."""
-        real = path.resolve()
+        real = _real(path)
         if real in stack:
             self._report_cycle(stack[stack.index(real) :] + [real], via)
             return None
         if real in self.by_real:
             return self.by_real[real]
         shown = _display_path(path)
+        if via is not None and real.suffix != ".vkg" and real != Path(os.path.abspath(path)):
+            # `use "x.vkg"` where x.vkg is a link to /etc/passwd: not a module, never read nor quoted.
+            message = f"`{_display_link(path)}` is a link to `{real}`, which is not a .vkg module; it is not read"
+            self.out.diagnostics.append(codes.USE_NOT_VKG.diagnostic(message, via.span))
+            return None
         source = self._read(path, shown, via)
         if source is None:
             return None
@@ -95,30 +109,33 @@ class _Loader:
         return shown
 
     def _read(self, path: Path, shown: str, via: ir.Use | None) -> str | None:
-        notes: tuple[str, ...] = ()
-        try:
-            return path.read_text(encoding="utf-8")
-        except UnicodeDecodeError as exc:
-            reason = f"not UTF-8 text ({exc.reason} at byte {exc.start})"
-            notes = ("a .vkg file is UTF-8 text; save it as UTF-8",)
-        except IsADirectoryError:
-            reason = "it is a directory"
-            notes = (f"name the .vkg files in it, e.g. `{Path(shown) / '*.vkg'}`",)
-        except OSError as exc:
-            reason = exc.strerror or str(exc)
-        span = via.span if via is not None else ir.Span(file=shown, line=1, col=1, end_line=1, end_col=1)
-        self.out.diagnostics.append(
-            codes.SOURCE_UNREADABLE.diagnostic(f"cannot read `{shown}`: {reason}", span, *notes)
-        )
+        """The file's text; None after a diagnostic (at the `use`, or naming the file given on the command line)."""
+        source = read_source(path, shown, via.span if via is not None else None)
+        if isinstance(source, str):
+            return source
+        self.out.diagnostics.append(source)
         return None
 
     def _resolve_use(self, use: ir.Use, importer: Path, stack: list[Path]) -> ir.Use:
+        if use.by_path and not use.target.endswith(".vkg"):
+            # Never read (nor later quote) a file that is not a module: `use "/etc/passwd"`.
+            self.out.diagnostics.append(
+                codes.USE_NOT_VKG.diagnostic(
+                    f'`use "{use.target}"` does not name a .vkg module; it is not read',
+                    use.span,
+                    'only .vkg modules can be used: `use "path/module.vkg"` or `use dotted.name`',
+                )
+            )
+            return use
         target = _find_module(use, importer)
         if target is None:
             self.out.diagnostics.append(_missing_module(use, importer))
             return use
+        shadowed = _shadowed_stdlib(use, target)
+        if shadowed is not None:
+            self.out.diagnostics.append(shadowed)
         self.load(target, use, stack)
-        return use.model_copy(update={"resolved": str(target.resolve())})
+        return use.model_copy(update={"resolved": str(_real(target))})
 
     def _report_cycle(self, cycle: list[Path], via: ir.Use | None) -> None:
         chain = " -> ".join(_display_path(p) for p in cycle)
@@ -130,15 +147,31 @@ class _Loader:
 
 
 def _find_module(use: ir.Use, importer: Path) -> Path | None:
+    """The file a `use` names, if something is there (whether it can be read is `read_source`'s business)."""
     if use.by_path:
         candidate = importer.parent / use.target
-        return candidate if candidate.is_file() else None
+        return candidate if os.path.lexists(candidate) else None
     relative = Path(*use.target.split(".")).with_suffix(".vkg")
     for root in import_roots(str(importer)):
         candidate = root / relative
-        if candidate.is_file():
+        if os.path.lexists(candidate):
             return candidate
     return None
+
+
+def _shadowed_stdlib(use: ir.Use, found: Path) -> Diagnostic | None:
+    """W603 when `use stdlib.X` found a local `stdlib/X.vkg` instead of the installed module of that name."""
+    if use.by_path or not use.target.startswith("stdlib."):
+        return None
+    installed = stdlib_dir().resolve().joinpath(*use.target.split(".")[1:]).with_suffix(".vkg")
+    if not installed.is_file() or _real(found) == installed:
+        return None
+    return codes.SHADOWED_STDLIB.diagnostic(
+        f"`use {use.target}` reads `{_display_path(found)}`, which shadows the installed stdlib module "
+        f"`{_display_path(installed)}`",
+        use.span,
+        "rename or remove the local `stdlib/` folder unless the override is intended",
+    )
 
 
 def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
@@ -187,9 +220,19 @@ def _close_file(target: Path) -> str | None:
 
 def _display_path(path: Path) -> str:
     """A path as users like to read it: relative to the working directory when inside it."""
-    real = path.resolve()
+    real = _real(path)
     try:
         relative = os.path.relpath(real)
     except ValueError:  # another drive on Windows
         return str(real)
     return str(real) if relative.startswith("..") else relative
+
+
+def _display_link(path: Path) -> str:
+    """A path as written (a symbolic link not followed), relative to the working directory when inside it."""
+    absolute = os.path.abspath(path)
+    try:
+        relative = os.path.relpath(absolute)
+    except ValueError:  # another drive on Windows
+        return absolute
+    return absolute if relative.startswith("..") else relative

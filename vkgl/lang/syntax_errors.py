@@ -214,6 +214,10 @@ def _unexpected_character(parser: Lark, exc: UnexpectedCharacters, text: str, pa
             "unexpected `;`: VKG statements need no separator; remove it", span
         )
     shown = repr(char)[1:-1] if not char.isprintable() else char
+    if char.isdigit() and not char.isascii():
+        return codes.UNEXPECTED_CHARACTER.diagnostic(
+            f"unexpected character `{shown}`: numbers are written with the ASCII digits 0-9", span
+        )
     allowed = {name for name in exc.allowed or set()}
     return codes.UNEXPECTED_CHARACTER.diagnostic(
         f"unexpected character `{shown}`; expected {_words(parser, allowed)}", span

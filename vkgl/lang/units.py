@@ -8,6 +8,7 @@ parser converts back to the very same float.
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
 
 DIMENSION: dict[str, str] = {
@@ -62,11 +63,23 @@ UNITS_BY_DIMENSION: dict[str, tuple[str, ...]] = {
 }
 
 
+MAX_EXACT_CHARS = 60
+"""Longer numbers are converted through a float, not exactly (no printed number is that long)."""
+MAX_EXACT_EXPONENT = 400
+"""Numbers with a larger decimal exponent are 0 or infinite in every unit: converted through a float."""
+_EXPONENT = re.compile(r"[eE]([+-]?[0-9]+)$")
+
+
 def to_si(text: str, unit: str) -> float:
     """The SI value of the number `text` written in `unit`, correctly rounded."""
     scale = SCALE[unit]
     if scale == 1:
-        return float(text)
+        return float(text)  # no digit limit, and fast for any exponent
+    exponent = _EXPONENT.search(text)
+    if len(text) > MAX_EXACT_CHARS or (exponent is not None and abs(int(exponent.group(1))) > MAX_EXACT_EXPONENT):
+        # Exact conversion would build integers of the exponent's size (`1e-99999999`) or of
+        # more than 4300 digits (which Python refuses); such values are out of any range anyway.
+        return float(text) * float(scale)
     return float(Fraction(text) * scale)
 
 
