@@ -43,6 +43,8 @@ def check_inputs(args: argparse.Namespace) -> None:
 
     problems = []
     for option, value in _values(args, INPUT_FILES):
+        if option == "bodyfiles" and Path(value).is_dir():
+            continue  # `vkgc learn FOLDER`: its *.vkg files are checked when they are compiled
         problem = file_problem(Path(value), value, limit=option != "trials")
         if problem is not None:
             problems.append(problem)
