@@ -23,6 +23,7 @@ from vkgl.lang.check_context import (
     where_declared,
 )
 from vkgl.lang.checks_body import check_body, check_direction, check_robot
+from vkgl.lang.checks_scene import check_scenes
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
 
@@ -48,6 +49,7 @@ def check_program(
             _check_decl(decl, program, ctx)
     _check_tasks_can_move(program, ctx)
     _check_tools_have_correspondences(program, ctx)
+    check_scenes(program, ctx)  # scene geometry: overlaps, table edges, resting, goals (E420–E425)
     return program, ctx.diagnostics
 
 
