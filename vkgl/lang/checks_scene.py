@@ -127,10 +127,12 @@ def _check_scene(
         pieces = [p.moved(pose) for p in local]
         low, high = bounds(pieces)
         bodies.append(Placed(scene_body, body, pose, pieces, low, high))
-    if table is not None:
-        for item in bodies:
-            if item.body.joint is None:
-                _check_on_table(item, table, ctx)
+    if table is not None and bodies:
+        lows, highs = np.array([b.low[:2] for b in bodies]), np.array([b.high[:2] for b in bodies])
+        overhangs = np.max(np.c_[table.low - lows, highs - table.high], axis=1)
+        for k in np.flatnonzero(overhangs > EDGE):
+            if bodies[k].body.joint is None:
+                _report_off_table(bodies[k], float(overhangs[k]), table, ctx)
     _check_overlaps(bodies, bases, ctx)
     if table is not None:
         for item in bodies:
@@ -166,19 +168,22 @@ def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Tabl
     placement = scene_body.placement
     if not placement.on_table:
         return pose_matrix(placement.pose)
-    values = list(placement.pose.position.values)[:2]
+    values = placement.pose.position.values
     yaw = placement.pose.yaw.value if placement.pose.yaw is not None else 0.0
-    if len(values) < 2 or not all(math.isfinite(v) for v in [*values, yaw]) or local is None:
+    if len(values) < 2 or local is None:
         return None
-    pose = np.eye(4)
-    pose[:3, :3] = Rotation.from_euler("z", yaw).as_matrix()
-    lowest = min(float((p.vertices @ pose[:3, :3].T)[:, 2].min()) for p in local)
-    pose[:3, 3] = [values[0], values[1], (table.top if table is not None else 0.0) - lowest]
-    return pose
+    if not (math.isfinite(values[0]) and math.isfinite(values[1]) and math.isfinite(yaw)):
+        return None
+    c, s = math.cos(yaw), math.sin(yaw)
+    lowest = min(float(p.low[2]) for p in local)  # a turn about z keeps heights
+    top = table.top if table is not None else 0.0
+    return np.array([[c, -s, 0, values[0]], [s, c, 0, values[1]], [0, 0, 1, top - lowest], [0, 0, 0, 1]])
 
 
 def _far(pose: np.ndarray, table: Table) -> bool:
-    return bool(np.any(np.abs(pose[:2, 3] - (table.low + table.high) / 2) > FAR))
+    x, y = float(pose[0, 3]), float(pose[1, 3])
+    cx, cy = (float(table.low[0]) + float(table.high[0])) / 2, (float(table.low[1]) + float(table.high[1])) / 2
+    return abs(x - cx) > FAR or abs(y - cy) > FAR
 
 
 def _report_far(scene_body: ir.SceneBody, pose: np.ndarray, table: Table, ctx: CheckContext) -> None:
@@ -192,12 +197,9 @@ def _report_far(scene_body: ir.SceneBody, pose: np.ndarray, table: Table, ctx: C
     )
 
 
-def _check_on_table(item: Placed, table: Table, ctx: CheckContext) -> None:
-    """E421: the body's shadow passes the table's rectangle by more than EDGE."""
+def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckContext) -> None:
+    """E421: the body's shadow passes the table's rectangle by `overhang` (> EDGE)."""
     lo, hi = item.low[:2], item.high[:2]
-    overhang = float(np.max(np.r_[table.low - lo, hi - table.high]))
-    if overhang <= EDGE:
-        return
     centre = item.pose[:2, 3]
     inside = bool(np.all(centre >= table.low) and np.all(centre <= table.high))
     what = f"overhangs the table's edge by {_cm(overhang)}" if inside else "is off the table"
@@ -212,37 +214,51 @@ def _check_on_table(item: Placed, table: Table, ctx: CheckContext) -> None:
 def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext) -> None:
     """E420: pairs of bodies, and bodies and robot bases, that interpenetrate by more than TOUCH.
 
-    A sort-and-sweep along x over the bodies' bounds keeps a scene of hundreds of bodies fast.
+    Only pairs whose bounds overlap by more than TOUCH are compared piece by piece (a sort-and-sweep
+    along x finds them), so a scene of thousands of bodies stays fast.
     """
-    if bodies:
-        lows = np.array([b.low for b in bodies])
-        highs = np.array([b.high for b in bodies])
-        order = np.argsort(lows[:, 0], kind="stable")
-        sorted_lows = lows[order, 0]
-        ends = np.searchsorted(sorted_lows, highs[order, 0] - TOUCH, side="right")
-        pairs = []
-        for k, i in enumerate(order):
-            j = order[k + 1 : ends[k]]
-            close = np.all(np.minimum(highs[i], highs[j]) - np.maximum(lows[i], lows[j]) > TOUCH, axis=1)
-            pairs += [(min(i, jj), max(i, jj)) for jj in j[close]]
-        for i, j in sorted(pairs):
-            depth = pieces_depth(bodies[i].pieces, bodies[j].pieces)
-            if depth > TOUCH:
-                ctx.error(
-                    codes.BODIES_OVERLAP,
-                    f"`{bodies[i].name}` and `{bodies[j].name}` overlap by {_cm(depth)} at the start: move one of them",
-                    _where(bodies[j].scene_body),
-                    f"bodies may touch, but not interpenetrate by more than {_cm(TOUCH)}",
-                )
+    if not bodies:
+        return
+    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
+    for i, j in _close_pairs(lows, highs):
+        depth = pieces_depth(bodies[i].pieces, bodies[j].pieces)
+        if depth > TOUCH:
+            ctx.error(
+                codes.BODIES_OVERLAP,
+                f"`{bodies[i].name}` and `{bodies[j].name}` overlap by {_cm(depth)} at the start: move one of them",
+                _where(bodies[j].scene_body),
+                f"bodies may touch, but not interpenetrate by more than {_cm(TOUCH)}",
+            )
     for base in bases:
-        for item in bodies:
-            depth = pieces_depth(item.pieces, base.pieces)
+        low, high = bounds(base.pieces)
+        near = np.all(np.minimum(highs, high) - np.maximum(lows, low) > TOUCH, axis=1)
+        for k in np.flatnonzero(near):
+            depth = pieces_depth(bodies[k].pieces, base.pieces)
             if depth > TOUCH:
                 ctx.error(
                     codes.BODIES_OVERLAP,
-                    f"`{item.name}` overlaps the base of robot `{base.name}` by {_cm(depth)} at the start: move it",
-                    _where(item.scene_body),
+                    f"`{bodies[k].name}` overlaps the base of robot `{base.name}` by {_cm(depth)} at the start: "
+                    f"move it",
+                    _where(bodies[k].scene_body),
                 )
+
+
+def _close_pairs(lows: np.ndarray, highs: np.ndarray, chunk: int = 512) -> list[tuple[int, int]]:
+    """The pairs (i < j) of boxes that overlap by more than TOUCH along every axis, in order."""
+    order = np.argsort(lows[:, 0], kind="stable")
+    ends = np.searchsorted(lows[order, 0], highs[order, 0] - TOUCH, side="left")
+    pairs: list[tuple[int, int]] = []
+    for first in range(0, len(order), chunk):
+        ks = np.arange(first, min(first + chunk, len(order)))
+        counts = np.maximum(ends[ks] - ks - 1, 0)
+        if not counts.any():
+            continue
+        left = np.repeat(ks, counts)
+        right = left + 1 + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        i, j = order[left], order[right]
+        close = np.all(np.minimum(highs[i], highs[j]) - np.maximum(lows[i], lows[j]) > TOUCH, axis=1)
+        pairs += zip(np.minimum(i, j)[close].tolist(), np.maximum(i, j)[close].tolist())
+    return sorted(pairs)
 
 
 def _check_rests(item: Placed, bodies: list[Placed], table: Table, ctx: CheckContext) -> None:

@@ -37,6 +37,20 @@ class Piece:
     normals: np.ndarray
     edges: np.ndarray
 
+    @property
+    def low(self) -> np.ndarray:
+        """The lowest corner of the piece's axis-aligned bounds (computed once)."""
+        if "_low" not in self.__dict__:
+            object.__setattr__(self, "_low", self.vertices.min(axis=0))
+        return np.asarray(self.__dict__["_low"])
+
+    @property
+    def high(self) -> np.ndarray:
+        """The highest corner of the piece's axis-aligned bounds (computed once)."""
+        if "_high" not in self.__dict__:
+            object.__setattr__(self, "_high", self.vertices.max(axis=0))
+        return np.asarray(self.__dict__["_high"])
+
     def moved(self, pose: np.ndarray) -> Piece:
         """The piece under the rigid transform `pose` (4x4)."""
         rotation = pose[:3, :3]
@@ -150,10 +164,8 @@ def pieces_depth(a: list[Piece], b: list[Piece]) -> float:
     """The deepest interpenetration of any piece of `a` with any piece of `b`, m (<= 0: apart or touching)."""
     best = -math.inf
     for pa in a:
-        lo_a, hi_a = pa.vertices.min(axis=0), pa.vertices.max(axis=0)
         for pb in b:
-            lo_b, hi_b = pb.vertices.min(axis=0), pb.vertices.max(axis=0)
-            gap = float(np.min(np.minimum(hi_a, hi_b) - np.maximum(lo_a, lo_b)))
+            gap = float(np.min(np.minimum(pa.high, pb.high) - np.maximum(pa.low, pb.low)))
             if gap <= best:
                 continue  # their boxes already overlap less than the deepest found
             best = max(best, depth(pa, pb))
@@ -179,8 +191,9 @@ def footprint_overlap(a: list[Piece], b: list[Piece]) -> float:
 
 def bounds(pieces: list[Piece]) -> tuple[np.ndarray, np.ndarray]:
     """The axis-aligned box around `pieces`: (low, high) corners."""
-    points = np.vstack([p.vertices for p in pieces])
-    return points.min(axis=0), points.max(axis=0)
+    if len(pieces) == 1:
+        return pieces[0].low, pieces[0].high
+    return np.min([p.low for p in pieces], axis=0), np.max([p.high for p in pieces], axis=0)
 
 
 def yawed(pieces: list[Piece], yaw: float, position: np.ndarray) -> list[Piece]:
