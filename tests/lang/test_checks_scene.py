@@ -209,3 +209,25 @@ def test_a_hundred_body_scene_costs_well_under_a_second(tmp_path: Path, monkeypa
     monkeypatch.setattr(checks, "check_scenes", lambda program, ctx: None)
     without = min(timed() for _ in range(3))
     assert with_checks - without < 1.0
+
+
+def test_the_pandas_base_is_its_first_links_collision_cylinder(tmp_path: Path) -> None:
+    """`panda_link0` collides as a cylinder of radius 9 cm around the robot's position."""
+    assert _scene(tmp_path, "block : Block on table at (0.14, 0) m") == []
+    found = _scene(tmp_path, "block : Block on table at (0.13, 0) m")
+    assert _only(found, "E420") == ["`block` overlaps the base of robot `arm` by 1.0 cm at the start: move it"]
+
+
+def test_a_robot_without_simple_collision_geometry_has_a_base_of_10_cm_radius(tmp_path: Path) -> None:
+    (tmp_path / "bare.urdf").write_text(
+        '<robot name="bare"><link name="base"/><link name="hand"/>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="hand"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>',
+        encoding="utf-8",
+    )
+    robot = 'robot Bare {\n    urdf "bare.urdf"\n    effector tip = link hand offset (0, 0, 0) cm\n}\n'
+    bare = f"use stdlib.bodies.block\n\n{robot}"
+    table = "    table size (1.6, 1.2) m at (0.5, 0, 0) m\n    robot arm : Bare at (0, 0, 0) m\n"
+    for x, expected in (("0.15", []), ("0.14", ["E420"])):
+        text = f"{bare}\nscene s {{\n{table}    block : Block on table at ({x}, 0) m\n}}\n"
+        assert [d.code for d in _check(tmp_path, text)] == expected

@@ -157,9 +157,9 @@ def _table(scene: ir.Scene) -> Table | None:
 def _bases(scene: ir.Scene, program: Program) -> list[Base]:
     bases = []
     for placed in scene.robots:
-        pose = pose_matrix(placed.pose)
-        if pose is not None and np.all(np.abs(pose[:3, 3]) < FAR):
-            bases.append(Base(placed.name, robot_base(program.robots.get(placed.type.name), pose)))
+        robot, pose = program.robots.get(placed.type.name), pose_matrix(placed.pose)
+        if robot is not None and pose is not None and np.all(np.abs(pose[:3, 3]) < FAR):
+            bases.append(Base(placed.name, robot_base(robot, pose)))
     return bases
 
 

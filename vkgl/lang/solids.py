@@ -207,10 +207,10 @@ def yawed(pieces: list[Piece], yaw: float, position: np.ndarray) -> list[Piece]:
 # ---------------------------------------------------------------- robot bases
 
 
-def robot_base(robot: ir.Robot | None, pose: np.ndarray) -> list[Piece]:
+def robot_base(robot: ir.Robot, pose: np.ndarray) -> list[Piece]:
     """The solid base of a robot placed at `pose`: the collision boxes, cylinders and spheres of its URDF's
     first link (the link no joint moves), else a vertical cylinder of radius and height `BASE_RADIUS`."""
-    local = _urdf_base(robot.urdf_resolved or robot.urdf) if robot is not None else ()
+    local = _urdf_base(robot.urdf_resolved or robot.urdf)
     if not local:
         lift = np.eye(4)
         lift[2, 3] = BASE_RADIUS / 2
