@@ -342,8 +342,9 @@ OFF_TABLE = _code(
     "body off the table or overhanging its edge",
     (
         "A body without a physical `joint` must lie on the table: the shadow of its shape on the table may "
-        "pass the table's rectangle by at most 1 mm. The message gives the body's extent and the table's. "
-        "Move the body onto the table, or make the table larger."
+        "pass the table's rectangle by at most 1 mm. The message gives the body's extent and the table's. Any "
+        "body farther than 1 km from the table's centre (`-1e308`) is far off the table. Move the body onto "
+        "the table, or make the table larger."
     ),
 )
 FLOATING_BODY = _code(
