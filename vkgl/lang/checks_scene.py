@@ -303,22 +303,22 @@ def _check_goals(
         if item is None or goal.position is None or len(goal.position.values) < 2:
             continue
         values = np.asarray(goal.position.values, dtype=float)
-        yaws = _goal_yaws(goal)
-        if not np.all(np.isfinite(values)) or yaws is None:
-            continue
+        yaws, tolerance = _goal_yaws(goal), goal.tolerance()[0]
+        if not np.all(np.isfinite(values)) or yaws is None or not (math.isfinite(tolerance) and tolerance > 0):
+            continue  # E208 or E411 says why
         if table is not None and np.any(np.abs(values[:2] - (table.low + table.high) / 2) > FAR):
             if item.body.joint is None:
                 _report_goal_off(goal, item, None, table, ctx)
             continue
         local, position = _goal_frame(item, values, table)
         poses = [yawed(local, yaw, position) for yaw in yaws]
-        allowance = EDGE + goal.tolerance()[0]
+        allowance = EDGE + tolerance
         if table is not None and item.body.joint is None:
             overhangs = [(_overhang(bounds(p), table), k) for k, p in enumerate(poses)]
-            worst, k = min(overhangs)
-            if worst > allowance:
+            least, k = min(overhangs)
+            if least > allowance:
                 _report_goal_off(goal, item, bounds(poses[k]), table, ctx)
-        reach = max(float(np.linalg.norm(np.r_[item.low - item.pose[:3, 3], item.high - item.pose[:3, 3]])), 0)
+        reach = float(np.linalg.norm(np.r_[item.low - item.pose[:3, 3], item.high - item.pose[:3, 3]]))
         for base in bases:
             depth = min(pieces_depth(p, base.pieces) for p in poses)
             if depth > allowance:
@@ -344,14 +344,16 @@ def _check_goals(
 
 
 def _goal_yaws(goal: ir.Goal) -> list[float] | None:
-    """The headings to try: the goal's yaw and its tolerance either side, or every 5 deg when the yaw is free."""
+    """The headings to try: every 5 deg when the yaw is free, else the goal's yaw and, at most 5 deg apart, the
+    headings within its tolerance (both ends included); None when a value is not a finite number."""
     if goal.yaw is None:
         return [2 * math.pi * k / FREE_YAWS for k in range(FREE_YAWS)]
     yaw, tol = goal.yaw.value, goal.tolerance()[1]
     if not (math.isfinite(yaw) and math.isfinite(tol)):
         return None
     tol = min(abs(tol), math.pi)
-    return [yaw - tol, yaw, yaw + tol]
+    steps = max(1, math.ceil(tol / (2 * math.pi / FREE_YAWS)))
+    return [yaw + tol * k / steps for k in range(-steps, steps + 1)]
 
 
 def _goal_frame(item: Placed, values: np.ndarray, table: Table | None) -> tuple[list[Piece], np.ndarray]:
