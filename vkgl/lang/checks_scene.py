@@ -227,7 +227,7 @@ def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext) 
                 codes.BODIES_OVERLAP,
                 f"`{bodies[i].name}` and `{bodies[j].name}` overlap by {_cm(depth)} at the start: move one of them",
                 _where(bodies[j].scene_body),
-                f"bodies may touch, but not interpenetrate by more than {_cm(TOUCH)}",
+                f"bodies may touch, but not interpenetrate by more than {TOUCH * 1000:g} mm",
             )
     for base in bases:
         low, high = bounds(base.pieces)
