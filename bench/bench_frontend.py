@@ -57,7 +57,7 @@ def scene_file(lines: int) -> str:
         "",
         "scene crowded {",
         "    table size (100, 100) m at (0, 0, 0) m",
-        "    robot arm : Panda at (0, 0, 0) m",
+        "    robot arm : Panda at (-1, -1, 0) m",  # clear of the blocks (E420)
     ]
     for i in range(lines - len(rows) - 1):
         rows.append(f"    b{i} : Block on table at ({i % 100 * 0.5:.2f}, {i // 100 * 0.5:.2f}) m yaw {i % 360}deg")

@@ -11,6 +11,7 @@ from plan_programs import compiled  # noqa: F401 (fixture)
 from vkgl.api import solve
 from vkgl.cli import main
 from vkgl.errors import InputError
+from vkgl.lang.compiler import compile_file
 
 SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "tabletop.vkg"
 
@@ -22,6 +23,19 @@ use stdlib.tools
 '''
 
 
+# tabletop_mid on a table 40 cm longer: goals near x = 1.3 m are on it (`vkgc check` rejects goals off the
+# table, E423) but out of every effector's reach.
+WIDE_MID = """
+scene wide_mid {
+    table size (2.0, 1.2) m at (0.7, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.7, 0) m yaw 0deg
+    stick : Stick on table at (0.3, -0.4) m yaw 0deg
+    hook : Hook on table at (0.3, 0.4) m yaw 0deg
+}
+"""
+
+
 def task_file(tmp_path: Path, body: str, name: str = "t") -> str:
     path = tmp_path / f"{name}.vkg"
     path.write_text(HEADER + body, encoding="utf-8")
@@ -29,8 +43,10 @@ def task_file(tmp_path: Path, body: str, name: str = "t") -> str:
 
 
 def test_goal_off_the_table_is_infeasible_at_once_and_says_why(tmp_path):
-    path = task_file(tmp_path, "task off { scene tabletop  goal block at (2.0, 0.0) m within 1 cm }\n")
-    plan = solve(path)
+    # `vkgc check` rejects such a goal in a file (E423); a goal set through the API reaches the planner
+    path = task_file(tmp_path, "task off { scene tabletop  goal block at (0.6, 0.0) m within 1 cm }\n")
+    program = compile_file(path).with_goal("off", "block", at=(2.0, 0.0), within=(0.01, 0.05))
+    plan = solve(program)
     assert plan.status == "infeasible"
     assert "off the table" in plan.reason and "block" in plan.reason
     assert plan.stats["solve_time_s"] < 0.5
@@ -55,7 +71,7 @@ def test_a_short_timeout_on_a_deep_search_stops_in_about_that_time(tmp_path):
     # the goal is unreachable, so the search would run through every sequence of up to 9 graphs
     path = task_file(
         tmp_path,
-        "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
+        WIDE_MID + "task deep { scene wide_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
         "  search { max_depth 9  timeout 1 s } }\n",
     )
     started = time.perf_counter()
@@ -73,19 +89,19 @@ def test_command_line_exit_codes(tmp_path, capsys):
     off = task_file(tmp_path, "task off { scene tabletop  goal block at (2.0, 0.0) m within 1 cm }\n", "off")
     deep = task_file(
         tmp_path,
-        "task deep { scene tabletop_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
+        WIDE_MID + "task deep { scene wide_mid  goal block at (1.25, 0.3) m yaw 40deg within 1 cm, 3 deg"
         "  search { max_depth 9  timeout 60 s } }\n",
         "deep",
     )
     out_json, out_png = tmp_path / "plan.json", tmp_path / "plan.png"
     assert main(["solve", ok, "--json", str(out_json), "--plot", str(out_png)]) == 0
     assert out_json.read_text().startswith("{") and out_png.stat().st_size > 10_000
-    assert main(["solve", off]) == 2
+    assert main(["solve", off]) == 1  # E423 at `check`: the goal is off the table
     assert main(["solve", deep, "--timeout", "0.5"]) == 3
     assert main(["solve", deep, "--max-depth", "3"]) == 2
     assert main(["solve", str(tmp_path / "missing.vkg")]) == 1
-    err = capsys.readouterr().out
-    assert "off the table" in err
+    captured = capsys.readouterr()
+    assert "error[E423]: the goal puts `block` off the table" in captured.out + captured.err
 
 
 def test_task_naming_a_body_the_scene_lacks_is_an_input_error(compiled):

@@ -25,6 +25,7 @@ from vkgl.lang.check_context import (
 )
 from vkgl.lang.checks_body import check_body, check_direction, check_robot
 from vkgl.lang.checks_ranges import check_evidence_ranges, check_search_ranges
+from vkgl.lang.checks_scene import check_scenes
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.program import Program
 
@@ -50,6 +51,7 @@ def check_program(
             _check_decl(decl, program, ctx)
     _check_tasks_can_move(program, ctx)
     _check_tools_have_correspondences(program, ctx)
+    check_scenes(program, ctx)  # scene geometry: overlaps, table edges, resting, goals (E420–E425)
     return program, ctx.diagnostics
 
 

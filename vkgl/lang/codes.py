@@ -346,6 +346,64 @@ CONTACT_OFF_SURFACE = _code(
     ),
 )
 
+# scene geometry (checks_scene.py): tolerances TOUCH, EDGE and REST there, definitions in docs/language.md
+BODIES_OVERLAP = _code(
+    "E420",
+    "bodies overlap at the start",
+    (
+        "Two bodies of a scene, or a body and a robot's base, interpenetrate at the start by more than 1 mm "
+        "(touching is fine). Shapes are exact: boxes, cylinders, the parts of unions, the convex hulls of "
+        "meshes. Move one of them; the message says by how much they overlap."
+    ),
+)
+OFF_TABLE = _code(
+    "E421",
+    "body off the table or overhanging its edge",
+    (
+        "A body without a physical `joint` must lie on the table: the shadow of its shape on the table may "
+        "pass the table's rectangle by at most 1 mm. The message gives the body's extent and the table's. Any "
+        "body farther than 1 km from the table's centre (`-1e308`) is far off the table. Move the body onto "
+        "the table, or make the table larger."
+    ),
+)
+FLOATING_BODY = _code(
+    "E422",
+    "body neither resting on the table nor on another body",
+    (
+        "A body placed `at (x, y, z)` without a physical `joint` must rest: its lowest point within 1 mm of "
+        "the table top, or of the top of another body under it (whose shadow on the table overlaps its own). "
+        "It floats, or sinks into the table. Place it `on table at (x, y) m`, or give the height the message "
+        "suggests."
+    ),
+)
+GOAL_OFF_TABLE = _code(
+    "E423",
+    "goal off the table",
+    (
+        "At its goal (at the goal's yaw, or at the best heading when the yaw is free, within the goal's "
+        "tolerances) the body would pass the table's edge by more than 1 mm plus the position tolerance. Move "
+        "the goal onto the table."
+    ),
+)
+GOAL_IN_ROBOT_BASE = _code(
+    "E424",
+    "goal inside a robot's base",
+    (
+        "At its goal the body would overlap a robot's base by more than 1 mm plus the position tolerance. The"
+        " base is the collision geometry of the first link of the robot's URDF (else a cylinder of radius 10 "
+        "cm around the robot's position). Move the goal away from the robot."
+    ),
+)
+GOAL_IN_FIXED_BODY = _code(
+    "E425",
+    "goal inside a body that nothing can move",
+    (
+        "At its goal the body would overlap, by more than 1 mm plus the position tolerance, a body of the "
+        "scene that no affordance of the compilation moves and that has no physical joint: it stays where it"
+        " is. Move the goal, or `use` an affordance module for that body."
+    ),
+)
+
 # modules and files (resolve.py, checks.py)
 MISSING_MODULE = _code(
     "E501",

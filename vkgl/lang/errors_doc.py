@@ -20,6 +20,8 @@ HELPERS = {
     "E201": ["lib/scene.vkg"],
     "E306": ["lib/scene.vkg"],
     "E410": ["lib/scene.vkg"],
+    "E423": ["lib/scene.vkg"],
+    "E424": ["lib/scene.vkg"],
     "W601": ["lib/scene.vkg"],
     "E502": ["lib/cycle_back.vkg"],
     "W603": ["stdlib/tools.vkg"],
