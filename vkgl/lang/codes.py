@@ -9,45 +9,8 @@ tests/lang/golden/ holds a golden test for each code.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
-from vkgl.lang.diagnostics import Diagnostic
-from vkgl.lang.ir import Span
-
-
-@dataclass(frozen=True)
-class Code:
-    """One diagnostic code: `code` ("E301"), its one-line `meaning`, and the `explanation` docs/errors.md shows."""
-
-    code: str
-    meaning: str
-    explanation: str
-
-    @property
-    def severity(self) -> str:
-        """ "error" for E codes, "warning" for W codes."""
-        return "warning" if self.code.startswith("W") else "error"
-
-    def diagnostic(self, message: str, span: Span | None, *notes: str) -> Diagnostic:
-        """A diagnostic of this code (error or warning by the code's letter); empty notes are dropped."""
-        kept = tuple(n for n in notes if n)
-        if self.code.startswith("W"):
-            return Diagnostic(self.code, message, span, "warning", kept)
-        return Diagnostic(self.code, message, span, notes=kept)
-
-    def __str__(self) -> str:
-        return self.code
-
-
-CODES: dict[str, Code] = {}
-
-
-def _code(code: str, meaning: str, explanation: str) -> Code:
-    entry = Code(code, meaning, explanation)
-    assert code not in CODES, code
-    CODES[code] = entry
-    return entry
-
+from vkgl.lang.code_registry import CODES, Code
+from vkgl.lang.code_registry import register as _code
 
 # syntax (parser.py, syntax_errors.py)
 UNEXPECTED_TOKEN = _code(
@@ -404,110 +367,78 @@ GOAL_IN_FIXED_BODY = _code(
     ),
 )
 
-# modules and files (resolve.py, checks.py)
-MISSING_MODULE = _code(
-    "E501",
-    "missing module",
-    (
-        "A `use` names a module that does not exist. For `use a.b.c` the message lists every directory "
-        "searched, in order (the importing file's directory, each `VKG_PATH` entry, the installed stdlib's "
-        'parent); a note suggests the closest module name. For `use "path.vkg"` the path is relative to the '
-        "importing file, not the working directory."
-    ),
-)
-IMPORT_CYCLE = _code(
-    "E502",
-    "import cycle",
-    (
-        "Modules import each other in a circle. The message prints the cycle; the error is reported at the "
-        "`use` that closes it. Remove one of the `use` lines (move the shared declarations to a third module "
-        "that both use)."
-    ),
-)
-MESH_UNREADABLE = _code(
-    "E503",
-    "mesh file missing or unreadable",
-    (
-        "A mesh file is missing, or trimesh cannot read triangles from it (the message says what trimesh "
-        "said). Mesh paths are relative to the module's file."
-    ),
-)
-URDF_UNREADABLE = _code(
-    "E504",
-    "URDF file missing or unreadable",
-    (
-        "A robot's URDF file is missing, is not XML with a `<robot>` root and `<link>`s, or DART cannot load "
-        "it. URDF paths are relative to the module's file."
-    ),
-)
-SOURCE_UNREADABLE = _code(
-    "E505",
-    "source file missing or unreadable",
-    (
-        "A source file (given on the command line or by `use`) cannot be read: missing, a directory, not "
-        "readable, or not UTF-8 text. Name `.vkg` files (`vkgc check examples/tasks/*.vkg`); save sources as "
-        "UTF-8."
-    ),
-)
-NOT_REGULAR_FILE = _code(
-    "E506",
-    "not a regular file",
-    (
-        "A source file (given on the command line or by `use`) is a directory, a named pipe (FIFO), a device, a"
-        " socket or a symbolic-link loop. VKG reads regular files only, and looks before it opens (a FIFO would"
-        " wait forever, `/dev/zero` never ends). Name the `.vkg` file itself."
-    ),
-)
-SOURCE_TOO_LARGE = _code(
-    "E507",
-    "source file too large",
-    (
-        "A source file is larger than 10 MiB (`vkgl.lang.sources.MAX_SOURCE_BYTES`); no hand-written or "
-        "generated module comes near it. Split it into modules joined by `use`."
-    ),
-)
-NOT_UTF8 = _code(
-    "E508",
-    "source file not UTF-8",
-    (
-        "A source file holds bytes that are not UTF-8 text. The message gives the first bad byte and its line "
-        "and column (counted in characters); the file's text is not shown. Save the file as UTF-8."
-    ),
-)
-USE_NOT_VKG = _code(
-    "E509",
-    "`use` path that does not name a .vkg file",
-    (
-        '`use "PATH"` names a file whose name does not end in `.vkg` (`use "/etc/passwd"`). Only `.vkg` '
-        "modules can be used; the file is not read, and its text is never shown. Name a `.vkg` module."
-    ),
+# modules and files (E5xx), warnings (W6xx): registered after the codes above, in this order
+from vkgl.lang.codes_files import (  # noqa: E402
+    IMPORT_CYCLE,
+    MESH_UNREADABLE,
+    MISSING_MODULE,
+    NOT_REGULAR_FILE,
+    NOT_UTF8,
+    NOTHING_CAN_MOVE,
+    SHADOWED_STDLIB,
+    SOURCE_TOO_LARGE,
+    SOURCE_UNREADABLE,
+    TOOL_WITHOUT_CORRESPONDENCE,
+    URDF_UNREADABLE,
+    USE_NOT_VKG,
 )
 
-# warnings (checks.py)
-NOTHING_CAN_MOVE = _code(
-    "W601",
-    "a goal body that no imported affordance can move",
-    (
-        "A warning (exit 0): a task's goal body has no affordance in the compilation, so no plan can move it."
-        " `use` its affordance module (`use stdlib.affordances.block`) or learn one with `vkgc learn`."
-    ),
-)
-TOOL_WITHOUT_CORRESPONDENCE = _code(
-    "W602",
-    "a tool frame with no correspondence in a task's scene",
-    (
-        "A warning (exit 0): a task's scene holds a tool (a body explored while grasped) but no "
-        "correspondence names any of its frames, so the planner can never use it. `use stdlib.tools`, or "
-        "declare `correspondences { Tool.tip ~ fingertip }`."
-    ),
-)
-SHADOWED_STDLIB = _code(
-    "W603",
-    "a local stdlib module shadows the installed one",
-    (
-        "A warning (exit 0): `use stdlib.X` found `stdlib/X.vkg` in a folder searched before the installed "
-        "stdlib (the importing file's folder or a `VKG_PATH` entry), so the installed module of that name is "
-        "not used. The message names both files. Rename the local folder, or remove it, unless the override "
-        "is intended."
-    ),
-)
+__all__ = [
+    "BODIES_OVERLAP",
+    "CODES",
+    "CONTACT_OFF_SURFACE",
+    "COUNT_OUT_OF_RANGE",
+    "DUPLICATE_NAME",
+    "FLOATING_BODY",
+    "GOAL_IN_FIXED_BODY",
+    "GOAL_IN_ROBOT_BASE",
+    "GOAL_NOT_IN_SCENE",
+    "GOAL_OFF_TABLE",
+    "IMPORT_CYCLE",
+    "MESH_UNREADABLE",
+    "MISSING_MODULE",
+    "MISSING_UNIT",
+    "NEGATIVE_FRICTION",
+    "NESTING_TOO_DEEP",
+    "NON_POSITIVE_MASS",
+    "NON_POSITIVE_SIZE",
+    "NON_POSITIVE_VALUE",
+    "NOTHING_CAN_MOVE",
+    "NOT_REGULAR_FILE",
+    "NOT_UTF8",
+    "NOT_WHOLE_NUMBER",
+    "NUMBER_TOO_LARGE",
+    "OFF_TABLE",
+    "OUT_OF_RANGE",
+    "POSTERIOR_OUT_OF_RANGE",
+    "PUSH_AND_GRASP_MIXED",
+    "REVERSED_LIMITS",
+    "RPY_ON_TABLE",
+    "SCENE_WITHOUT_ROBOT",
+    "SCENE_WITHOUT_TABLE",
+    "SHADOWED_STDLIB",
+    "SOURCE_TOO_LARGE",
+    "SOURCE_UNREADABLE",
+    "STATEMENT_MISSING",
+    "STATEMENT_TWICE",
+    "TASK_WITHOUT_GOAL",
+    "TOOL_WITHOUT_CORRESPONDENCE",
+    "UNEXPECTED_CHARACTER",
+    "UNEXPECTED_END",
+    "UNEXPECTED_TOKEN",
+    "UNIT_ON_NUMBER",
+    "UNIT_TWICE",
+    "UNKNOWN_EFFECTOR",
+    "UNKNOWN_FRAME",
+    "UNKNOWN_LINK",
+    "UNKNOWN_NAME",
+    "UNKNOWN_UNIT",
+    "UNREACHABLE_FACE",
+    "URDF_UNREADABLE",
+    "USE_NOT_VKG",
+    "WRONG_COMPONENT_COUNT",
+    "WRONG_DIMENSION",
+    "WRONG_KIND",
+    "ZERO_DIRECTION",
+    "Code",
+]
