@@ -9,6 +9,7 @@ graph (networkx), each edge labelled with its type.
 
 from __future__ import annotations
 
+import io
 import math
 from pathlib import Path
 from typing import Any
@@ -22,7 +23,19 @@ _EDGE_STYLE = {"fixed": "solid", "prismatic": "dashed", "revolute": "dashdot", "
 
 
 def plot_plan(plan: Any, path: str | Path) -> None:
-    """Draw a solved plan (one panel per mode, with its graph) to `path` (PNG, SVG, PDF: by extension)."""
+    """Draw a solved plan (one panel per mode, with its graph) to `path` (PNG, SVG, PDF: by extension), atomically."""
+    from vkgl.formats.atomic import write_bytes
+
+    suffix = Path(path).suffix.lstrip(".").lower() or "png"
+    try:
+        data = plan_image(plan, suffix)
+    except ValueError as exc:  # matplotlib: a format it cannot write
+        raise InputError(f"cannot write the picture {path}: {exc}") from None
+    write_bytes(path, data)
+
+
+def plan_image(plan: Any, image_format: str = "png") -> bytes:
+    """The picture of a solved plan as bytes of `image_format` (png, svg, pdf, ...)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -44,12 +57,12 @@ def plot_plan(plan: Any, path: str | Path) -> None:
         _draw_graph(axes[1][k], plan.graphs[k], colors)
     fig.suptitle(f"{plan.task}: {plan.depth} graphs, {len(plan.steps)} steps", fontsize=11)
     fig.tight_layout()
+    buffer = io.BytesIO()
     try:
-        fig.savefig(str(path), dpi=110)
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot write the picture {path}: {exc}") from None
+        fig.savefig(buffer, format=image_format, dpi=110)
     finally:
         plt.close(fig)
+    return buffer.getvalue()
 
 
 def _modes(plan: Any) -> list[tuple[str, dict, dict, list]]:

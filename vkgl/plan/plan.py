@@ -87,6 +87,14 @@ class Plan:
 
     # ------------------------------------------------------------ text
 
+    def _repr_png_(self) -> bytes | None:
+        """The plan's picture, for notebooks (Jupyter shows it in place of the object); None when not solved."""
+        if self.status != "solved":
+            return None
+        from vkgl.plan.picture import plan_image
+
+        return plan_image(self)
+
     def text(self) -> str:
         """The graph sequence as in the paper's Figure 2: each graph's edges, and each step with its value."""
         stats = self.stats
