@@ -103,7 +103,8 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
         links = frames.arm[i]
         arm_line.set_data(links[:, 0], links[:, 1])
         tip.set_data([frames.effector[i][0, 3]], [frames.effector[i][1, 3]])
-        status = f"  —  {report.status}" if i == indices[-1] else ""
+        shoved = f" ({', '.join(d.body for d in report.disturbed)})" if report.disturbed else ""
+        status = f"  —  {report.status}{shoved}" if i == indices[-1] else ""
         title.set_text(f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{status}")
 
     # One draw per frame: grab_frame renders the figure itself (FuncAnimation.save would draw twice).

@@ -34,7 +34,7 @@ from vkgl.errors import InputError, VkgError
 from vkgl.execute.effector_path import rotation_angle
 from vkgl.execute.replay import Replay
 from vkgl.execute.world_arm import ArmStuck
-from vkgl.formats.execution_report import Deviation, ExecutionReport, GoalResult, StepReport
+from vkgl.formats.execution_report import Deviation, Disturbance, ExecutionReport, GoalResult, StepReport
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
 from vkgl.lang.ir import (
     Goal,
@@ -94,7 +94,11 @@ def execute(
         raise InputError(f"the plan is for task `{plan.task}`, not `{task.name}`")
     replay = Replay(program, scene, _solved(plan).robot, record=record)
     loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve)
+    loop.planned_final = dict(plan.final)
     status, reason = loop.run(_numbered(plan))
+    disturbed = loop.disturbances() if status in ("reached", "missed") else []
+    if disturbed and status == "reached":
+        status, reason = "disturbed", "; ".join(d.text() for d in disturbed)
     return ExecutionReport(
         task=task.name,
         status=status,
@@ -111,6 +115,7 @@ def execute(
         bodies=dict(replay.types),
         table=scene.table,
         closed_loop=replan,
+        disturbed=disturbed,
     )
 
 
@@ -159,6 +164,7 @@ class _Loop:
         self.reports: list[StepReport] = []
         self.log: list[str] = []
         self.watching = True  # False while carrying on with a plan that could not be replaced
+        self.planned_final: dict[str, np.ndarray] = {}  # where the plan being carried out leaves every body
 
     def run(self, steps: list[Step]) -> tuple[str, str]:
         """Execute `steps` (and the plans that replace them); return (status, reason).
@@ -255,6 +261,26 @@ class _Loop:
             )
         return out
 
+    def disturbances(self) -> list[Disturbance]:
+        """Bodies no goal names that ended farther from where the plan leaves them than the default tolerance.
+
+        The planner promises every body's final pose, not only the goal
+        bodies'; a bystander shoved aside breaks that promise even when the
+        goals hold.
+        """
+        goal_bodies = {g.body.name for g in self.task.goals}
+        tol_p, tol_a = Goal.default_tolerance()
+        out = []
+        for name, real in self.replay.poses().items():
+            planned = self.planned_final.get(name)
+            if name in goal_bodies or planned is None:
+                continue
+            position = float(np.linalg.norm(real[:2, 3] - planned[:2, 3]))
+            angle = abs(angle_difference(yaw_of(real), yaw_of(planned)))
+            if position > tol_p or angle > tol_a:
+                out.append(Disturbance(name, position, angle, (tol_p, tol_a)))
+        return out
+
     def goal_results(self) -> list[GoalResult]:
         """Every goal of the task against the bodies' real poses now."""
         real = self.replay.poses()
@@ -320,6 +346,7 @@ class _Loop:
             self._note(f"{why}; re-solving found no plan ({found})")
             return "missed", f"replan {self.replans} found no plan ({found})"
         steps = _numbered(plan)
+        self.planned_final = dict(plan.final)
         self.watching = True
         self._note(f"{why}; re-solved from the observed scene: {len(steps)} step(s)")
         return steps

@@ -1,7 +1,7 @@
 """What an execution in DART did: per step, real vs planned poses; at the end, the error to the goal.
 
 `ExecutionReport.text()` is what `vkgc solve --execute` prints;
-`ExecutionReport.to_json()` is the `vkg-execution/1` record of the same, and
+`ExecutionReport.to_json()` is the `vkg-execution/2` record of the same, and
 `write(path, report)` puts it in a file.
 """
 
@@ -17,7 +17,8 @@ import numpy as np
 from vkgl.formats.atomic import write_text
 from vkgl.se3 import yaw_of
 
-FORMAT = "vkg-execution/1"
+FORMAT = "vkg-execution/2"
+"""Version 2 adds the `disturbed` list and the status "disturbed" (a bystander moved; docs/execution.md)."""
 
 
 def _planar(pose: np.ndarray) -> str:
@@ -86,14 +87,34 @@ class GoalResult:
         return pos_ok and yaw_ok
 
 
+@dataclass(frozen=True)
+class Disturbance:
+    """A body the plan leaves where it is (or puts somewhere) that ended elsewhere: how far, and the tolerance."""
+
+    body: str
+    position: float  # m from where the plan leaves it
+    angle: float  # rad
+    tolerance: tuple[float, float]  # (m, rad) it was allowed
+
+    def text(self) -> str:
+        """One line: which body, how far, against which tolerance."""
+        return (
+            f"{self.body} ended {self.position * 100:.1f} cm, {np.degrees(self.angle):.1f} deg from where the plan "
+            f"leaves it (tolerance {self.tolerance[0] * 100:.1f} cm, {np.degrees(self.tolerance[1]):.1f} deg)"
+        )
+
+
 @dataclass
 class ExecutionReport:
     """The outcome of executing a plan in DART.
 
-    `status`: "reached" (every goal within tolerance at the end), "missed" (the
-    plan was carried out, or replanning gave up, and a goal is not met) or
-    "failed" (a step could not be carried out, e.g. the arm could not reach a
-    pose); `reason` says why when not reached.
+    `status`: "reached" (every goal within tolerance at the end, and every
+    other body where the plan leaves it), "disturbed" (every goal met, but a
+    body the plan does not aim at was moved beyond the tolerance: `disturbed`
+    says which and how far), "missed" (the plan was carried out, or replanning
+    gave up, and a goal is not met) or "failed" (a step could not be carried
+    out, e.g. the arm could not reach a pose); `reason` says why when not
+    reached.
     """
 
     task: str
@@ -111,6 +132,7 @@ class ExecutionReport:
     bodies: dict[str, Any] = field(default_factory=dict)  # body name -> Body IR (for drawing)
     table: Any = None  # the scene's Table IR (for drawing)
     closed_loop: bool = False
+    disturbed: list[Disturbance] = field(default_factory=list)
 
     @property
     def reached(self) -> bool:
@@ -141,6 +163,7 @@ class ExecutionReport:
             if goal.yaw_error is not None:
                 errors.append(f"{np.degrees(abs(goal.yaw_error)):.2f} deg")
             lines.append(f"  goal {goal.text}: off {', '.join(errors)}  {'ok' if goal.ok else 'NOT MET'}")
+        lines += [f"  DISTURBED: {d.text()}" for d in self.disturbed]
         summary = (
             f"{self.status}: {self.sim_time:.1f} s simulated in {self.wall_time:.1f} s wall"
             f" ({self.replans} replan{'s' if self.replans != 1 else ''})"
@@ -149,7 +172,7 @@ class ExecutionReport:
         return "\n".join(lines)
 
     def to_json(self) -> dict[str, Any]:
-        """The report as plain data (`vkg-execution/1`)."""
+        """The report as plain data (`vkg-execution/2`)."""
         return {
             "format": FORMAT,
             "task": self.task,
@@ -189,10 +212,19 @@ class ExecutionReport:
                 }
                 for g in self.goals
             ],
+            "disturbed": [
+                {
+                    "body": d.body,
+                    "position_error_m": d.position,
+                    "angle_error_rad": d.angle,
+                    "tolerance": [d.tolerance[0], d.tolerance[1]],
+                }
+                for d in self.disturbed
+            ],
             "final": {name: pose.tolist() for name, pose in self.final.items()},
         }
 
 
 def write(path: str | Path, report: ExecutionReport) -> None:
-    """Write the report as `vkg-execution/1` JSON to `path`, atomically (temporary file, then renamed)."""
+    """Write the report as `vkg-execution/2` JSON to `path`, atomically (temporary file, then renamed)."""
     write_text(path, json.dumps(report.to_json(), indent=1) + "\n")
