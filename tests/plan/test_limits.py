@@ -117,3 +117,18 @@ def test_max_depth_bounds_the_graphs_of_a_plan(compiled):
     short = solve(program, max_depth=2)
     assert short.status == "infeasible" and "at most 2 graphs" in short.reason
     assert solve(program, max_depth=3).depth == 3
+
+
+def test_a_goal_past_a_joint_limit_says_the_numbers() -> None:
+    import vkgl
+
+    source = (
+        "use stdlib.robots.panda\nuse stdlib.bodies.drawer\nuse stdlib.affordances.drawer\n"
+        "scene kitchen { table size (1.6, 1.2) m at (0.5, 0, 0) m  robot arm : Panda at (0, 0, 0) m\n"
+        "  drawer : Drawer on table at (0.45, 0) m yaw 0deg }\n"
+        "task too_far { scene kitchen  goal drawer at (0.85, 0) m within 1 cm  search { max_depth 3 } }\n"
+    )
+    plan = vkgl.solve(vkgl.compile_source(source, "kitchen.vkg"))
+    assert plan.status == "infeasible"
+    assert "the goal needs it at 40.0 cm on its prismatic joint, past its upper limit of 30.0 cm" in plan.reason
+    assert "--max-depth" not in plan.reason  # no longer sequence passes a joint's limit

@@ -21,6 +21,7 @@ previous solution so that the arm moves continuously.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -169,6 +170,42 @@ def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[flo
     return out
 
 
+def _limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
+    """Which limit a body would pass, with the numbers: its joint's range, or the table's edge."""
+    body = problem.bodies[name]
+    if body.joint_limits is not None and body.joint_axis is not None:
+        lower, upper = body.joint_limits
+        if body.joint == "prismatic":
+            state = float(body.joint_axis @ (body.rest[:3, :3].T @ (pose[:3, 3] - body.rest[:3, 3])))
+            scale, unit = 100.0, "cm"
+        else:
+            state = float(body.joint_axis @ _rotation_vector(body.rest[:3, :3].T @ pose[:3, :3]))
+            scale, unit = math.degrees(1.0), "deg"
+        needed = _goal_state(problem, name)
+        what = "the goal needs it at" if needed is not None else "it would have to move to"
+        state = needed if needed is not None else state
+        edge, side = (upper, "upper") if state > (lower + upper) / 2 else (lower, "lower")
+        return (
+            f"{name}: {what} {state * scale:.1f} {unit} on its {body.joint} joint, past its {side} limit of "
+            f"{edge * scale:.1f} {unit} (range {lower * scale:.1f} to {upper * scale:.1f} {unit})"
+        )
+    overhang = max(_stay_constraints(problem, name, pose) or [0.0])
+    return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (its frame leaves the table)"
+
+
+def _goal_state(problem: Problem, name: str) -> float | None:
+    """Where a goal puts a body with a prismatic joint, as a joint position (m); None without such a goal."""
+    body = problem.bodies[name]
+    if body.joint != "prismatic" or body.joint_axis is None:
+        return None
+    for goal in problem.goals:
+        if goal.body == name and goal.position is not None:
+            offset = np.zeros(3)
+            offset[: len(goal.position)] = goal.position[:3] - body.rest[: len(goal.position), 3]
+            return float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
+    return None
+
+
 def _rotation_vector(rotation: np.ndarray) -> np.ndarray:
     return Rotation.from_matrix(rotation).as_rotvec()
 
@@ -241,9 +278,9 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
                 return found
     for trace in traces:  # a limit the optimiser ran into (or past) is what stopped it
         for name in sorted({e.body for e in trace.values}):
-            if max(_stay_constraints(problem, name, trace.end[name]) or [-1.0]) > -1e-4:
-                where = "its joint's range" if problem.bodies[name].joint else "the table"
-                return Rejection("table", f"{name} would have to go past the end of {where}")
+            excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
+            if excess > -1e-4:
+                return Rejection("table", _limit_words(problem, name, trace.end[name]), max(excess, 0.0))
     return Rejection("goal", "the optimiser found no motion values that reach the goal")
 
 

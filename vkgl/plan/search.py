@@ -193,7 +193,8 @@ def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
     detail = _summary(stats)
     reason = f"{head}: {detail}" if detail else head
     reason += f" [{_accounting(stats)}]"
-    if stats.cut_by_depth and problem.max_depth < MAX_DEPTH_HINT:
+    # A joint's limit or the table's edge stays where it is however long the sequence: no hint then.
+    if stats.cut_by_depth and problem.max_depth < MAX_DEPTH_HINT and set(stats.rejections) - {"table"}:
         reason += (
             f"; {stats.cut_by_depth} sequences were cut at max_depth {problem.max_depth}: a longer one may "
             f"work (try --max-depth {problem.max_depth + 1})"
