@@ -16,6 +16,7 @@ Heavy back ends (DART, NLopt) are imported inside the functions, so that
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Union
@@ -158,8 +159,22 @@ def infer(
     from vkgl.infer.library import infer_library
 
     use = body_use or f"stdlib.bodies.{trials.body.lower()}"
+    _check_use(use)
     text = header or f"Inferred from {len(trials)} trials. Do not edit."
     return infer_library(trials, body_use=use, header=text, path=path)
+
+
+_MODULE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*")
+_MODULE_PATH = re.compile(r"[^\x00-\x1f\x7f\"\\]+\.vkg")
+
+
+def _check_use(use: str) -> None:
+    """What a generated module imports is a dotted module name or a `.vkg` path: nothing else gets pasted."""
+    if not (_MODULE_NAME.fullmatch(use) or _MODULE_PATH.fullmatch(use)):
+        raise InputError(
+            f"--use {use[:60]!r}: not a module (write a dotted name such as `mylib.bodies.crate`, "
+            "or the path of a .vkg file without quotes)"
+        )
 
 
 def learn(

@@ -78,3 +78,15 @@ def test_not_an_archive_is_an_input_error(tmp_path) -> None:
 def test_a_directory_is_not_a_dataset(tmp_path) -> None:
     with pytest.raises(InputError, match="not a regular file"):
         Trials.load(tmp_path)
+
+
+@pytest.mark.parametrize(
+    "use",
+    ["stdlib.bodies.block\ncorrespondences { Block.x ~ fingertip }", '"x.vkg"', "a b", "../x.txt", "x.vkg\n"],
+)
+def test_infer_refuses_a_use_that_is_not_a_module(tmp_path, use) -> None:
+    import vkgl
+
+    data = Trials.load(_saved(tmp_path))
+    with pytest.raises(InputError, match="not a module"):
+        vkgl.infer(data, body_use=use)
