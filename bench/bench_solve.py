@@ -53,7 +53,7 @@ def main() -> int:
     args = parser.parse_args()
     sys.path.insert(0, str(REPO))
     from vkgl.lang.compiler import compile_file
-    from vkgl.plan.solve import solve
+    from vkgl.api import solve
 
     programs, compile_times = {}, {}
     for name in TASKS:
