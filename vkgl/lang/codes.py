@@ -327,6 +327,32 @@ CONTACT_OFF_SURFACE = _code(
     ),
 )
 
+# motion ranges (builder.py, checks.py)
+RANGE_WITHOUT_STATE = _code(
+    "E430",
+    "a range on a motion that has no state",
+    (
+        "`range LO to HI UNIT` bounds the displacement of a `prismatic` motion or the angle of a `revolute` "
+        "one; a `fixed` or `free` motion has no single value to bound. Remove the range, or give the motion "
+        "its type."
+    ),
+)
+REVERSED_RANGE = _code(
+    "E431",
+    "a motion range with lower > upper",
+    ("A motion's range is written `range LOWER to UPPER UNIT`, lower first: swap them."),
+)
+NEGATIVE_RANGE = _code(
+    "E432",
+    "a motion range below zero",
+    (
+        "Motion values are never negative: the positive sense of a motion is the one the exploring force "
+        "produced, and plans use only that sense (no pulling). A range that starts below zero is an error, "
+        "not clipped: write `range 0 to HI UNIT` (and, for the other sense, an affordance whose axis points "
+        "the other way)."
+    ),
+)
+
 # modules and files (resolve.py, checks.py)
 MISSING_MODULE = _code(
     "E501",
