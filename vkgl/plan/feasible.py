@@ -21,6 +21,7 @@ previous solution so that the arm moves continuously.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -243,7 +244,21 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
             if max(_stay_constraints(problem, name, trace.end[name]) or [-1.0]) > -1e-4:
                 where = "its joint's range" if problem.bodies[name].joint else "the table"
                 return Rejection("table", f"{name} would have to go past the end of {where}")
-    return Rejection("goal", "the optimiser found no motion values that reach the goal")
+    why = "the optimiser found no motion values that reach the goal"
+    return Rejection("goal", why + _at_range_ends(problem, seq, x))
+
+
+def _at_range_ends(problem: Problem, seq: Sequence, x: np.ndarray) -> str:
+    """` (at the end of the range it was explored over: Block.turn_px_left 25.0 deg)` for values stopped there."""
+    _, upper = bounds(problem, seq)
+    ended = {}
+    for (_, e), value, top in zip(seq.variables, x, upper):
+        motion = problem.affordance(e.body, e.affordance).motion
+        if getattr(motion, "range", None) is not None and value >= top - 1e-6:
+            name = f"{problem.bodies[e.body].type.name}.{e.affordance}"
+            ended[name] = f"{math.degrees(top):.1f} deg" if motion.type == "revolute" else f"{top * 100:.1f} cm"
+    parts = [f"{name} {limit}" for name, limit in ended.items()]
+    return f" (at the end of the range it was explored over: {', '.join(parts)})" if parts else ""
 
 
 # ---------------------------------------------------------------- joint space
