@@ -258,8 +258,13 @@ def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tup
     columns = columns[: len(offset)]
     if columns.shape[1] == 0:
         return float(np.linalg.norm(offset)), np.zeros(0)
-    solution, residual = nnls(columns, offset)
     lower, upper = limits[:, 0], limits[:, 1]
+    if columns.shape[1] == 1:  # one slide (the usual case): the projection, clipped
+        a = columns[:, 0]
+        norm = float(a @ a)
+        value = min(max(float(a @ offset) / norm if norm > 0 else 0.0, lower[0]), upper[0])
+        return float(np.linalg.norm(a * value - offset)), np.array([value])
+    solution, residual = nnls(columns, offset)
     if np.all(solution >= lower) and np.all(solution <= upper):
         return float(residual), solution
     fixed = upper - lower < 1e-12  # BVLS wants lower < upper: a slide with no room is a constant
