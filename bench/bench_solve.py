@@ -52,8 +52,8 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=5, help="warm solves per task (median reported)")
     args = parser.parse_args()
     sys.path.insert(0, str(REPO))
-    from vkgl.lang.compiler import compile_file
     from vkgl.api import solve
+    from vkgl.lang.compiler import compile_file
 
     programs, compile_times = {}, {}
     for name in TASKS:

@@ -90,6 +90,8 @@ KEYWORDS = frozenset(
         "search",
         "max_depth",
         "timeout",
+        "range",
+        "to",
         "m",
         "cm",
         "mm",
@@ -259,11 +261,29 @@ def robots() -> st.SearchStrategy[ir.Robot]:
     return st.builds(ir.Robot, name=names(), urdf=file_paths(".urdf"), effectors=st.lists(effector, max_size=3))
 
 
-def constraints() -> st.SearchStrategy[ir.Constraint]:
+def motion_ranges(dimension: str) -> st.SearchStrategy[ir.MotionRange | None]:
+    """No range, or `range LO to HI UNIT` with both bounds in one unit or each in its own."""
+
+    def bounds(lower_unit: str, upper_unit: str) -> st.SearchStrategy[ir.MotionRange]:
+        return st.builds(
+            ir.MotionRange,
+            lower=st.builds(ir.Quantity, value=si_values(lower_unit), unit=st.just(lower_unit)),
+            upper=st.builds(ir.Quantity, value=si_values(upper_unit), unit=st.just(upper_unit)),
+        )
+
+    same = units(dimension).flatmap(lambda u: bounds(u, u))
+    mixed = st.tuples(units(dimension), units(dimension)).flatmap(lambda us: bounds(*us))
+    return st.none() | same | mixed
+
+
+def constraints(ranged: bool = False) -> st.SearchStrategy[ir.Constraint]:
+    """Any constraint; with `ranged` (a motion), prismatic and revolute ones may carry a `range`."""
+    slide_range = motion_ranges("length") if ranged else st.none()
+    turn_range = motion_ranges("angle") if ranged else st.none()
     return st.one_of(
         st.builds(ir.FixedC, pose=st.none() | poses()),
-        st.builds(ir.PrismaticC, axis=vectors(None, 3), origin=st.none() | vectors("length", 3)),
-        st.builds(ir.RevoluteC, center=vectors("length", 3), axis=vectors(None, 3)),
+        st.builds(ir.PrismaticC, axis=vectors(None, 3), origin=st.none() | vectors("length", 3), range=slide_range),
+        st.builds(ir.RevoluteC, center=vectors("length", 3), axis=vectors(None, 3), range=turn_range),
         st.builds(ir.FreeC),
     )
 
@@ -271,7 +291,11 @@ def constraints() -> st.SearchStrategy[ir.Constraint]:
 def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
     evidence = st.builds(ir.Evidence, trials=counts(0, 1000), loglik=plain_floats(), posterior=plain_floats())
     affordance = st.builds(
-        ir.Affordance, name=names(), action=constraints(), motion=constraints(), evidence=st.none() | evidence
+        ir.Affordance,
+        name=names(),
+        action=constraints(),
+        motion=constraints(ranged=True),
+        evidence=st.none() | evidence,
     )
     return st.builds(ir.AffordanceSet, body=refs(), affordances=st.lists(affordance, min_size=1, max_size=3))
 

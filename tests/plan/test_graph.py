@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -55,13 +56,31 @@ def test_a_held_tool_becomes_an_effector_and_stays_in_hand_while_it_acts(problem
     assert labels(successors(problem, pushing, push)) == ["remove block.push_center_px stick.tip"]
 
 
-def test_the_engagement_just_removed_is_not_added_again(problem):
+def _without_ranges(problem):
+    """`problem` with the block's affordances as hand-written ones without a `range` (unbounded)."""
+    block = problem.bodies["block"]
+    unbounded = tuple(
+        a.model_copy(update={"motion": a.motion.model_copy(update={"range": None})}) for a in block.affordances
+    )
+    bodies = dict(problem.bodies, block=dataclasses.replace(block, affordances=unbounded))
+    return dataclasses.replace(problem, bodies=bodies, _affordances={})
+
+
+def test_an_unbounded_engagement_just_removed_is_not_added_again(problem):
     push = add("arm.fingertip", "block", "push_center_px")
     removed = Action("remove", push.engagement)
     after = g0().apply(push).apply(removed)
-    found = labels(successors(problem, after, removed))
+    found = labels(successors(_without_ranges(problem), after, removed))
     assert "add block.push_center_px arm.fingertip" not in found
     assert "add block.turn_px_left arm.fingertip" in found
+
+
+def test_a_ranged_engagement_just_removed_may_be_made_again(problem):
+    push = add("arm.fingertip", "block", "push_center_px")
+    assert problem.affordance("block", "push_center_px").motion.range is not None  # learned
+    removed = Action("remove", push.engagement)
+    after = g0().apply(push).apply(removed)
+    assert "add block.push_center_px arm.fingertip" in labels(successors(problem, after, removed))
 
 
 def test_rollout_composes_the_affordances_motions(problem):

@@ -9,6 +9,7 @@ messages can be checked for file:line:col without the parser.
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Any
@@ -56,14 +57,18 @@ def push_policy(faces: list[str], steps: int, force: float, duration: float, lin
     )
 
 
-def block(steps: int = 9, faces: list[str] | None = None, duration: float = 2.0) -> Body:
+def block(steps: int = 9, faces: list[str] | None = None, duration: float = 2.0, slides: bool = False) -> Body:
+    """The Block; with `slides`, also its long centre pushes (the stdlib's second explore block, 2 x 17 s)."""
+    explores = [push_policy(faces or ["+x", "-x"], steps, 1.0, duration)]
+    if slides:
+        explores.append(push_policy(["+x", "-x"], 1, 1.0, 17.0, line=20).model_copy(update={"name": "slides"}))
     return Body(
         name="Block",
         shape=BoxShape(size=v(0.10, 0.20, 0.05, unit="cm")),
         mass=q(0.5, "kg"),
         friction=0.5,
         frames=[Frame(name="com", pose=Pose(position=v(0, 0, 0, unit="cm")))],
-        explores=[push_policy(faces or ["+x", "-x"], steps, 1.0, duration)],
+        explores=explores,
         name_span=span(7, 6, 5),
         span=span(7, 1, 30),
     )
@@ -123,7 +128,7 @@ def stick(grid: tuple[int, int, int] = (3, 3, 3), duration: float = 1.0, grasp: 
     )
 
 
-HANDMADE = {"Block": block, "Drawer": drawer, "Door": door, "Stick": stick}
+HANDMADE = {"Block": functools.partial(block, slides=True), "Drawer": drawer, "Door": door, "Stick": stick}
 
 
 def parser_available() -> bool:

@@ -19,6 +19,7 @@ with. Names: `push_center_px`, `push_px_left`, `turn_px_left`, `move_px_right`
 
 from __future__ import annotations
 
+import math
 from collections import defaultdict
 from dataclasses import dataclass, field
 from typing import Any
@@ -35,13 +36,14 @@ from vkgl.lang.ir import (
     Evidence,
     FixedC,
     FreeC,
+    MotionRange,
     Pose,
     PrismaticC,
     Quantity,
     RevoluteC,
     Vector,
 )
-from vkgl.lang.units import to_si
+from vkgl.lang.units import SCALE, to_si
 
 _SAME_POINT = 1e-3  # m: contacts closer than this are the same grasp
 _SAME_DIRECTION = np.deg2rad(10.0)
@@ -65,6 +67,7 @@ class Group:
     posterior: float
     kept: int | None = None  # the representative trial (None for a joint fit over all members)
     key: tuple = field(default_factory=tuple)
+    state_range: tuple[float, float] | None = None  # the motion's states over all members (m or rad)
 
 
 def group_trials(trials: Trials, results: list[TrialInference]) -> list[Group]:
@@ -178,9 +181,18 @@ def _push_groups(pushes: list[TrialInference]) -> list[Group]:
                 posterior=posterior,
                 kept=best.index,
                 key=(label, place_of[best.index], action_type, motion_type, sense),
+                state_range=_state_range(members),
             )
         )
     return groups
+
+
+def _state_range(members: list[TrialInference]) -> tuple[float, float] | None:
+    """The lowest and highest state of the members' MAP motions (m or rad), None when they have none."""
+    states = [r.motion.best.states for r in members if r.motion is not None and r.motion.best.states.size]
+    finite = np.concatenate(states) if states else np.zeros(0)
+    finite = finite[np.isfinite(finite)]
+    return (float(finite.min()), float(finite.max())) if finite.size else None
 
 
 def _merge_equivalent(keyed: dict[tuple, list[TrialInference]]) -> list[list[TrialInference]]:
@@ -310,19 +322,40 @@ def affordance_ir(g: Group) -> Affordance:
     """The group as an `affordance NAME { action ...  motion ...  evidence ... }` IR node."""
     action = constraint_ir(g.action) if g.action is not None else FixedC()
     evidence = Evidence(trials=len(g.members), loglik=_round(g.loglik, 1), posterior=_round(g.posterior, 3))
-    return Affordance(name=g.name, action=action, motion=constraint_ir(g.motion), evidence=evidence)
+    motion = constraint_ir(g.motion, g.state_range)
+    return Affordance(name=g.name, action=action, motion=motion, evidence=evidence)
 
 
-def constraint_ir(edge: EdgeInference) -> Any:
-    """The MAP constraint of an edge as IR, rounded for reading (0.1 mm, 1e-3 in directions, 0.1 deg)."""
+def constraint_ir(edge: EdgeInference, state_range: tuple[float, float] | None = None) -> Any:
+    """The MAP constraint of an edge as IR, rounded for reading (0.1 mm, 1e-3 in directions, 0.1 deg).
+
+    A prismatic or revolute motion with a `state_range` gets the explored range (see `range_ir`).
+    """
     params = edge.params
     if edge.type == "fixed":
         return FixedC(pose=_pose_ir(np.asarray(params["pose"])))
     if edge.type == "prismatic":
-        return PrismaticC(axis=_direction_ir(params["axis"]), origin=_point_ir(params["origin"]))
+        bounds = range_ir(state_range, "cm") if state_range is not None else None
+        return PrismaticC(axis=_direction_ir(params["axis"]), origin=_point_ir(params["origin"]), range=bounds)
     if edge.type == "revolute":
-        return RevoluteC(center=_point_ir(params["center"]), axis=_direction_ir(params["axis"]))
+        bounds = range_ir(state_range, "deg") if state_range is not None else None
+        return RevoluteC(center=_point_ir(params["center"]), axis=_direction_ir(params["axis"]), range=bounds)
     return FreeC()
+
+
+def range_ir(state_range: tuple[float, float], unit: str) -> MotionRange:
+    """The explored range of a motion's state, rounded inwards: never wider than what was seen.
+
+    `unit` is `cm` (slides, to 0.1 cm = 1 mm) or `deg` (turns, to 0.1 deg).
+    The upper bound is rounded down, the lower bound up and then to at least
+    0 (plans use non-negative values only); an upper bound below that is 0.
+    """
+    low, high = (v / float(SCALE[unit]) for v in state_range)
+    lower = max(0.0, math.ceil(round(low * 10.0, 9)) / 10.0)
+    upper = max(lower, math.floor(round(high * 10.0, 9)) / 10.0)
+    return MotionRange(
+        lower=Quantity(value=_si(lower, 1, unit), unit=unit), upper=Quantity(value=_si(upper, 1, unit), unit=unit)
+    )
 
 
 def _pose_ir(T: np.ndarray) -> Pose:

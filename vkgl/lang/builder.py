@@ -260,18 +260,8 @@ class Builder(ValueReader):
         return new_node(
             ir.Affordance,
             name=str(name),
-            action=fields.get(
-                "action",
-                new_node(
-                    ir.FreeC,
-                ),
-            ),
-            motion=fields.get(
-                "motion",
-                new_node(
-                    ir.FreeC,
-                ),
-            ),
+            action=fields.get("action", new_node(ir.FreeC)),
+            motion=fields.get("motion", new_node(ir.FreeC)),
             evidence=fields.get("evidence"),
             span=self.span(meta),
         )
@@ -280,7 +270,32 @@ class Builder(ValueReader):
         return Item("action", children[0], self.span(meta))
 
     def motion(self, meta: Any, children: list[Any]) -> Item:
-        return Item("motion", children[0], self.span(meta))
+        constraint = children[0]
+        if len(children) > 1:  # `range LO to HI UNIT`: a length for a slide, an angle for a turn
+            lower, upper, where = children[1]
+            if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
+                dimension = "length" if isinstance(constraint, ir.PrismaticC) else "angle"
+                high = self.to_quantity(upper, dimension)
+                if lower.unit:
+                    low = self.to_quantity(lower, dimension)
+                elif high.value == high.value:  # `0 to 24 cm`: the upper bound's unit is the lower's too
+                    low = self.to_quantity(RawQ(lower.text, upper.unit, lower.span, lower.written), dimension)
+                else:  # the upper bound's unit was reported; one error is enough
+                    low = new_node(ir.Quantity, value=INVALID, unit=high.unit, span=lower.span)
+                bounds = new_node(ir.MotionRange, lower=low, upper=high, span=where)
+                constraint = constraint.model_copy(update={"range": bounds})
+            else:
+                self.error(
+                    codes.RANGE_WITHOUT_STATE,
+                    f"a `{constraint.type}` motion has no value to bound: only prismatic and revolute motions "
+                    "take a `range`",
+                    where,
+                    "remove the range",
+                )
+        return Item("motion", constraint, self.span(meta))
+
+    def motion_range(self, meta: Any, children: list[Any]) -> tuple[RawQ, RawQ, ir.Span]:
+        return children[0], children[1], self.span(meta)
 
     def fixed(self, meta: Any, children: list[Any]) -> ir.FixedC:
         pose = self.to_pose(children[0]) if children else None

@@ -120,6 +120,7 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
         for constraint in (affordance.action, affordance.motion):
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 check_direction(constraint.axis, "an axis", ctx)
+        _check_motion_range(affordance.motion, ctx)
         evidence = affordance.evidence
         if evidence is not None:
             check_evidence_ranges(evidence, ctx)
@@ -130,6 +131,28 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
                 ctx.narrow(evidence.span, r"posterior\s+(\S+)"),
             )
     del body
+
+
+def _check_motion_range(motion: ir.Constraint, ctx: CheckContext) -> None:
+    """A motion's `range`: lower first, and never below zero (plans use non-negative values only)."""
+    bounds = motion.range if isinstance(motion, (ir.PrismaticC, ir.RevoluteC)) else None
+    if bounds is None:
+        return
+    lower, upper = bounds.lower, bounds.upper
+    if lower.value < 0:  # (NaN, already reported, fails every comparison)
+        ctx.error(
+            codes.NEGATIVE_RANGE,
+            f"a motion range starts at 0 or above, got {shown(lower)}",
+            lower.span or bounds.span,
+            "motion values are >= 0 (the sense the exploring force produced): write `range 0 to ...`",
+        )
+    if lower.value > upper.value:
+        ctx.error(
+            codes.REVERSED_RANGE,
+            f"the range's lower bound {shown(lower)} is above its upper bound {shown(upper)}",
+            bounds.span,
+            "write `range LOWER to UPPER UNIT`: swap them",
+        )
 
 
 def _check_correspondences(block: ir.Correspondences, program: Program, ctx: CheckContext) -> None:

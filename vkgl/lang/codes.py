@@ -367,6 +367,32 @@ GOAL_IN_FIXED_BODY = _code(
     ),
 )
 
+# motion ranges (builder.py, checks.py)
+RANGE_WITHOUT_STATE = _code(
+    "E430",
+    "a range on a motion that has no state",
+    (
+        "`range LO to HI UNIT` bounds the displacement of a `prismatic` motion or the angle of a `revolute` "
+        "one; a `fixed` or `free` motion has no single value to bound. Remove the range, or give the motion "
+        "its type."
+    ),
+)
+REVERSED_RANGE = _code(
+    "E431",
+    "a motion range with lower > upper",
+    ("A motion's range is written `range LOWER to UPPER UNIT`, lower first: swap them."),
+)
+NEGATIVE_RANGE = _code(
+    "E432",
+    "a motion range below zero",
+    (
+        "Motion values are never negative: the positive sense of a motion is the one the exploring force "
+        "produced, and plans use only that sense (no pulling). A range that starts below zero is an error, "
+        "not clipped: write `range 0 to HI UNIT` (and, for the other sense, an affordance whose axis points "
+        "the other way)."
+    ),
+)
+
 # modules and files (E5xx), warnings (W6xx): registered after the codes above, in this order
 from vkgl.lang.codes_files import (  # noqa: E402
     IMPORT_CYCLE,
@@ -399,6 +425,7 @@ __all__ = [
     "MISSING_MODULE",
     "MISSING_UNIT",
     "NEGATIVE_FRICTION",
+    "NEGATIVE_RANGE",
     "NESTING_TOO_DEEP",
     "NON_POSITIVE_MASS",
     "NON_POSITIVE_SIZE",
@@ -412,7 +439,9 @@ __all__ = [
     "OUT_OF_RANGE",
     "POSTERIOR_OUT_OF_RANGE",
     "PUSH_AND_GRASP_MIXED",
+    "RANGE_WITHOUT_STATE",
     "REVERSED_LIMITS",
+    "REVERSED_RANGE",
     "RPY_ON_TABLE",
     "SCENE_WITHOUT_ROBOT",
     "SCENE_WITHOUT_TABLE",

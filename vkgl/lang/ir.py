@@ -256,20 +256,39 @@ class FixedC(Node):
     pose: Pose | None = None
 
 
+class MotionRange(Node):
+    """`range LO to HI UNIT` on a motion: the values of its state it was explored over (SI: m or rad).
+
+    A length for a prismatic motion, an angle for a revolute one; the checker
+    wants `0 <= lower <= upper`. Plans keep each motion value inside it.
+    """
+
+    lower: Quantity
+    upper: Quantity
+
+
 class PrismaticC(Node):
-    """`prismatic along DIR [from POINT]`: translation along a unit direction."""
+    """`prismatic along DIR [from POINT] [range LO to HI UNIT]`: translation along a unit direction.
+
+    `range` (motions only) bounds the displacement; None means unbounded.
+    """
 
     type: Literal["prismatic"] = "prismatic"
     axis: Vector
     origin: Vector | None = None
+    range: MotionRange | None = None
 
 
 class RevoluteC(Node):
-    """`revolute about POINT axis DIR`: rotation about a line."""
+    """`revolute about POINT axis DIR [range LO to HI UNIT]`: rotation about a line.
+
+    `range` (motions only) bounds the angle; None means unbounded.
+    """
 
     type: Literal["revolute"] = "revolute"
     center: Vector
     axis: Vector
+    range: MotionRange | None = None
 
 
 class FreeC(Node):

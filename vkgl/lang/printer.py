@@ -32,6 +32,7 @@ from vkgl.lang.ir import (
     Goal,
     MeshShape,
     Module,
+    MotionRange,
     PrismaticC,
     RevoluteC,
     Robot,
@@ -45,6 +46,7 @@ from vkgl.lang.ir import (
 )
 from vkgl.lang.quantities import (
     format_number,
+    format_scaled,
     pair_text,
     pose_text,
     quantity_text,
@@ -256,12 +258,21 @@ def constraint_text(c: Constraint) -> str:
         return "fixed" if c.pose is None else "fixed at " + pose_text(c.pose)
     if isinstance(c, PrismaticC):
         text = "prismatic along " + vector_text(c.axis)
-        return text if c.origin is None else text + " from " + vector_text(c.origin)
+        text = text if c.origin is None else text + " from " + vector_text(c.origin)
+        return text + range_text(c.range)
     if isinstance(c, RevoluteC):
-        return f"revolute about {vector_text(c.center)} axis {vector_text(c.axis)}"
+        return f"revolute about {vector_text(c.center)} axis {vector_text(c.axis)}" + range_text(c.range)
     if isinstance(c, FreeC):
         return "free"
     raise TypeError(f"not a constraint: {type(c).__name__}")
+
+
+def range_text(r: MotionRange | None) -> str:
+    """` range 0 to 24 cm` (one unit written once when both bounds have it), or "" for no range."""
+    if r is None:
+        return ""
+    lower = format_scaled(r.lower.value, r.lower.unit) if r.lower.unit == r.upper.unit else None
+    return f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
 
 
 def goal_text(g: Goal) -> str:

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import nnls
+from scipy.optimize import lsq_linear, nnls
 
 from vkgl.plan.graph import motion_type
 from vkgl.plan.model import GoalSpec, Problem
@@ -34,6 +34,7 @@ from vkgl.plan.rollout import (
     hand_chain,
     motion_matrices,
     unit_axis_and_center,
+    value_bounds,
 )
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -70,21 +71,25 @@ def _goal_values(
     slides = [i for i in own if i not in turns]
     rest = problem.bodies[goal.body].rest
     signs = [_vertical_sign(problem, seq, i, rest) for i in turns]
-    if goal.yaw is None or None in signs or len(turns) > 2:
+    if goal.yaw is None or None in signs:
         return {}  # the optimiser alone decides
+    limits = [_limits(problem, seq, i) for i in turns]
     needed = wrap_angle(goal.yaw - yaw_of(rest))
-    candidates = _turn_candidates(needed, goal.tol_yaw, signs)  # type: ignore[arg-type]
+    if len(turns) > 2:
+        return _many_turns(problem, seq, goal, turns, slides, signs, limits, needed)  # type: ignore[arg-type]
+    candidates = _turn_candidates(needed, goal.tol_yaw, signs, limits)  # type: ignore[arg-type]
     if not candidates:
-        what = "nothing turns it" if not turns else "its turns cannot add up to that (each turns one way, <= 180 deg)"
-        return Rejection("yaw", f"{goal.body} must turn by {math.degrees(needed):.1f} deg but {what}")
+        return _yaw_rejection(problem, seq, goal, turns, signs, limits, needed)  # type: ignore[arg-type]
     if goal.position is None:
         first = candidates[0]
         return {i: (a, len(candidates) == 1) for i, a in zip(turns, first)}
     angles = np.array(candidates).reshape(len(candidates), len(turns))
     origins, columns = _affine_positions(problem, seq, goal.body, turns, slides, angles)
+    slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
     best: tuple[float, int, np.ndarray] | None = None
     for row in range(len(angles)):
-        residual, solution = _closest(columns[row], goal.position - origins[row, : len(goal.position)])
+        offset = goal.position - origins[row, : len(goal.position)]
+        residual, solution = _closest(columns[row], offset, slide_limits)
         if best is None or residual < best[0]:
             best = (residual, row, solution)
     assert best is not None
@@ -94,7 +99,7 @@ def _goal_values(
         return Rejection(
             "position",
             f"{goal.body} ends at least {best[0] * 100:.1f} cm from its goal "
-            f"position with the heading the goal asks for, {how}",
+            f"position with the heading the goal asks for, {how}{_at_range_end(problem, seq, slides, best[2])}",
             best[0],
         )
     exact_turns = len(candidates) == 1
@@ -102,6 +107,124 @@ def _goal_values(
     out = {i: (float(a), exact_turns) for i, a in zip(turns, angles[best[1]])}
     out.update({i: (float(v), exact_turns and unique) for i, v in zip(slides, best[2])})
     return out
+
+
+def _limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:
+    """The values motion value `index` may take (its affordance's `range` within the planner's caps)."""
+    e = seq.variables[index][1]
+    return value_bounds(problem.affordance(e.body, e.affordance).motion)
+
+
+def _name(problem: Problem, seq: Sequence, index: int) -> str:
+    e = seq.variables[index][1]
+    return f"{problem.bodies[e.body].type.name}.{e.affordance}"
+
+
+def _has_range(problem: Problem, seq: Sequence, index: int) -> bool:
+    e = seq.variables[index][1]
+    return getattr(problem.affordance(e.body, e.affordance).motion, "range", None) is not None
+
+
+def _many_turns(
+    problem: Problem,
+    seq: Sequence,
+    goal: GoalSpec,
+    turns: list[int],
+    slides: list[int],
+    signs: list[float],
+    limits: list[tuple[float, float]],
+    needed: float,
+) -> dict[int, tuple[float, bool]] | Rejection:
+    """Three or more vertical turns: their signed sum spans an interval, which must hold the heading change.
+
+    Then a start for the optimiser (nothing pinned): the turns that go the
+    needed way share it in proportion to their ranges, and the slides come
+    from the linear solve at those angles.
+    """
+    low = sum(min(s * lo, s * hi) for s, (lo, hi) in zip(signs, limits))
+    high = sum(max(s * lo, s * hi) for s, (lo, hi) in zip(signs, limits))
+    middle = 0.5 * (low + high)
+    target = needed + 2 * math.pi * round((middle - needed) / (2 * math.pi))
+    if not low - goal.tol_yaw <= target <= high + goal.tol_yaw:
+        return _yaw_rejection(problem, seq, goal, turns, signs, limits, needed)
+    target = min(max(target, low), high)
+    angles = [lo for lo, _ in limits]
+    left = target - sum(s * a for s, a in zip(signs, angles))
+    helping = [k for k, s in enumerate(signs) if s * left > 0]
+    room = sum(limits[k][1] - limits[k][0] for k in helping)
+    for k in helping:
+        angles[k] += (limits[k][1] - limits[k][0]) * min(1.0, abs(left) / room) if room > 0 else 0.0
+    out = {i: (float(a), False) for i, a in zip(turns, angles)}
+    if goal.position is not None and slides:
+        origins, columns = _affine_positions(problem, seq, goal.body, turns, slides, np.array([angles]))
+        slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
+        _, solution = _closest(columns[0], goal.position - origins[0, : len(goal.position)], slide_limits)
+        out.update({i: (float(v), False) for i, v in zip(slides, solution)})
+    return out
+
+
+def _yaw_rejection(
+    problem: Problem,
+    seq: Sequence,
+    goal: GoalSpec,
+    turns: list[int],
+    signs: list[float],
+    limits: list[tuple[float, float]],
+    needed: float,
+) -> Rejection:
+    """Why no turn values give the heading, with the numbers (and the ranges that stop it).
+
+    The excess is how many radians the turns fall short by (the closest miss is reported).
+    """
+    low = sum(min(s * lo, s * hi) for s, (lo, hi) in zip(signs, limits))
+    high = sum(max(s * lo, s * hi) for s, (lo, hi) in zip(signs, limits))
+    miss = min(max(low - target, target - high, 0.0) for target in (needed - 2 * math.pi, needed, needed + 2 * math.pi))
+    return Rejection("yaw", _yaw_why(problem, seq, goal.body, turns, signs, limits, needed, low, high), miss)
+
+
+def _yaw_why(
+    problem: Problem,
+    seq: Sequence,
+    body: str,
+    turns: list[int],
+    signs: list[float],
+    limits: list[tuple[float, float]],
+    needed: float,
+    low: float,
+    high: float,
+) -> str:
+    head = f"{body} must turn by {math.degrees(needed):.1f} deg"
+    if not turns:
+        return f"{head} but nothing turns it"
+    if len(turns) == 1:
+        angle = (signs[0] * needed) % (2 * math.pi)
+        if angle <= math.pi and angle > limits[0][1] and _has_range(problem, seq, turns[0]):
+            return (
+                f"{head}: the turn would need {math.degrees(angle):.1f} deg, past the "
+                f"{math.degrees(limits[0][1]):.1f} deg {_name(problem, seq, turns[0])} was explored over"
+            )
+        return f"{head} but its turn cannot give that (it turns one way, <= 180 deg)"
+    ranged = [
+        f"{_name(problem, seq, i)} <= {math.degrees(hi):.1f} deg"
+        for i, (_, hi) in zip(turns, limits)
+        if _has_range(problem, seq, i)
+    ]
+    within = f", each within the range it was explored over ({', '.join(ranged)})" if ranged else ""
+    return (
+        f"{head} but its {len(turns)} turns add up to between {math.degrees(low):.1f} and "
+        f"{math.degrees(high):.1f} deg{within}"
+    )
+
+
+def _at_range_end(problem: Problem, seq: Sequence, slides: list[int], solution: np.ndarray) -> str:
+    """`; Block.push_center_px slides at most 5.7 cm (its explored range)` for slides stopped by their range."""
+    stopped: dict[str, float] = {}
+    for i, v in zip(slides, solution):
+        upper = _limits(problem, seq, i)[1]
+        if _has_range(problem, seq, i) and v >= upper - 1e-9:
+            stopped[_name(problem, seq, i)] = upper
+    parts = [f"{name} slides at most {upper * 100:.1f} cm per contact" for name, upper in stopped.items()]
+    return f"; {', '.join(parts)} (the range it was explored over)" if parts else ""
 
 
 def _affine_positions(
@@ -127,13 +250,31 @@ def _affine_positions(
     return pose[:, :3, 3], stacked
 
 
-def _closest(columns: np.ndarray, offset: np.ndarray) -> tuple[float, np.ndarray]:
-    """Non-negative slide values that bring the position closest to `offset` away, and the distance left."""
+def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tuple[float, np.ndarray]:
+    """Slide values within `limits` (s x 2) that bring the position closest to `offset` away, and the distance left.
+
+    Non-negative least squares (scipy `nnls`) when its answer is within the
+    limits, else bounded least squares (`lsq_linear`, BVLS): both exact.
+    """
     columns = columns[: len(offset)]
     if columns.shape[1] == 0:
         return float(np.linalg.norm(offset)), np.zeros(0)
+    lower, upper = limits[:, 0], limits[:, 1]
+    if columns.shape[1] == 1:  # one slide (the usual case): the projection, clipped
+        a = columns[:, 0]
+        norm = float(a @ a)
+        value = min(max(float(a @ offset) / norm if norm > 0 else 0.0, lower[0]), upper[0])
+        return float(np.linalg.norm(a * value - offset)), np.array([value])
     solution, residual = nnls(columns, offset)
-    return float(residual), solution
+    if np.all(solution >= lower) and np.all(solution <= upper):
+        return float(residual), solution
+    fixed = upper - lower < 1e-12  # BVLS wants lower < upper: a slide with no room is a constant
+    solution = lower.copy()
+    rest = offset - columns[:, fixed] @ lower[fixed]
+    if not fixed.all():
+        free = ~fixed
+        solution[free] = lsq_linear(columns[:, free], rest, bounds=(lower[free], upper[free]), method="bvls").x
+    return float(np.linalg.norm(columns @ solution - offset)), solution
 
 
 def _vertical_sign(problem: Problem, seq: Sequence, index: int, rest: np.ndarray) -> float | None:
@@ -144,31 +285,34 @@ def _vertical_sign(problem: Problem, seq: Sequence, index: int, rest: np.ndarray
     return math.copysign(1.0, axis[2]) if abs(abs(axis[2]) - 1.0) < 1e-6 else None
 
 
-def _turn_candidates(needed: float, tol: float, signs: list[float]) -> list[tuple[float, ...]]:
-    """Turn angles in [0, pi] whose signed sum gives the heading change `needed` (within `tol`)."""
+def _turn_candidates(
+    needed: float, tol: float, signs: list[float], limits: list[tuple[float, float]]
+) -> list[tuple[float, ...]]:
+    """Turn angles within their `limits` whose signed sum gives the heading change `needed` (within `tol`)."""
     if not signs:
         return [()] if abs(needed) <= tol else []
     if len(signs) == 1:
-        angle = _in_half_turn(signs[0] * needed, tol)
+        angle = _within(signs[0] * needed, tol, limits[0])
         return [] if angle is None else [(angle,)]
     out: list[tuple[float, ...]] = []
-    for first in np.linspace(0.0, math.pi, TURN_GRID):
-        second = _in_half_turn(signs[1] * (needed - signs[0] * first), tol)
+    for first in np.linspace(limits[0][0], limits[0][1], TURN_GRID):
+        second = _within(signs[1] * (needed - signs[0] * first), tol, limits[1])
         if second is not None:
             out.append((float(first), second))
     return out
 
 
-def _in_half_turn(angle: float, tol: float) -> float | None:
-    """`angle` moved by whole turns into [0, pi] (within `tol` of it), or None."""
-    angle %= 2 * math.pi
-    if angle <= math.pi:
-        return angle
-    if angle - math.pi <= tol:
-        return math.pi
-    if 2 * math.pi - angle <= tol:
-        return 0.0
-    return None
+def _within(angle: float, tol: float, limits: tuple[float, float]) -> float | None:
+    """The value in `limits` (inside [0, pi]) nearest `angle` up to whole turns, if within `tol` of it; else None."""
+    low, high = limits
+    turn = 2 * math.pi
+    best: tuple[float, float] | None = None  # (miss, value)
+    for shifted in (angle % turn - turn, angle % turn, angle % turn + turn):
+        value = min(max(shifted, low), high)
+        miss = abs(value - shifted)
+        if miss <= tol and (best is None or miss < best[0]):
+            best = (miss, value)
+    return None if best is None else best[1]
 
 
 def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | None:

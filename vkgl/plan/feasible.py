@@ -170,7 +170,7 @@ def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[flo
     return out
 
 
-def _limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
+def limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
     """Which limit a body would pass, with the numbers: its joint's range, or the table's edge."""
     body = problem.bodies[name]
     if body.joint_limits is not None and body.joint_axis is not None:
@@ -181,7 +181,7 @@ def _limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
         else:
             state = float(body.joint_axis @ _rotation_vector(body.rest[:3, :3].T @ pose[:3, :3]))
             scale, unit = math.degrees(1.0), "deg"
-        needed = _goal_state(problem, name)
+        needed = goal_joint_state(problem, name)
         what = "the goal needs it at" if needed is not None else "it would have to move to"
         state = needed if needed is not None else state
         edge, side = (upper, "upper") if state > (lower + upper) / 2 else (lower, "lower")
@@ -193,7 +193,7 @@ def _limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
     return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (its frame leaves the table)"
 
 
-def _goal_state(problem: Problem, name: str) -> float | None:
+def goal_joint_state(problem: Problem, name: str) -> float | None:
     """Where a goal puts a body with a prismatic joint, as a joint position (m); None without such a goal."""
     body = problem.bodies[name]
     if body.joint != "prismatic" or body.joint_axis is None:
@@ -280,8 +280,22 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
         for name in sorted({e.body for e in trace.values}):
             excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
             if excess > -1e-4:
-                return Rejection("table", _limit_words(problem, name, trace.end[name]), max(excess, 0.0))
-    return Rejection("goal", "the optimiser found no motion values that reach the goal")
+                return Rejection("table", limit_words(problem, name, trace.end[name]), max(excess, 0.0))
+    why = "the optimiser found no motion values that reach the goal"
+    return Rejection("goal", why + _at_range_ends(problem, seq, x))
+
+
+def _at_range_ends(problem: Problem, seq: Sequence, x: np.ndarray) -> str:
+    """` (at the end of the range it was explored over: Block.turn_px_left 25.0 deg)` for values stopped there."""
+    _, upper = bounds(problem, seq)
+    ended = {}
+    for (_, e), value, top in zip(seq.variables, x, upper):
+        motion = problem.affordance(e.body, e.affordance).motion
+        if getattr(motion, "range", None) is not None and value >= top - 1e-6:
+            name = f"{problem.bodies[e.body].type.name}.{e.affordance}"
+            ended[name] = f"{math.degrees(top):.1f} deg" if motion.type == "revolute" else f"{top * 100:.1f} cm"
+    parts = [f"{name} {limit}" for name, limit in ended.items()]
+    return f" (at the end of the range it was explored over: {', '.join(parts)})" if parts else ""
 
 
 # ---------------------------------------------------------------- joint space

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from vkgl.lang.ir import Constraint
 from vkgl.plan.model import Problem
 
 WORLD = "world"
@@ -108,7 +109,9 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
       `free` (grasping needs the hand) and never on the tool itself;
     - a body with a physical joint only by an affordance of the joint's type;
     - not the very engagement `last` removed (ADD x, REMOVE x, ADD x moves
-      nothing that ADD x alone cannot: the two motions compose).
+      nothing that ADD x alone cannot: the two motions compose), unless x's
+      motion has a `range`: then one mode may not move it that far, and a
+      longer motion is several contacts in a row.
     REMOVE an engagement when no tool frame of the target acts (a tool in use
     stays in the hand), and not a grasp just added (picking a tool up and
     putting it back down changes nothing).
@@ -124,7 +127,7 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
                 continue
             for aff in body.affordances:
                 action = Action("add", Engagement(effector.name, name, aff.name))
-                if _may_add(problem, effector.tool, body.joint, aff.motion.type, action, last):
+                if _may_add(problem, effector.tool, body.joint, aff.motion, action, last):
                     out.append(action)
     for e in graph.engaged:
         if _tool_busy(problem, graph, e.body):
@@ -136,12 +139,14 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
 
 
 def _may_add(
-    problem: Problem, tool: str | None, joint: str | None, motion: str, action: Action, last: Action | None
+    problem: Problem, tool: str | None, joint: str | None, motion: Constraint, action: Action, last: Action | None
 ) -> bool:
-    if tool is not None and motion == "free":
+    if tool is not None and motion.type == "free":
         return False
-    if joint is not None and motion != joint:
+    if joint is not None and motion.type != joint:
         return False
+    if getattr(motion, "range", None) is not None:
+        return True  # bounded: again after a break is how a motion goes past its range
     return not (last is not None and last.op == "remove" and last.engagement == action.engagement)
 
 

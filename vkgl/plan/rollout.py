@@ -184,10 +184,26 @@ def unit_axis_and_center(constraint: object) -> tuple[np.ndarray, np.ndarray | N
     return axis, center
 
 
+RANGE_MARGIN = 0.0
+"""m or rad: how far past its `range` upper bound one mode may move a motion (none: learned bounds are rounded down)."""
+
+
+def value_bounds(constraint: object) -> tuple[float, float]:
+    """The values one mode may give a motion: [0, cap] (`PRISMATIC_MAX` / `REVOLUTE_MAX`) within its `range`."""
+    cap = REVOLUTE_MAX if isinstance(constraint, RevoluteC) else PRISMATIC_MAX
+    bounds = constraint.range if isinstance(constraint, (PrismaticC, RevoluteC)) else None
+    if bounds is None:
+        return 0.0, cap
+    upper = min(cap, bounds.upper.value + RANGE_MARGIN)
+    return min(max(0.0, bounds.lower.value), upper), upper
+
+
 def bounds(problem: Problem, seq: Sequence) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds of the sequence's motion values."""
-    upper = [REVOLUTE_MAX if motion_type(problem, e) == "revolute" else PRISMATIC_MAX for _, e in seq.variables]
-    return np.zeros(len(upper)), np.asarray(upper, dtype=float)
+    """Lower and upper bounds of the sequence's motion values (`value_bounds` of each one's motion)."""
+    pairs = [value_bounds(problem.affordance(e.body, e.affordance).motion) for _, e in seq.variables]
+    lower = np.asarray([p[0] for p in pairs], dtype=float)
+    upper = np.asarray([p[1] for p in pairs], dtype=float)
+    return lower, upper
 
 
 class _Fractions(dict):

@@ -1,0 +1,78 @@
+"""The planner keeps every motion value within its affordance's `range`: a longer motion is several contacts."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from vkgl.api import solve
+
+SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "tabletop.vkg"
+
+BLOCK_PUSH = """
+affordances Block {{
+    affordance push_center_px {{
+        action fixed at (-5, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm{range}
+    }}
+}}
+"""
+
+
+def task_file(tmp_path: Path, text: str, name: str = "t") -> str:
+    path = tmp_path / f"{name}.vkg"
+    path.write_text(f'use "{SCENES}"\n' + text, encoding="utf-8")
+    return str(path)
+
+
+def slide_task(tmp_path: Path, motion_range: str, max_depth: int) -> str:
+    goal = "task slide { scene tabletop  goal block at (0.70, 0) m yaw 0deg within 1 cm, 3 deg"
+    return task_file(
+        tmp_path, BLOCK_PUSH.format(range=motion_range) + goal + f"  search {{ max_depth {max_depth} }} }}\n"
+    )
+
+
+def test_a_slide_longer_than_its_range_is_several_pushes_each_within_it(tmp_path):
+    plan = solve(slide_task(tmp_path, " range 0 to 10 cm", 8))  # the block starts 25 cm from its goal
+    assert plan.status == "solved", plan.reason
+    pushes = [s.value for s in plan.steps if s.op == "add"]
+    assert len(pushes) >= 3
+    assert all(0.0 <= v <= 0.10 + 1e-9 for v in pushes)
+    assert sum(pushes) == pytest.approx(0.25, abs=0.01)
+
+
+def test_without_a_range_a_slide_is_unbounded(tmp_path):
+    plan = solve(slide_task(tmp_path, "", 8))
+    assert plan.status == "solved", plan.reason
+    assert plan.depth == 2 and plan.steps[0].value == pytest.approx(0.25, abs=0.01)
+
+
+def test_too_shallow_for_the_pushes_a_range_needs_says_so_with_numbers(tmp_path):
+    plan = solve(slide_task(tmp_path, " range 0 to 10 cm", 4))
+    assert plan.status == "infeasible"
+    assert "5.0 cm from its goal" in plan.reason
+    assert "Block.push_center_px slides at most 10.0 cm per contact (the range it was explored over)" in plan.reason
+
+
+def turn_task(tmp_path: Path, yaw_deg: float, max_depth: int) -> str:
+    goal = f"goal block yaw {yaw_deg}deg within 3 deg"
+    text = f"use stdlib.affordances.block\ntask turn {{ scene tabletop  {goal}  search {{ max_depth {max_depth} }} }}\n"
+    return task_file(tmp_path, text)
+
+
+def test_a_60_degree_turn_of_the_block_is_repeated_turns_within_the_explored_range(tmp_path):
+    plan = solve(turn_task(tmp_path, -60, 8))
+    assert plan.status == "solved", plan.reason
+    explored = plan.problem.affordance("block", "turn_px_left").motion.range.upper.value  # learned: about 25 deg
+    turns = [s for s in plan.steps if s.op == "add" and s.motion == "revolute"]
+    assert len(turns) >= 3
+    assert all(0.0 <= s.value <= explored + 1e-9 for s in turns)
+    assert math.degrees(sum(s.value for s in turns)) == pytest.approx(60.0, abs=3.0)
+
+
+def test_a_turn_past_the_explored_range_is_infeasible_with_the_numbers(tmp_path):
+    plan = solve(turn_task(tmp_path, -35, 2))
+    assert plan.status == "infeasible"
+    assert "the turn would need 35.0 deg, past the 25.0 deg Block.turn_px_left was explored over" in plan.reason
