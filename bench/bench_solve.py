@@ -35,15 +35,15 @@ PAPER = {
     "e_rotate_stick_push": (5, 7.106),
     "f_rotate_hook_pull": (5, 3.066),
 }
-EXTRA_SPOTS = [
-    (0.10, 0.50, "Stick"),
-    (0.10, -0.50, "Hook"),
-    (0.60, 0.50, "Stick"),
-    (0.60, -0.50, "Hook"),
-    (-0.20, 0.30, "Stick"),
-    (-0.20, -0.30, "Hook"),
-    (1.10, 0.50, "Stick"),
-    (1.10, -0.50, "Hook"),
+EXTRA_SPOTS = [  # clear of the scene's bodies, of each other, of the robot's base and of the table's edges
+    (0.10, 0.57, "Stick"),
+    (0.10, -0.57, "Hook"),
+    (0.60, 0.57, "Stick"),
+    (0.60, -0.57, "Hook"),
+    (0.00, 0.30, "Stick"),
+    (0.00, -0.30, "Hook"),
+    (1.05, 0.45, "Stick"),
+    (1.05, -0.45, "Hook"),
 ]
 
 
@@ -96,8 +96,8 @@ def main() -> int:
     for name, base in cases.items():
         for extra in (0, 1, 2, 4, 8):
             program = (_with_extra_tools(base, extra), base.task().name)
-            solve(program)
-            plan = solve(program)
+            solve(*program)
+            plan = solve(*program)
             times = [_timed(solve, program) for _ in range(max(1, args.repeat // 2))]
             n_bodies = len(program[0].scenes[base.task().scene.name].bodies)
             print(
@@ -109,7 +109,7 @@ def main() -> int:
 
 def _timed(solve, program) -> float:  # type: ignore[no-untyped-def]
     started = time.perf_counter()
-    solve(program)
+    solve(*program) if isinstance(program, tuple) else solve(program)
     return time.perf_counter() - started
 
 
