@@ -52,6 +52,7 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=5, help="warm solves per task (median reported)")
     args = parser.parse_args()
     sys.path.insert(0, str(REPO))
+    import vkgl.plan.solve  # noqa: F401 - Python's imports (trimesh, DART, NLopt: ~0.7 s) are not the first solve's
     from vkgl.api import solve
     from vkgl.lang.compiler import compile_file
 
