@@ -207,7 +207,7 @@ def test_hover_shows_an_affordances_motion_action_and_evidence(
     )
     value = hover["contents"]["value"]
     assert "`Block.push_center_px`" in value and "motion `prismatic along (1, 0, 0)" in value
-    assert "action `fixed at (-5, 0, 0) cm" in value and "evidence: 5 trials" in value
+    assert "action `fixed at (-5, 0, 0) cm" in value and re.search(r"evidence: \d+ trials", value)
 
 
 def test_definition_across_use(server: LspClient, project: Path) -> None:
@@ -224,7 +224,8 @@ def test_definition_across_use(server: LspClient, project: Path) -> None:
     }
     found = at(server, "textDocument/definition", project, "scenes/tabletop.vkg", 15, 13)  # `block : Block`
     assert found["uri"] == (REPO / "stdlib/bodies/block.vkg").as_uri()
-    assert found["range"]["start"] == {"line": 6, "character": 5}
+    body_line = (REPO / "stdlib/bodies/block.vkg").read_text(encoding="utf-8").split("\n").index("body Block {")
+    assert found["range"]["start"] == {"line": body_line, "character": 5}
     found = at(server, "textDocument/definition", project, "tasks/bad.vkg", 6, 25)  # `use stdlib.affordances.block`
     assert found["uri"] == (REPO / "stdlib/affordances/block.vkg").as_uri()
 

@@ -110,6 +110,9 @@ def test_body_snippets_match_the_stdlib_bodies() -> None:
 
     Hook is the exception: stdlib/bodies/hook.vkg lengthens the cross-piece on
     purpose (its header says why), so only its frames and exploration must match.
+    The stdlib Block explores the §3 `pushes` and, after it, a longer `slides`
+    block (stdlib/bodies/block.vkg says why: the slides' explored range); the
+    Block of §3 is the stdlib's without that addition.
     """
     snippet = parse_module(_block("body Block"), "snippet.vkg")
     by_name = {d.name: d for d in snippet.decls}
@@ -117,7 +120,11 @@ def test_body_snippets_match_the_stdlib_bodies() -> None:
     assert [f.name for f in hook.frames] == ["handle", "tip"] and hook.explores == by_name["Hook"].explores
     for name in ("Block", "Stick", "Drawer"):
         shipped = parse_module((stdlib_dir() / "bodies" / f"{name.lower()}.vkg").read_text(encoding="utf-8"), "x.vkg")
-        assert [d for d in shipped.decls if d.name == name] == [by_name[name]]
+        (body,) = [d for d in shipped.decls if d.name == name]
+        if name == "Block":
+            assert [e.name for e in body.explores] == ["pushes", "slides"]
+            body = body.model_copy(update={"explores": body.explores[:1]})
+        assert body == by_name[name]
 
 
 @needs_contract

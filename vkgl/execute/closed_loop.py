@@ -94,7 +94,7 @@ def execute(
         raise InputError(f"the plan is for task `{plan.task}`, not `{task.name}`")
     replay = Replay(program, scene, _solved(plan).robot, record=record)
     loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve)
-    loop.planned_final = dict(plan.final)
+    loop.expect(plan)
     status, reason = loop.run(_numbered(plan))
     disturbed = loop.disturbances() if status in ("reached", "missed") else []
     if disturbed and status == "reached":
@@ -164,7 +164,7 @@ class _Loop:
         self.reports: list[StepReport] = []
         self.log: list[str] = []
         self.watching = True  # False while carrying on with a plan that could not be replaced
-        self.planned_final: dict[str, np.ndarray] = {}  # where the plan being carried out leaves every body
+        self.bystanders: dict[str, np.ndarray] = {}  # bodies the plan being carried out leaves still, and where
 
     def run(self, steps: list[Step]) -> tuple[str, str]:
         """Execute `steps` (and the plans that replace them); return (status, reason).
@@ -261,18 +261,28 @@ class _Loop:
             )
         return out
 
+    def expect(self, plan: PlanDocument) -> None:
+        """Note the bodies `plan` leaves where they are (the ones it never moves), and where that is."""
+        start = plan.steps[0].poses_start if plan.steps else {}
+        self.bystanders = {
+            name: np.asarray(pose)
+            for name, pose in plan.final.items()
+            if name in start and np.allclose(np.asarray(start[name]), np.asarray(pose), atol=1e-6)
+        }
+
     def disturbances(self) -> list[Disturbance]:
-        """Bodies no goal names that ended farther from where the plan leaves them than the default tolerance.
+        """Bodies the plan leaves still that ended farther from there than the default tolerance.
 
         The planner promises every body's final pose, not only the goal
         bodies'; a bystander shoved aside breaks that promise even when the
-        goals hold.
+        goals hold. (A tool the plan moves is not a bystander: where it lands
+        once let go at the end is not planned.)
         """
         goal_bodies = {g.body.name for g in self.task.goals}
         tol_p, tol_a = Goal.default_tolerance()
         out = []
         for name, real in self.replay.poses().items():
-            planned = self.planned_final.get(name)
+            planned = self.bystanders.get(name)
             if name in goal_bodies or planned is None:
                 continue
             position = float(np.linalg.norm(real[:2, 3] - planned[:2, 3]))
@@ -346,7 +356,7 @@ class _Loop:
             self._note(f"{why}; re-solving found no plan ({found})")
             return "missed", f"replan {self.replans} found no plan ({found})"
         steps = _numbered(plan)
-        self.planned_final = dict(plan.final)
+        self.expect(plan)
         self.watching = True
         self._note(f"{why}; re-solved from the observed scene: {len(steps)} step(s)")
         return steps
