@@ -6,6 +6,8 @@ would refuse to push the block through the second one.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from plan_script import scripted_plan
 
 import vkgl
@@ -30,7 +32,8 @@ task shove_it {
 
 
 def test_a_shoved_bystander_makes_the_execution_disturbed() -> None:
-    program = vkgl.compile_source(SCENE, "shove.vkg")
+    # `use stdlib...` resolved beside this file (no stdlib/ here), so always the installed stdlib
+    program = vkgl.compile_source(SCENE, "shove.vkg", base_dir=Path(__file__).parent)
     plan = scripted_plan(program, "shove_it", ["add Block.push_center_px block arm.fingertip 0.15"])
     report = vkgl.execute(program, "shove_it", plan)
     assert all(goal.ok for goal in report.goals)  # the goal itself is met

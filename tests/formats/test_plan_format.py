@@ -29,7 +29,11 @@ GOLDEN = Path(__file__).resolve().parent / "golden"
 
 
 def _normalised(text: str) -> str:
+    """Timings zeroed; the stdlib's path shown as the checkout's, wherever the package is installed."""
+    from vkgl.resources import stdlib_dir
+
     text = re.sub(r'"solve_time_s": [0-9.eE+-]+', '"solve_time_s": 0.0', text)
+    text = text.replace(f'"{stdlib_dir().resolve()}/', f'"{REPO}/stdlib/')
     return text.replace(json.dumps(str(REPO / "stdlib")), json.dumps("<repo>/stdlib")).replace(
         f'"{REPO}/stdlib/', '"<repo>/stdlib/'
     )

@@ -42,8 +42,13 @@ task through {{
 """
 
 
+# `use` by name resolves beside this file first: a folder without stdlib/, so `use stdlib...` is the installed one
+# (from the checkout's root, the checkout's stdlib/ would shadow the installed modules those import themselves).
+_EMPTY = Path(__file__).resolve().parent
+
+
 def _program(x2: float, y2: float, gx: float) -> vkgl.Program:
-    return vkgl.compile_source(SCENE.format(x2=x2, y2=y2, gx=gx), "cluttered.vkg")
+    return vkgl.compile_source(SCENE.format(x2=x2, y2=y2, gx=gx), "cluttered.vkg", base_dir=_EMPTY)
 
 
 def test_a_push_through_another_block_is_no_plan_and_names_it() -> None:

@@ -128,7 +128,7 @@ def test_a_goal_past_a_joint_limit_says_the_numbers() -> None:
         "  drawer : Drawer on table at (0.45, 0) m yaw 0deg }\n"
         "task too_far { scene kitchen  goal drawer at (0.85, 0) m within 1 cm  search { max_depth 3 } }\n"
     )
-    plan = vkgl.solve(vkgl.compile_source(source, "kitchen.vkg"))
+    plan = vkgl.solve(vkgl.compile_source(source, "kitchen.vkg", base_dir=Path(__file__).parent))
     assert plan.status == "infeasible"
     assert "the goal needs it at 40.0 cm on its prismatic joint, past its upper limit of 30.0 cm" in plan.reason
     assert "--max-depth" not in plan.reason  # no longer sequence passes a joint's limit
