@@ -108,5 +108,6 @@ def test_report_format(block) -> None:
 
 
 def test_module_round_trips_through_the_parser(block) -> None:
-    parser = pytest.importorskip("vkgl.lang.parser")
-    assert parser.parse_module(block.source, block.module.path) == block.module
+    from vkgl.lang.parser import parse_module
+
+    assert parse_module(block.source, block.module.path) == block.module

@@ -48,8 +48,9 @@ def test_arm_for_scene_places_the_scene_robot() -> None:
 
 
 def test_the_stdlib_panda_module_compiles_to_this_arm() -> None:
-    compiler = pytest.importorskip("vkgl.lang.compiler")
-    program = compiler.compile_file(str(STDLIB / "robots" / "panda.vkg"))
+    from vkgl.lang.compiler import compile_file
+
+    program = compile_file(str(STDLIB / "robots" / "panda.vkg"))
     robot = program.robots["Panda"]
     assert robot.effector("fingertip").offset.position.values == pytest.approx((0, 0, FINGERTIP))
     assert program.root.doc

@@ -131,19 +131,8 @@ def stick(grid: tuple[int, int, int] = (3, 3, 3), duration: float = 1.0, grasp: 
 HANDMADE = {"Block": functools.partial(block, slides=True), "Drawer": drawer, "Door": door, "Stick": stick}
 
 
-def parser_available() -> bool:
-    """True once the front end can compile files."""
-    try:
-        from vkgl.lang.compiler import compile_file  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 def stdlib_body(name: str) -> Body:
-    """The stdlib body `name`: parsed from its file if the front end exists, else the handmade twin."""
-    if not parser_available():
-        return HANDMADE[name]()
+    """The stdlib body `name`, compiled from its file (the silent fallback to a handmade twin is gone)."""
     from vkgl.lang.compiler import compile_file
 
     return compile_file(str(STDLIB / "bodies" / f"{name.lower()}.vkg")).bodies[name]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from sim_bodies import HANDMADE, parser_available, q, stdlib_body, v
+from sim_bodies import HANDMADE, q, stdlib_body, v
 
 from vkgl.errors import InputError
 from vkgl.lang.ir import Body, BoxShape, CylinderShape, Joint, Pose, ShapePart, Table, UnionShape
@@ -75,7 +75,6 @@ def test_reversed_joint_limits_are_an_input_error() -> None:
         sim_world.add_body(sim_world.new_world(), "drawer", bad, np.eye(4))
 
 
-@pytest.mark.skipif(not parser_available(), reason="the front end cannot compile files yet")
 @pytest.mark.parametrize("name", sorted(HANDMADE))
 def test_the_handmade_test_bodies_are_the_stdlib_bodies(name: str) -> None:
     assert stdlib_body(name) == HANDMADE[name]()
