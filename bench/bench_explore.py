@@ -23,14 +23,9 @@ BODIES = ["Block", "Drawer", "Door", "Stick", "Hook"]
 
 
 def load_body(name: str):
-    """The stdlib body `name` (parsed), or its handmade twin if the front end is not there yet."""
-    try:
-        from vkgl.lang.compiler import compile_file
-    except ImportError:
-        sys.path.insert(0, str(REPO / "tests" / "sim"))
-        from sim_bodies import HANDMADE
+    """The stdlib body `name`, compiled from its file."""
+    from vkgl.lang.compiler import compile_file
 
-        return HANDMADE.get(name, lambda: None)()
     return compile_file(str(REPO / "stdlib" / "bodies" / f"{name.lower()}.vkg")).bodies[name]
 
 

@@ -20,17 +20,21 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from collections import Counter, defaultdict
 from pathlib import Path
 
 import numpy as np
-from synthetic import score, synthetic_trials
-
-from vkgl.formats.trials import Trials
-from vkgl.infer.trial import infer_trial, infer_trials
 
 REPO = Path(__file__).resolve().parent.parent
+sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]  # the test suite's synthetic ground truth
+
+from synthetic import score, synthetic_trials  # noqa: E402
+
+from vkgl.formats.trials import Trials  # noqa: E402
+from vkgl.infer.trial import infer_trial, infer_trials  # noqa: E402
+
 REAL = REPO.parent / "shared" / "data" / "articulation"
 NOISE_LEVELS = [(0.0, 0.0), (0.001, 0.5), (0.002, 1.0), (0.005, 2.0), (0.01, 3.0)]
 

@@ -50,15 +50,10 @@ COLUMNS = ("solved", "reached", "clean", "disturbed", "colliding", "no plan", "t
 
 
 def execute_plan(program: Any, task_name: str, plan: Any) -> Any:
-    """ADAPTER (one-line switch): carry `plan` out open loop in DART.
+    """Carry `plan` out open loop in DART."""
+    import vkgl
 
-    Becomes `return vkgl.execute(program, task_name, plan)` once `Plan.document()`
-    exists on this branch; until then the closed loop's entry point takes the
-    plan's `vkg-plan/1` JSON.
-    """
-    from vkgl.execute.closed_loop import execute
-
-    return execute(program, task_name, plan.to_json())
+    return vkgl.execute(program, task_name, plan)
 
 
 def run_task(job: dict[str, Any]) -> dict[str, Any]:
