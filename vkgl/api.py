@@ -17,14 +17,14 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Union
 
 from vkgl.errors import InputError
 
 if TYPE_CHECKING:
-    from vkgl.formats.execution_report import ExecutionReport
+    from vkgl.formats.execution_report import ExecutionReport, StepReport
     from vkgl.formats.plan import PlanDocument
     from vkgl.formats.trials import Trials
     from vkgl.infer.library import InferenceResult
@@ -104,12 +104,14 @@ def execute(
     replan: bool = False,
     max_replans: int = 3,
     record: bool = False,
+    on_step: Callable[[StepReport], None] | None = None,
 ) -> ExecutionReport:
     """Carry `plan` out in DART physics and report how close the bodies came to the goal.
 
     With `replan`, the loop re-solves (with `solve`) from the observed scene
     whenever a body strays from the plan, at most `max_replans` times. With
     `record`, the report keeps frames for `vkgl.execute.animate.animate`.
+    `on_step` is told of every step as it ends (the CLI prints a line each).
     """
     from vkgl.execute.closed_loop import execute as execute_plan
     from vkgl.formats.plan import PlanDocument
@@ -126,6 +128,7 @@ def execute(
         max_replans=max_replans,
         record=record,
         resolve=_resolver,
+        on_step=on_step,
     )
 
 

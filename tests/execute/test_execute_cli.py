@@ -13,8 +13,11 @@ from vkgl.cli import main
 def test_solve_execute_replan_writes_the_report(tmp_path, capsys):
     report = tmp_path / "a.json"
     code = main(["solve", str(EXAMPLES / "tasks" / "a_push.vkg"), "--replan", "--execution-json", str(report)])
-    out = capsys.readouterr().out
+    captured = capsys.readouterr()
+    out = captured.out
     assert code == 0
+    # progress: a line per step as it ends, on stderr, piped or not
+    assert "executing: step 1 done at t = " in captured.err
     assert "execution of a_push in DART, closed loop (replan):" in out
     assert any(line.startswith("reached:") for line in out.splitlines())
     data = json.loads(report.read_text())

@@ -249,8 +249,20 @@ def _execute(args: argparse.Namespace, program: Any, plan: Any) -> bool:
         from vkgl.execute.animate import check_animation_path
 
         check_animation_path(args.animate)  # refuse a bad file name before minutes of simulation
+
+    def step_done(step: Any) -> None:  # one line per step as it happens, on a terminal or piped
+        origin = "" if step.plan == 0 else f" [replan {step.plan}]"
+        print(f"executing: step {step.index}{origin} done at t = {step.end_time:.2f} s: {step.title}", file=sys.stderr)
+        sys.stderr.flush()
+
     report = api.execute(
-        program, plan.task, plan, replan=args.replan, max_replans=args.max_replans, record=bool(args.animate)
+        program,
+        plan.task,
+        plan,
+        replan=args.replan,
+        max_replans=args.max_replans,
+        record=bool(args.animate),
+        on_step=step_done,
     )
     print(report.text())
     if args.execution_json:

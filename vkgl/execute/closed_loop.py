@@ -64,9 +64,11 @@ def execute(
     max_replans: int = 3,
     record: bool = False,
     resolve: Resolver | None = None,
+    on_step: Callable[[StepReport], None] | None = None,
 ) -> ExecutionReport:
     """Carry out a solved `vkg-plan/1` plan for `task` in DART and report how close it got to the goal.
 
+    `on_step(step_report)` is called as each step ends (progress for long runs).
     `task` is the Task IR, its name, or None for the program's first task.
     With `replan`, re-solve from the observed scene whenever a body strays
     from the plan by more than half its tolerance (at most `max_replans`
@@ -94,6 +96,7 @@ def execute(
         raise InputError(f"the plan is for task `{plan.task}`, not `{task.name}`")
     replay = Replay(program, scene, _solved(plan).robot, record=record)
     loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve)
+    loop.on_step = on_step
     loop.expect(plan)
     status, reason = loop.run(_numbered(plan))
     disturbed = loop.disturbances() if status in ("reached", "missed") else []
@@ -153,6 +156,7 @@ class _Loop:
         resolve: Resolver | None,
     ) -> None:
         self.resolve = resolve
+        self.on_step: Callable[[StepReport], None] | None = None  # told of every step as it ends
         self.program = program
         self.task = task
         self.replay = replay
@@ -221,7 +225,10 @@ class _Loop:
         return None
 
     def _report(self, index: int, step: PlanStepRecord, deviations: list[Deviation]) -> None:
-        self.reports.append(StepReport(self.plan_no, index, step.title(), self.replay.time, deviations))
+        report = StepReport(self.plan_no, index, step.title(), self.replay.time, deviations)
+        self.reports.append(report)
+        if self.on_step is not None:
+            self.on_step(report)
 
     # ------------------------------------------------------------ comparisons
 
