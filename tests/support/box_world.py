@@ -14,6 +14,7 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
+from panda_fixtures import DH  # Franka's modified-DH table, one copy for the tests
 
 from vkgl.robot import Arm
 
@@ -23,17 +24,6 @@ RADIUS = 0.06
 SPACING = 0.04
 """m: the points' spacing along each link."""
 
-# Franka's modified-DH table: (a_{i-1}, d_i, alpha_{i-1}) for joints 1..7 and the flange.
-DH = [
-    (0.0, 0.333, 0.0),
-    (0.0, 0.0, -math.pi / 2),
-    (0.0, 0.316, math.pi / 2),
-    (0.0825, 0.0, math.pi / 2),
-    (-0.0825, 0.384, -math.pi / 2),
-    (0.0, 0.0, math.pi / 2),
-    (0.088, 0.0, math.pi / 2),
-    (0.0, 0.107, 0.0),
-]
 FLANGE_TO_EFFECTOR = 0.103 + 0.0  # m along the flange's z axis: the hand (0) and the fingertip (10.3 cm)
 
 
