@@ -45,7 +45,7 @@ from vkgl.lang.program import Program
 from vkgl.se3 import angle_difference, yaw_of
 
 Resolver = Callable[[Program, str], PlanDocument]
-"""Solves a task (by name) of a program; returns its `vkg-plan/1` document, of any status.
+"""Solves a task (by name) of a program; returns its `vkg-plan/2` document, of any status.
 
 May raise VkgError (reported as a re-solve that found no plan)."""
 
@@ -66,7 +66,7 @@ def execute(
     resolve: Resolver | None = None,
     on_step: Callable[[StepReport], None] | None = None,
 ) -> ExecutionReport:
-    """Carry out a solved `vkg-plan/1` plan for `task` in DART and report how close it got to the goal.
+    """Carry out a solved `vkg-plan/2` plan for `task` in DART and report how close it got to the goal.
 
     `on_step(step_report)` is called as each step ends (progress for long runs).
     `task` is the Task IR, its name, or None for the program's first task.

@@ -17,12 +17,17 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import dartpy as dart
 import numpy as np
 
 from vkgl.plan.collision import TABLE, CollisionScene, Contact
 from vkgl.robot import Arm, load_skeleton
+from vkgl.robot.pad import FINGER_PAD_WIDTH, FINGERTIP_RADIUS, pad_pose
+
+PAD = "fingertip"
+"""What contacts call the fingertip pad."""
 
 
 @dataclass(frozen=True)
@@ -72,6 +77,29 @@ class ArmCollision:
                     self.link_of[shape_node.getName()] = node.getName()
         self.links = tuple(dict.fromkeys(self.link_of.values()))
         """The links whose geometry is checked, root first."""
+        self.pad_group = self._add_pad(scene)
+
+    def _add_pad(self, scene: CollisionScene) -> Any:
+        """The fingertip pad (`vkgl.robot.pad`) welded to the effector link, in a group of its own.
+
+        The pad is what pushes: it may touch the body the hand acts on, and it
+        is not checked while the hand holds a tool (the executed arm's pad is
+        then switched off too).
+        """
+        joint, body = self._link.createWeldJointAndBodyNodePair()
+        iso = dart.math.Isometry3()
+        iso.set_matrix(np.asarray(self.arm.link_offset, dtype=float) @ pad_pose())
+        joint.setTransformFromParentBodyNode(iso)
+        body.setName(PAD)
+        # FCL has no capsules: the cylinder that holds the capsule (its caps included) stands in for it
+        node = body.createShapeNode(
+            dart.dynamics.CylinderShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH + 2 * FINGERTIP_RADIUS)
+        )
+        node.createCollisionAspect()
+        group = scene.detector.createCollisionGroup()
+        group.addShapeFrame(node)
+        self.link_of[node.getName()] = PAD
+        return group
 
     def set_configuration(self, q: Sequence[float] | np.ndarray) -> None:
         """Put the arm's joints (order of `Arm.joint_names`) at `q`."""
@@ -91,6 +119,7 @@ class ArmCollision:
         ignore: Iterable[str] = (),
         held: Held | None = None,
         table: bool = True,
+        pad_may_touch: Iterable[str] = (),
     ) -> list[Contact]:
         """The overlaps of the arm at `q` (and of a held tool) with the bodies and the table.
 
@@ -99,6 +128,8 @@ class ArmCollision:
         `ignore`: bodies the links may touch (e.g. the block the fingertip pushes);
         `held`: a tool in the hand, placed by forward kinematics and checked against
         every body and the table but the ones it acts on; the links do not check it.
+        `pad_may_touch`: bodies the fingertip pad may touch (the body a straight
+        approach or retreat pushes); the pad is not checked while a tool is held.
         Contacts name the arm's links by their URDF names.
         """
         if poses is not None:
@@ -106,6 +137,9 @@ class ArmCollision:
         self.set_configuration(q)
         others = self._others(ignore, held, table)
         out = self.scene.collide(self.group, self.scene.group(others), self.link_of) if others else []
+        pad_others = [n for n in others if n not in set(pad_may_touch)]
+        if held is None and pad_others:
+            out.extend(self.scene.collide(self.pad_group, self.scene.group(pad_others), self.link_of))
         if held is not None:
             tool_pose = self.effector_pose() @ held.in_hand
             targets = [n for n in others if n not in held.acts_on]
@@ -119,6 +153,7 @@ class ArmCollision:
         ignore: Iterable[str] = (),
         held: Held | None = None,
         table: bool = True,
+        pad_may_touch: Iterable[str] = (),
     ) -> bool:
         """Whether nothing overlaps at `q` (see `overlap`): the state-validity check of transit planning.
 
@@ -129,6 +164,9 @@ class ArmCollision:
         self.set_configuration(q)
         others = self._others(ignore, held, table)
         if others and self.scene.collides(self.group, self.scene.group(others)):
+            return False
+        pad_others = [n for n in others if n not in set(pad_may_touch)]
+        if held is None and pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)):
             return False
         if held is not None:
             self.scene.place({held.body: self.effector_pose() @ held.in_hand})

@@ -30,7 +30,7 @@ import dartpy as dart
 import numpy as np
 
 from vkgl.lang.geometry import shape_mesh
-from vkgl.lang.ir import Shape
+from vkgl.lang.ir import Scene, Shape
 from vkgl.shapes import dart_shapes
 
 if TYPE_CHECKING:
@@ -81,10 +81,14 @@ class CollisionScene:
         table_size: np.ndarray | None = None,
         table_z: float = 0.0,
         tol: float = TOUCH_TOL,
+        margin: float = 0.0,
     ) -> None:
         """Bodies named by `shapes` (IR shapes, body frame).
 
         A table too, when `table_center` and `table_size` (x, y) are given.
+        `margin` (m) grows every box and cylinder of the bodies (not the table)
+        by that much on each side: a scene in which "free" means at least that
+        clear of them (meshes keep their size).
         """
         if TABLE in shapes:
             raise ValueError(f"a body may not be called `{TABLE}` in a collision scene: that name is the table's")
@@ -102,7 +106,9 @@ class CollisionScene:
         self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
         for name, shape in shapes.items():
             mesh = shape_mesh(shape)
-            parts = dart_shapes(shape)
+            parts = (
+                [(_grown(part, margin), local) for part, local in dart_shapes(shape)] if margin else dart_shapes(shape)
+            )
             # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
             self._add(name, parts, float(np.linalg.norm(mesh.vertices, axis=1).max()) * 1.005 + tol)
             self._support[name] = [_support(part, local, mesh) for part, local in parts]
@@ -118,12 +124,28 @@ class CollisionScene:
         self._table_memo: dict[tuple[str, bytes], bool] = {}
 
     @classmethod
-    def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL) -> CollisionScene:
+    def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0) -> CollisionScene:
         """The scene of a `vkgl.plan.model.Problem`: its bodies' shapes and its table (if the scene has one)."""
         shapes = {name: body.type.shape for name, body in problem.bodies.items()}
         return cls(
-            shapes, table_center=problem.table_center, table_size=problem.table_size, table_z=problem.table_z, tol=tol
+            shapes,
+            table_center=problem.table_center,
+            table_size=problem.table_size,
+            table_z=problem.table_z,
+            tol=tol,
+            margin=margin,
         )
+
+    @classmethod
+    def from_scene(
+        cls, scene: Scene, shapes: Mapping[str, Shape], tol: float = TOUCH_TOL, margin: float = 0.0
+    ) -> CollisionScene:
+        """The bodies `shapes` (by scene body name) and the table of a compiled `scene`."""
+        from vkgl.lang.geometry import table_top
+        from vkgl.plan.model import scene_table
+
+        center, size = scene_table(scene)
+        return cls(shapes, table_center=center, table_size=size, table_z=table_top(scene), tol=tol, margin=margin)
 
     # ------------------------------------------------------------ building
 
@@ -316,6 +338,16 @@ def _support(shape: Any, local: np.ndarray, mesh: Any) -> tuple[str, np.ndarray,
     if kind == "CylinderShape":
         return "cylinder", np.array([shape.getRadius(), shape.getHeight() / 2]), local
     return "points", np.asarray(mesh.convex_hull.vertices, dtype=float), np.eye(4)
+
+
+def _grown(shape: Any, margin: float) -> Any:
+    """A DART box or cylinder `margin` larger on every side (other shapes as they are)."""
+    kind = shape.getType()
+    if kind == "BoxShape":
+        return dart.dynamics.BoxShape(np.asarray(shape.getSize(), dtype=float) + 2 * margin)
+    if kind == "CylinderShape":
+        return dart.dynamics.CylinderShape(shape.getRadius() + margin, shape.getHeight() + 2 * margin)
+    return shape
 
 
 def _isometry(matrix: np.ndarray) -> Any:

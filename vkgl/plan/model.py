@@ -111,6 +111,8 @@ class Problem:
     table_z: float
     max_depth: int
     timeout: float
+    arm_start: np.ndarray | None = None
+    """The arm's joints before the first step (None: its home configuration)."""
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
     _actions: dict[tuple[str, str], np.ndarray] = field(default_factory=dict, repr=False)
@@ -173,7 +175,7 @@ def build_problem(
         raise InputError(f"max_depth must be at least 1 (graphs in a sequence, G0 included), got {depth}")
     if not limit > 0:
         raise InputError(f"the timeout must be positive, got {limit} s")
-    center, size = _table(scene)
+    center, size = scene_table(scene)
     return Problem(
         program, task, scene, bodies, placed.name, arm, effectors, goals, center, size, table_top(scene), depth, limit
     )
@@ -267,7 +269,8 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
 
 
-def _table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
+def scene_table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The table's centre and size (x, y, m) in `scene`, or (None, None) without a table."""
     if scene.table is None:
         return None, None
     return np.asarray(scene.table.position.values[:2], dtype=float), np.asarray(

@@ -99,6 +99,7 @@ def plan_transit(
     time_limit: float = 1.0,
     resolution: float = DEFAULT_RESOLUTION,
     straight_first: bool = True,
+    via: Sequence[np.ndarray] = (),
 ) -> TransitPath | TransitFailure:
     """A collision-free joint path from `start_q` to `goal_q` within [`lower`, `upper`], or why there is none.
 
@@ -106,7 +107,10 @@ def plan_transit(
     joint step, see `vkgl.plan.density.edge_resolution`), satisfies `is_valid`.
     `seed` makes the search reproducible; `time_limit` (s) bounds the search
     (the fast path and the final checks are not cut). `straight_first=False`
-    skips the fast path (for benchmarks). Exceptions of `is_valid` propagate.
+    skips the fast path (for benchmarks). `via`: polylines of intermediate
+    configurations (each k x n, without the ends) tried in turn after the
+    straight line and before OMPL, e.g. up, across and down. Exceptions of
+    `is_valid` propagate.
     """
     began = time.perf_counter()
     start, goal = np.asarray(start_q, dtype=float), np.asarray(goal_q, dtype=float)
@@ -139,6 +143,13 @@ def plan_transit(
         stage("straight")
         if clear:
             return found(np.vstack([start, goal]), "straight")
+        for middle in via:
+            polyline = np.vstack([start, np.atleast_2d(np.asarray(middle, dtype=float)), goal])
+            within = bool(np.all((polyline >= low - 1e-9) & (polyline <= high + 1e-9)))
+            clear = within and path_is_valid(polyline, check, resolution)
+            stage("via")
+            if clear:
+                return found(polyline, "via")
 
     time_left = time_limit - (time.perf_counter() - began)
     if time_left <= 0:
