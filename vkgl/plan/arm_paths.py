@@ -29,7 +29,7 @@ transit `k` of a plan is seeded with `k`.
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TypeVar
 
@@ -55,6 +55,9 @@ GRASP_STANDOFF = 0.05
 
 LIFT = 0.04
 """m: the hand rises this much after a grasp or a release, before it moves on."""
+
+TOOL_DESCENT = 0.03
+"""m: a held tool comes straight down this much to its stand-off before its straight approach."""
 
 CARTESIAN_SPEED = 0.03
 """m/s of the effector on the straight moves (approach, retreat, lift): slow, as they start or end in contact."""
@@ -111,20 +114,37 @@ class ArmPathPlanner:
             state = _ArmState(np.asarray(self.problem.arm.home if q_start is None else q_start, dtype=float))
             out = []
             for k, step in enumerate(steps, start=1):
-                if step.op == "add" and step.motion != "free":
-                    chain = self._contact_chain(step, state, f"step {k} ({step.title()})")
-                    if isinstance(chain, Rejection):
-                        return chain
-                    step = replace(step, q_start=chain[0], q_end=chain[-1])
-                found = self._step(k, step, state, deadline)
-                if isinstance(found, Rejection):
-                    return found
-                out.append(replace(step, path=found))
+                planned = self._planned_step(k, step, state, deadline)
+                if isinstance(planned, Rejection):
+                    return planned
+                out.append(planned)
             return out
         finally:
             self.seconds += time.perf_counter() - began
 
-    def _contact_chain(self, step: PlanStepRecord, state: _ArmState, label: str) -> np.ndarray | Rejection:
+    def _planned_step(self, k: int, step: StepT, state: _ArmState, deadline: float | None) -> StepT | Rejection:
+        """The step with its path; a contact tries each arm configuration that carries its motion in turn,
+        until one can be approached."""
+        if step.op != "add" or step.motion == "free":
+            found = self._step(k, step, state, deadline)
+            return found if isinstance(found, Rejection) else replace(step, path=found)
+        label = f"step {k} ({step.title()})"
+        first: Rejection | None = None
+        for chain in self._contact_chain(step, state, label):
+            if isinstance(chain, Rejection):
+                return first or chain
+            attempt = _ArmState(state.q.copy(), state.held, state.lift)
+            moved = replace(step, q_start=chain[0], q_end=chain[-1])
+            found = self._step(k, moved, attempt, deadline)
+            if not isinstance(found, Rejection):
+                state.q, state.held, state.lift = attempt.q, attempt.held, attempt.lift
+                return replace(moved, path=found)
+            first = first or found
+            if found.kind != "approach":
+                return found
+        return first or Rejection("ik", f"{label}: no arm configuration carries the whole motion", 1.0)
+
+    def _contact_chain(self, step: PlanStepRecord, state: _ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
         """Joints every `CHAIN_SPACING` along a contact's motion, in one arm configuration from start to end.
 
         The plan's configuration at the contact first; if the arm would have
@@ -148,7 +168,8 @@ class ArmPathPlanner:
         travel = float(np.linalg.norm(end[:3, :3] @ upright[:3, 3] + end[:3, 3] - upright[:3, 3]))
         count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
         first: str | None = None
-        for pitch in PITCHES:
+        # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
+        for pitch in PITCHES if state.held is None else PITCHES[:1]:
             hand = upright @ _pitched_back(pitch)
             poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
             for seed in (step.q_start, arm.home):  # a failing IK is costly (restarts): two seeds per pitch
@@ -163,8 +184,8 @@ class ArmPathPlanner:
                 if clash is not None:
                     first = first or clash
                     continue
-                return chain.joints.copy()
-        return Rejection("ik", f"{label}: no arm configuration carries the whole motion ({first})", 1.0)
+                yield chain.joints.copy()
+        yield Rejection("ik", f"{label}: no arm configuration carries the whole motion ({first})", 1.0)
 
     def _contact_clash(
         self, step: PlanStepRecord, state: _ArmState, q_start: np.ndarray, q_end: np.ndarray
@@ -223,8 +244,8 @@ class ArmPathPlanner:
         if state.held is not None:
             # a tool works at table height: it comes down to its stand-off first, so that the transit
             # ends clear of the table (a joint-space line between two poses at table height dips into it)
-            poses = approach_poses(poses[0], LIFT, APPROACH_STEP, DOWN)[:-1] + poses
-            length += LIFT
+            poses = approach_poses(poses[0], TOOL_DESCENT, APPROACH_STEP, DOWN)[:-1] + poses
+            length += TOOL_DESCENT
         # solved from the contact outward, so the arm arrives in the configuration the search checked
         outward = follow_poses(self.problem.arm, poses[::-1], step.q_start)
         if isinstance(outward, CartesianFailure):
@@ -285,7 +306,9 @@ class ArmPathPlanner:
         if deadline is not None:
             limit = max(0.05, min(limit, deadline - time.perf_counter()))
         self.transits += 1
-        collision = self.geometry.transit_collision
+        # a held tool works close to the body it acts on (a hook's shaft along the block it pulls): its transits
+        # keep no clearance beyond the exact geometry; the bare arm's keep `TRANSIT_CLEARANCE`
+        collision = self.geometry.transit_collision if state.held is None else self.geometry.arm_collision
         found = transit_segment(collision, state.q, goal, poses, state.held, seed=k, time_limit=limit)
         if isinstance(found, TransitFailure):
             blocker = self._blocker(found.reason, state.q, goal, state.held)

@@ -166,6 +166,11 @@ def plan_transit(
     return failed(f"{PLANNER}'s path failed the dense re-validation")
 
 
+SEARCH_CHECKS = 20_000
+"""Validity checks RRTConnect may spend before it gives up. This budget, not the clock, ends a search on any
+reasonably fast machine, so the same input gives the same answer however loaded the machine is (`time_limit`
+is the safety net)."""
+
 _OMPL_LOCK = threading.Lock()
 """OMPL's seed generator and log level are global: one planning call at a time in a process, so that threads
 planning at once still get their seeded paths."""
@@ -306,6 +311,7 @@ class _StateValidity:
         self.check = check
         self.n = n
         self.errors = errors
+        self.budget = check.calls + SEARCH_CHECKS
 
     def __call__(self, state: Any) -> bool:
         """Whether the OMPL state is valid."""
@@ -323,8 +329,8 @@ class _StateValidity:
             return False
 
     def failed(self) -> bool:
-        """Whether `is_valid` raised (the planner's extra termination condition)."""
-        return bool(self.errors)
+        """Whether `is_valid` raised, or the search used up its `SEARCH_CHECKS` (the planner's extra stop)."""
+        return bool(self.errors) or self.check.calls > self.budget
 
 
 __all__ = ["PLANNER", "TransitFailure", "TransitPath", "plan_transit"]

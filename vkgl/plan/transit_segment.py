@@ -26,8 +26,9 @@ from vkgl.robot import Arm
 TRANSIT_SPEED_SCALE = 0.35
 """Transits run at this fraction of the URDF's joint velocity limits (0.76 rad/s for the Panda's joints 1-4)."""
 
-TRANSIT_TIME_LIMIT = 1.0
-"""s: how long OMPL may search for one transit (less when the search's deadline is nearer)."""
+TRANSIT_TIME_LIMIT = 5.0
+"""s: the clock's bound on OMPL's search for one transit (less when the search's deadline is nearer); its budget
+of validity checks (`vkgl.plan.transit.SEARCH_CHECKS`) normally ends a failing search first, deterministically."""
 
 VIA_HEIGHTS = (0.1, 0.2)
 """m: before OMPL is asked, a transit tries going this high over what lies between its ends."""
