@@ -113,14 +113,13 @@ class ArmMoves:
     def _joining_transit(self, q_target: np.ndarray) -> ArmSegment:
         from vkgl.plan.arm_collision import ArmCollision, Held
         from vkgl.plan.collision import CollisionScene
-        from vkgl.plan.geometry_check import TRANSIT_CLEARANCE
         from vkgl.plan.transit import TransitFailure
         from vkgl.plan.transit_segment import transit_segment
 
         if self._collision is None:
             shapes = {name: body.shape for name, body in self.sim.types.items()}
-            grown = CollisionScene.from_scene(self.sim.scene, shapes, margin=TRANSIT_CLEARANCE)
-            self._collision = ArmCollision(grown, self.sim.arm_model)
+            # the exact geometry: the arm may start touching a body (where a contact motion left it)
+            self._collision = ArmCollision(CollisionScene.from_scene(self.sim.scene, shapes), self.sim.arm_model)
         held = None
         if self.sim.arm.held is not None:
             in_hand = np.linalg.inv(self.sim.arm.effector_pose()) @ self.sim.poses()[self.sim.arm.held.name]

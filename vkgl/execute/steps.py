@@ -23,11 +23,13 @@ from vkgl.errors import InputError, SimulationError
 from vkgl.execute import effector_path as paths
 from vkgl.execute.arm_moves import ArmMoves
 from vkgl.execute.scene_world import SceneWorld
+from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
 from vkgl.lang.ir import Affordance, Body, FixedC
 
 STANDOFF = 0.01  # m the effector backs off when it lets go outside the plan (at the end, before a re-solve)
 LIFT = 0.04  # m the effector rises after letting go outside the plan
+PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
 
 
@@ -95,9 +97,15 @@ class StepKinds:
     def _push(self, step: PlanStepRecord, label: str) -> None:
         body_start, body_end = step.poses_start[step.body], step.poses_end[step.body]
         pusher = body_start @ self._action_pose(step, label)
-        self._hand_from_pusher(step, pusher, label)  # checks the effector is the arm's or a held tool's
+        wanted = self._hand_from_pusher(step, pusher, label)
         # the hand as planned at the contact (the planner may lean it back from upright to clear a tall face)
         hand = self.sim.arm_model.fk(step.q_start)
+        off = float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
+        if off > PLAN_CONTACT_TOL:
+            raise ArmStuck(
+                f"the plan is inconsistent: its arm configuration at the contact puts the effector "
+                f"{off * 100:.1f} cm from the contact of {step.affordance}"
+            )
         direction = pusher[:3, 0].copy()
         motion = paths.screw_motion(body_start, body_end)
         moving = [
