@@ -19,9 +19,11 @@ import vkgl
 from vkgl.cli import main
 from vkgl.errors import InputError
 from vkgl.lang.compiler import compile_file
+from vkgl.lang.geometry import joint_pose
 from vkgl.lang.ir import Quantity
 from vkgl.plan.feasible import goal_holds, goal_residuals
 from vkgl.plan.model import build_problem
+from vkgl.plan.picture import _goal_pose, plan_image
 
 HERE = Path(__file__).resolve().parent
 
@@ -204,3 +206,29 @@ def test_a_joint_goal_made_through_the_api_on_a_body_without_a_joint_is_an_input
     angle = task.goals[0].model_copy(update={"opening": Quantity(value=0.3, unit="rad")})
     with pytest.raises(InputError, match="a prismatic joint, which opens by a length"):
         build_problem(program, task.model_copy(update={"goals": [angle]}))
+
+
+# ---------------------------------------------------------------- the joint's coordinate and pose
+
+
+@pytest.mark.parametrize(("name", "value"), [("slide", 0.07), ("slide", -0.02), ("hinge", 0.6), ("hinge", -1.2)])
+def test_joint_pose_and_joint_coordinate_are_inverse(name: str, value: float) -> None:
+    program = local("task t { scene slides  goal slide open 5 cm }\ntask u { scene hinges  goal hinge open 5deg }\n")
+    problem = build_problem(program, program.tasks["t" if name == "slide" else "u"])
+    body = problem.bodies[name]
+    pose = joint_pose(body.type.joint, body.rest, value)
+    assert body.joint_state(pose) == pytest.approx(value, abs=1e-12)
+    if name == "hinge":  # it turns about the line through its `through` point: that point stays put
+        hinge = np.array([0.0, -0.20, 0.0, 1.0])
+        assert (pose @ hinge)[:3] == pytest.approx((body.rest @ hinge)[:3], abs=1e-12)
+
+
+def test_the_plan_picture_outlines_the_body_at_its_joint_goal() -> None:
+    program = local("task t { scene hinges  goal hinge open 20deg within 2deg }\n")
+    plan = vkgl.solve(program)
+    body = plan.problem.bodies["hinge"]
+    assert _goal_pose(plan.problem, plan.problem.goals[0]) == pytest.approx(plan.final["hinge"], abs=1e-9)
+    assert _goal_pose(plan.problem, plan.problem.goals[0]) == pytest.approx(
+        joint_pose(body.type.joint, body.rest, math.radians(20)), abs=1e-12
+    )
+    assert plan_image(plan, "png").startswith(b"\x89PNG")

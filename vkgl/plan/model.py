@@ -13,10 +13,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.errors import InputError
-from vkgl.lang.geometry import resting_height, scene_body_pose, table_top
+from vkgl.lang.geometry import joint_axis, joint_coordinate, resting_height, scene_body_pose, table_top
 from vkgl.lang.ir import (
     Affordance,
     Body,
@@ -67,11 +66,8 @@ class PlanBody:
         rotation from rest about the axis (its rotation vector's component),
         exact up to half a turn. Goals and joint limits are measured alike.
         """
-        assert self.joint_axis is not None, f"{self.name} has no physical joint"
-        if self.joint == "prismatic":
-            return float(self.joint_axis @ (self.rest[:3, :3].T @ (pose[:3, 3] - self.rest[:3, 3])))
-        relative = self.rest[:3, :3].T @ pose[:3, :3]
-        return float(self.joint_axis @ Rotation.from_matrix(relative).as_rotvec())
+        assert self.joint is not None and self.joint_axis is not None, f"{self.name} has no physical joint"
+        return joint_coordinate(self.joint, self.joint_axis, self.rest, pose)
 
 
 @dataclass(frozen=True)
@@ -241,7 +237,7 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         on_table=scene_body.placement.on_table,
         affordances=usable,
         joint=None if joint is None else joint.type,
-        joint_axis=None if joint is None else joint.axis.array() / np.linalg.norm(joint.axis.array()),
+        joint_axis=None if joint is None else joint_axis(joint),
         joint_limits=None if joint is None else (joint.lower.value, joint.upper.value),
     )
 
