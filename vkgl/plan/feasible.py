@@ -183,6 +183,8 @@ def limit_words(problem: Problem, name: str, pose: np.ndarray, goal: GoalSpec | 
         state = body.joint_state(pose)
         scale, unit = (100.0, "cm") if body.joint == "prismatic" else (math.degrees(1.0), "deg")
         needed = goal_joint_state(problem, name, goal)
+        if needed is not None and lower <= needed <= upper:
+            needed = None  # the goal is within the limits: it is the motion's way there that passes one
         what = "the goal needs it at" if needed is not None else "it would have to move to"
         state = needed if needed is not None else state
         edge, side = (upper, "upper") if state > (lower + upper) / 2 else (lower, "lower")
