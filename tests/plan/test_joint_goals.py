@@ -232,3 +232,15 @@ def test_the_plan_picture_outlines_the_body_at_its_joint_goal() -> None:
         joint_pose(body.type.joint, body.rest, math.radians(20)), abs=1e-12
     )
     assert plan_image(plan, "png").startswith(b"\x89PNG")
+
+
+def test_the_joint_goals_example_of_the_language_reference_solves(tmp_path: Path) -> None:
+    """docs/language.md, "Joint goals", says `vkgc solve` solves both of its tasks with one push each."""
+    text = (HERE.parents[1] / "docs" / "language.md").read_text(encoding="utf-8")
+    section = text.split("### Joint goals", 1)[1]
+    snippet = section.split("```vkg\n", 1)[1].split("```", 1)[0]
+    program = compile_file(str(write(tmp_path, snippet, "kitchen.vkg")))
+    for task in ("open_drawer", "open_door"):
+        plan = vkgl.solve(program, task)
+        assert plan.status == "solved" and plan.depth == 2, plan.reason
+        assert check_plan(program, json.loads(json.dumps(plan.to_json()))) == []
