@@ -206,6 +206,9 @@ def test_a_joint_goal_made_through_the_api_on_a_body_without_a_joint_is_an_input
     angle = task.goals[0].model_copy(update={"opening": Quantity(value=0.3, unit="rad")})
     with pytest.raises(InputError, match="a prismatic joint, which opens by a length"):
         build_problem(program, task.model_copy(update={"goals": [angle]}))
+    exact = task.goals[0].model_copy(update={"tol_opening": Quantity(value=0.0, unit="cm")})
+    with pytest.raises(InputError, match="the joint goal on `slide` needs a positive tolerance"):
+        build_problem(program, task.model_copy(update={"goals": [exact]}))
 
 
 # ---------------------------------------------------------------- the joint's coordinate and pose

@@ -288,7 +288,10 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
         kind = "a length" if body.joint == "prismatic" else "an angle"
         has = f"a {body.joint} joint, which opens by {kind}" if body.joint else "no physical joint to open"
         raise InputError(f"{_where(goal)}task {task.name}: the joint goal on `{name}` cannot hold: `{name}` has {has}")
-    return GoalSpec(name, position, yaw, float(tol_p), float(tol_y), goal.opening.value, goal.opening_tolerance())
+    tolerance = goal.opening_tolerance()
+    if not tolerance > 0:  # what `vkgc check` reports (E411)
+        raise InputError(f"{_where(goal)}task {task.name}: the joint goal on `{name}` needs a positive tolerance")
+    return GoalSpec(name, position, yaw, float(tol_p), float(tol_y), goal.opening.value, tolerance)
 
 
 def _table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
