@@ -170,6 +170,17 @@ def _check_goals(task: Any, final: dict[str, np.ndarray]) -> list[str]:
     return out
 
 
+def joint_goal_problems(program: Program, plan_json: dict[str, Any]) -> list[str]:
+    """The joint goals a plan's final poses miss (only those: the rest of `check_plan` is not run)."""
+    plan = json.loads(json.dumps(plan_json))
+    task = program.tasks[plan["task"]]
+    scene = program.scenes[task.scene.name]
+    types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
+    rest = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
+    final = {n: np.array(m) for n, m in plan["final"].items()}
+    return _check_joint_goals(task, final, rest, types)
+
+
 def _check_joint_goals(
     task: Any, final: dict[str, np.ndarray], rest: dict[str, np.ndarray], types: dict[str, Any]
 ) -> list[str]:
