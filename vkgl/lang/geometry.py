@@ -17,6 +17,7 @@ from vkgl.lang.ir import (
     Body,
     BoxShape,
     CylinderShape,
+    Joint,
     MeshShape,
     Scene,
     SceneBody,
@@ -158,3 +159,38 @@ def surface_point(mesh: trimesh.Trimesh, start: np.ndarray, outward: np.ndarray)
         return None
     first = int(np.argmin(np.where(inside, distance, np.inf)))
     return np.asarray(points[first], dtype=float)
+
+
+# ---------------------------------------------------------------- physical joints
+
+
+def joint_axis(joint: Joint) -> np.ndarray:
+    """The joint's axis as a unit vector in the body frame."""
+    axis = joint.axis.array()
+    return axis / np.linalg.norm(axis)
+
+
+def joint_coordinate(kind: str, axis: np.ndarray, rest: np.ndarray, pose: np.ndarray) -> float:
+    """The coordinate (m or rad) of a `kind` joint with unit `axis` whose body started at `rest`, now at `pose`.
+
+    0 at rest. Prismatic: the displacement along the axis; revolute: the
+    rotation about it (its rotation vector's component, exact up to half a
+    turn). Joint limits and joint goals are measured alike, by the planner
+    and on an executed plan.
+    """
+    if kind == "prismatic":
+        return float(axis @ (rest[:3, :3].T @ (pose[:3, 3] - rest[:3, 3])))
+    return float(axis @ Rotation.from_matrix(rest[:3, :3].T @ pose[:3, :3]).as_rotvec())
+
+
+def joint_pose(joint: Joint, rest: np.ndarray, value: float) -> np.ndarray:
+    """The world pose of a body that started at `rest` once its joint is at coordinate `value` (m or rad)."""
+    axis = joint_axis(joint)
+    moved = np.eye(4)
+    if joint.type == "prismatic":
+        moved[:3, 3] = value * axis
+    else:
+        through = joint.through.array() if joint.through is not None else np.zeros(3)
+        moved[:3, :3] = Rotation.from_rotvec(value * axis).as_matrix()
+        moved[:3, 3] = through - moved[:3, :3] @ through
+    return rest @ moved

@@ -66,6 +66,8 @@ def _goal_values(
     problem: Problem, seq: Sequence, goal: GoalSpec, values: np.ndarray
 ) -> dict[int, tuple[float, bool]] | Rejection:
     """Values of the goal body's motions that meet its goal (and whether they are unique), or a Rejection."""
+    if goal.opening is not None:
+        return _joint_goal_values(problem, seq, goal)
     own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
     turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
     slides = [i for i in own if i not in turns]
@@ -107,6 +109,71 @@ def _goal_values(
     out = {i: (float(a), exact_turns) for i, a in zip(turns, angles[best[1]])}
     out.update({i: (float(v), exact_turns and unique) for i, v in zip(slides, best[2])})
     return out
+
+
+def _joint_goal_values(problem: Problem, seq: Sequence, goal: GoalSpec) -> dict[int, tuple[float, bool]] | Rejection:
+    """Motion values that give the goal body's joint the goal's coordinate, or why none can.
+
+    The coordinate is linear in the body's motion values when a slide's body
+    only slides (each slide adds its value times its axis along the joint's)
+    or a hinge's body only turns about axes along the hinge's (each turn adds
+    its angle, signed); then the reachable interval is exact and one motion is
+    pinned. Otherwise the optimiser alone decides.
+    """
+    body = problem.bodies[goal.body]
+    own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
+    if body.joint_axis is None or goal.opening is None or not own:
+        return {}
+    weights = []
+    for i in own:
+        e = seq.variables[i][1]
+        axis, center = unit_axis_and_center(problem.affordance(e.body, e.affordance).motion)
+        along = float(body.joint_axis @ axis)
+        if body.joint == "prismatic" and center is not None:
+            return {}  # a turn moves the body's position nonlinearly
+        if body.joint == "revolute" and center is not None and abs(abs(along) - 1.0) > 1e-6:
+            return {}  # a turn about another axis: not a sum of angles
+        weights.append(0.0 if body.joint == "revolute" and center is None else along)
+    limits = [_limits(problem, seq, i) for i in own]
+    low = sum(min(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
+    high = sum(max(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
+    target = goal.opening
+    if not low - goal.tol_opening <= target <= high + goal.tol_opening:
+        why = _joint_why(problem, seq, goal.body, target, own, (low, high))
+        return Rejection("goal", why, max(low - target, target - high))
+    # A start: every value at its lower bound, then the motions that move the joint the needed way share
+    # what is left in proportion to how far each can move it (for one motion, the exact value).
+    values = [lo for lo, _ in limits]
+    left = min(max(target, low), high) - sum(w * v for w, v in zip(weights, values))
+    helping = [k for k, w in enumerate(weights) if w * left > 0]
+    room = sum(abs(weights[k]) * (limits[k][1] - limits[k][0]) for k in helping)
+    for k in helping:
+        values[k] += (limits[k][1] - limits[k][0]) * min(1.0, abs(left) / room) if room > 0 else 0.0
+    exact = len(own) == 1 and weights[0] != 0.0
+    return {i: (float(v), exact) for i, v in zip(own, values)}
+
+
+def _joint_why(
+    problem: Problem, seq: Sequence, body: str, target: float, own: list[int], reach: tuple[float, float]
+) -> str:
+    """`drawer must open 20.0 cm on its prismatic joint, but Drawer.push_center_px opens it 0.0 to 8.8 cm here`."""
+    joint = problem.bodies[body].joint
+    low, high = reach
+    scale, unit = (100.0, "cm") if joint == "prismatic" else (math.degrees(1.0), "deg")
+    names = sorted({_name(problem, seq, i) for i in own})
+    movers = names[0] if len(names) == 1 else f"its {len(own)} motions ({', '.join(names)})"
+    ranged = sorted(
+        {
+            f"{_name(problem, seq, i)} {_limits(problem, seq, i)[1] * scale:.1f} {unit}"
+            for i in own
+            if _has_range(problem, seq, i)
+        }
+    )
+    within = f", each contact within the range it was explored over ({', '.join(ranged)})" if ranged else ""
+    return (
+        f"{body} must open {target * scale:.1f} {unit} on its {joint} joint, but {movers} "
+        f"open{'s' if len(names) == 1 else ''} it {low * scale:.1f} to {high * scale:.1f} {unit} here{within}"
+    )
 
 
 def _limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:

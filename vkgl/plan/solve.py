@@ -49,16 +49,21 @@ def solve(
 
 
 def _hopeless(problem: Problem) -> str | None:
-    """Why no search can succeed, found without searching (goal off the table, nothing moves the body), or None."""
+    """Why no search can succeed, found without searching, or None.
+
+    A goal past the body's joint limits (a joint goal's opening, or where a
+    position goal puts a slide), a goal off the table, or nothing to move the body.
+    """
     from vkgl.plan.feasible import goal_joint_state, limit_words
 
     for goal in problem.goals:
         body = problem.bodies[goal.body]
-        state = goal_joint_state(problem, goal.body)
+        state = goal_joint_state(problem, goal.body, goal)
         if state is not None and body.joint_limits is not None:
             lower, upper = body.joint_limits
-            if not lower - goal.tol_position <= state <= upper + goal.tol_position:
-                return limit_words(problem, goal.body, body.rest)
+            tolerance = goal.tol_opening if goal.opening is not None else goal.tol_position
+            if not lower - tolerance <= state <= upper + tolerance:
+                return limit_words(problem, goal.body, body.rest, goal)
         movers = [a for a in body.affordances if a.motion.type in ("prismatic", "revolute")]
         if goal.position is not None and problem.table_center is not None and body.on_table:
             low = problem.table_center - problem.table_size / 2  # type: ignore[operator]
