@@ -157,6 +157,8 @@ def plan_transit(
     inside = np.clip(start, low, high), np.clip(goal, low, high)  # within 1e-9: OMPL would reject the ends
     outcome = _quiet_ompl(*inside, check, stage, low, high, seed=seed, time_limit=time_left, resolution=resolution)
     if isinstance(outcome, str):
+        if outcome.startswith("no path found"):
+            outcome = f"no path found by {PLANNER} within {time_limit:.3g} s or {SEARCH_CHECKS} checks"
         return failed(outcome)
     for waypoints in outcome:
         valid = path_is_valid(waypoints, check, resolution)
