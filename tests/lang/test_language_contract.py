@@ -16,6 +16,7 @@ import shutil
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import DESIGN
 
@@ -113,12 +114,19 @@ def test_body_snippets_match_the_stdlib_bodies() -> None:
     The stdlib Block explores the §3 `pushes` and, after it, a longer `slides`
     block (stdlib/bodies/block.vkg says why: the slides' explored range); the
     Block of §3 is the stdlib's without that addition.
+    The stdlib Drawer is the §3 drawer with a handle (its shape is a union whose
+    first part is the §3 box, in place), a real drawer's mass, and explorations
+    of both directions (stdlib/bodies/drawer.vkg says why); its joint is §3's.
     """
     snippet = parse_module(_block("body Block"), "snippet.vkg")
     by_name = {d.name: d for d in snippet.decls}
     hook = parse_module((stdlib_dir() / "bodies" / "hook.vkg").read_text(encoding="utf-8"), "x.vkg").decls[0]
     assert [f.name for f in hook.frames] == ["handle", "tip"] and hook.explores == by_name["Hook"].explores
-    for name in ("Block", "Stick", "Drawer"):
+    drawer = parse_module((stdlib_dir() / "bodies" / "drawer.vkg").read_text(encoding="utf-8"), "x.vkg").decls[0]
+    first = drawer.shape.parts[0]
+    assert first.shape == by_name["Drawer"].shape and first.pose.matrix() == pytest.approx(np.eye(4))
+    assert drawer.joint == by_name["Drawer"].joint
+    for name in ("Block", "Stick"):
         shipped = parse_module((stdlib_dir() / "bodies" / f"{name.lower()}.vkg").read_text(encoding="utf-8"), "x.vkg")
         (body,) = [d for d in shipped.decls if d.name == name]
         if name == "Block":

@@ -5,8 +5,13 @@ Trials are grouped by where and how the robot acted and by what the body did:
 - a PUSH trial (contact on a face, force along its inward normal) is keyed by
   its push direction (`px` = along +x, ...), where along the face the contact
   was (`center`, or near the `left` / `right` end, left being the side to the
-  left of the push direction, z up), the action type, the motion type and the
-  sense of rotation. Each group keeps its highest-likelihood trial.
+  left of the push direction, z up), the action type, the motion type, the
+  sense of rotation, and whether it pushed or pulled. Each group keeps its
+  highest-likelihood trial.
+- a PULL is a push whose contact lies beyond the body's origin in the
+  direction of the force (by more than 1 mm): the fingertip pushed a surface
+  that faces the body, such as the inner face of a handle's bar it hooked
+  behind, and the body followed it.
 - a WIELD exploration (one grasp, many force directions: the contact point is
   shared by trials whose forces differ) is one group whose constraint must
   explain every trial at once: its models are fitted to all its trials
@@ -14,7 +19,8 @@ Trials are grouped by where and how the robot acted and by what the body did:
 
 Groups whose body did not move (`motion fixed`) are dropped: nothing to plan
 with. Names: `push_center_px`, `push_px_left`, `turn_px_left`, `move_px_right`
-(free), `wield`; a clash gets a numeric suffix.
+(free), `pull_center_px` (a pull, whatever its motion), `wield`; a clash gets
+a numeric suffix.
 """
 
 from __future__ import annotations
@@ -53,6 +59,7 @@ _SAME_AXIS = np.deg2rad(5.0)  # motions whose axes differ less are one constrain
 _SAME_LINE = 0.01  # ... and, for turns, whose axis lines pass within this (m)
 _TIE = 1.0  # nats: log-likelihoods this close are a tie
 _VERBS = {"prismatic": "push", "revolute": "turn", "free": "move"}
+_PULL_MARGIN = 0.001  # m a pull's contact lies beyond the body's origin along the force, at least
 
 
 @dataclass
@@ -85,14 +92,15 @@ def group_trials(trials: Trials, results: list[TrialInference]) -> list[Group]:
 _DIRECTIONS = ("px", "nx", "py", "ny", "pz", "nz", "any")
 _PLACES = ("center", "left", "right", "")
 _MOTIONS = ("prismatic", "revolute", "free")
+_KINDS = ("push", "pull")
 
 
 def _reading_order(g: Group) -> tuple:
-    """Wielding first; then by push direction (+x, -x, ...), motion (push, turn, move), place, first trial."""
+    """Wielding first; then by direction (+x, -x, ...), push before pull, motion (push, turn, move), place, trial."""
     if g.key == ("wield",):
         return (0, g.members[0])
-    label, place, _, motion, _ = g.key
-    return (1, _DIRECTIONS.index(label), _MOTIONS.index(motion), _PLACES.index(place), g.members[0])
+    label, place, _, motion, _, kind = g.key
+    return (1, _DIRECTIONS.index(label), _KINDS.index(kind), _MOTIONS.index(motion), _PLACES.index(place), g.members[0])
 
 
 # ---------------------------------------------------------------- wield (one grasp, many directions)
@@ -152,17 +160,17 @@ def _stack(parts: list[EdgeData]) -> EdgeData:
 
 
 def _push_groups(pushes: list[TrialInference]) -> list[Group]:
-    by_direction: dict[str, list[TrialInference]] = defaultdict(list)
+    by_direction: dict[tuple[str, str], list[TrialInference]] = defaultdict(list)
     for r in pushes:
-        by_direction[_direction_label(r.force)].append(r)
+        by_direction[(_direction_label(r.force), "pull" if _pulls(r) else "push")].append(r)
     keyed: dict[tuple, list[TrialInference]] = defaultdict(list)
     place_of: dict[int, str] = {}
-    for label, members in by_direction.items():
+    for (label, kind), members in by_direction.items():
         for r, place in zip(members, _places(members)):
             assert r.motion is not None
             place_of[r.index] = place
             action_type = r.action.type if r.action is not None else None
-            keyed[(label, place, action_type, r.motion.type, _sense(r.motion))].append(r)
+            keyed[(label, place, action_type, r.motion.type, _sense(r.motion), kind)].append(r)
     groups = []
     for members in _merge_equivalent(keyed):
         best = _representative(members)
@@ -170,7 +178,7 @@ def _push_groups(pushes: list[TrialInference]) -> list[Group]:
         posterior = best.motion.posterior[best.motion.type]
         if best.action is not None:
             posterior *= best.action.posterior[best.action.type]
-        label, _, action_type, motion_type, sense = next(k for k, v in keyed.items() if best in v)
+        label, _, action_type, motion_type, sense, kind = next(k for k, v in keyed.items() if best in v)
         groups.append(
             Group(
                 name="",
@@ -180,7 +188,7 @@ def _push_groups(pushes: list[TrialInference]) -> list[Group]:
                 loglik=best.loglik,
                 posterior=posterior,
                 kept=best.index,
-                key=(label, place_of[best.index], action_type, motion_type, sense),
+                key=(label, place_of[best.index], action_type, motion_type, sense, kind),
                 state_range=_state_range(members),
             )
         )
@@ -202,13 +210,13 @@ def _merge_equivalent(keyed: dict[tuple, list[TrialInference]]) -> list[list[Tri
     anywhere turns it about the same hinge: one affordance, not three. Turns
     about different centres (the Block's two ends) stay apart.
     """
-    order = sorted(keyed, key=lambda k: (k[0], str(k[2]), k[3], k[4], _PLACES.index(k[1])))
+    order = sorted(keyed, key=lambda k: (k[0], str(k[2]), k[3], k[4], k[5], _PLACES.index(k[1])))
     merged: list[tuple[tuple, TrialInference, list[TrialInference]]] = []
     for key in order:
         members = keyed[key]
         head = _representative(members)
         for other_key, other_head, other_members in merged:
-            same_kind = (other_key[0], other_key[2], other_key[3], other_key[4]) == (key[0], key[2], key[3], key[4])
+            same_kind = (other_key[0], *other_key[2:]) == (key[0], *key[2:])
             if same_kind and _same_constraint(head.motion, other_head.motion):
                 other_members.extend(members)
                 break
@@ -242,6 +250,12 @@ def _representative(members: list[TrialInference]) -> TrialInference:
 def _lateral_distance(r: TrialInference) -> float:
     ok = np.all(np.isfinite(r.contact)) and np.all(np.isfinite(r.force)) and np.linalg.norm(r.force) > 0
     return abs(float(r.contact @ _left_of(r.force))) if ok else 0.0
+
+
+def _pulls(r: TrialInference) -> bool:
+    """Whether the contact lies beyond the body's origin along the force: the fingertip pulled it."""
+    ok = np.all(np.isfinite(r.contact)) and np.all(np.isfinite(r.force)) and np.linalg.norm(r.force) > 0
+    return bool(ok and float(r.contact @ r.force) / float(np.linalg.norm(r.force)) > _PULL_MARGIN)
 
 
 def _direction_label(force: np.ndarray) -> str:
@@ -305,7 +319,7 @@ def _name(groups: list[Group]) -> None:
 
 def _push_name(g: Group) -> str:
     label, place = g.key[0], g.key[1]
-    verb = _VERBS.get(g.motion.type, "push")
+    verb = "pull" if g.key[5] == "pull" else _VERBS.get(g.motion.type, "push")
     if label == "any":
         return verb
     if place == "center":

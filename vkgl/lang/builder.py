@@ -230,6 +230,10 @@ class Builder(TaskBuilder):
         spec = new_node(ir.ContactSpec, faces=faces, steps=self.integer(children[-1], "`steps`"), span=self.span(meta))
         return Item("contacts", spec, self.span(meta))
 
+    def contacts_at(self, meta: Any, children: list[Any]) -> Item:
+        frames = [new_node(ir.Ref, name=str(c), span=self.tspan(c)) for c in children]
+        return Item("contacts", new_node(ir.ContactSpec, frames=frames, span=self.span(meta)), self.span(meta))
+
     def force_normal(self, meta: Any, children: list[Any]) -> Item:
         spec = new_node(
             ir.ForceSpec, mode="normal", magnitude=self.to_quantity(children[0], "force"), span=self.span(meta)

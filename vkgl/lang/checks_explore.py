@@ -1,9 +1,10 @@
 """Semantic checks of `explore` blocks: every rule the explorer (vkgl/sim/policy.py) relies on.
 
-A checked exploration is either a push (`contacts on faces ... steps K` with
-`force normal Q`) or a grasp (`grasp FRAME` with `force directions I x J x K Q`),
-has a positive force and duration, pushes only faces the fingertip can reach,
-and every contact point lies on the body's surface.
+A checked exploration is either a push (`contacts on faces ... steps K` or
+`contacts at FRAME, ...`, with `force normal Q`) or a grasp (`grasp FRAME`
+with `force directions I x J x K Q`), has a positive force and duration,
+pushes only faces the fingertip can reach, and every contact point lies on the
+body's surface (a contact frame: its origin, with its x axis into the body).
 """
 
 from __future__ import annotations
@@ -45,6 +46,12 @@ def check_explore(explore: ir.Explore, body: ir.Body, shape_ok: bool, ctx: Check
         _check_faces(contacts, body, ctx)
         if shape_ok and 1 <= contacts.steps <= STEPS.high:
             _check_contact_points(contacts, body, ctx)
+        known = [f for f in contacts.frames if body.frame(f.name) is not None]
+        for ref in contacts.frames:
+            if body.frame(ref.name) is None:
+                unknown_frame(body, ref.name, ref.span, ctx)
+        if shape_ok and known:
+            _check_contact_frames(known, body, ctx)
 
 
 def _check_kind(explore: ir.Explore, ctx: CheckContext) -> None:
@@ -139,3 +146,44 @@ def _check_contact_points(contacts: ir.ContactSpec, body: ir.Body, ctx: CheckCon
                     ctx.narrow(contacts.span, rf"({re.escape(face)})"),
                 )
                 break
+
+
+FRAME_REACH = 0.01  # m behind a contact frame's origin from which the fingertip comes
+FRAME_TOLERANCE = 0.001  # m: how far from the body's surface a contact frame's origin may be
+
+
+def _check_contact_frames(frames: list[ir.Ref], body: ir.Body, ctx: CheckContext) -> None:
+    """A contact frame's origin must lie on the surface, its x axis into the body, with room behind it.
+
+    A ray from FRAME_REACH behind the origin along the frame's x must first
+    meet the body within FRAME_TOLERANCE of the origin: the fingertip comes
+    from there (behind a handle's bar, say) and pushes along x.
+    """
+    from vkgl.lang.geometry import body_mesh, surface_point  # trimesh: only when needed
+
+    try:
+        mesh = body_mesh(body)
+    except Exception:  # an unreadable mesh is E503's business
+        return
+    for ref in frames:
+        frame = body.frame(ref.name)
+        assert frame is not None
+        pose = frame.pose.matrix()
+        origin, x = pose[:3, 3], pose[:3, 0]
+        hit = surface_point(mesh, origin - FRAME_REACH * x, -x)
+        distance = None if hit is None else float((hit - origin) @ x)
+        if distance is not None and abs(distance) <= FRAME_TOLERANCE:
+            continue
+        if distance is None:
+            found = "the fingertip pushing along its x axis from there meets nothing"
+        elif distance > 0:
+            found = f"pushing along its x axis, the fingertip meets the body {100 * distance:.1f} cm beyond it"
+        else:
+            found = f"the body is in the way {100 * -distance:.1f} cm before it, where the fingertip comes from"
+        ctx.error(
+            codes.CONTACT_OFF_SURFACE,
+            f"contact frame `{ref.name}` of `{body.name}` is not on its surface: {found}",
+            ref.span,
+            "a contact frame sits on the surface to push, its x axis pointing into the body "
+            f"(the effector frame convention), with {100 * FRAME_REACH:.0f} cm of room behind it",
+        )

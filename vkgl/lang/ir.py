@@ -183,10 +183,11 @@ class Joint(Node):
 
 
 class ContactSpec(Node):
-    """`contacts on faces +x, -x steps K`."""
+    """`contacts on faces +x, -x steps K`, or `contacts at FRAME, FRAME` (then `faces` is empty)."""
 
-    faces: list[str]
-    steps: int
+    faces: list[str] = []
+    steps: int = 1
+    frames: list[Ref] = []  # `contacts at`: push at each frame's origin, along its x axis
 
 
 class ForceSpec(Node):

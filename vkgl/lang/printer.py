@@ -172,7 +172,10 @@ class _Layout:
     def explore_items(self, k: int, e: Explore) -> None:
         if e.contacts is not None:
             c = e.contacts
-            self.add(k, f"contacts on faces {', '.join(c.faces)} steps {c.steps}", _line_of(c.span))
+            if c.frames:
+                self.add(k, f"contacts at {', '.join(f.name for f in c.frames)}", _line_of(c.span))
+            else:
+                self.add(k, f"contacts on faces {', '.join(c.faces)} steps {c.steps}", _line_of(c.span))
         if e.grasp is not None:
             self.add(k, f"grasp {e.grasp.name}", _line_of(e.grasp.span))
         if e.force is not None:

@@ -336,7 +336,7 @@ class _PushTrial(_Trial):
         super().__init__(spec)
         body = spec.body
         pose = sim_world.translation(np.array([0.0, 0.0, resting_height(body, 0.0, 0.0)]))
-        _, self.node = sim_world.add_body(self.world, body.name, body, pose)
+        _, self.node = sim_world.add_body(self.world, body.name, body, pose, spec.joint_start)
         self.lying = body.joint is None
         start_body = self.node.getWorldTransform().matrix()
         rng = np.random.default_rng(np.random.SeedSequence([seed, spec.index]))
@@ -378,7 +378,7 @@ class _GraspTrial(_Trial):
             self.node = self.hand.carry(body, spec.grasp)
         else:  # a body on its own joint (a door by its handle): held where it stands
             _, self.node = sim_world.add_body(
-                self.world, body.name, body, sim_world.translation(np.array([0.0, 0.0, rest]))
+                self.world, body.name, body, sim_world.translation(np.array([0.0, 0.0, rest])), spec.joint_start
             )
             start = self.node.getWorldTransform().matrix()
             self.hand = Hand(self.world, start @ spec.grasp, start[:3, :3] @ spec.direction, spec.magnitude)

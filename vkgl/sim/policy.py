@@ -6,10 +6,18 @@ A policy is a grid search (PAPER.md, "Exploration"):
   along the centre line of each named face (the horizontal line at mid height
   of a side face; the line along the longer horizontal side for `+z`), at the
   centres of K equal cells; the force pushes along the face's inward normal.
+- `contacts at FRAME, ...` with `force normal Q`: one contact per frame, at
+  its origin, the force along its x axis (the effector frame convention: x
+  into the touched surface), e.g. behind a handle's bar, pulling the body.
 - `grasp FRAME` with `force directions I x J x K Q`: the effector holds the
   body at FRAME; the directions are the points of the I x J x K grid over
   [-1, 1]^3 (a count of 1 gives 0 on that axis) without the zero point,
   normalised; the force has the declared magnitude.
+
+A body on a physical joint is explored from both ends of its joint's range:
+every grid point is tried once with the joint at its lower limit and once at
+its upper limit (in that order, block by block), so that a push that closes a
+drawer and a pull that opens it both find something to move.
 
 The policy is taken as checked: every rule about an `explore` block (a push
 or a grasp, positive force and duration, reachable faces, contact points on the
@@ -20,6 +28,7 @@ here: it is a legal body, but there is nothing to explore.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from dataclasses import dataclass
 
@@ -28,6 +37,7 @@ import numpy as np
 from vkgl.errors import InputError
 from vkgl.lang.geometry import FACES, body_mesh, face_line, surface_point
 from vkgl.lang.ir import Body, Explore
+from vkgl.lang.units import SCALE
 
 
 @dataclass(frozen=True)
@@ -50,6 +60,7 @@ class TrialSpec:
     line_axis: np.ndarray  # push: the face's centre line direction (body frame); grasp: unused zeros
     grasp: np.ndarray | None = None
     label: str = ""
+    joint_start: float | None = None  # where a jointed body's joint starts (SI); None: its declared pose
 
 
 def plan_trials(body: Body) -> list[TrialSpec]:
@@ -69,14 +80,37 @@ def plan_trials(body: Body) -> list[TrialSpec]:
     for policy in body.explores:
         assert policy.force is not None and policy.duration is not None, "explore blocks are checked"
         magnitude, duration = float(policy.force.magnitude.value), float(policy.duration.value)
-        if policy.contacts is not None:
-            specs += _push_trials(body, policy, magnitude, duration, len(specs))
+        if policy.contacts is not None and policy.contacts.frames:
+            grid = _frame_trials(body, policy, magnitude, duration)
+        elif policy.contacts is not None:
+            grid = _push_trials(body, policy, magnitude, duration)
         else:
-            specs += _grasp_trials(body, policy, magnitude, duration, len(specs))
+            grid = _grasp_trials(body, policy, magnitude, duration)
+        for start, suffix in joint_starts(body):
+            specs += [
+                dataclasses.replace(spec, index=len(specs) + k, joint_start=start, label=spec.label + suffix)
+                for k, spec in enumerate(grid)
+            ]
     return specs
 
 
-def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float, first: int) -> list[TrialSpec]:
+def joint_starts(body: Body) -> list[tuple[float | None, str]]:
+    """Where each grid point starts: (joint position, label suffix); both limits for a body on a joint."""
+    if body.joint is None:
+        return [(None, "")]
+    lower, upper = float(body.joint.lower.value), float(body.joint.upper.value)
+    unit = body.joint.upper.unit or ("cm" if body.joint.type == "prismatic" else "deg")
+    ends: list[tuple[float | None, str]] = [(lower, f", from its lower limit ({_shown(lower, unit)})")]
+    if upper > lower:
+        ends.append((upper, f", from its upper limit ({_shown(upper, unit)})"))
+    return ends
+
+
+def _shown(value: float, unit: str) -> str:
+    return f"{value / float(SCALE.get(unit, 1.0)):g} {unit}"
+
+
+def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float) -> list[TrialSpec]:
     contacts = policy.contacts
     assert contacts is not None
     mesh = body_mesh(body)
@@ -89,7 +123,7 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float,
             assert hit is not None, "contact points are checked (E415)"
             specs.append(
                 TrialSpec(
-                    index=first + len(specs),
+                    index=len(specs),
                     body=body,
                     policy=policy.name,
                     kind="push",
@@ -104,14 +138,39 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float,
     return specs
 
 
-def _grasp_trials(body: Body, policy: Explore, magnitude: float, duration: float, first: int) -> list[TrialSpec]:
+def _frame_trials(body: Body, policy: Explore, magnitude: float, duration: float) -> list[TrialSpec]:
+    """`contacts at FRAME, ...`: at each frame's origin, along its x axis (a check put it on the surface)."""
+    assert policy.contacts is not None
+    specs: list[TrialSpec] = []
+    for ref in policy.contacts.frames:
+        frame = body.frame(ref.name)
+        assert frame is not None, "contact frames are checked (E303)"
+        pose = frame.pose.matrix()
+        specs.append(
+            TrialSpec(
+                index=len(specs),
+                body=body,
+                policy=policy.name,
+                kind="push",
+                contact=pose[:3, 3].copy(),
+                direction=pose[:3, 0].copy(),
+                magnitude=magnitude,
+                duration=duration,
+                line_axis=pose[:3, 1].copy(),
+                label=f"{policy.name} at {ref.name}",
+            )
+        )
+    return specs
+
+
+def _grasp_trials(body: Body, policy: Explore, magnitude: float, duration: float) -> list[TrialSpec]:
     assert policy.grasp is not None and policy.force is not None and policy.force.grid is not None
     frame = body.frame(policy.grasp.name)
     assert frame is not None, "grasp frames are checked (E303)"
     grasp = frame.pose.matrix()
     return [
         TrialSpec(
-            index=first + i,
+            index=i,
             body=body,
             policy=policy.name,
             kind="grasp",

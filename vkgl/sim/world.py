@@ -80,12 +80,16 @@ def add_table(world: Any, table: Table | None = None) -> tuple[Any, Any]:
     return skeleton, node
 
 
-def add_body(world: Any, name: str, body: Body, pose: np.ndarray) -> tuple[Any, Any]:
+def add_body(
+    world: Any, name: str, body: Body, pose: np.ndarray, joint_position: float | None = None
+) -> tuple[Any, Any]:
     """Add `body` standing at the 4x4 world `pose`; return (skeleton, body node).
 
     The body node's frame is the body frame. A body with a physical joint is
     anchored to the world at `pose` (joint position 0), lifted by
-    JOINT_CLEARANCE so that it does not rub on the table it stands on.
+    JOINT_CLEARANCE so that it does not rub on the table it stands on; it
+    starts at `joint_position` (SI, clipped to its limits), by default at 0
+    or the limit nearest to it.
     """
     skeleton = dart.dynamics.Skeleton(name)
     pose = np.asarray(pose, dtype=float)
@@ -93,14 +97,15 @@ def add_body(world: Any, name: str, body: Body, pose: np.ndarray) -> tuple[Any, 
         joint, node = skeleton.createFreeJointAndBodyNodePair()
         joint.setPositions(dart.dynamics.FreeJoint.convertToPositions(isometry(pose)))
     else:
-        joint, node = _add_jointed(skeleton, body, translation(np.array([0.0, 0.0, JOINT_CLEARANCE])) @ pose)
+        anchor = translation(np.array([0.0, 0.0, JOINT_CLEARANCE])) @ pose
+        joint, node = _add_jointed(skeleton, body, anchor, 0.0 if joint_position is None else joint_position)
     node.setName(name)
     dress_body_node(node, body)
     world.addSkeleton(skeleton)
     return skeleton, node
 
 
-def _add_jointed(skeleton: Any, body: Body, anchor: np.ndarray) -> tuple[Any, Any]:
+def _add_jointed(skeleton: Any, body: Body, anchor: np.ndarray, position: float) -> tuple[Any, Any]:
     spec = body.joint
     assert spec is not None
     axis = spec.axis.array()
@@ -125,7 +130,7 @@ def _add_jointed(skeleton: Any, body: Body, anchor: np.ndarray) -> tuple[Any, An
     joint.setPositionLowerLimit(0, lower)
     joint.setPositionUpperLimit(0, upper)
     joint.setLimitEnforcement(True)
-    joint.setPosition(0, min(max(0.0, lower), upper))  # the declared pose, or the nearest limit
+    joint.setPosition(0, min(max(position, lower), upper))  # by default the declared pose, or the nearest limit
     # Viscous damping (N*s/m or N*m*s/rad: DART integrates it implicitly, stable for any value) and Coulomb
     # friction (N or N*m: a constraint of the LCP solver, so a push below it leaves the joint at rest).
     if spec.damping is not None:
