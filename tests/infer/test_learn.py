@@ -62,24 +62,46 @@ def test_tools_are_held_at_the_handle_and_move_freely(learned, tool) -> None:
     assert isinstance(wield.motion, FreeC)
 
 
-def test_drawer_slides_along_its_slide(learned) -> None:
+def _action_position(affordance) -> np.ndarray:
+    assert isinstance(affordance.action, FixedC)
+    return np.array(affordance.action.pose.position.values)
+
+
+def _action_x(affordance) -> np.ndarray:
+    """The direction the effector pushed, body frame (x of the action's frame)."""
+    return affordance.action.pose.matrix()[:3, 0]
+
+
+def test_drawer_is_pulled_open_by_its_handle_and_pushed_shut_over_its_whole_slide(learned) -> None:
     found = _affordances(learned["drawer"])
-    assert found
-    for affordance in found.values():
-        assert isinstance(affordance.motion, PrismaticC)
-        assert affordance.motion.axis.values == pytest.approx((1, 0, 0), abs=0.01)
+    assert set(found) == {"pull_center_px", "push_center_nx"}
+    pull, push = found["pull_center_px"], found["push_center_nx"]
+    assert _action_position(pull) == pytest.approx((0.18, 0, 0), abs=0.002)  # behind the handle's bar ...
+    assert _action_x(pull) == pytest.approx((1, 0, 0), abs=0.01)  # ... pushing it away from the drawer
+    assert _action_position(push)[0] >= 0.15 - 0.002 and _action_x(push) == pytest.approx((-1, 0, 0), abs=0.01)
+    for affordance, sense in ((pull, 1.0), (push, -1.0)):  # the one slide, opened and shut
+        motion = affordance.motion
+        assert isinstance(motion, PrismaticC)
+        assert motion.axis.values == pytest.approx((sense, 0, 0), abs=0.01)
+        assert motion.range.lower.value == 0.0 and 0.29 <= motion.range.upper.value <= 0.301  # all of its 30 cm
 
 
-def test_door_turns_about_its_hinge(learned) -> None:
+def test_door_is_pulled_open_by_its_handle_and_pushed_shut_about_its_hinge(learned) -> None:
     found = _affordances(learned["door"])
-    assert found
+    assert set(found) == {"pull_nx_right", "turn_center_px"}
+    pull, push = found["pull_nx_right"], found["turn_center_px"]
+    assert _action_position(pull) == pytest.approx((-0.04, 0.164, 0.15), abs=0.002)  # behind the bar, at its post
+    assert _action_x(pull) == pytest.approx((-1, 0, 0), abs=0.01)  # pulling the door outward, toward -x
+    assert _action_position(push)[0] == pytest.approx(-0.01, abs=0.002)  # on the outside ...
+    assert _action_x(push) == pytest.approx((1, 0, 0), abs=0.01)  # ... pushing it back
     hinge_point, hinge_axis = np.array([0.0, -0.20, 0.0]), np.array([0.0, 0.0, 1.0])
-    for affordance in found.values():
+    for affordance, sense in ((pull, 1.0), (push, -1.0)):  # the one hinge, turned open and shut
         motion = affordance.motion
         assert isinstance(motion, RevoluteC)
-        assert abs(np.dot(motion.axis.values, hinge_axis)) > 0.999
+        assert np.dot(motion.axis.values, hinge_axis) == pytest.approx(sense, abs=0.001)
         d = np.array(motion.center.values) - hinge_point
         assert np.linalg.norm(d - (d @ hinge_axis) * hinge_axis) < 0.01  # within 1 cm of the hinge line
+        assert motion.range.lower.value == 0.0 and np.deg2rad(85) <= motion.range.upper.value <= np.deg2rad(90.1)
 
 
 def test_committed_stdlib_is_what_learn_makes(learned) -> None:

@@ -25,7 +25,9 @@ from vkgl.lang.ir import (
     Pose,
     Quantity,
     Ref,
+    ShapePart,
     Span,
+    UnionShape,
     Vector,
 )
 
@@ -74,24 +76,62 @@ def block(steps: int = 9, faces: list[str] | None = None, duration: float = 2.0,
     )
 
 
-def drawer(steps: int = 3, limits: tuple[float, float] = (0.0, 0.30), duration: float = 1.0) -> Body:
+def hook_policy(frame: str, force: float, duration: float, line: int = 20) -> Explore:
+    """`explore pull { contacts at FRAME  force normal F  duration D }`: the fingertip behind a handle."""
+    return Explore(
+        name="pull",
+        contacts=ContactSpec(frames=[Ref(name=frame, span=span(line + 1, 21, len(frame)))], span=span(line + 1)),
+        force=ForceSpec(mode="normal", magnitude=q(force, "N", line + 2), span=span(line + 2)),
+        duration=q(duration, "s", line + 3),
+        span=span(line),
+    )
+
+
+def part(size: tuple[float, float, float], at: tuple[float, float, float]) -> ShapePart:
+    """A box of a union, in cm."""
+    return ShapePart(
+        shape=BoxShape(size=v(*(x / 100 for x in size), unit="cm")),
+        pose=Pose(position=v(*(x / 100 for x in at), unit="cm")),
+    )
+
+
+def drawer(steps: int = 3, limits: tuple[float, float] = (0.0, 0.30), duration: float = 4.0) -> Body:
+    """The Drawer: a box with a bar handle in front of its +x face, closed by pushes and opened by a pull."""
     return Body(
         name="Drawer",
-        shape=BoxShape(size=v(0.30, 0.40, 0.10, unit="cm")),
-        mass=q(1.0, "kg"),
+        shape=UnionShape(
+            parts=[
+                part((30, 40, 10), (0, 0, 0)),
+                part((3, 1, 1), (16.5, -6.5, 0)),
+                part((3, 1, 1), (16.5, 6.5, 0)),
+                part((1, 14, 1), (18.5, 0, 0)),
+            ]
+        ),
+        mass=q(2.0, "kg"),
+        friction=0.5,
+        frames=[Frame(name="handle", pose=Pose(position=v(0.18, 0, 0, unit="cm")))],
         joint=Joint(type="prismatic", axis=v(1, 0, 0), lower=q(limits[0], "cm"), upper=q(limits[1], "cm")),
-        explores=[push_policy(["+x", "-x"], steps, 1.0, duration)],
+        explores=[push_policy(["+x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
         name_span=span(7, 6, 6),
         span=span(7, 1, 30),
     )
 
 
-def door(steps: int = 3, duration: float = 1.0) -> Body:
+def door(steps: int = 3, duration: float = 7.0) -> Body:
+    """The Door: a plate hinged at its -y edge, a bar handle on its -x face; pushes close it, a pull opens it."""
     return Body(
         name="Door",
-        shape=BoxShape(size=v(0.02, 0.40, 0.50, unit="cm")),
-        mass=q(1.5, "kg"),
+        shape=UnionShape(
+            parts=[
+                part((2, 40, 50), (0, 0, 0)),
+                part((3, 1, 1), (-2.5, 9.5, 15)),
+                part((3, 1, 1), (-2.5, 17.5, 15)),
+                part((1, 10, 1), (-4.5, 13.5, 15)),
+            ]
+        ),
+        mass=q(3.0, "kg"),
         friction=0.5,
+        frames=[Frame(name="handle", pose=Pose(position=v(-0.04, 0.164, 0.15, unit="cm"), yaw=q(math.pi, "deg")))],
         joint=Joint(
             type="revolute",
             axis=v(0, 0, 1),
@@ -99,7 +139,7 @@ def door(steps: int = 3, duration: float = 1.0) -> Body:
             lower=q(0.0, "deg"),
             upper=q(math.pi / 2, "deg"),
         ),
-        explores=[push_policy(["+x", "-x"], steps, 1.0, duration)],
+        explores=[push_policy(["-x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
         name_span=span(7, 6, 4),
         span=span(7, 1, 30),
     )
@@ -159,6 +199,14 @@ def with_policy(body: Body, **changes: Any) -> Body:
             force["magnitude"] = policy.force.magnitude.model_copy(update={"value": changes["magnitude"]})
         update["force"] = policy.force.model_copy(update=force)
     return body.model_copy(update={"explores": [policy.model_copy(update=update)]})
+
+
+def with_durations(body: Body, seconds: float) -> Body:
+    """`body` with every explore block lasting `seconds`."""
+    explores = [
+        e.model_copy(update={"duration": e.duration.model_copy(update={"value": seconds})}) for e in body.explores
+    ]
+    return body.model_copy(update={"explores": explores})
 
 
 def with_joint_limits(body: Body, lower: float, upper: float) -> Body:

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
-from sim_bodies import stdlib_body, with_joint_limits, with_policy
+from sim_bodies import stdlib_body, with_durations, with_joint_limits, with_policy
 
 from vkgl.formats.trials import Trials
+from vkgl.lang.ir import Body
 from vkgl.sim.explore import explore
 
 
@@ -60,25 +61,40 @@ def test_push_near_either_end_turns_the_block_about_a_point_near_the_other_end(b
         assert abs(centre[0]) < 0.05
 
 
-def test_drawer_slides_only_along_its_axis_and_stops_at_its_limit() -> None:
-    drawer = with_joint_limits(with_policy(stdlib_body("Drawer"), steps=1), 0.0, 0.02)
+def one_push(body: Body) -> Body:
+    """A jointed body with its pushes cut to the centre of the face, and its pull kept."""
+    _, pull = body.explores
+    return body.model_copy(update={"explores": [with_policy(body, steps=1).explores[0], pull]})
+
+
+def test_drawer_is_pushed_shut_and_pulled_open_from_both_ends_of_its_slide() -> None:
+    drawer = with_durations(with_joint_limits(one_push(stdlib_body("Drawer")), 0.0, 0.02), 1.0)
     trials = explore(drawer, jobs=2)
-    assert list(trials.force[:, 0]) == [-1.0, 1.0]  # +x face pushed inward, then -x face
-    for i in range(2):
+    # pushes (the handle's bar, its outer face) from the closed end, then from the open end; then the pull, likewise
+    assert list(trials.force[:, 0]) == [-1.0, -1.0, 1.0, 1.0]
+    assert np.allclose(trials.contact, [[0.19, 0, 0]] * 2 + [[0.18, 0, 0]] * 2)
+    closed = trials.T_ow[0, 0]  # the body at the lower limit of its slide
+    opening = []
+    for i in range(4):
         T = trials.T_ow[i, : trials.samples(i)]
         assert np.allclose(T[:, :3, :3], np.eye(3), atol=1e-9)
-        assert np.ptp(T[:, 1, 3]) < 1e-9 and np.ptp(T[:, 2, 3]) < 1e-9
-    closing = trials.T_ow[0, : trials.samples(0), 0, 3] - trials.T_ow[0, 0, 0, 3]
-    opening = trials.T_ow[1, : trials.samples(1), 0, 3] - trials.T_ow[1, 0, 0, 3]
-    assert np.abs(closing).max() < 1e-4  # already at its lower limit: does not move
-    assert opening[-1] == pytest.approx(0.02, abs=0.001)  # stops at the upper limit...
-    assert np.abs(opening[-20:] - 0.02).max() < 0.001  # ... and stays there
+        assert np.ptp(T[:, 1, 3]) < 1e-9 and np.ptp(T[:, 2, 3]) < 1e-9  # only along its slide
+        opening.append(T[:, 0, 3] - closed[0, 3])
+    assert opening[0] == pytest.approx(0.0, abs=1e-4)  # pushed against its closed stop: does not move
+    assert opening[1][0] == pytest.approx(0.02, abs=1e-4) and opening[1][-1] == pytest.approx(0.0, abs=0.001)  # shut
+    assert opening[2][-1] == pytest.approx(0.02, abs=0.001)  # pulled open to its upper limit ...
+    assert np.abs(opening[2][-20:] - 0.02).max() < 0.001  # ... where it stays
+    assert np.abs(opening[3] - 0.02).max() < 1e-3  # pulled against its open stop: does not move
+    hooked = trials.T_ro[2, : trials.samples(2), :3, 3]
+    assert np.ptp(hooked, axis=0).max() < 0.002  # the fingertip stays hooked behind the bar
 
 
-def test_door_turns_only_about_its_hinge() -> None:
-    trials = explore(stdlib_body("Door"), jobs=2)
+def test_door_is_pushed_shut_and_pulled_open_about_its_hinge() -> None:
+    door = with_durations(one_push(stdlib_body("Door")), 2.0)
+    trials = explore(door, jobs=2)
+    assert list(trials.force[:, 0]) == [1.0, 1.0, -1.0, -1.0]  # pushes on the outside, then the pull at the handle
     hinge = np.array([0.0, -0.20, 0.0, 1.0])  # body frame
-    opened = []
+    turned = []
     for i in range(len(trials)):
         T = trials.T_ow[i, : trials.samples(i)]
         hinge_world = T @ hinge
@@ -86,10 +102,12 @@ def test_door_turns_only_about_its_hinge() -> None:
         relative = np.linalg.inv(T[0]) @ T
         rotvec = Rotation.from_matrix(relative[:, :3, :3]).as_rotvec()
         assert np.abs(rotvec[:, :2]).max() < 1e-6  # about z only
-        opened.append(np.degrees(rotvec[-1, 2]))
-    pushed_open, pushed_shut = np.array(opened[:3]), np.array(opened[3:])
-    assert (pushed_open > 5.0).all() and (pushed_open < 90.0).all()
-    assert np.abs(pushed_shut).max() < 0.5  # pushing it shut against its stop does nothing
+        turned.append(np.degrees(rotvec[-1, 2]))
+    assert abs(turned[0]) < 0.5 and abs(turned[3]) < 0.5  # against its stops (shut, wide open): nothing
+    assert -90.0 < turned[1] < -10.0  # pushed from wide open: it swings shut (its angle falls)
+    assert 10.0 < turned[2] < 90.0  # pulled by the handle from shut: it swings open
+    hooked = trials.T_ro[2, : trials.samples(2), :3, 3]
+    assert np.ptp(hooked, axis=0).max() < 0.005  # the fingertip stays behind the bar, at its post
 
 
 def test_held_stick_moves_freely_over_the_direction_grid() -> None:
