@@ -238,7 +238,9 @@ def force_specs() -> st.SearchStrategy[ir.ForceSpec]:
 
 
 def explores() -> st.SearchStrategy[ir.Explore]:
-    contacts = st.builds(ir.ContactSpec, faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4), steps=counts())
+    on_faces = st.builds(ir.ContactSpec, faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4), steps=counts())
+    at_frames = st.builds(ir.ContactSpec, frames=st.lists(refs(), min_size=1, max_size=3))
+    contacts = on_faces | at_frames
     return st.builds(
         ir.Explore,
         name=names(),

@@ -166,3 +166,61 @@ body Legs {
     assert str(error).startswith(f"{SRC}:8:27: error[E415]: face +x of `Legs` has no surface at contact point 2 of 3")
     wide = text.replace("box (5, 5, 5)", "box (5, 10, 5)").replace("steps 3", "steps 2")  # points at y = +-7.5 cm
     assert compile_source(wide, SRC).body("Legs").explores[0].contacts.steps == 2
+
+
+HANDLE = """\
+body Drawer {
+    shape union {
+        box (30, 40, 10) cm at (0, 0, 0) cm
+        box (3, 1, 1) cm at (16.5, -6.5, 0) cm
+        box (3, 1, 1) cm at (16.5, 6.5, 0) cm
+        box (1, 14, 1) cm at (18.5, 0, 0) cm
+    }
+    mass 2 kg
+    frame handle = (18, 0, 0) cm
+    joint prismatic axis (1, 0, 0) limits (0, 30) cm
+    explore pull {
+        contacts at handle
+        force normal 1 N
+        duration 4 s
+    }
+}
+"""
+
+
+def test_contacts_at_a_frame_push_at_its_origin_along_its_x_axis() -> None:
+    from vkgl.lang.printer import print_module
+    from vkgl.sim.policy import plan_trials
+
+    drawer = compile_source(HANDLE, SRC).body("Drawer")
+    (ref,) = drawer.explores[0].contacts.frames
+    assert ref.name == "handle" and str(ref.span) == f"{SRC}:12:21"
+    assert "        contacts at handle\n" in print_module(compile_source(HANDLE, SRC).root)
+    specs = plan_trials(drawer)  # from the closed end of the slide, then from the open end
+    assert [s.joint_start for s in specs] == [0.0, pytest.approx(0.30)]
+    for spec in specs:
+        assert spec.kind == "push" and spec.label.startswith("pull at handle, from its ")
+        assert spec.contact == pytest.approx([0.18, 0, 0]) and spec.direction == pytest.approx([1, 0, 0])
+
+
+@pytest.mark.parametrize(
+    ("frame", "says"),
+    [
+        ("(17, 0, 0) cm", "the fingertip meets the body 1.0 cm beyond it"),  # short of the bar
+        ("(19, 0, 0) cm", "1 cm behind it, where the fingertip comes from, is inside the body"),  # the bar's far side
+        ("(18, 0, 0) cm yaw 180deg", "1 cm behind it, where the fingertip comes from, is inside the body"),  # reversed
+        ("(18, 10, 0) cm", "the fingertip meets nothing"),  # beside the bar, not behind it
+    ],
+)
+def test_a_contact_frame_off_the_surface_is_reported_at_its_name(frame: str, says: str) -> None:
+    error = compile_error(HANDLE.replace("(18, 0, 0) cm", frame))
+    assert str(error).startswith(f"{SRC}:12:21: error[E415]: contact frame `handle` of `Drawer` is not on its surface")
+    assert says in str(error)
+
+
+def test_an_unknown_contact_frame_and_a_force_of_directions_are_reported() -> None:
+    error = compile_error(HANDLE.replace("contacts at handle", "contacts at handel"))
+    assert str(error).startswith(f"{SRC}:12:21: error[E303]: body `Drawer` has no frame `handel`")
+    assert "did you mean `handle`?" in error.diagnostics[0].notes[0]
+    error = compile_error(HANDLE.replace("force normal 1 N", "force directions 3 x 1 x 1  1 N"))
+    assert "error[E413]" in str(error) and "`force normal Q` (along the frame's x axis)" in str(error)

@@ -96,10 +96,10 @@ def _check_force(explore: ir.Explore, ctx: CheckContext) -> None:
     if explore.contacts is not None and explore.grasp is not None:
         return  # already reported as mixed
     if explore.contacts is not None and force.mode != "normal":
+        along = "the frame's x axis" if explore.contacts.frames else "the face's inward normal"
         ctx.error(
             codes.PUSH_AND_GRASP_MIXED,
-            f"explore `{explore.name}` pushes at contacts: its force must be `force normal Q` "
-            "(along the face's inward normal)",
+            f"explore `{explore.name}` pushes at contacts: its force must be `force normal Q` (along {along})",
             force.span,
         )
     elif explore.grasp is not None and force.mode != "directions":
@@ -156,10 +156,10 @@ def _check_contact_frames(frames: list[ir.Ref], body: ir.Body, ctx: CheckContext
     """A contact frame's origin must lie on the surface, its x axis into the body, with room behind it.
 
     A ray from FRAME_REACH behind the origin along the frame's x must first
-    meet the body within FRAME_TOLERANCE of the origin: the fingertip comes
+    enter the body within FRAME_TOLERANCE of the origin: the fingertip comes
     from there (behind a handle's bar, say) and pushes along x.
     """
-    from vkgl.lang.geometry import body_mesh, surface_point  # trimesh: only when needed
+    from vkgl.lang.geometry import body_mesh, ray_hit  # trimesh: only when needed
 
     try:
         mesh = body_mesh(body)
@@ -170,12 +170,14 @@ def _check_contact_frames(frames: list[ir.Ref], body: ir.Body, ctx: CheckContext
         assert frame is not None
         pose = frame.pose.matrix()
         origin, x = pose[:3, 3], pose[:3, 0]
-        hit = surface_point(mesh, origin - FRAME_REACH * x, -x)
-        distance = None if hit is None else float((hit - origin) @ x)
-        if distance is not None and abs(distance) <= FRAME_TOLERANCE:
+        hit = ray_hit(mesh, origin - FRAME_REACH * x, x)
+        distance = None if hit is None else float((hit[0] - origin) @ x)
+        if hit is not None and distance is not None and hit[1] @ x < 0 and abs(distance) <= FRAME_TOLERANCE:
             continue
-        if distance is None:
-            found = "the fingertip pushing along its x axis from there meets nothing"
+        if hit is None or distance is None:
+            found = "pushing along its x axis, the fingertip meets nothing"
+        elif hit[1] @ x > 0:
+            found = f"{100 * FRAME_REACH:.0f} cm behind it, where the fingertip comes from, is inside the body"
         elif distance > 0:
             found = f"pushing along its x axis, the fingertip meets the body {100 * distance:.1f} cm beyond it"
         else:

@@ -169,7 +169,8 @@ UNKNOWN_FRAME = _code(
     "E303",
     "unknown frame on a body",
     (
-        "The body has no frame of this name (in a correspondence or a `grasp`). The note suggests the closest"
+        "The body has no frame of this name (in a correspondence, a `grasp` or `contacts at`). The note "
+        "suggests the closest"
         " frame. Declare it in the body: `frame tip = (20, 0, 0) cm`."
     ),
 )
@@ -288,8 +289,9 @@ PUSH_AND_GRASP_MIXED = _code(
     "E413",
     "push and grasp mixed in one explore block",
     (
-        "An `explore` block is either a push (`contacts on faces ... steps K` with `force normal Q`, along the "
-        "face's inward normal) or a grasp (`grasp FRAME` with `force directions I x J x K Q`). It has both "
+        "An `explore` block is either a push (`contacts on faces ... steps K` or `contacts at FRAME`, with "
+        "`force normal Q`, along the face's inward normal or the frame's x axis) or a grasp (`grasp FRAME` "
+        "with `force directions I x J x K Q`). It has both "
         "`contacts` and `grasp`, or the force of the other kind: split it into two blocks, or use the force "
         "that goes with it. Oblique pushes are not supported."
     ),
@@ -309,7 +311,9 @@ CONTACT_OFF_SURFACE = _code(
         "The K contact points of a pushed face sit on its centre line (docs/exploration.md); each is moved "
         "onto the body's surface by a ray along the inward normal. For a union or mesh with a gap or hollow "
         "there, the ray misses the body. Use fewer `steps`, another face, or change the shape. The message "
-        "says which point and where it is on the line."
+        "says which point and where it is on the line. A frame of `contacts at FRAME` must sit on the "
+        "surface (within 1 mm) with its x axis into the body and 1 cm of room behind it, where the "
+        "fingertip comes from: the message says what a push along its x axis meets instead."
     ),
 )
 

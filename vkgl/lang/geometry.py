@@ -139,12 +139,18 @@ def face_line(mesh: trimesh.Trimesh, outward: np.ndarray, steps: int) -> tuple[n
 
 
 def surface_point(mesh: trimesh.Trimesh, start: np.ndarray, outward: np.ndarray) -> np.ndarray | None:
-    """Where a ray from `start` along -outward first meets the body's surface, or None.
+    """Where a ray from `start` along -outward first meets the body's surface, or None."""
+    hit = ray_hit(mesh, start, -np.asarray(outward, dtype=float))
+    return None if hit is None else hit[0]
+
+
+def ray_hit(mesh: trimesh.Trimesh, start: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """(point, outward normal of the triangle) where a ray from `start` along `direction` first meets the mesh.
 
     (trimesh's own ray queries need the optional `rtree` package; a ray against
     every triangle plane plus trimesh's barycentric test is enough for one ray.)
     """
-    direction = -np.asarray(outward, dtype=float)
+    direction = np.asarray(direction, dtype=float)
     triangles = mesh.triangles
     normals = mesh.face_normals
     facing = np.abs(normals @ direction) > 1e-12
@@ -158,7 +164,7 @@ def surface_point(mesh: trimesh.Trimesh, start: np.ndarray, outward: np.ndarray)
     if not inside.any():
         return None
     first = int(np.argmin(np.where(inside, distance, np.inf)))
-    return np.asarray(points[first], dtype=float)
+    return np.asarray(points[first], dtype=float), np.asarray(normals[first], dtype=float)
 
 
 # ---------------------------------------------------------------- physical joints
