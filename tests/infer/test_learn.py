@@ -76,7 +76,7 @@ def test_drawer_is_pulled_open_by_its_handle_and_pushed_shut_over_its_whole_slid
     found = _affordances(learned["drawer"])
     assert set(found) == {"pull_center_px", "push_center_nx"}
     pull, push = found["pull_center_px"], found["push_center_nx"]
-    assert _action_position(pull) == pytest.approx((0.18, 0, 0), abs=0.002)  # behind the handle's bar ...
+    assert _action_position(pull) == pytest.approx((0.19, 0, 0), abs=0.002)  # behind the handle's bar ...
     assert _action_x(pull) == pytest.approx((1, 0, 0), abs=0.01)  # ... pushing it away from the drawer
     assert _action_position(push)[0] >= 0.15 - 0.002 and _action_x(push) == pytest.approx((-1, 0, 0), abs=0.01)
     for affordance, sense in ((pull, 1.0), (push, -1.0)):  # the one slide, opened and shut
@@ -88,13 +88,13 @@ def test_drawer_is_pulled_open_by_its_handle_and_pushed_shut_over_its_whole_slid
 
 def test_door_is_pulled_open_by_its_handle_and_pushed_shut_about_its_hinge(learned) -> None:
     found = _affordances(learned["door"])
-    assert set(found) == {"pull_nx_right", "turn_center_px"}
-    pull, push = found["pull_nx_right"], found["turn_center_px"]
-    assert _action_position(pull) == pytest.approx((-0.04, 0.164, 0.15), abs=0.002)  # behind the bar, at its post
-    assert _action_x(pull) == pytest.approx((-1, 0, 0), abs=0.01)  # pulling the door outward, toward -x
-    assert _action_position(push)[0] == pytest.approx(-0.01, abs=0.002)  # on the outside ...
-    assert _action_x(push) == pytest.approx((1, 0, 0), abs=0.01)  # ... pushing it back
-    hinge_point, hinge_axis = np.array([0.0, -0.20, 0.0]), np.array([0.0, 0.0, 1.0])
+    assert set(found) == {"pull_px_left", "turn_center_nx"}
+    pull, push = found["pull_px_left"], found["turn_center_nx"]
+    assert _action_position(pull) == pytest.approx((0.05, 0.164, 0.15), abs=0.002)  # behind the bar, at its post
+    assert _action_x(pull) == pytest.approx((1, 0, 0), abs=0.01)  # pulling the door outward, toward +x
+    assert _action_position(push)[0] == pytest.approx(0.01, abs=0.002)  # on the outside ...
+    assert _action_x(push) == pytest.approx((-1, 0, 0), abs=0.01)  # ... pushing it back
+    hinge_point, hinge_axis = np.array([0.0, -0.20, 0.0]), np.array([0.0, 0.0, -1.0])  # opening turns it about -z
     for affordance, sense in ((pull, 1.0), (push, -1.0)):  # the one hinge, turned open and shut
         motion = affordance.motion
         assert isinstance(motion, RevoluteC)

@@ -102,14 +102,14 @@ def drawer(steps: int = 3, limits: tuple[float, float] = (0.0, 0.30), duration: 
         shape=UnionShape(
             parts=[
                 part((30, 40, 10), (0, 0, 0)),
-                part((3, 1, 1), (16.5, -6.5, 0)),
-                part((3, 1, 1), (16.5, 6.5, 0)),
-                part((1, 14, 1), (18.5, 0, 0)),
+                part((4, 1, 1), (17, -6.5, 0)),
+                part((4, 1, 1), (17, 6.5, 0)),
+                part((1, 14, 1), (19.5, 0, 0)),
             ]
         ),
         mass=q(2.0, "kg"),
         friction=0.5,
-        frames=[Frame(name="handle", pose=Pose(position=v(0.18, 0, 0, unit="cm")))],
+        frames=[Frame(name="handle", pose=Pose(position=v(0.19, 0, 0, unit="cm")))],
         joint=Joint(type="prismatic", axis=v(1, 0, 0), lower=q(limits[0], "cm"), upper=q(limits[1], "cm")),
         explores=[push_policy(["+x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
         name_span=span(7, 6, 6),
@@ -118,28 +118,28 @@ def drawer(steps: int = 3, limits: tuple[float, float] = (0.0, 0.30), duration: 
 
 
 def door(steps: int = 3, duration: float = 7.0) -> Body:
-    """The Door: a plate hinged at its -y edge, a bar handle on its -x face; pushes close it, a pull opens it."""
+    """The Door: a plate hinged at its -y edge, a bar handle on its +x face; pushes close it, a pull opens it."""
     return Body(
         name="Door",
         shape=UnionShape(
             parts=[
                 part((2, 40, 50), (0, 0, 0)),
-                part((3, 1, 1), (-2.5, 9.5, 15)),
-                part((3, 1, 1), (-2.5, 17.5, 15)),
-                part((1, 10, 1), (-4.5, 13.5, 15)),
+                part((4, 1, 1), (3, 9.5, 15)),
+                part((4, 1, 1), (3, 17.5, 15)),
+                part((1, 10, 1), (5.5, 13.5, 15)),
             ]
         ),
         mass=q(3.0, "kg"),
         friction=0.5,
-        frames=[Frame(name="handle", pose=Pose(position=v(-0.04, 0.164, 0.15, unit="cm"), yaw=q(math.pi, "deg")))],
+        frames=[Frame(name="handle", pose=Pose(position=v(0.05, 0.164, 0.15, unit="cm")))],
         joint=Joint(
             type="revolute",
-            axis=v(0, 0, 1),
+            axis=v(0, 0, -1),
             through=v(0, -0.20, 0, unit="cm"),
             lower=q(0.0, "deg"),
             upper=q(math.pi / 2, "deg"),
         ),
-        explores=[push_policy(["-x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
+        explores=[push_policy(["+x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
         name_span=span(7, 6, 4),
         span=span(7, 1, 30),
     )

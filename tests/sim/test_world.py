@@ -65,7 +65,7 @@ def test_a_revolute_joint_turns_the_body_about_the_line_it_declares() -> None:
     hinge = node.getWorldTransform().matrix() @ np.array([0.0, -0.20, 0.0, 1.0])
     assert hinge[:3] == pytest.approx([0.0, -0.20, sim_world.JOINT_CLEARANCE], abs=1e-12)
     corner = node.getWorldTransform().matrix() @ np.array([0.0, 0.20, 0.0, 1.0])
-    assert corner[:2] == pytest.approx([-0.40, -0.20], abs=1e-12)  # swung a quarter turn
+    assert corner[:2] == pytest.approx([0.40, -0.20], abs=1e-12)  # swung a quarter turn, about -z
 
 
 def test_reversed_joint_limits_are_an_input_error() -> None:

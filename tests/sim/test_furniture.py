@@ -1,0 +1,123 @@
+"""The Drawer in its DrawerCabinet and the Door on its DoorCabinet: the scene checks and DART agree with their geometry.
+
+The cabinets (stdlib/furniture/) are placed as their header comments say; the
+jointed bodies are then moved, in DART, by a fingertip enacting each of their
+learned affordances (stdlib/affordances/), from the end of the joint's range
+that the affordance moves away from, over its whole range: the body must
+slide or swing all the way without touching its cabinet, which must not move.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from vkgl.errors import CompileError
+from vkgl.lang.compiler import compile_source
+from vkgl.lang.geometry import scene_body_pose
+from vkgl.lang.ir import FixedC, PrismaticC
+from vkgl.lang.program import Program
+from vkgl.sim import world as sim_world
+from vkgl.sim.fingertip import Pusher
+
+KITCHEN = """\
+use stdlib.robots.panda
+use stdlib.affordances.drawer
+use stdlib.affordances.door
+use stdlib.furniture.drawer_cabinet
+use stdlib.furniture.door_cabinet
+
+scene kitchen {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    cabinet : DrawerCabinet on table at (0.55, 0.3) m yaw 180deg
+    drawer : Drawer at (0.55, 0.3, 0.073) m yaw 180deg
+    cupboard : DoorCabinet on table at (0.6, -0.25) m yaw 150deg
+    door : Door at (0.6, -0.25, 0.25) m yaw 150deg
+}
+"""
+HERE = Path(__file__).parent
+CONTROL = 5  # physics steps between two aims of the fingertip, as in exploration
+
+
+@pytest.fixture(scope="module")
+def kitchen() -> Program:
+    return compile_source(KITCHEN, "kitchen.vkg", base_dir=HERE)
+
+
+def test_the_cabinets_hold_their_bodies_without_overlap(kitchen: Program) -> None:
+    assert {sb.name for sb in kitchen.scenes["kitchen"].bodies} == {"cabinet", "drawer", "cupboard", "door"}
+    lower = KITCHEN.replace("(0.55, 0.3, 0.073) m", "(0.55, 0.3, 0.063) m")  # 1 cm too low: into the bottom board
+    with pytest.raises(CompileError, match=r"E420.*`cabinet` and `drawer` overlap by 0.5 cm"):
+        compile_source(lower, "kitchen.vkg", base_dir=HERE)
+    deeper = KITCHEN.replace("(0.6, -0.25, 0.25) m", "(0.61, -0.25, 0.25) m")  # the door 0.9 cm back: into its cupboard
+    with pytest.raises(CompileError, match=r"E420.*`cupboard` and `door` overlap"):
+        compile_source(deeper, "kitchen.vkg", base_dir=HERE)
+
+
+def _run(program: Program, name: str, cabinet: str, affordance: str, seconds: float) -> dict[str, Any]:
+    """Enact `affordance` of scene body `name` with a fingertip for `seconds`; what the joint and the cabinet did."""
+    scene = program.scenes["kitchen"]
+    placed = {sb.name: sb for sb in scene.bodies}
+    body = program.bodies[placed[name].type.name]
+    aff = next(a for a in program.affordances[body.name] if a.name == affordance)
+    assert isinstance(aff.action, FixedC) and body.joint is not None
+    opens = _opens(body, aff)
+    world = sim_world.new_world()
+    sim_world.add_table(world, scene.table)
+    start = 0.0 if opens else float(body.joint.upper.value)
+    skeleton, node = sim_world.add_body(world, name, body, scene_body_pose(scene, placed[name], body), start)
+    holder = program.bodies[placed[cabinet].type.name]
+    _, cabinet_node = sim_world.add_body(world, cabinet, holder, scene_body_pose(scene, placed[cabinet], holder))
+    action = aff.action.pose.matrix()
+    effector = node.getWorldTransform().matrix() @ action
+    effector[:3, 3] -= 0.001 * effector[:3, 0]  # 1 mm short of the contact, as in exploration
+    pusher = Pusher(world, effector, 1.0)
+    cabinet_start = cabinet_node.getWorldTransform().matrix().copy()
+    touched = set()
+    for step in range(round(seconds / sim_world.TIME_STEP)):
+        if step % CONTROL == 0:
+            pusher.aim(node.getWorldTransform().matrix()[:3, :3] @ action[:3, 0])
+        pusher.drive()
+        world.step(False)
+        result = world.getLastCollisionResult()
+        for i in range(result.getNumContacts()):
+            contact = result.getContact(i)
+            pair = (contact.collisionObject1, contact.collisionObject2)
+            touched.add(frozenset(o.getShapeFrame().getName().split("_ShapeNode")[0] for o in pair))
+    moved = cabinet_node.getWorldTransform().matrix()[:3, 3] - cabinet_start[:3, 3]
+    return {"start": start, "end": float(skeleton.getPosition(0)), "opens": opens, "touched": touched, "moved": moved}
+
+
+def _opens(body: Any, affordance: Any) -> bool:
+    """Whether the affordance's motion turns or slides the joint toward its upper limit."""
+    joint_axis = np.array(body.joint.axis.values) / np.linalg.norm(body.joint.axis.values)
+    along = affordance.motion.axis.values
+    return bool(np.dot(joint_axis, along) > 0)
+
+
+@pytest.mark.parametrize(
+    ("name", "cabinet", "affordance", "seconds"),
+    [
+        ("drawer", "cabinet", "pull_center_px", 4.0),
+        ("drawer", "cabinet", "push_center_nx", 4.0),
+        ("door", "cupboard", "pull_px_left", 7.0),
+        ("door", "cupboard", "turn_center_nx", 7.0),
+    ],
+)
+def test_each_learned_affordance_moves_its_body_all_the_way_clear_of_its_cabinet(
+    kitchen: Program, name: str, cabinet: str, affordance: str, seconds: float
+) -> None:
+    body = kitchen.bodies[name.capitalize()]
+    assert body.joint is not None
+    upper = float(body.joint.upper.value)
+    ran = _run(kitchen, name, cabinet, affordance, seconds)
+    tolerance = 0.002 if body.joint.type == "prismatic" else np.deg2rad(1.0)
+    assert ran["end"] == pytest.approx(upper if ran["opens"] else 0.0, abs=tolerance), ran  # the whole range
+    assert frozenset((name, cabinet)) not in ran["touched"], ran  # slid or swung clear of its cabinet
+    assert np.abs(ran["moved"]).max() < 1e-4, ran  # which stayed where it stands
+    motion = next(a for a in kitchen.affordances[body.name] if a.name == affordance).motion
+    assert isinstance(motion, PrismaticC) == (body.joint.type == "prismatic")
