@@ -208,6 +208,31 @@ def wield_trials(*, samples: int = 50, noise_p: float = 5e-4, seed: int = 0) -> 
     return _dataset("Stick", samples, T_ro, T_ow, [grasp[:3, 3]] * len(T_ow), force)
 
 
+def drawer_trials(*, samples: int = 60, noise_p: float = 5e-4, seed: int = 0) -> Trials:
+    """A 30 cm deep drawer on a slide along x, its handle's bar 4 cm in front of its +x face.
+
+    In order: a push on its back (-x face) that slides it 10 cm along +x; a
+    push on its front that slides it 10 cm along -x; a pull with the fingertip
+    behind the bar (contact at x = 19 cm, force +x) that slides it 10 cm along
+    +x; the same pull against its open stop, which moves nothing.
+    """
+    rng = np.random.default_rng(seed)
+    T_ro, T_ow, contact, force = [], [], [], []
+    for x, direction, travel in ((-0.15, 1.0, 0.10), (0.15, -1.0, 0.10), (0.19, 1.0, 0.10), (0.19, 1.0, 0.0)):
+        effector = np.eye(4)
+        effector[:3, :3] = Rotation.from_euler("z", 0.0 if direction > 0 else np.pi).as_matrix()
+        effector[:3, 3] = (x, 0.0, 0.0)
+        rel = np.tile(np.eye(4), (samples, 1, 1))
+        rel[:, 0, 3] = direction * travel * _progress(samples)
+        start = np.eye(4)
+        start[:3, 3] = (0.45, 0.0, 0.05)
+        T_ow.append(_corrupt(rng, start @ rel, noise_p, noise_p * 2, 0.0))
+        T_ro.append(_corrupt(rng, np.tile(effector, (samples, 1, 1)), noise_p, noise_p * 2, 0.0))
+        contact.append([x, 0.0, 0.0])
+        force.append([direction, 0.0, 0.0])
+    return _dataset("Drawer", samples, T_ro, T_ow, contact, force)
+
+
 def _dataset(body: str, samples: int, T_ro: list, T_ow: list, contact: list, force: list) -> Trials:
     """Equal-length, all-`ok` trials of `body` sampled over one second."""
     n = len(T_ow)
