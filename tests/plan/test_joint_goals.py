@@ -100,15 +100,22 @@ def local(tasks: str):
 
 
 def test_vkgc_solve_opens_the_stdlib_drawer_5_cm(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """Its learned push_center_px pushes along +x, the sense its joint opens in: one push of 5 cm."""
+    """Its learned pull_center_px (the fingertip hooked behind the handle) pulls along +x, the sense its joint opens
+    in: one pull of 5 cm, the hand coming down into the gap behind the bar."""
     task = write(tmp_path, STDLIB_KITCHEN + "task open { scene kitchen  goal drawer open 5 cm within 1 cm }\n")
     out = tmp_path / "plan.json"
     assert main(["solve", str(task), "--json", str(out)]) == 0
     assert "solved, depth 2" in capsys.readouterr().out
     plan = json.loads(out.read_text(encoding="utf-8"))
     (step,) = plan["steps"]
-    assert step["affordance"] == "Drawer.push_center_px" and step["value"] == pytest.approx(0.05, abs=1e-6)
+    assert step["affordance"] == "Drawer.pull_center_px" and step["value"] == pytest.approx(0.05, abs=1e-6)
     assert joint_goal_problems(compile_file(str(task)), plan) == []  # the opening, recomputed independently
+    # backing away from the bar along the pull would put the hand into the drawer: it comes straight down instead
+    (approach,) = [segment for segment in step["path"] if segment["phase"] == "approach"]
+    program = compile_file(str(task))
+    problem = build_problem(program, program.task("open"))
+    first, last = (problem.arm.fk(np.array(q)) for q in (approach["joints"][0], approach["joints"][-1]))
+    assert first[:3, 3] - last[:3, 3] == pytest.approx([0.0, 0.0, 0.03], abs=1e-3)
 
 
 def test_a_joint_goal_past_the_limit_is_a_warning_then_no_plan_with_the_numbers(
@@ -238,7 +245,7 @@ def test_the_plan_picture_outlines_the_body_at_its_joint_goal() -> None:
 
 
 def test_the_joint_goals_example_of_the_language_reference_solves(tmp_path: Path) -> None:
-    """docs/language.md, "Joint goals", says `vkgc solve` solves both of its tasks with one push each."""
+    """docs/language.md, "Joint goals", says `vkgc solve` solves both of its tasks with one contact each."""
     text = (HERE.parents[1] / "docs" / "language.md").read_text(encoding="utf-8")
     section = text.split("### Joint goals", 1)[1]
     snippet = section.split("```vkg\n", 1)[1].split("```", 1)[0]

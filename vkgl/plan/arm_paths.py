@@ -7,7 +7,8 @@ plans, from where the previous step left the arm:
 - **lift**: after a grasp or a release, straight up `LIFT` (the hand or the
   held tool leaves the table before anything else);
 - **retreat** (a REMOVE of a push): straight back out of the contact by
-  `STANDOFF`, against the direction the contact pushed;
+  `STANDOFF`, against the direction the contact pushed (straight up when that
+  way is blocked: a hook behind a handle's bar);
 - **transit**: a collision-free joint-space path (`vkgl.plan.transit`: the
   straight line when it is clear, else OMPL's RRTConnect) to the step's
   pre-contact configuration; valid means the arm's links and a held tool
@@ -16,7 +17,10 @@ plans, from where the previous step left the arm:
   direction (`vkgl.plan.approach`, chained IK from the contact outward, so the
   arm arrives in the configuration the search checked). A tall body is thus
   approached from the side at contact height; a tool is grasped from above
-  (`GRASP_STANDOFF`).
+  (`GRASP_STANDOFF`). When the way back along the push is blocked, the
+  contact is approached from above instead: the fingertip hooked behind a
+  handle's bar pushes away from the body it pulls, so backing off along its
+  push would put the hand into that body; it comes down into the gap.
 
 Every segment is timed: transits within the URDF's joint velocity limits
 (scaled by `TRANSIT_SPEED_SCALE`), the straight moves at `CARTESIAN_SPEED`.
@@ -234,10 +238,32 @@ class ArmPathPlanner:
     def _reach_contact(
         self, k: int, step: PlanStepRecord, state: _ArmState, label: str, deadline: float | None
     ) -> list[ArmSegment] | Rejection:
-        """Transit to the step's pre-contact configuration, then the straight approach into the contact."""
+        """Transit to the step's pre-contact configuration, then the straight approach into the contact.
+
+        A push is approached along its push direction; when that way is blocked (a hook behind a handle's
+        bar would back into the body it pulls), from above, down into the contact (the gap behind the bar).
+        """
         grasp = step.motion == "free"
-        direction = DOWN if grasp else self._push_direction(step, step.poses_start)
-        standoff = GRASP_STANDOFF if grasp else STANDOFF
+        if grasp:
+            return self._approach(k, step, state, label, deadline, DOWN, GRASP_STANDOFF)
+        first = self._approach(k, step, state, label, deadline, self._push_direction(step, step.poses_start), STANDOFF)
+        if not isinstance(first, Rejection) or first.kind != "approach" or state.held is not None:
+            return first
+        above = self._approach(k, step, state, label, deadline, DOWN, STANDOFF)
+        return first if isinstance(above, Rejection) else above
+
+    def _approach(
+        self,
+        k: int,
+        step: PlanStepRecord,
+        state: _ArmState,
+        label: str,
+        deadline: float | None,
+        direction: np.ndarray,
+        standoff: float,
+    ) -> list[ArmSegment] | Rejection:
+        """Transit to `standoff` back from the contact against `direction`, then straight along it into the contact."""
+        grasp = step.motion == "free"
         contact = self.problem.arm.fk(step.q_start)
         poses = approach_poses(contact, standoff, APPROACH_STEP, direction)
         length = standoff
@@ -263,8 +289,17 @@ class ArmPathPlanner:
         return [transit, self._straight("approach", joints, length)]
 
     def _retreat(self, step: PlanStepRecord, state: _ArmState, label: str) -> ArmSegment | Rejection:
-        """Straight back out of the contact the step removes, against the way it pushed."""
-        direction = self._push_direction(step, step.poses_start)
+        """Straight back out of the contact the step removes, against the way it pushed; when that way is
+        blocked (a hook behind a handle's bar), straight up."""
+        first = self._retreat_along(step, state, label, self._push_direction(step, step.poses_start))
+        if not isinstance(first, Rejection) or state.held is not None:
+            return first
+        above = self._retreat_along(step, state, label, DOWN)
+        return first if isinstance(above, Rejection) else above
+
+    def _retreat_along(
+        self, step: PlanStepRecord, state: _ArmState, label: str, direction: np.ndarray
+    ) -> ArmSegment | Rejection:
         contact = self.problem.arm.fk(state.q)
         poses = approach_poses(contact, STANDOFF, APPROACH_STEP, direction)[::-1]
         path = follow_poses(self.problem.arm, poses, state.q)
