@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,9 @@ from vkgl.lang.ir import (
 )
 from vkgl.lang.program import Program
 from vkgl.robot import Arm
+
+if TYPE_CHECKING:
+    from vkgl.plan.avoid import Avoid
 
 DEFAULT_MAX_DEPTH = 6
 """Graphs in the longest sequence searched (G0 included) when the task says nothing."""
@@ -111,6 +115,7 @@ class Problem:
     table_z: float
     max_depth: int
     timeout: float
+    avoid: Avoid | None = None  # what a re-solve must not repeat (`vkgl.plan.avoid`); None: nothing
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
     _actions: dict[tuple[str, str], np.ndarray] = field(default_factory=dict, repr=False)

@@ -14,6 +14,7 @@ import numpy as np
 
 from vkgl.lang.ir import Task
 from vkgl.lang.program import Program
+from vkgl.plan.avoid import Avoid
 from vkgl.plan.model import Problem, build_problem
 from vkgl.plan.plan import Plan, PlanStep, graph_edges, robot_entry
 from vkgl.plan.rollout import ModeTrace
@@ -27,16 +28,20 @@ def solve(
     max_depth: int | None = None,
     timeout: float | None = None,
     progress: bool = False,
+    avoid: Avoid | None = None,
 ) -> Plan:
     """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
 
     Breadth-first search over graph sequences (`vkgl.plan.search`) with
     task-space and joint-space feasibility checks (`vkgl.plan.feasible`).
-    `progress` shows the search on stderr. Deterministic: the same input gives
-    the same plan.
+    `progress` shows the search on stderr. `avoid` names the plans already
+    tried and the steps that failed in execution (`vkgl.plan.avoid`): a
+    re-solve returns none of them (rejections of kind "excluded").
+    Deterministic: the same input gives the same plan.
     """
     started = time.perf_counter()
     problem = build_problem(program, task, max_depth=max_depth, timeout=timeout)
+    problem.avoid = avoid or None
     deadline = started + problem.timeout
     why = _hopeless(problem)
     if why is not None:
@@ -143,4 +148,4 @@ def _step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarray, 
     )
 
 
-__all__ = ["Plan", "solve"]
+__all__ = ["Avoid", "Plan", "solve"]
