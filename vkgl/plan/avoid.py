@@ -17,11 +17,12 @@ plan's reason and details). Two rules:
   it where the body's pose is already known (it has not moved yet) is cut at
   once with everything that would follow it (`repeated_failure`); otherwise
   the found sequence is checked once its motion values are known
-  (`excluded`). The arm's configuration is not part of the rule: the executor
-  tries every configuration it knows for a contact (the plan's, then the
-  others of `Arm.spread_seeds`) before a step fails, and today's planner
-  would choose the same one again; the same transition after the body has
-  moved is a different attempt and may be tried.
+  (`excluded`). The arm's configuration is not part of the rule: before a
+  contact motion fails the executor has tried the plan's configuration, the
+  chain solved backwards from the end and every one of `Arm.spread_seeds`,
+  and the joint-space check (IK warm-started from home) would choose the
+  same one again. The same transition after the body has moved is a
+  different attempt and may be tried.
 - **a plan already tried** (`Avoid.plans`): no plan does the same as one tried:
   the same motions (the ADD steps that slide or turn a body by more than
   `VALUE_TOLERANCE`), in the same order, each with the same transition, value
