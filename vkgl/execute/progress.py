@@ -68,10 +68,8 @@ class ProgressFeed:
             return
         label = self._label()
         prefix = f"step {self.step} "
-        if self.step and label.startswith(prefix):
-            phase = label[len(prefix) :]
-        elif label.startswith("step "):
-            phase = ""  # still the label of the step before: this one has not moved yet
+        if self.step:  # "" until the step moves the arm: the label is still the one before ("start", "step 1 settle")
+            phase = label[len(prefix) :] if label.startswith(prefix) else ""
         else:
             phase = label.rpartition(" ")[2]  # "replan retreat", "end settle"
         last = self._last
