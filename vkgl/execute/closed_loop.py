@@ -75,8 +75,8 @@ def execute(
     from the plan by more than half its tolerance (at most `max_replans`
     times) with `resolve(program, task_name, attempts) -> PlanDocument`, which
     the caller must then supply (ValueError otherwise); `attempts` names the
-    plans tried and the steps that failed, which the new plan must not repeat. With `record`, the
-    report keeps frames for `animate`.
+    plans tried and the steps that failed, which the new plan must not
+    repeat. With `record`, the report keeps frames for `animate`.
     Raises InputError when `max_replans` is negative (before any work), when
     the plan is not solved or does not fit the program.
     """
