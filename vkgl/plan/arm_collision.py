@@ -137,8 +137,8 @@ class ArmCollision:
         self.set_configuration(q)
         others = self._others(ignore, held, table)
         out = self.scene.collide(self.group, self.scene.group(others), self.link_of) if others else []
-        pad_others = [n for n in others if n not in set(pad_may_touch)]
-        if held is None and pad_others:
+        pad_others = self._pad_others(others, held, pad_may_touch)
+        if pad_others:
             out.extend(self.scene.collide(self.pad_group, self.scene.group(pad_others), self.link_of))
         if held is not None:
             tool_pose = self.effector_pose() @ held.in_hand
@@ -165,14 +165,23 @@ class ArmCollision:
         others = self._others(ignore, held, table)
         if others and self.scene.collides(self.group, self.scene.group(others)):
             return False
-        pad_others = [n for n in others if n not in set(pad_may_touch)]
-        if held is None and pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)):
+        pad_others = self._pad_others(others, held, pad_may_touch)
+        if pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)):
             return False
         if held is not None:
             self.scene.place({held.body: self.effector_pose() @ held.in_hand})
             targets = [n for n in others if n not in held.acts_on]
             return not (targets and self.scene.collides(self.scene.group([held.body]), self.scene.group(targets)))
         return True
+
+    @staticmethod
+    def _pad_others(others: list[str], held: Held | None, pad_may_touch: Iterable[str]) -> list[str]:
+        """What the fingertip pad is checked against: nothing while a tool is held (the executed arm's pad is
+        switched off then), else `others` but the bodies it may touch."""
+        if held is not None:
+            return []
+        skip = set(pad_may_touch)
+        return [n for n in others if n not in skip]
 
     def _others(self, ignore: Iterable[str], held: Held | None, table: bool) -> list[str]:
         """The scene's bodies (and table) the links are checked against."""
