@@ -82,7 +82,7 @@ class ArmCollision:
 
     def effector_pose(self) -> np.ndarray:
         """The world pose of the effector frame at the current configuration (equals `Arm.fk(q)`)."""
-        return self._link.getWorldTransform().matrix() @ self.arm.link_offset
+        return self._link.getTransform().matrix() @ self.arm.link_offset  # = getWorldTransform(), faster
 
     def overlap(
         self,

@@ -6,6 +6,7 @@ numpy, so that one parsed URDF serves every base.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -64,16 +65,31 @@ class Chain:
     def link_pose(self, q: np.ndarray) -> np.ndarray:
         """The effector link's pose (4x4) in the root frame at joint angles `q` (without the effector offset)."""
         self._set(q)
-        return self.link.getWorldTransform().matrix()
+        return self.link.getTransform().matrix()
 
     def pose_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The effector frame in the root frame and its 6 x n Jacobian (angular rows first, root frame)."""
         self._set(q)
-        pose = self.link.getWorldTransform().matrix() @ self.link_offset
+        # getTransform() (with respect to the world) is the same matrix as getWorldTransform(), and dartpy
+        # hands it over in half the time: this is the innermost call of IK and of the reach
+        pose = self.link.getTransform().matrix() @ self.link_offset
         jac = self.link.getWorldJacobian(self._point)
         if self._jacobian_columns is not None:
             jac = jac[:, self._jacobian_columns]
         return pose, jac
+
+    def at_last_q(self) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """`pose_and_jacobian`, remembering its last answer: for NLopt problems whose objective and constraints
+        are all asked at the same point (one kinematics per point instead of one per function; same numbers)."""
+        last: list[Any] = [None, None]
+
+        def kinematics(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            key = q.tobytes()
+            if last[0] != key:
+                last[0], last[1] = key, self.pose_and_jacobian(q)
+            return last[1]  # type: ignore[no-any-return]
+
+        return kinematics
 
     def reach_bound(self) -> tuple[np.ndarray, float]:
         """A point that no joint moves (on the first joint's axis) and how far from it the effector can ever be.

@@ -69,23 +69,25 @@ def extreme_radius(ik: InverseKinematics, height: float, *, largest: bool) -> tu
     """
     chain = ik.chain
     sign = -1.0 if largest else 1.0
+    kinematics = chain.at_last_q()  # NLopt asks the objective and both constraints at each point
+    up = np.eye(3)
 
     def radius_squared(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
+        pose, jac = kinematics(q)
         x, y = pose[0, 3], pose[1, 3]
         if grad.size:
             grad[:] = sign * 2.0 * (x * jac[3] + y * jac[4])
         return sign * (x * x + y * y)
 
     def at_height(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
+        pose, jac = kinematics(q)
         if grad.size:
             grad[:] = jac[5]
         return float(pose[2, 3] - height)
 
     def upright(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
-        residual, direction = orientation_residual(pose[:3, :3], np.eye(3), yaw_free=True)
+        pose, jac = kinematics(q)
+        residual, direction = orientation_residual(pose[:3, :3], up, yaw_free=True)
         if grad.size:
             grad[:] = jac[:3].T @ direction
         # the residual is never negative: <= 0 means within 1e-10 of upright (about 1e-5 rad)
