@@ -294,12 +294,23 @@ def _turn_candidates(
     if len(signs) == 1:
         angle = _within(signs[0] * needed, tol, limits[0])
         return [] if angle is None else [(angle,)]
-    out: list[tuple[float, ...]] = []
-    for first in np.linspace(limits[0][0], limits[0][1], TURN_GRID):
-        second = _within(signs[1] * (needed - signs[0] * first), tol, limits[1])
-        if second is not None:
-            out.append((float(first), second))
-    return out
+    firsts = np.linspace(limits[0][0], limits[0][1], TURN_GRID)
+    seconds = _within_all(signs[1] * (needed - signs[0] * firsts), tol, limits[1])
+    return [(float(first), float(second)) for first, second in zip(firsts, seconds) if not math.isnan(second)]
+
+
+def _within_all(angles: np.ndarray, tol: float, limits: tuple[float, float]) -> np.ndarray:
+    """`_within` of each of `angles` at once (NaN for None): the same operations, elementwise."""
+    low, high = limits
+    turn = 2 * math.pi
+    base = np.remainder(angles, turn)  # Python's float % and NumPy's remainder round alike
+    shifted = np.stack([base - turn, base, base + turn], axis=1)
+    values = np.minimum(np.maximum(shifted, low), high)
+    misses = np.abs(values - shifted)
+    ok = misses <= tol
+    pick = np.argmin(np.where(ok, misses, np.inf), axis=1)  # the first of equal misses, as `_within` keeps
+    chosen = values[np.arange(len(angles)), pick]
+    return np.where(ok.any(axis=1), chosen, np.nan)
 
 
 def _within(angle: float, tol: float, limits: tuple[float, float]) -> float | None:

@@ -28,9 +28,8 @@ def orientation_residual(rotation: np.ndarray, target: np.ndarray, yaw_free: boo
         (_, _, bx), (_, _, by), (_, _, bz) = target.tolist()
         direction = np.array([-2.0 * (ay * bz - az * by), -2.0 * (az * bx - ax * bz), -2.0 * (ax * by - ay * bx)])
         return 2.0 * (1.0 - (ax * bx + ay * by + az * bz)), direction
-    a = rotation @ target.T
-    direction = -np.array([a[1, 2] - a[2, 1], a[2, 0] - a[0, 2], a[0, 1] - a[1, 0]])
-    return 3.0 - float(np.trace(a)), direction
+    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = (rotation @ target.T).tolist()
+    return 3.0 - (a00 + a11 + a22), np.array([-(a12 - a21), -(a20 - a02), -(a01 - a10)])
 
 
 def position_error(pose: np.ndarray, target: np.ndarray) -> float:
