@@ -53,10 +53,11 @@ def reach(ik: InverseKinematics, height: float) -> tuple[float, float]:
     if inner is None or outer is None:
         return (0.0, 0.0)
     interval: tuple[float, float] | None = (inner[0] + REACH_PRECISION, outer[0] - REACH_PRECISION)
+    solved: tuple[np.ndarray, np.ndarray] | None = None  # the IK solutions at both ends, at the last azimuth
     for azimuth in (math.radians(a) for a in REACH_AZIMUTHS_DEG):
         if interval is None or interval[0] >= interval[1]:
             return (0.0, 0.0)
-        interval = _confirmed_interval(ik, height, azimuth, interval, (inner[1], outer[1]))
+        interval, solved = _confirmed_interval(ik, height, azimuth, interval, (inner[1], outer[1]), solved)
     return (0.0, 0.0) if interval is None else interval
 
 
@@ -147,20 +148,28 @@ def _confirmed_interval(
     azimuth: float,
     interval: tuple[float, float],
     extremes: tuple[np.ndarray, np.ndarray],
-) -> tuple[float, float] | None:
-    """`interval` if IK reaches both its ends along `azimuth`, else its intersection with the bisected one there.
+    solved: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[tuple[float, float] | None, tuple[np.ndarray, np.ndarray] | None]:
+    """`interval` if IK reaches both its ends along `azimuth`, else its intersection with the bisected one there;
+    and the IK solutions at both ends when it reached them (None otherwise).
 
-    The IK of each end starts from the extreme configuration turned by the
-    first joint to face `azimuth`, when the joint's limits allow.
+    The IK of each end starts from the solution at the previous azimuth (`solved`), then from the extreme
+    configuration, each turned by the first joint to face `azimuth` when the joint's limits allow. A turned
+    solution usually solves at once: an arm whose first joint turns it about the vertical reaches the same
+    radius at every azimuth with the same other joints.
     """
     solve = ik.hand_down_solver(height, azimuth)
-    inner, outer = (_turned_toward(ik, q, azimuth) for q in extremes)
-    if solve(interval[1], outer, True) is not None and solve(interval[0], inner, True) is not None:
-        return interval
+    starts = [extremes] if solved is None else [solved, extremes]
+    inner = [seed for pair in starts for seed in _turned_toward(ik, pair[0], azimuth)]
+    outer = [seed for pair in starts for seed in _turned_toward(ik, pair[1], azimuth)]
+    q_outer = solve(interval[1], outer, True)
+    q_inner = None if q_outer is None else solve(interval[0], inner, True)
+    if q_outer is not None and q_inner is not None:
+        return interval, (q_inner, q_outer)
     here = radial_interval(ik, height, azimuth)
     if here is None or max(interval[0], here[0]) >= min(interval[1], here[1]):
-        return None
-    return (max(interval[0], here[0]), min(interval[1], here[1]))
+        return None, None
+    return (max(interval[0], here[0]), min(interval[1], here[1])), None
 
 
 def _turned_toward(ik: InverseKinematics, q: np.ndarray, azimuth: float) -> list[np.ndarray]:
