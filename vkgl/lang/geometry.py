@@ -62,6 +62,18 @@ def _load_mesh(shape: MeshShape) -> trimesh.Trimesh:
     return loaded
 
 
+def shape_vertices(shape: Shape) -> np.ndarray:
+    """The vertices of `shape_mesh(shape)` (body frame), read-only: no copy of the mesh when only they are needed."""
+    return _shape_vertices_cached(shape)
+
+
+@lru_cache(maxsize=256)
+def _shape_vertices_cached(shape: Shape) -> np.ndarray:
+    vertices = np.array(_shape_mesh_cached(shape).vertices, dtype=float)
+    vertices.flags.writeable = False
+    return vertices
+
+
 def body_mesh(body: Body) -> trimesh.Trimesh:
     """The body's shape as a mesh in its own frame."""
     return shape_mesh(body.shape)
@@ -69,8 +81,7 @@ def body_mesh(body: Body) -> trimesh.Trimesh:
 
 def resting_height(body: Body, yaw: float, table_top: float) -> float:
     """The z of the body frame when the body, turned by `yaw`, rests on a table top at `table_top`."""
-    mesh = body_mesh(body)
-    rotated = Rotation.from_euler("z", yaw).apply(mesh.vertices)
+    rotated = Rotation.from_euler("z", yaw).apply(shape_vertices(body.shape).copy())  # SciPy wants it writeable
     return float(table_top - rotated[:, 2].min())
 
 
