@@ -24,6 +24,7 @@ import numpy as np
 
 from vkgl.plan.collision import TABLE, CollisionScene, Contact
 from vkgl.robot import Arm, load_skeleton
+from vkgl.robot.kinematics import link_probe
 
 
 @dataclass(frozen=True)
@@ -56,7 +57,7 @@ class ArmCollision:
         self.skeleton, shape_nodes = _collision_links(arm)
         self._dofs = [int(self.skeleton.getJoint(name).getIndexInSkeleton(0)) for name in arm.joint_names]
         self._all_dofs = self._dofs == list(range(self.skeleton.getNumDofs()))
-        self._link = self.skeleton.getBodyNode(arm.effector_link)
+        self._link = _probe(self.skeleton, arm.effector_link)
         self._q: np.ndarray | None = None
         self.group = scene.detector.createCollisionGroup()
         self.link_of: dict[str, str] = {}  # shape node name -> link name (what contacts call it)
@@ -80,7 +81,7 @@ class ArmCollision:
         """The world pose of the effector frame at the current configuration (equals `Arm.fk(q)`)."""
         if self._q is not None:  # the skeleton is shared with the arm's other checkers: be at our configuration
             self.set_configuration(self._q)
-        return self._link.getTransform().matrix() @ self.arm.link_offset  # = getWorldTransform(), faster
+        return self._link.getTransform().matrix() @ self.arm.link_offset
 
     def overlap(
         self,
@@ -148,6 +149,17 @@ _LINKS: dict[tuple[str, bytes], tuple[Any, list[tuple[Any, str]]]] = {}
 One clone per arm and process instead of one per planning problem. The `ArmCollision`s of an arm share it,
 which is sound because each of them sets the joints before every use of the links' poses (`overlap`, `free`,
 `effector_pose`)."""
+
+
+_PROBES: dict[tuple[int, str], Any] = {}
+
+
+def _probe(skeleton: Any, link: str) -> Any:
+    """A frame on `link` of a shared skeleton (`vkgl.robot.kinematics.link_probe`), one per skeleton and link."""
+    key = (id(skeleton), link)
+    if key not in _PROBES:
+        _PROBES[key] = link_probe(skeleton.getBodyNode(link))
+    return _PROBES[key]
 
 
 def _collision_links(arm: Arm) -> tuple[Any, list[tuple[Any, str]]]:

@@ -49,6 +49,7 @@ class Chain:
         self._all_dofs = dofs == list(range(skeleton.getNumDofs()))
         self._jacobian_columns = self._columns_of_chain()
         self._point = self.link_offset[:3, 3].copy()
+        self._probe = link_probe(self.link)
 
     def _columns_of_chain(self) -> np.ndarray | None:
         """Which columns of the link's DART Jacobian belong to `joint_names`, in their order (None: all, in order)."""
@@ -65,14 +66,12 @@ class Chain:
     def link_pose(self, q: np.ndarray) -> np.ndarray:
         """The effector link's pose (4x4) in the root frame at joint angles `q` (without the effector offset)."""
         self._set(q)
-        return self.link.getTransform().matrix()
+        return self._probe.getTransform().matrix()
 
     def pose_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The effector frame in the root frame and its 6 x n Jacobian (angular rows first, root frame)."""
         self._set(q)
-        # getTransform() (with respect to the world) is the same matrix as getWorldTransform(), and dartpy
-        # hands it over in half the time: this is the innermost call of IK and of the reach
-        pose = self.link.getTransform().matrix() @ self.link_offset
+        pose = self._probe.getTransform().matrix() @ self.link_offset
         jac = self.link.getWorldJacobian(self._point)
         if self._jacobian_columns is not None:
             jac = jac[:, self._jacobian_columns]
@@ -119,4 +118,13 @@ class Chain:
         return anchor, length
 
 
-__all__ = ["Chain"]
+def link_probe(link: Any) -> Any:
+    """A frame fixed on `link` at its origin: its world transform is the link's, the same matrix, read in a sixth
+    of the time (dartpy's BodyNode getters are slow to call; a SimpleFrame's are not). This is the innermost call
+    of IK and of the reach. The link's skeleton may go first: DART then hangs the frame on the world."""
+    import dartpy as dart
+
+    return dart.dynamics.SimpleFrame(link, f"{link.getName()}#probe")
+
+
+__all__ = ["Chain", "link_probe"]
