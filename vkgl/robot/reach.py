@@ -36,9 +36,25 @@ def cached_reach(ik: InverseKinematics, model: tuple[Any, ...], height: float) -
     return _REACH_CACHE[key]
 
 
+_AT_HEIGHT: dict[tuple[Any, ...], tuple[float, float]] = {}
+
+
+def reach_at(ik: InverseKinematics, model: tuple[Any, ...], base_z: float, height: float) -> tuple[float, float]:
+    """`cached_reach` at the world `height` above a base at `base_z` (rounded to the mm), remembered per exact
+    height: the planner asks about the same few heights thousands of times, and rounding costs more than a look-up."""
+    key = (*model, base_z, height)
+    found = _AT_HEIGHT.get(key)
+    if found is None:
+        if len(_AT_HEIGHT) >= 65536:
+            _AT_HEIGHT.clear()
+        found = _AT_HEIGHT[key] = cached_reach(ik, model, round(height - base_z, 3))
+    return found
+
+
 def clear_reach_cache() -> None:
     """Forget every reach computed so far (for benchmarks that time the first computation)."""
     _REACH_CACHE.clear()
+    _AT_HEIGHT.clear()
 
 
 def reach(ik: InverseKinematics, height: float) -> tuple[float, float]:
@@ -203,4 +219,5 @@ __all__ = [
     "extreme_radius",
     "radial_interval",
     "reach",
+    "reach_at",
 ]
