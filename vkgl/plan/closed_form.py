@@ -23,7 +23,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import lsq_linear, nnls
 
 from vkgl.plan.graph import motion_type
 from vkgl.plan.model import GoalSpec, Problem
@@ -296,6 +295,8 @@ def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tup
         norm = float(a @ a)
         value = min(max(float(a @ offset) / norm if norm > 0 else 0.0, lower[0]), upper[0])
         return float(np.linalg.norm(a * value - offset)), np.array([value])
+    from scipy.optimize import lsq_linear, nnls  # here: two slides of one body are rare, the import is not cheap
+
     solution, residual = nnls(columns, offset)
     if np.all(solution >= lower) and np.all(solution <= upper):
         return float(residual), solution
