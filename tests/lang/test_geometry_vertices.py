@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,7 @@ def _box(x: float, y: float, z: float) -> BoxShape:
     return BoxShape(size=Vector(values=(x, y, z)))
 
 
+@cache
 def _shapes() -> list[object]:
     stdlib = [
         body.shape
