@@ -63,6 +63,7 @@ class ArmCollision:
         self._all_dofs = self._dofs == list(range(self.skeleton.getNumDofs()))
         self._link = _probe(self.skeleton, arm.effector_link)
         self._q: np.ndarray | None = None
+        self._other_lists: dict[tuple[tuple[str, ...], str | None, bool], list[str]] = {}
         self.group = scene.detector.createCollisionGroup()
         self.link_of: dict[str, str] = {}  # shape node name -> link name (what contacts call it)
         skip = set(skip_links)
@@ -146,21 +147,26 @@ class ArmCollision:
         others = self._others(ignore, held, table)
         if others and self.scene.collides(self.group, self.scene.group(others)):
             return False
-        pad_others = [n for n in others if n not in set(pad_may_touch)]
-        if held is None and pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)):
-            return False
-        if held is not None:
-            self.scene.place({held.body: self.effector_pose() @ held.in_hand})
-            targets = [n for n in others if n not in held.acts_on]
-            return not (targets and self.scene.collides(self.scene.group([held.body]), self.scene.group(targets)))
-        return True
+        if held is None:
+            pad_others = [n for n in others if n not in set(pad_may_touch)] if pad_may_touch else others
+            return not (pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)))
+        self.scene.place({held.body: self._link.getTransform().matrix() @ self.arm.link_offset @ held.in_hand})
+        targets = [n for n in others if n not in held.acts_on]
+        return not (targets and self.scene.collides(self.scene.group([held.body]), self.scene.group(targets)))
 
     def _others(self, ignore: Iterable[str], held: Held | None, table: bool) -> list[str]:
-        """The scene's bodies (and table) the links are checked against."""
-        skip = set(ignore)
-        if held is not None:
-            skip.add(held.body)
-        return [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
+        """The scene's bodies (and table) the links are checked against (remembered: transit planning asks
+        the same question thousands of times; do not change the list)."""
+        ignored = tuple(ignore)
+        key = (ignored, None if held is None else held.body, table)
+        found = self._other_lists.get(key)
+        if found is None:
+            skip = set(ignored)
+            if held is not None:
+                skip.add(held.body)
+            found = [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
+            self._other_lists[key] = found
+        return found
 
 
 _LINKS: dict[tuple[str, bytes, str, bytes], tuple[Any, list[tuple[Any, str]], Any]] = {}
