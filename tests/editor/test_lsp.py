@@ -285,6 +285,9 @@ def test_completion_offers_keywords_units_bodies_scene_bodies_and_affordances(se
         "N",
         "s",
         "ms",
+        "N*s/m",
+        "N*m*s/rad",
+        "N*m",
     }
 
 

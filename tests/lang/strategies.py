@@ -24,6 +24,9 @@ UNITS = {
     "mass": ["kg", "g"],
     "force": ["N"],
     "time": ["s", "ms"],
+    "linear damping": ["N*s/m"],
+    "angular damping": ["N*m*s/rad"],
+    "torque": ["N*m"],
 }
 
 KEYWORDS = frozenset(
@@ -40,6 +43,8 @@ KEYWORDS = frozenset(
         "axis",
         "through",
         "limits",
+        "damping",
+        "open",
         "explore",
         "contacts",
         "on",
@@ -198,8 +203,11 @@ def shapes() -> st.SearchStrategy[ir.Shape]:
 
 
 def joints() -> st.SearchStrategy[ir.Joint]:
+    """Prismatic and revolute joints, each with or without a damping and a friction of its kind."""
+
     def joint(kind: str, unit: str) -> st.SearchStrategy[ir.Joint]:
         limit = st.builds(ir.Quantity, value=si_values(unit), unit=st.just(unit))
+        damping, friction = ("linear damping", "force") if kind == "prismatic" else ("angular damping", "torque")
         return st.builds(
             ir.Joint,
             type=st.just(kind),
@@ -207,6 +215,8 @@ def joints() -> st.SearchStrategy[ir.Joint]:
             through=st.none() | vectors("length", 3),
             lower=limit,
             upper=limit,
+            damping=st.none() | quantities(damping),
+            friction=st.none() | quantities(friction),
         )
 
     return st.one_of(
@@ -326,10 +336,10 @@ def scenes() -> st.SearchStrategy[ir.Scene]:
 
 
 def goals() -> st.SearchStrategy[ir.Goal]:
-    """Position goals (2- or 3-vectors, with or without yaw) and heading-only goals.
+    """Position goals (2- or 3-vectors, with or without yaw), heading-only goals and joint goals.
 
     Tolerances as the syntax can say them: `within L`, `within L, A`, nothing,
-    and `within A` for a heading-only goal.
+    `within A` for a heading-only goal, and one of the opening's kind for a joint goal.
     """
     position_goal = st.builds(
         ir.Goal,
@@ -345,7 +355,10 @@ def goals() -> st.SearchStrategy[ir.Goal]:
         )
     )
     yaw_goal = st.builds(ir.Goal, body=refs(), yaw=quantities("angle"), tol_yaw=st.none() | quantities("angle"))
-    return st.one_of(position_goal, yaw_goal)
+    joint_goal = st.sampled_from(["length", "angle"]).flatmap(
+        lambda kind: st.builds(ir.Goal, body=refs(), opening=quantities(kind), tol_opening=st.none() | quantities(kind))
+    )
+    return st.one_of(position_goal, yaw_goal, joint_goal)
 
 
 def tasks() -> st.SearchStrategy[ir.Task]:

@@ -1,4 +1,4 @@
-"""An independent check of a `vkg-plan/1` plan: recompute everything from the JSON, the program and the URDF.
+"""An independent check of a `vkg-plan/2` plan: recompute everything from the JSON, the program and the URDF.
 
 Nothing here imports the planner. Poses are recomposed from the affordances
 (scipy for the rotations), the arm's forward kinematics comes from DART
@@ -69,6 +69,7 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
     scene = program.scenes[task.scene.name]
     types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
     poses = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
+    rest = dict(poses)
     fk = DartFK(plan["robot"])
     robot_effector = f"{plan['robot']['name']}.{plan['robot']['effector']}"
     problems: list[str] = []
@@ -97,6 +98,7 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
         poses = end
     final = {n: np.array(m) for n, m in plan["final"].items()}
     problems += _check_goals(task, final)
+    problems += _check_joint_goals(task, final, rest, types)
     return problems
 
 
@@ -165,4 +167,36 @@ def _check_goals(task: Any, final: dict[str, np.ndarray]) -> list[str]:
             yaw = np.arctan2(pose[1, 0], pose[0, 0])
             if abs((yaw - goal.yaw.value + np.pi) % (2 * np.pi) - np.pi) > tol_y:
                 out.append(f"{goal.body.name} misses its goal heading")
+    return out
+
+
+def joint_goal_problems(program: Program, plan_json: dict[str, Any]) -> list[str]:
+    """The joint goals a plan's final poses miss (only those: the rest of `check_plan` is not run)."""
+    plan = json.loads(json.dumps(plan_json))
+    task = program.tasks[plan["task"]]
+    scene = program.scenes[task.scene.name]
+    types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
+    rest = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
+    final = {n: np.array(m) for n, m in plan["final"].items()}
+    return _check_joint_goals(task, final, rest, types)
+
+
+def _check_joint_goals(
+    task: Any, final: dict[str, np.ndarray], rest: dict[str, np.ndarray], types: dict[str, Any]
+) -> list[str]:
+    """`goal B open Q`: B's joint coordinate (from its start, along or about the joint's axis) is within tolerance."""
+    out = []
+    for goal in task.goals:
+        if goal.opening is None:
+            continue
+        name = goal.body.name
+        joint = types[name].joint
+        axis = np.asarray(joint.axis.values, dtype=float) / np.linalg.norm(joint.axis.values)
+        start, end = rest[name], final[name]
+        if joint.type == "prismatic":
+            state = axis @ (start[:3, :3].T @ (end[:3, 3] - start[:3, 3]))
+        else:
+            state = axis @ Rotation.from_matrix(start[:3, :3].T @ end[:3, :3]).as_rotvec()
+        if abs(state - goal.opening.value) > goal.opening_tolerance():
+            out.append(f"{name} opens {state:.4f}, not {goal.opening.value:.4f} within {goal.opening_tolerance()}")
     return out

@@ -73,7 +73,14 @@ def test_the_plan_configuration_seeds_the_contact(arm: Arm) -> None:
 
 def test_jumps_and_unreachable_poses_are_rejected(arm: Arm) -> None:
     contact = contact_at(0.55, 0.05, 0.12)
-    jumpy = follow_poses(arm, approach_poses(contact, 0.02), max_joint_step=1e-5)
+    # a large joint step is accepted when the effector stays on the straight line between the poses (a fast
+    # but continuous motion) ...
+    smooth = follow_poses(arm, approach_poses(contact, 0.02), max_joint_step=1e-5)
+    assert not isinstance(smooth, CartesianFailure)
+    # ... and rejected when it leaves it (two poses 15 cm apart: the joint-space line bows away from the line)
+    far_apart = contact.copy()
+    far_apart[:3, 3] += (0.0, 0.15, 0.1)
+    jumpy = follow_poses(arm, [contact, far_apart], max_joint_step=1e-5)
     assert isinstance(jumpy, CartesianFailure) and "joint jump at pose 1" in jumpy.reason
     far = approach_joints(arm, contact_at(1.5, 0.0, 0.1), 0.02)
     assert isinstance(far, CartesianFailure) and "no IK solution" in far.reason

@@ -7,7 +7,7 @@ import pytest
 from collision_shapes import box, pose
 from plan_programs import compiled  # noqa: F401 (fixture)
 
-from vkgl.plan.arm_collision import ArmCollision, Held
+from vkgl.plan.arm_collision import PAD, ArmCollision, Held
 from vkgl.plan.collision import TABLE, CollisionScene
 from vkgl.plan.model import build_problem
 from vkgl.robot import Arm
@@ -58,7 +58,7 @@ def test_a_tall_body_in_the_arms_way_collides_with_its_links(setup) -> None:
     tall = dict(poses, post=pose(hand[0, 3], hand[1, 3] + 0.02, 0.5))
     hits = arm.overlap(problem.arm.home, tall)
     assert hits and {c.body_b for c in hits} == {"post"}
-    assert {c.body_a for c in hits} <= set(arm.links) and "panda_hand" in {c.body_a for c in hits}
+    assert {c.body_a for c in hits} <= {*arm.links, PAD} and "panda_hand" in {c.body_a for c in hits}
     assert arm.overlap(problem.arm.home, tall, ignore={"post"}) == []
     assert arm.free(problem.arm.home, poses)  # moved away again
 

@@ -56,10 +56,10 @@ def test_the_replay_check_catches_a_wrong_plan(plans, compiled):
     assert any("hand" in p for p in check_plan(compiled("b_stick_push"), plan_json))
 
 
-def test_json_has_exactly_the_vkg_plan_1_keys(plans):
+def test_json_has_exactly_the_vkg_plan_2_keys(plans):
     out = plans["e_rotate_stick_push"].to_json()
     assert list(out) == ["format", "task", "status", "depth", "stats", "robot", "graphs", "steps", "final"]
-    assert out["format"] == "vkg-plan/1" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
+    assert out["format"] == "vkg-plan/2" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
     assert set(out["stats"]) == {"solve_time_s", "graphs_expanded", "task_space_checks", "joint_space_checks"}
     assert set(out["robot"]) == {"name", "urdf", "base", "effector", "effector_link", "effector_offset", "joints"}
     step_keys = [
@@ -73,8 +73,11 @@ def test_json_has_exactly_the_vkg_plan_1_keys(plans):
         "poses_end",
         "q_start",
         "q_end",
+        "path",
     ]
     assert all(list(s) == step_keys for s in out["steps"])
+    phases = [[segment["phase"] for segment in s["path"]] for s in out["steps"]]
+    assert phases == [["transit", "approach"], ["retreat"], ["transit", "approach"], ["lift", "transit", "approach"]]
     assert out["steps"][0]["affordance"] == "Block.turn_px_left" and out["steps"][0]["effector"] == "arm.fingertip"
 
 

@@ -1,8 +1,8 @@
-"""Write a `vkg-plan/1` plan from a script of steps, by kinematics alone (no search).
+"""Write a `vkg-plan/2` plan from a script of steps, by kinematics alone (no search).
 
     from plan_script import scripted_plan
     plan = scripted_plan(program, "a_push", ["add Block.push_center_px block arm.fingertip 0.15"])
-    # a vkgl.formats.plan.PlanDocument; vkgl.formats.plan.to_json(plan) is its vkg-plan/1 JSON
+    # a vkgl.formats.plan.PlanDocument; vkgl.formats.plan.to_json(plan) is its vkg-plan/2 JSON
 
 The planner (`vkgl.plan.solve`) finds the steps; this module only carries out
 given ones on paper: each pushed body moves by its affordance's motion
@@ -106,7 +106,7 @@ def affordance_motion(aff: Affordance, body_start: np.ndarray, value: float) -> 
 
 
 def scripted_plan(program: Program, task: str | Task | None, script: list[str | tuple]) -> PlanDocument:
-    """A solved `vkg-plan/1` document for `task` made of the scripted steps (see the module docstring).
+    """A solved `vkg-plan/2` document for `task` made of the scripted steps (see the module docstring).
 
     Raises InputError for an unknown affordance, body or effector, or when the
     arm has no IK solution for a step's effector pose.
@@ -154,6 +154,7 @@ def scripted_plan(program: Program, task: str | Task | None, script: list[str | 
             )
         )
         graphs.append(_graph(scene_robot.name, state.poses, state))
+    steps = _with_arm_paths(program, task, steps)
     return PlanDocument(
         task=task.name,
         status="solved",
@@ -172,6 +173,20 @@ def scripted_plan(program: Program, task: str | Task | None, script: list[str | 
         steps=tuple(steps),
         final={n: p.copy() for n, p in state.poses.items()},
     )
+
+
+def _with_arm_paths(program: Program, task: Task, steps: list[PlanStepRecord]) -> list[PlanStepRecord]:
+    """The steps with the arm's paths between contacts, planned as the planner plans them (vkg-plan/2)."""
+    from vkgl.plan.arm_paths import ArmPathPlanner
+    from vkgl.plan.geometry_check import GeometryCheck
+    from vkgl.plan.model import build_problem
+    from vkgl.plan.reach import Rejection
+
+    problem = build_problem(program, task)
+    planned = ArmPathPlanner(problem, GeometryCheck(problem)).plan(steps)
+    if isinstance(planned, Rejection):
+        raise InputError(f"script: the arm's paths cannot be planned: {planned.why}")
+    return planned
 
 
 def _graph(robot: str, poses: dict[str, np.ndarray], state: _State) -> tuple[tuple[str, str, str], ...]:

@@ -15,7 +15,7 @@ from vkgl.lang import ir
 from vkgl.lang.printer import (
     constraint_text,
     format_number,
-    pair_text,
+    joint_text,
     pose_text,
     quantity_text,
     vector_text,
@@ -109,10 +109,7 @@ def body_hover(body: ir.Body) -> str:
     if body.friction is not None:
         lines.append(f"- friction `{format_number(body.friction)}`")
     if body.joint is not None:
-        joint = body.joint
-        lines.append(
-            f"- joint `{joint.type} axis {vector_text(joint.axis)} limits {pair_text(joint.lower, joint.upper)}`"
-        )
+        lines.append(f"- joint `{joint_text(body.joint)}`")
     if body.frames:
         lines.append("- frames: " + ", ".join(f"`{f.name} = {pose_text(f.pose)}`" for f in body.frames))
     else:

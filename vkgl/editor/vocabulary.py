@@ -67,9 +67,11 @@ def units() -> tuple[str, ...]:
     """The unit words of the grammar's `UNIT` terminal, longest first (so `ms` is tried before `m`)."""
     for terminal in _grammar().terminals:
         if terminal.name == "UNIT" and isinstance(terminal.pattern, PatternRE):
-            group = re.search(r"\(([A-Za-z|]+)\)", terminal.pattern.value)
+            # Alternatives are words or compounds such as `N\*s\/m` (escaped in the regex).
+            group = re.search(r"\(((?:[A-Za-z|]|\\[*/])+)\)", terminal.pattern.value)
             if group:
-                return tuple(sorted(group.group(1).split("|"), key=lambda u: (-len(u), u)))
+                words = [w.replace("\\", "") for w in group.group(1).split("|")]
+                return tuple(sorted(words, key=lambda u: (-len(u), u)))
     raise LookupError(f"{grammar_path()}: no UNIT terminal of the form /(u1|u2|...)/")
 
 

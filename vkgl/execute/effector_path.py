@@ -23,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
+from vkgl.se3 import ScrewMotion, screw_motion
+
 # Speeds of the effector frame. Slow pushes keep the contact quasi-static, as
 # in exploration; transits are faster because they touch nothing.
 PUSH_SPEED = 0.05  # m/s along the contact path
@@ -112,49 +114,6 @@ def hold(phase: str, pose: np.ndarray, duration: float) -> Segment:
     return Segment(phase, pose.copy(), pose.copy(), max(duration, MIN_DURATION))
 
 
-@dataclass(frozen=True)
-class ScrewMotion:
-    """A world-frame rigid motion as a screw: turn by `rotvec` about the line through `point`, slide `slide` along it.
-
-    `at(s)` is the motion carried out to the fraction s: the interpolation
-    along the screw axis (Chasles), straight for a translation and circular
-    for a rotation about a fixed axis. (Closed form with scipy's Rotation
-    rather than a 4x4 matrix exponential: cheaper, and free of BLAS threads
-    competing with the simulator.)
-    """
-
-    rotvec: np.ndarray
-    point: np.ndarray
-    slide: np.ndarray
-
-    def at(self, s: float = 1.0) -> np.ndarray:
-        """The 4x4 world-frame motion after the fraction `s` of it."""
-        rotation = Rotation.from_rotvec(s * self.rotvec).as_matrix()
-        motion = np.eye(4)
-        motion[:3, :3] = rotation
-        motion[:3, 3] = self.point - rotation @ self.point + s * self.slide
-        return motion
-
-
-def screw_motion(body_start: np.ndarray, body_end: np.ndarray) -> ScrewMotion:
-    """The screw motion taking the pose `body_start` to `body_end` (world frame).
-
-    `screw_motion(a, b).at(s) @ a` interpolates the body's planned motion:
-    along a line for a prismatic affordance, about its axis for a revolute one.
-    """
-    motion = body_end @ np.linalg.inv(body_start)
-    rotvec = Rotation.from_matrix(motion[:3, :3]).as_rotvec()
-    angle = float(np.linalg.norm(rotvec))
-    t = motion[:3, 3]
-    if angle < 1e-9:
-        return ScrewMotion(np.zeros(3), np.zeros(3), t.copy())
-    axis = rotvec / angle
-    slide = float(t @ axis) * axis
-    # a point on the axis: (I - R) p = t - slide, solved in the plane normal to the axis
-    point, *_ = np.linalg.lstsq(np.eye(3) - motion[:3, :3], t - slide, rcond=None)
-    return ScrewMotion(rotvec, point, slide)
-
-
 def screw(phase: str, start: np.ndarray, motion: ScrewMotion, speed: float = PUSH_SPEED) -> Segment:
     """The effector carried rigidly by the world `motion`, starting at `start`.
 
@@ -181,3 +140,17 @@ def at_height(pose: np.ndarray, z: float) -> np.ndarray:
     moved = pose.copy()
     moved[2, 3] = z
     return moved
+
+
+__all__ = [
+    "ScrewMotion",
+    "Segment",
+    "at_height",
+    "backed_off",
+    "hold",
+    "line",
+    "rotation_angle",
+    "screw",
+    "screw_motion",
+    "swing",
+]

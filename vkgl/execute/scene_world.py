@@ -125,8 +125,8 @@ class SceneWorld:
                 if mine in robot and other in self.skeleton_names and other not in robot:  # not arm vs. held tool
                     what = "the fingertip" if mine == self.arm.skeleton.getName() else f"the held {self.holding()}"
                     raise ArmStuck(
-                        f"{what} touched {self.skeleton_names[other]} on its way to the contact "
-                        "(the way down from above must be clear: is the body where the plan expects it?)"
+                        f"{what} touched {self.skeleton_names[other]} on its planned way through free space "
+                        "(the planner found it clear: is the body where the plan expects it?)"
                     )
 
     def record(self) -> None:

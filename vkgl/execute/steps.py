@@ -1,13 +1,15 @@
 """The kinds of plan step, carried out by the arm in the scene's world (`vkgl.execute.replay`).
 
-From the step's `op` and the affordance's motion:
-- push (add, prismatic/revolute): travel above the table to a point behind
-  the contact, approach, make contact, move the effector with the body's
-  planned motion (planned poses_start -> poses_end), settle;
-- let go (remove of a push): back off along the push direction and lift;
-- grasp (add, free motion, e.g. Stick.wield): come down onto the tool's grasp
-  frame, hold the tool;
-- release (remove of a grasp): lower the tool to the table and let go.
+Every step first carries out its planned arm path (`step.path`, vkg-plan/2:
+lift, retreat, transit, approach; `ArmMoves.follow_path`), then its action,
+from the step's `op` and the affordance's motion:
+- push (add, prismatic/revolute): the path ends in contact; move the effector
+  with the body's planned motion (planned poses_start -> poses_end), settle;
+- let go (remove of a push): the path is the retreat out of the contact;
+- grasp (add, free motion, e.g. Stick.wield): the path comes down onto the
+  tool's grasp frame; hold the tool;
+- release (remove of a grasp): lower the tool onto the table and let go (the
+  next step's path lifts the hand).
 
 The bodies move only through contact and friction with the fingertip or a
 held tool: their poses are never set after the start.
@@ -21,11 +23,13 @@ from vkgl.errors import InputError, SimulationError
 from vkgl.execute import effector_path as paths
 from vkgl.execute.arm_moves import ArmMoves
 from vkgl.execute.scene_world import SceneWorld
+from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
 from vkgl.lang.ir import Affordance, Body, FixedC
 
-STANDOFF = 0.01  # m behind the contact where the descent from above ends and the approach starts
-LIFT = 0.04  # m the effector rises after letting go
+STANDOFF = 0.01  # m the effector backs off when it lets go outside the plan (at the end, before a re-solve)
+LIFT = 0.04  # m the effector rises after letting go outside the plan
+PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
 
 
@@ -77,22 +81,32 @@ class StepKinds:
         """Carry out step `index` (from 1) of a plan. Raises ArmStuck if the arm cannot follow the path."""
         label = f"step {index}"
         self.sim.planned = {**self.sim.planned, **step.poses_start}
+        if step.op == "add" and step.body not in self.sim.nodes:
+            raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
+        # the fingertip pushes; an open gripper closing around a tool, or a hand holding one, does not
+        self.sim.arm.fingertip_collides(self.sim.arm.held is None and not (step.motion == "free" and step.op == "add"))
+        self.moves.follow_path(step.path, label)
         if step.motion == "free":
             (self._grasp if step.op == "add" else self._release)(step, label)
         elif step.op == "add":
             self._push(step, label)
         else:
-            self.let_go(label)
+            self.push_direction = None  # the path was the retreat out of the contact
         self.sim.planned = {**self.sim.planned, **step.poses_end}
 
     def _push(self, step: PlanStepRecord, label: str) -> None:
-        if step.body not in self.sim.nodes:
-            raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
         body_start, body_end = step.poses_start[step.body], step.poses_end[step.body]
         pusher = body_start @ self._action_pose(step, label)
-        hand = self._hand_from_pusher(step, pusher, label)
+        wanted = self._hand_from_pusher(step, pusher, label)
+        # the hand as planned at the contact (the planner may lean it back from upright to clear a tall face)
+        hand = self.sim.arm_model.fk(step.q_start)
+        off = float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
+        if off > PLAN_CONTACT_TOL:
+            raise ArmStuck(
+                f"the plan is inconsistent: its arm configuration at the contact puts the effector "
+                f"{off * 100:.1f} cm from the contact of {step.affordance}"
+            )
         direction = pusher[:3, 0].copy()
-        before = paths.backed_off(hand, STANDOFF, direction)
         motion = paths.screw_motion(body_start, body_end)
         moving = [
             n
@@ -104,12 +118,8 @@ class StepKinds:
             now = motion.at(s)
             self.sim.planned = {**self.sim.planned, **{n: now @ step.poses_start[n] for n in moving}}
 
-        self.sim.arm.fingertip_collides(self.sim.arm.held is None)
-        if self.push_direction is not None:
-            self.let_go(label)
         push = paths.screw("motion", hand, motion)
         chain = self.moves.motion_chain(push, [step.q_start, step.q_end])
-        self.moves.travel(before, label, [chain[0], step.q_start, step.q_end], contact=hand)
         self.push_direction = direction
         self.moves.run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
         end = self.sim.arm.effector_pose()
@@ -130,35 +140,36 @@ class StepKinds:
 
     def _grasp(self, step: PlanStepRecord, label: str) -> None:
         tool = step.body
-        if tool not in self.sim.nodes:
-            raise InputError(f"{label}: no body `{tool}` in scene {self.sim.scene.name}")
         if self.sim.holding() is not None:
             raise SimulationError(f"{label}: the robot already holds {self.sim.holding()}")
-        self.let_go(label)
-        grasp = self._action_pose(step, label)
-        hand = step.poses_start[tool] @ grasp
-        self.sim.arm.fingertip_collides(False)  # the open gripper closes around the tool, it does not push it
-        self.moves.travel(hand, label, [step.q_start, step.q_end])
         _, node = self.sim.nodes[tool]
         self.sim.arm.grasp(tool, self.sim.nodes[tool][0], node)
-        self.grasp_planned = grasp
+        self.grasp_planned = self._action_pose(step, label)
 
     def _release(self, step: PlanStepRecord, label: str) -> None:
-        self.put_down(label)
+        self._lower_and_release(label)
 
     def put_down(self, label: str) -> None:
         """Lower the held tool onto the table and let go of it; then lift the empty hand."""
         if self.sim.arm.held is None:
             return
         self.let_go(label)
+        self._lower_and_release(label)
+        start = self.sim.arm.effector_pose()
+        up = paths.at_height(start, start[2, 3] + LIFT)
+        self.moves.run([paths.line("release", start, up), paths.hold("settle", up, SETTLE)], label)
+
+    def _lower_and_release(self, label: str) -> None:
+        """Lower the held tool until it rests on the table, and let go of it (the hand stays where it is)."""
+        if self.sim.arm.held is None:
+            return
         start = self.sim.arm.effector_pose()
         drop = self.sim.lowest_offset() - 0.002
         low = paths.at_height(start, self.sim.table_z + drop) if start[2, 3] > self.sim.table_z + drop else start
         self.moves.run([paths.line("release", start, low, paths.APPROACH_SPEED)], label)
         self.sim.arm.release()
         self.grasp_planned = None
-        up = paths.at_height(low, low[2, 3] + LIFT)
-        self.moves.run([paths.line("release", low, up), paths.hold("settle", up, SETTLE)], label)
+        self.moves.run([paths.hold("settle", low, SETTLE)], label)
         self.sim.arm.fingertip_collides(True)
 
     def settle(self, seconds: float, label: str = "settle") -> None:

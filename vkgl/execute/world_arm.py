@@ -37,11 +37,11 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.errors import SimulationError
 from vkgl.execute.effector_path import Segment
+from vkgl.robot.pad import FINGER_PAD_WIDTH, FINGERTIP_RADIUS, pad_pose
 from vkgl.shapes import isometry
-from vkgl.sim.fingertip import FINGERTIP_FRICTION, FINGERTIP_RADIUS  # the same fingertip as in exploration
+from vkgl.sim.fingertip import FINGERTIP_FRICTION  # the same fingertip as in exploration
 
 CONTROL_PERIOD = 0.02  # s between two IK solutions
-FINGER_PAD_WIDTH = 0.02  # m: the closed fingers of a Panda hand push with a pad about this wide
 MAX_LINK_STEP = 0.03  # m any link may move in one control period; more means IK switched configuration
 JOINT_SPEED = 0.8  # rad/s of the fastest joint in a joint-space move
 
@@ -129,14 +129,9 @@ class WorldArm:
 
     def _add_fingertip(self) -> Any:
         joint, body = self.link.createWeldJointAndBodyNodePair()
-        centre = self.link_offset.copy()
-        centre[:3, 3] = (self.link_offset @ np.array([-FINGERTIP_RADIUS, 0.0, 0.0, 1.0]))[:3]
-        joint.setTransformFromParentBodyNode(isometry(centre))
+        joint.setTransformFromParentBodyNode(isometry(self.link_offset @ pad_pose()))
         body.setName("fingertip")
         shape = body.createShapeNode(dart.dynamics.CapsuleShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH))
-        along_y = np.eye(4)  # the capsule's axis (its z) turned onto the effector frame's y
-        along_y[:3, :3] = Rotation.from_euler("x", np.pi / 2).as_matrix()
-        shape.setRelativeTransform(isometry(along_y))
         shape.createVisualAspect()
         shape.createCollisionAspect()
         shape.createDynamicsAspect().setFrictionCoeff(FINGERTIP_FRICTION)
@@ -257,6 +252,25 @@ class WorldArm:
         for k in range(1, periods + 1):
             self._command(q_start + (q_target - q_start) * k / periods, substeps * dt)
             step(substeps, k / periods)
+        self._stop()
+
+    def follow_joints(self, joints: np.ndarray, times: np.ndarray, step: Callable[[int, float], None]) -> None:
+        """Move through joint waypoints `joints` (k x n), reaching waypoint i at `times[i]` s (a planned path).
+
+        Between waypoints the joints move along the straight joint-space line
+        at constant velocity, one command per control period; a waypoint
+        closer in time than a control period is reached in one.
+        """
+        dt = self.world.getTimeStep()
+        substeps = max(1, round(CONTROL_PERIOD / dt))
+        joints = np.asarray(joints, dtype=float)
+        total = max(float(times[-1]), 1e-9)
+        for i in range(len(joints) - 1):
+            a, b = joints[i], joints[i + 1]
+            periods = max(1, int(np.ceil((float(times[i + 1]) - float(times[i])) / CONTROL_PERIOD - 1e-9)))
+            for k in range(1, periods + 1):
+                self._command(a + (b - a) * k / periods, substeps * dt)
+                step(substeps, float(times[i] + (times[i + 1] - times[i]) * k / periods) / total)
         self._stop()
 
     def _solve(self, target: np.ndarray, q_hint: np.ndarray | None) -> np.ndarray:

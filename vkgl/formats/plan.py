@@ -1,4 +1,4 @@
-"""The `vkg-plan/1` document: the one definition of the plan format, its only reader and writer.
+"""The `vkg-plan/2` document: the one definition of the plan format, its only reader and writer.
 
 ARCHITECTURE.md is the contract. In memory a plan document is a tree of frozen
 dataclasses (`PlanDocument` > `PlanRobot`, `PlanStats`, `PlanStepRecord`) with
@@ -18,9 +18,10 @@ documents compare by identity; compare `to_json(a) == to_json(b)` for content.
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,8 +30,23 @@ import numpy as np
 
 from vkgl.errors import InputError, PlanFormatError
 from vkgl.formats.atomic import write_text
+from vkgl.formats.json_checks import (
+    expect_choice,
+    expect_dotted,
+    expect_joints,
+    expect_list,
+    expect_name,
+    expect_number,
+    expect_object,
+    expect_pose,
+    expect_poses,
+    expect_text,
+    frozen,
+    is_int,
+    show,
+)
 
-PLAN_FORMAT = "vkg-plan/1"
+PLAN_FORMAT = "vkg-plan/2"
 STATUSES = ("solved", "infeasible", "timeout")
 OPS = ("add", "remove")
 MOTIONS = ("fixed", "prismatic", "revolute", "free")
@@ -54,8 +70,11 @@ _STEP_KEYS = (
     "poses_end",
     "q_start",
     "q_end",
+    "path",
 )
-_ROTATION_TOL = 1e-6  # how far from orthonormal a pose's rotation block may be
+_SEGMENT_KEYS = ("phase", "times", "joints")
+PHASES = ("lift", "retreat", "transit", "approach")
+"""The kinds of planned arm motion before a step's action (`ArmSegment.phase`)."""
 
 
 # ---------------------------------------------------------------- the document
@@ -88,12 +107,35 @@ class PlanRobot:
 
 
 @dataclass(frozen=True, eq=False)
+class ArmSegment:
+    """One planned arm motion: `joints` (k x n waypoints, joined by straight joint-space segments) reached at
+    `times` (k seconds from the segment's start: 0 first, increasing).
+
+    `phase`: "lift" (straight up after a grasp or a release), "retreat"
+    (straight back out of a contact), "transit" (collision-free through free
+    space, planned with OMPL) or "approach" (straight into a contact, the
+    last centimetres).
+    """
+
+    phase: str
+    times: np.ndarray
+    joints: np.ndarray
+
+    @property
+    def duration(self) -> float:
+        """How long the segment lasts (s)."""
+        return float(self.times[-1])
+
+
+@dataclass(frozen=True, eq=False)
 class PlanStepRecord:
     """One step of a plan: the transition into the next graph and the motion that graph allows.
 
     `poses_start`/`poses_end` are the bodies' world poses right after the
     transition and after the motion; `q_start`/`q_end` the arm's joints there;
-    `value` is the motion's amount (m or rad, >= 0; 0 for a REMOVE).
+    `value` is the motion's amount (m or rad, >= 0; 0 for a REMOVE); `path`
+    the arm's planned motions before the step's action (vkg-plan/2): from
+    where the previous step left the arm to `q_start`.
     """
 
     op: str
@@ -106,6 +148,7 @@ class PlanStepRecord:
     poses_end: Poses
     q_start: np.ndarray
     q_end: np.ndarray
+    path: tuple[ArmSegment, ...] = ()
 
     def title(self) -> str:
         """The step in words: `add Block.push_center_px on block with arm.fingertip: slide 15.0 cm`."""
@@ -119,7 +162,7 @@ class PlanStepRecord:
 
 @dataclass(frozen=True, eq=False)
 class PlanDocument:
-    """A whole `vkg-plan/1` plan.
+    """A whole `vkg-plan/2` plan.
 
     `status` is "solved", "infeasible" or "timeout"; `depth` is the number of
     graphs (G0 included) of a solved plan, None otherwise; `graphs` holds each
@@ -165,7 +208,7 @@ def to_json(doc: PlanDocument) -> dict[str, Any]:
 
 
 def dumps(doc: PlanDocument) -> str:
-    """The text of a `vkg-plan/1` file (what `write` puts in it)."""
+    """The text of a `vkg-plan/2` file (what `write` puts in it)."""
     return json.dumps(to_json(doc), indent=1) + "\n"
 
 
@@ -207,6 +250,15 @@ def _step_json(step: PlanStepRecord) -> dict[str, Any]:
         "poses_end": _poses_json(step.poses_end),
         "q_start": [float(round(v, 12)) for v in step.q_start],
         "q_end": [float(round(v, 12)) for v in step.q_end],
+        "path": [_segment_json(segment) for segment in step.path],
+    }
+
+
+def _segment_json(segment: ArmSegment) -> dict[str, Any]:
+    return {
+        "phase": segment.phase,
+        "times": [float(round(t, 12)) + 0.0 for t in segment.times],
+        "joints": [[float(round(v, 12)) + 0.0 for v in q] for q in segment.joints],
     }
 
 
@@ -214,7 +266,7 @@ def _step_json(step: PlanStepRecord) -> dict[str, Any]:
 
 
 def read(path: str | Path) -> PlanDocument:
-    """Read and check a `vkg-plan/1` file. InputError if it cannot be read or is not JSON;
+    """Read and check a `vkg-plan/2` file. InputError if it cannot be read or is not JSON;
     PlanFormatError (an InputError) naming the file and the bad field's path if it is not a valid plan."""
     try:
         text = Path(path).read_text(encoding="utf-8")
@@ -238,21 +290,27 @@ def from_json(data: Any) -> PlanDocument:
     not finite, a pose that is not a 4x4 homogeneous transform, joints that do
     not match `robot.joints`, or a `depth` that disagrees with the graphs.
     """
-    obj = _object(data, "", _TOP_KEYS, optional=("reason",))
+    obj = expect_object(data, "", _TOP_KEYS, optional=("reason",))
+    if obj["format"] == "vkg-plan/1":
+        raise PlanFormatError(
+            "format",
+            f"found 'vkg-plan/1', expected {PLAN_FORMAT!r}: the plan was written by an older vkgc, without the "
+            "arm's paths between contacts; solve the task again",
+        )
     if obj["format"] != PLAN_FORMAT:
         raise PlanFormatError("format", f"expected {PLAN_FORMAT!r}, found {obj['format']!r}: not a {PLAN_FORMAT} plan")
-    task = _name(obj["task"], "task")
-    status = _choice(obj["status"], "status", STATUSES)
+    task = expect_name(obj["task"], "task")
+    status = expect_choice(obj["status"], "status", STATUSES)
     robot = _robot(obj["robot"], "robot")
     stats = _stats(obj["stats"], "stats")
-    graphs = tuple(_graph(g, f"graphs[{k}]") for k, g in enumerate(_list(obj["graphs"], "graphs")))
-    steps = tuple(_step(s, f"steps[{k}]", len(robot.joints)) for k, s in enumerate(_list(obj["steps"], "steps")))
-    final = _poses(obj["final"], "final")
+    graphs = tuple(_graph(g, f"graphs[{k}]") for k, g in enumerate(expect_list(obj["graphs"], "graphs")))
+    steps = tuple(_step(s, f"steps[{k}]", len(robot.joints)) for k, s in enumerate(expect_list(obj["steps"], "steps")))
+    final = expect_poses(obj["final"], "final")
     depth = obj["depth"]
     if status == "solved":
         if "reason" in obj:
             raise PlanFormatError("reason", "only a plan that is not solved has a reason")
-        if not _is_int(depth) or depth < 1:
+        if not is_int(depth) or depth < 1:
             raise PlanFormatError("depth", f"expected the number of graphs (1 or more), found {depth!r}")
         if depth != len(graphs):
             raise PlanFormatError("depth", f"is {depth} but the plan has {len(graphs)} graphs")
@@ -266,185 +324,100 @@ def from_json(data: Any) -> PlanDocument:
             raise PlanFormatError("depth", f"expected null for a plan that is {status}, found {depth!r}")
         if "reason" not in obj:
             raise PlanFormatError("reason", f"missing: a plan that is {status} says why")
-        reason = _text(obj["reason"], "reason")
+        reason = expect_text(obj["reason"], "reason")
     return PlanDocument(task, status, depth, stats, robot, graphs, steps, final, reason)
 
 
 def _robot(data: Any, path: str) -> PlanRobot:
-    obj = _object(data, path, _ROBOT_KEYS)
-    joints = tuple(_name(j, f"{path}.joints[{k}]") for k, j in enumerate(_list(obj["joints"], f"{path}.joints")))
+    obj = expect_object(data, path, _ROBOT_KEYS)
+    joints = tuple(
+        expect_name(j, f"{path}.joints[{k}]") for k, j in enumerate(expect_list(obj["joints"], f"{path}.joints"))
+    )
     if not joints:
         raise PlanFormatError(f"{path}.joints", "expected the arm's joint names, found none")
     return PlanRobot(
-        name=_name(obj["name"], f"{path}.name"),
-        urdf=_name(obj["urdf"], f"{path}.urdf"),
-        base=_pose(obj["base"], f"{path}.base"),
-        effector=_name(obj["effector"], f"{path}.effector"),
-        effector_link=_name(obj["effector_link"], f"{path}.effector_link"),
-        effector_offset=_pose(obj["effector_offset"], f"{path}.effector_offset"),
+        name=expect_name(obj["name"], f"{path}.name"),
+        urdf=expect_name(obj["urdf"], f"{path}.urdf"),
+        base=expect_pose(obj["base"], f"{path}.base"),
+        effector=expect_name(obj["effector"], f"{path}.effector"),
+        effector_link=expect_name(obj["effector_link"], f"{path}.effector_link"),
+        effector_offset=expect_pose(obj["effector_offset"], f"{path}.effector_offset"),
         joints=joints,
     )
 
 
 def _stats(data: Any, path: str) -> PlanStats:
-    obj = _object(data, path, _STATS_KEYS)
-    time = _number(obj["solve_time_s"], f"{path}.solve_time_s")
+    obj = expect_object(data, path, _STATS_KEYS)
+    time = expect_number(obj["solve_time_s"], f"{path}.solve_time_s")
     if time < 0:
         raise PlanFormatError(f"{path}.solve_time_s", f"expected a duration >= 0, found {time!r}")
     counts = []
     for key in _STATS_KEYS[1:]:
         value = obj[key]
-        if not _is_int(value) or value < 0:
+        if not is_int(value) or value < 0:
             raise PlanFormatError(f"{path}.{key}", f"expected a count (an integer >= 0), found {value!r}")
         counts.append(value)
     return PlanStats(time, *counts)
 
 
 def _graph(data: Any, path: str) -> tuple[Edge, ...]:
-    obj = _object(data, path, ("edges",))
+    obj = expect_object(data, path, ("edges",))
     edges = []
-    for k, raw in enumerate(_list(obj["edges"], f"{path}.edges")):
+    for k, raw in enumerate(expect_list(obj["edges"], f"{path}.edges")):
         where = f"{path}.edges[{k}]"
         if not isinstance(raw, list) or len(raw) != 3:
-            raise PlanFormatError(where, f"expected [parent, child, type], found {_show(raw)}")
-        parent, child = _name(raw[0], f"{where}[0]"), _name(raw[1], f"{where}[1]")
-        edges.append((parent, child, _choice(raw[2], f"{where}[2]", MOTIONS)))
+            raise PlanFormatError(where, f"expected [parent, child, type], found {show(raw)}")
+        parent, child = expect_name(raw[0], f"{where}[0]"), expect_name(raw[1], f"{where}[1]")
+        edges.append((parent, child, expect_choice(raw[2], f"{where}[2]", MOTIONS)))
     return tuple(edges)
 
 
 def _step(data: Any, path: str, n_joints: int) -> PlanStepRecord:
-    obj = _object(data, path, _STEP_KEYS)
-    value = _number(obj["value"], f"{path}.value")
+    obj = expect_object(data, path, _STEP_KEYS)
+    value = expect_number(obj["value"], f"{path}.value")
     if value < 0:
         raise PlanFormatError(f"{path}.value", f"expected an amount >= 0 (m or rad), found {value!r}")
     return PlanStepRecord(
-        op=_choice(obj["op"], f"{path}.op", OPS),
-        affordance=_dotted(obj["affordance"], f"{path}.affordance", "Type.affordance"),
-        body=_name(obj["body"], f"{path}.body"),
-        effector=_dotted(obj["effector"], f"{path}.effector", "owner.frame"),
-        motion=_choice(obj["motion"], f"{path}.motion", MOTIONS),
+        op=expect_choice(obj["op"], f"{path}.op", OPS),
+        affordance=expect_dotted(obj["affordance"], f"{path}.affordance", "Type.affordance"),
+        body=expect_name(obj["body"], f"{path}.body"),
+        effector=expect_dotted(obj["effector"], f"{path}.effector", "owner.frame"),
+        motion=expect_choice(obj["motion"], f"{path}.motion", MOTIONS),
         value=value,
-        poses_start=_poses(obj["poses_start"], f"{path}.poses_start"),
-        poses_end=_poses(obj["poses_end"], f"{path}.poses_end"),
-        q_start=_joints(obj["q_start"], f"{path}.q_start", n_joints),
-        q_end=_joints(obj["q_end"], f"{path}.q_end", n_joints),
+        poses_start=expect_poses(obj["poses_start"], f"{path}.poses_start"),
+        poses_end=expect_poses(obj["poses_end"], f"{path}.poses_end"),
+        q_start=expect_joints(obj["q_start"], f"{path}.q_start", n_joints),
+        q_end=expect_joints(obj["q_end"], f"{path}.q_end", n_joints),
+        path=tuple(
+            _segment(seg, f"{path}.path[{k}]", n_joints)
+            for k, seg in enumerate(expect_list(obj["path"], f"{path}.path"))
+        ),
     )
 
 
-# ---------------------------------------------------------------- field checks
-
-
-def _show(value: Any) -> str:
-    """`value` as JSON writes it (NaN as NaN), cut to 40 characters."""
-    try:
-        text = json.dumps(value)
-    except (TypeError, ValueError):
-        text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
-
-
-def _object(data: Any, path: str, keys: Sequence[str], optional: Sequence[str] = ()) -> dict[str, Any]:
-    where = path or "the plan"
-    if not isinstance(data, dict):
+def _segment(data: Any, path: str, n_joints: int) -> ArmSegment:
+    obj = expect_object(data, path, _SEGMENT_KEYS)
+    phase = expect_choice(obj["phase"], f"{path}.phase", PHASES)
+    raw_times = expect_list(obj["times"], f"{path}.times")
+    times = [expect_number(t, f"{path}.times[{k}]") for k, t in enumerate(raw_times)]
+    if not times or times[0] != 0 or any(b <= a for a, b in itertools.pairwise(times)):
+        raise PlanFormatError(f"{path}.times", "expected seconds from 0, increasing (one per waypoint)")
+    raw_joints = expect_list(obj["joints"], f"{path}.joints")
+    if len(raw_joints) != len(times):
         raise PlanFormatError(
-            path, f"expected a JSON object, found {_show(data)}" + (f" ({where})" if not path else "")
+            f"{path}.joints", f"expected {len(times)} waypoints (one per time), found {len(raw_joints)}"
         )
-    for key in keys:
-        if key not in data:
-            raise PlanFormatError(_join(path, key), "missing")
-    unknown = [k for k in data if k not in keys and k not in optional]
-    if unknown:
-        raise PlanFormatError(_join(path, str(unknown[0])), f"unknown key (expected {', '.join(keys)})")
-    return data
-
-
-def _join(path: str, key: str) -> str:
-    return f"{path}.{key}" if path else key
-
-
-def _list(data: Any, path: str) -> list[Any]:
-    if not isinstance(data, list):
-        raise PlanFormatError(path, f"expected a list, found {_show(data)}")
-    return data
-
-
-def _text(data: Any, path: str) -> str:
-    if not isinstance(data, str):
-        raise PlanFormatError(path, f"expected a string, found {_show(data)}")
-    return data
-
-
-def _name(data: Any, path: str) -> str:
-    if not isinstance(data, str) or not data:
-        raise PlanFormatError(path, f"expected a non-empty string, found {_show(data)}")
-    return data
-
-
-def _dotted(data: Any, path: str, form: str) -> str:
-    text = _name(data, path)
-    head, dot, tail = text.partition(".")
-    if not (head and dot and tail):
-        raise PlanFormatError(path, f"expected `{form}`, found {_show(text)}")
-    return text
-
-
-def _choice(data: Any, path: str, choices: Sequence[str]) -> str:
-    if data not in choices or not isinstance(data, str):
-        raise PlanFormatError(path, f"expected one of {', '.join(choices)}, found {_show(data)}")
-    return data
-
-
-def _is_int(value: Any) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool)
-
-
-def _is_number(value: Any) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-
-
-def _number(data: Any, path: str) -> float:
-    if not _is_number(data):
-        raise PlanFormatError(path, f"expected a finite number, found {_show(data)}")
-    return data  # type: ignore[no-any-return]
-
-
-def _joints(data: Any, path: str, count: int) -> np.ndarray:
-    if not isinstance(data, list) or not all(_is_number(v) for v in data):
-        raise PlanFormatError(path, f"expected a list of finite numbers (joint positions, rad), found {_show(data)}")
-    if len(data) != count:
-        raise PlanFormatError(path, f"expected {count} joint positions (one per robot.joints), found {len(data)}")
-    return _frozen(np.asarray(data, dtype=float))
-
-
-def _pose(data: Any, path: str) -> np.ndarray:
-    shaped = isinstance(data, list) and len(data) == 4 and all(isinstance(r, list) and len(r) == 4 for r in data)
-    if not shaped or not all(_is_number(v) for row in data for v in row):
-        raise PlanFormatError(path, "expected a 4x4 matrix of finite numbers")
-    pose = np.asarray(data, dtype=float)
-    if np.abs(pose[3] - (0.0, 0.0, 0.0, 1.0)).max() > 1e-9:
-        raise PlanFormatError(path, "expected a homogeneous transform (last row 0 0 0 1)")
-    rotation = pose[:3, :3]
-    if np.abs(rotation.T @ rotation - np.eye(3)).max() > _ROTATION_TOL or np.linalg.det(rotation) < 0:
-        raise PlanFormatError(path, "expected a rotation in the upper-left 3x3 block (orthonormal, det +1)")
-    return _frozen(pose)
-
-
-def _poses(data: Any, path: str) -> dict[str, np.ndarray]:
-    if not isinstance(data, dict):
-        raise PlanFormatError(path, f"expected an object of body name -> 4x4 pose, found {_show(data)}")
-    return {_name(name, path): _pose(pose, f"{path}.{name}") for name, pose in data.items()}
-
-
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array.flags.writeable = False
-    return array
+    joints = [expect_joints(q, f"{path}.joints[{k}]", n_joints) for k, q in enumerate(raw_joints)]
+    return ArmSegment(phase, frozen(np.asarray(times, dtype=float)), frozen(np.array(joints, dtype=float)))
 
 
 __all__ = [
     "MOTIONS",
     "OPS",
+    "PHASES",
     "PLAN_FORMAT",
     "STATUSES",
+    "ArmSegment",
     "Edge",
     "PlanDocument",
     "PlanFormatError",

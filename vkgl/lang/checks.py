@@ -24,6 +24,7 @@ from vkgl.lang.check_context import (
     where_declared,
 )
 from vkgl.lang.checks_body import check_body, check_direction, check_robot
+from vkgl.lang.checks_joints import check_joint_goals
 from vkgl.lang.checks_ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.checks_scene import check_scenes
 from vkgl.lang.diagnostics import Diagnostic
@@ -50,6 +51,7 @@ def check_program(
         for decl in module.decls:
             _check_decl(decl, program, ctx)
     _check_tasks_can_move(program, ctx)
+    check_joint_goals(program, ctx)  # joint goals: a body with a joint, the right kind of opening, its limits
     _check_tools_have_correspondences(program, ctx)
     check_scenes(program, ctx)  # scene geometry: overlaps, table edges, resting, goals (E420–E425)
     return program, ctx.diagnostics
@@ -213,7 +215,7 @@ def _check_task(task: ir.Task, ctx: CheckContext) -> None:
                 goal.body.span,
                 did_you_mean(goal.body.name, names),
             )
-        for tol in (goal.tol_position, goal.tol_yaw):
+        for tol in (goal.tol_position, goal.tol_yaw, goal.tol_opening):
             if tol is not None and tol.value <= 0:
                 ctx.error(codes.NON_POSITIVE_VALUE, f"a tolerance must be positive, got {shown(tol)}", tol.span)
     if task.search is not None:

@@ -18,6 +18,7 @@ import numpy as np
 from vkgl.lang import codes, ir
 from vkgl.lang.check_context import CheckContext, did_you_mean, duplicates, shown, shown_vector
 from vkgl.lang.checks_explore import check_explore
+from vkgl.lang.checks_joints import check_joint_dynamics
 from vkgl.lang.checks_ranges import check_body_ranges
 
 
@@ -41,6 +42,7 @@ def check_body(body: ir.Body, ctx: CheckContext) -> None:
     duplicates(body.frames, "frame", ctx)
     if body.joint is not None:
         _check_joint(body.joint, ctx)
+        check_joint_dynamics(body, ctx)
     duplicates(body.explores, "exploration", ctx)
     for explore in body.explores:
         check_explore(explore, body, shape_ok, ctx)

@@ -54,7 +54,9 @@ UNKNOWN_UNIT = _code(
     "unknown unit",
     (
         "A word after a number that is not one of VKG's units. Units are `m cm mm` (length), `deg rad` "
-        "(angle), `kg g` (mass), `N` (force), `s ms` (time). Convert: 500 lb is `226.8 kg`."
+        "(angle), `kg g` (mass), `N` (force), `s ms` (time), and for joints `N*s/m` (linear damping), "
+        "`N*m*s/rad` (angular damping) and `N*m` (torque), written without spaces. Convert: 500 lb is "
+        "`226.8 kg`."
     ),
 )
 
@@ -86,7 +88,7 @@ WRONG_COMPONENT_COUNT = _code(
     (
         "A vector has the wrong number of components: box sizes, positions, `through`, `from`, `about` and "
         "`rpy` take 3; table sizes, `on table at` and goal positions 2 (goals also accept 3); joint `limits` "
-        "take 2; a heading goal takes one tolerance. Add or remove components."
+        "take 2; a heading goal and a joint goal take one tolerance. Add or remove components."
     ),
 )
 UNIT_TWICE = _code(
@@ -126,7 +128,8 @@ OUT_OF_RANGE = _code(
     "E209",
     "value outside its plausible physical range",
     (
-        "A mass, size, mesh scale, friction, force, duration or timeout is a finite number of the right unit "
+        "A mass, size, mesh scale, friction, force, joint damping or friction, duration or timeout is a finite "
+        "number of the right unit "
         "but far outside what a table-top manipulation task can mean (`mass 1e300 kg`, `duration 1e308 s`). "
         "The message gives the allowed range; docs/language.md lists them all. Check the unit (`g` for `kg`, "
         "`mm` for `m`)."
@@ -237,7 +240,8 @@ STATEMENT_TWICE = _code(
     "E406",
     "statement given twice",
     (
-        "A statement that may appear only once in its block (`shape`, `mass`, `friction`, `joint`; an explore"
+        "A statement that may appear only once in its block (`shape`, `mass`, `friction`, `joint`; a joint's "
+        "`damping` and `friction`; an explore"
         " block's `contacts`, `force`, `grasp`, `duration`; a task's `scene`, `search`; a scene's `table`; an"
         " affordance's `action`, `motion`, `evidence`; `max_depth`, `timeout`; a robot's `urdf`) is given "
         "twice. The note says where it was first given; keep one."
@@ -309,93 +313,26 @@ CONTACT_OFF_SURFACE = _code(
     ),
 )
 
-# scene geometry (checks_scene.py): tolerances TOUCH, EDGE and REST there, definitions in docs/language.md
-BODIES_OVERLAP = _code(
-    "E420",
-    "bodies overlap at the start",
-    (
-        "Two bodies of a scene, or a body and a robot's base, interpenetrate at the start by more than 1 mm "
-        "(touching is fine). Shapes are exact: boxes, cylinders, the parts of unions, the convex hulls of "
-        "meshes. Move one of them; the message says by how much they overlap."
-    ),
-)
-OFF_TABLE = _code(
-    "E421",
-    "body off the table or overhanging its edge",
-    (
-        "A body without a physical `joint` must lie on the table: the shadow of its shape on the table may "
-        "pass the table's rectangle by at most 1 mm. The message gives the body's extent and the table's. Any "
-        "body farther than 1 km from the table's centre (`-1e308`) is far off the table. Move the body onto "
-        "the table, or make the table larger."
-    ),
-)
-FLOATING_BODY = _code(
-    "E422",
-    "body neither resting on the table nor on another body",
-    (
-        "A body placed `at (x, y, z)` without a physical `joint` must rest: its lowest point within 1 mm of "
-        "the table top, or of the top of another body under it (whose shadow on the table overlaps its own). "
-        "It floats, or sinks into the table. Place it `on table at (x, y) m`, or give the height the message "
-        "suggests."
-    ),
-)
-GOAL_OFF_TABLE = _code(
-    "E423",
-    "goal off the table",
-    (
-        "At its goal (at the goal's yaw, or at the best heading when the yaw is free, within the goal's "
-        "tolerances) the body would pass the table's edge by more than 1 mm plus the position tolerance. Move "
-        "the goal onto the table."
-    ),
-)
-GOAL_IN_ROBOT_BASE = _code(
-    "E424",
-    "goal inside a robot's base",
-    (
-        "At its goal the body would overlap a robot's base by more than 1 mm plus the position tolerance. The"
-        " base is the collision geometry of the first link of the robot's URDF (else a cylinder of radius 10 "
-        "cm around the robot's position). Move the goal away from the robot."
-    ),
-)
-GOAL_IN_FIXED_BODY = _code(
-    "E425",
-    "goal inside a body that nothing can move",
-    (
-        "At its goal the body would overlap, by more than 1 mm plus the position tolerance, a body of the "
-        "scene that no affordance of the compilation moves and that has no physical joint: it stays where it"
-        " is. Move the goal, or `use` an affordance module for that body."
-    ),
-)
-
-# motion ranges (builder.py, checks.py)
-RANGE_WITHOUT_STATE = _code(
-    "E430",
-    "a range on a motion that has no state",
-    (
-        "`range LO to HI UNIT` bounds the displacement of a `prismatic` motion or the angle of a `revolute` "
-        "one; a `fixed` or `free` motion has no single value to bound. Remove the range, or give the motion "
-        "its type."
-    ),
-)
-REVERSED_RANGE = _code(
-    "E431",
-    "a motion range with lower > upper",
-    ("A motion's range is written `range LOWER to UPPER UNIT`, lower first: swap them."),
-)
-NEGATIVE_RANGE = _code(
-    "E432",
-    "a motion range below zero",
-    (
-        "Motion values are never negative: the positive sense of a motion is the one the exploring force "
-        "produced, and plans use only that sense (no pulling). A range that starts below zero is an error, "
-        "not clipped: write `range 0 to HI UNIT` (and, for the other sense, an affordance whose axis points "
-        "the other way)."
-    ),
+# scene geometry (E42x), motion ranges (E43x), joints (E44x): registered after the codes above
+from vkgl.lang.codes_physics import (  # noqa: E402
+    BODIES_OVERLAP,
+    FLOATING_BODY,
+    GOAL_IN_FIXED_BODY,
+    GOAL_IN_ROBOT_BASE,
+    GOAL_OFF_TABLE,
+    NEGATIVE_JOINT_DYNAMICS,
+    NEGATIVE_RANGE,
+    NO_JOINT_TO_OPEN,
+    OFF_TABLE,
+    RANGE_WITHOUT_STATE,
+    REVERSED_RANGE,
 )
 
 # modules and files (E5xx), warnings (W6xx): registered after the codes above, in this order
+# isort: split
 from vkgl.lang.codes_files import (  # noqa: E402
     IMPORT_CYCLE,
+    JOINT_GOAL_PAST_LIMIT,
     MESH_UNREADABLE,
     MISSING_MODULE,
     NOT_REGULAR_FILE,
@@ -421,10 +358,12 @@ __all__ = [
     "GOAL_NOT_IN_SCENE",
     "GOAL_OFF_TABLE",
     "IMPORT_CYCLE",
+    "JOINT_GOAL_PAST_LIMIT",
     "MESH_UNREADABLE",
     "MISSING_MODULE",
     "MISSING_UNIT",
     "NEGATIVE_FRICTION",
+    "NEGATIVE_JOINT_DYNAMICS",
     "NEGATIVE_RANGE",
     "NESTING_TOO_DEEP",
     "NON_POSITIVE_MASS",
@@ -434,6 +373,7 @@ __all__ = [
     "NOT_REGULAR_FILE",
     "NOT_UTF8",
     "NOT_WHOLE_NUMBER",
+    "NO_JOINT_TO_OPEN",
     "NUMBER_TOO_LARGE",
     "OFF_TABLE",
     "OUT_OF_RANGE",

@@ -111,3 +111,13 @@ SHADOWED_STDLIB = _code(
         "is intended."
     ),
 )
+JOINT_GOAL_PAST_LIMIT = _code(
+    "W604",
+    "a joint goal past its joint's limits",
+    (
+        "A warning (exit 0): `goal B open Q` asks for a joint coordinate outside the limits of B's joint, by "
+        'more than the goal\'s tolerance, so no plan can reach it (`vkgc solve` answers "no plan", exit 2, '
+        "with the same numbers). The message gives the goal and the limit it passes, in the goal's unit. Open "
+        "it within the joint's `limits`, or widen them if the real joint goes further."
+    ),
+)

@@ -15,16 +15,20 @@ from pathlib import Path
 
 from vkgl.lang.codes import CODES
 
-# Modules of tests/lang/golden/lib/ that a case uses, shown under it.
+# Modules of tests/lang/golden/lib/ that a case uses, shown under it (by the case's file name).
 HELPERS = {
-    "E201": ["lib/scene.vkg"],
-    "E306": ["lib/scene.vkg"],
-    "E410": ["lib/scene.vkg"],
-    "E423": ["lib/scene.vkg"],
-    "E424": ["lib/scene.vkg"],
-    "W601": ["lib/scene.vkg"],
-    "E502": ["lib/cycle_back.vkg"],
-    "W603": ["stdlib/tools.vkg"],
+    "E201_wrong_dimension": ["lib/scene.vkg"],
+    "E201_joint_goal_of_the_wrong_kind": ["lib/kitchen.vkg"],
+    "E202_joint_goal_without_a_unit": ["lib/kitchen.vkg"],
+    "E306_goal_not_in_scene": ["lib/scene.vkg"],
+    "E410_task_without_goal": ["lib/scene.vkg"],
+    "E423_goal_off_table": ["lib/scene.vkg"],
+    "E424_goal_in_robot_base": ["lib/scene.vkg"],
+    "E441_no_joint_to_open": ["lib/kitchen.vkg"],
+    "W601_nothing_can_move": ["lib/scene.vkg"],
+    "W604_joint_goal_past_the_limit": ["lib/kitchen.vkg"],
+    "E502_import_cycle": ["lib/cycle_back.vkg"],
+    "W603_local_stdlib_shadows": ["stdlib/tools.vkg"],
 }
 # What a case's helper file is, when it cannot be shown as text.
 FILE_NOTES = {
@@ -87,7 +91,7 @@ def errors_doc(repo: Path = Path(".")) -> str:
                     + "\n"
                 )
             out += [f"`{case.relative_to(golden.parent).as_posix()}`:", "", "```", src.rstrip("\n"), "```", ""]
-            for helper in HELPERS.get(code, []):
+            for helper in HELPERS.get(case.stem, []):
                 text = (golden / helper).read_text(encoding="utf-8")
                 out += [f"with `golden/{helper}`:", "", "```", text.rstrip("\n"), "```", ""]
             if code in FILE_NOTES:

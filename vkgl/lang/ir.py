@@ -166,13 +166,20 @@ class Frame(Node):
 
 
 class Joint(Node):
-    """`joint prismatic|revolute axis V [through P] limits (lo, hi) UNIT`: a physical joint to the world."""
+    """`joint prismatic|revolute axis V [through P] limits (lo, hi) UNIT [damping Q] [friction Q]`.
+
+    A physical joint to the world. `damping` (N*s/m for a prismatic joint,
+    N*m*s/rad for a revolute one) and `friction` (Coulomb: N or N*m) resist its
+    motion in simulation; None means none.
+    """
 
     type: Literal["prismatic", "revolute"]
     axis: Vector
     through: Vector | None = None
     lower: Quantity
     upper: Quantity
+    damping: Quantity | None = None
+    friction: Quantity | None = None
 
 
 class ContactSpec(Node):
@@ -394,11 +401,14 @@ DEFAULT_TOL_YAW = 0.05235987755982988  # 3 deg
 
 
 class Goal(Node):
-    """`B at POSE within Q_len[, Q_ang]` or `B yaw Q within Q_ang`.
+    """`B at POSE within Q_len[, Q_ang]`, `B yaw Q within Q_ang` or `B open Q within Q`.
 
     `position` None = position free; `yaw` None = heading free. A tolerance left
     out (None) means the default: 1 cm for position, 3 deg for yaw (see
     `DEFAULT_TOL_POSITION`, `DEFAULT_TOL_YAW`); `tolerance()` gives both in SI.
+    `opening` (a joint goal) is the coordinate of the body's physical joint, 0
+    where the body starts: a length for a prismatic joint, an angle for a
+    revolute one; `opening_tolerance()` gives its tolerance in SI.
     """
 
     body: Ref
@@ -406,6 +416,15 @@ class Goal(Node):
     yaw: Quantity | None = None
     tol_position: Quantity | None = None
     tol_yaw: Quantity | None = None
+    opening: Quantity | None = None
+    tol_opening: Quantity | None = None
+
+    def opening_tolerance(self) -> float:
+        """The joint goal's tolerance in SI: as given, else 1 cm for a length and 3 deg for an angle."""
+        if self.tol_opening is not None:
+            return float(self.tol_opening.value)
+        angle = self.opening is not None and self.opening.unit in ("deg", "rad")
+        return float(DEFAULT_TOL_YAW if angle else DEFAULT_TOL_POSITION)
 
     def tolerance(self) -> tuple[float, float]:
         """The goal's tolerances in SI, `(metres, radians)`, with the defaults for those left out."""

@@ -46,3 +46,10 @@ COUNTS = {"`steps`": STEPS, "a grid size": GRID, "`max_depth`": MAX_DEPTH, "`tri
 
 MAX_COUNT_DIGITS = 15
 """A count written with more digits is reported without being converted (Python refuses > 4300 digits)."""
+
+# A physical joint's dynamics (`damping`, `friction`): 0 means none. The highs are far above any drawer
+# slide or door hinge (tens of N*s/m, a few N*m*s/rad) yet keep DART's implicit damping and friction sane.
+LINEAR_DAMPING = Limit(0.0, 1e4, "from 0 to 10000 N*s/m")
+ANGULAR_DAMPING = Limit(0.0, 1e3, "from 0 to 1000 N*m*s/rad")
+JOINT_FORCE = Limit(0.0, 1e3, "from 0 to 1000 N")
+JOINT_TORQUE = Limit(0.0, 1e3, "from 0 to 1000 N*m")

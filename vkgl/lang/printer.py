@@ -30,6 +30,7 @@ from vkgl.lang.ir import (
     FixedC,
     FreeC,
     Goal,
+    Joint,
     MeshShape,
     Module,
     MotionRange,
@@ -154,11 +155,7 @@ class _Layout:
         for f in b.frames:
             self.add(k, f"frame {f.name} = {pose_text(f.pose)}", _line_of(f.span))
         if b.joint is not None:
-            j = b.joint
-            text = f"joint {j.type} axis {vector_text(j.axis)}"
-            if j.through is not None:
-                text += " through " + vector_text(j.through)
-            self.add(k, text + " limits " + pair_text(j.lower, j.upper), _line_of(j.span))
+            self.add(k, "joint " + joint_text(b.joint), _line_of(b.joint.span))
         for e in b.explores:
             self.block(k, f"explore {e.name}", e.span, functools.partial(self.explore_items, e=e))
 
@@ -275,9 +272,25 @@ def range_text(r: MotionRange | None) -> str:
     return f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
 
 
+def joint_text(j: Joint) -> str:
+    """`prismatic axis V [through P] limits (lo, hi) UNIT [damping Q] [friction Q]` (after `joint`)."""
+    text = f"{j.type} axis {vector_text(j.axis)}"
+    if j.through is not None:
+        text += " through " + vector_text(j.through)
+    text += " limits " + pair_text(j.lower, j.upper)
+    if j.damping is not None:
+        text += " damping " + quantity_text(j.damping)
+    if j.friction is not None:
+        text += " friction " + quantity_text(j.friction)
+    return text
+
+
 def goal_text(g: Goal) -> str:
-    """`B at (x, y) m [yaw Q] [within L[, A]]` or `B yaw Q [within A]`."""
+    """`B at (x, y) m [yaw Q] [within L[, A]]`, `B yaw Q [within A]` or `B open Q [within Q]`."""
     text = g.body.name
+    if g.opening is not None:
+        text += " open " + quantity_text(g.opening)
+        return text + (" within " + quantity_text(g.tol_opening) if g.tol_opening is not None else "")
     if g.position is not None:
         text += " at " + vector_text(g.position)
     if g.yaw is not None:

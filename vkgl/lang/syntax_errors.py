@@ -16,6 +16,7 @@ from lark.lexer import PatternStr
 
 from vkgl.lang import codes, ir
 from vkgl.lang.diagnostics import Diagnostic
+from vkgl.lang.units import DIMENSION, UNITS_BY_DIMENSION
 from vkgl.lang.values import new_node, token_span
 
 _TOKEN_WORDS = {
@@ -26,7 +27,8 @@ _TOKEN_WORDS = {
     "STRING": 'a quoted path such as `"file.vkg"`',
     "$END": "the end of the file",
 }
-_ALL_UNITS = "`m`, `cm`, `mm`, `deg`, `rad`, `kg`, `g`, `N`, `s` or `ms`"
+_UNIT_WORDS = [f"`{u}`" for units in UNITS_BY_DIMENSION.values() for u in units]
+_ALL_UNITS = ", ".join(_UNIT_WORDS[:-1]) + " or " + _UNIT_WORDS[-1]
 
 
 # A declaration that starts a line: where the parser resumes after a syntax error.
@@ -104,6 +106,9 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
     token = exc.token
     span = token_span(token, path)
     before = _text_before(text, token)
+    compound = _compound_unit(path, text, token.start_pos or 0) if token.type == "NAME" else None
+    if compound is not None:
+        return compound
     if token.type == "NAME" and _looks_like_unit(str(token), before):
         return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span)
     got = "`" + str(token).replace("\n", " ") + "`"
@@ -191,6 +196,37 @@ def _looks_like_unit(word: str, before: str) -> bool:
     return word in _FOREIGN_UNITS or not before[-1:].isspace() or len(word) <= 3
 
 
+# A unit made of words joined by `*` and `/` (spaces allowed, so that `N * s / m` is recognised too).
+# Matches start at word starts only, and are looked for near the error, so that a long line costs little.
+_COMPOUND = re.compile(r"(?<![A-Za-z])[A-Za-z]+(?:[ \t]*[*/][ \t]*[A-Za-z]*)+")
+_COMPOUND_REACH = 40
+
+
+def _compound_unit(path: str, text: str, offset: int) -> Diagnostic | None:
+    """E105 for a compound unit after a number that is not one of VKG's (`N*m*s`, `N * s / m`), else None.
+
+    The lexer reads only the compound units it knows, as one token; anything else stops at its first
+    word or at a `*` or `/`, which would read as a stray character without this.
+    """
+    line_start = text.rfind("\n", 0, offset) + 1
+    line_end = text.find("\n", offset)
+    low = max(line_start, offset - _COMPOUND_REACH)
+    window = text[low : min(line_end if line_end >= 0 else len(text), offset + _COMPOUND_REACH)]
+    for match in _COMPOUND.finditer(window):
+        start = low + match.start()
+        before = text[max(line_start, start - _COMPOUND_REACH) : start]
+        if not start <= offset < low + match.end() or not _ENDS_WITH_NUMBER.search(before):
+            continue
+        written = match.group().rstrip()
+        number = text.count("\n", 0, line_start) + 1
+        col = start - line_start + 1
+        span = new_node(ir.Span, file=path, line=number, col=col, end_line=number, end_col=col + len(written))
+        packed = re.sub(r"\s+", "", written)
+        note = f"write compound units without spaces: `{packed}`" if packed in DIMENSION else ""
+        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{written}`; units are {_ALL_UNITS}", span, note)
+    return None
+
+
 def _unclosed_brace(text: str) -> tuple[int, int] | None:
     """Line and column of the innermost `{` that is never closed (comments and strings skipped)."""
     stack: list[tuple[int, int]] = []
@@ -213,6 +249,9 @@ def _unexpected_character(parser: Lark, exc: UnexpectedCharacters, text: str, pa
         return codes.UNEXPECTED_CHARACTER.diagnostic(
             "unexpected `;`: VKG statements need no separator; remove it", span
         )
+    compound = _compound_unit(path, text, exc.pos_in_stream or 0) if char in "*/" else None
+    if compound is not None:
+        return compound
     shown = repr(char)[1:-1] if not char.isprintable() else char
     if char.isdigit() and not char.isascii():
         return codes.UNEXPECTED_CHARACTER.diagnostic(

@@ -22,6 +22,10 @@ DIMENSION: dict[str, str] = {
     "N": "force",
     "s": "time",
     "ms": "time",
+    # Compound units of the physical joints' dynamics, written without spaces (one token each).
+    "N*s/m": "linear damping",
+    "N*m*s/rad": "angular damping",
+    "N*m": "torque",
     "": "number",
 }
 SI_UNIT: dict[str, str] = {
@@ -30,6 +34,9 @@ SI_UNIT: dict[str, str] = {
     "mass": "kg",
     "force": "N",
     "time": "s",
+    "linear damping": "N*s/m",
+    "angular damping": "N*m*s/rad",
+    "torque": "N*m",
     "number": "",
 }
 SCALE: dict[str, Fraction] = {
@@ -43,6 +50,9 @@ SCALE: dict[str, Fraction] = {
     "N": Fraction(1),
     "s": Fraction(1),
     "ms": Fraction(1, 1000),
+    "N*s/m": Fraction(1),
+    "N*m*s/rad": Fraction(1),
+    "N*m": Fraction(1),
     "": Fraction(1),
 }
 # How a dimension is named in messages ("expected a length").
@@ -52,6 +62,9 @@ ARTICLE_NAME: dict[str, str] = {
     "mass": "a mass",
     "force": "a force",
     "time": "a time",
+    "linear damping": "a linear damping coefficient",
+    "angular damping": "an angular damping coefficient",
+    "torque": "a torque",
     "number": "a plain number",
 }
 UNITS_BY_DIMENSION: dict[str, tuple[str, ...]] = {
@@ -60,6 +73,9 @@ UNITS_BY_DIMENSION: dict[str, tuple[str, ...]] = {
     "mass": ("kg", "g"),
     "force": ("N",),
     "time": ("s", "ms"),
+    "linear damping": ("N*s/m",),
+    "angular damping": ("N*m*s/rad",),
+    "torque": ("N*m",),
 }
 
 

@@ -129,14 +129,17 @@ class ValueReader:
         """Record a diagnostic of `code`."""
         self.diagnostics.append(code.diagnostic(message, span, *notes))
 
-    def to_quantity(self, raw: RawQ, dimension: str) -> ir.Quantity:
-        """A quantity of `dimension`, or an error (and 0) when its unit is missing or wrong."""
-        if not self.check_unit(raw, dimension):
+    def to_quantity(self, raw: RawQ, dimension: str, note: str = "") -> ir.Quantity:
+        """A quantity of `dimension`, or an error (and NaN) when its unit is missing or wrong (`note` for E201)."""
+        if not self.check_unit(raw, dimension, note=note):
             return new_node(ir.Quantity, value=INVALID, unit=SI_UNIT[dimension], span=raw.span)
         return new_node(ir.Quantity, value=self.si(raw, raw.unit), unit=raw.unit, span=raw.span)
 
-    def check_unit(self, raw: RawQ, dimension: str, span: ir.Span | None = None) -> bool:
-        """True if `raw` has `dimension`; otherwise an error that says what was expected and got."""
+    def check_unit(self, raw: RawQ, dimension: str, span: ir.Span | None = None, note: str = "") -> bool:
+        """True if `raw` has `dimension`; otherwise an error that says what was expected and got.
+
+        `note` replaces the list of units under a wrong dimension (E201) when the place knows better.
+        """
         got = dimension_of(raw.unit)
         if got == dimension:
             return True
@@ -147,7 +150,7 @@ class ValueReader:
         elif dimension == "number":
             self.error(codes.UNIT_ON_NUMBER, message, where, "remove the unit: this value has no dimension")
         else:
-            self.error(codes.WRONG_DIMENSION, message, where, f"use {unit_list(dimension)}")
+            self.error(codes.WRONG_DIMENSION, message, where, note or f"use {unit_list(dimension)}")
         return False
 
     def si(self, raw: RawQ, unit: str) -> float:

@@ -63,25 +63,33 @@ class CartesianFailure:
     index: int
 
 
-def pre_contact_pose(contact: np.ndarray, standoff: float) -> np.ndarray:
-    """`contact` (4x4) moved by `standoff` (m) along its own -x axis (away from the body), same orientation."""
+def pre_contact_pose(contact: np.ndarray, standoff: float, direction: np.ndarray | None = None) -> np.ndarray:
+    """`contact` (4x4) moved back by `standoff` (m) against `direction`, same orientation.
+
+    `direction` (world, unit) is the way the contact moves into the body: by
+    default the contact's own x axis; a tool's push direction when the hand
+    holds the tool that pushes, straight down for a grasp from above.
+    """
     if standoff < 0:
         raise ValueError(f"the stand-off must not be negative, got {standoff}")
     pose = np.array(contact, dtype=float)
-    pose[:3, 3] -= standoff * pose[:3, 0]
+    way = pose[:3, 0] if direction is None else np.asarray(direction, dtype=float)
+    pose[:3, 3] -= standoff * way
     return pose
 
 
-def approach_poses(contact: np.ndarray, standoff: float, step: float = APPROACH_STEP) -> list[np.ndarray]:
+def approach_poses(
+    contact: np.ndarray, standoff: float, step: float = APPROACH_STEP, direction: np.ndarray | None = None
+) -> list[np.ndarray]:
     """The straight approach: poses from the pre-contact pose to `contact`, evenly spaced at most `step` apart.
 
     The orientation is the contact's throughout; the first pose is
-    `pre_contact_pose(contact, standoff)` and the last is `contact` exactly.
+    `pre_contact_pose(contact, standoff, direction)` and the last is `contact` exactly.
     """
     if step <= 0:
         raise ValueError(f"the step must be positive, got {step}")
     contact = np.array(contact, dtype=float)
-    start = pre_contact_pose(contact, standoff)
+    start = pre_contact_pose(contact, standoff, direction)
     count = max(1, math.ceil(standoff / step - 1e-9))
     poses = []
     for k in range(count):
@@ -92,9 +100,11 @@ def approach_poses(contact: np.ndarray, standoff: float, step: float = APPROACH_
     return poses
 
 
-def retreat_poses(contact: np.ndarray, standoff: float, step: float = APPROACH_STEP) -> list[np.ndarray]:
+def retreat_poses(
+    contact: np.ndarray, standoff: float, step: float = APPROACH_STEP, direction: np.ndarray | None = None
+) -> list[np.ndarray]:
     """The straight retreat: `approach_poses` reversed (from the contact back to the pre-contact pose)."""
-    return approach_poses(contact, standoff, step)[::-1]
+    return approach_poses(contact, standoff, step, direction)[::-1]
 
 
 def follow_poses(
@@ -121,7 +131,7 @@ def follow_poses(
             return CartesianFailure(f"no IK solution for pose {index} of {len(poses)}", index)
         if joints:
             jump = np.abs(q - joints[-1])
-            if jump.max() > max_joint_step:
+            if jump.max() > max_joint_step and not _smooth_between(arm, joints[-1], q, poses[index - 1], pose):
                 joint = arm.joint_names[int(jump.argmax())]
                 return CartesianFailure(
                     f"joint jump at pose {index} of {len(poses)}: {joint} moves {jump.max():.3f} rad "
@@ -133,6 +143,26 @@ def follow_poses(
     return JointPath([np.array(p, dtype=float) for p in poses], np.array(joints))
 
 
+MIDWAY_TOL = 0.002
+"""m: how far the effector may stray from the straight line halfway between two configurations whose joints
+moved more than `max_joint_step` (near the base's axis joint 1 swings fast while the hand moves little)."""
+
+
+def _smooth_between(arm: Arm, q_a: np.ndarray, q_b: np.ndarray, pose_a: np.ndarray, pose_b: np.ndarray) -> bool:
+    """Whether the joint-space line from q_a to q_b keeps the effector on the straight line between its poses.
+
+    A large joint step is then a fast but continuous motion (near a singularity), not a switch of IK branch.
+    """
+    for s in (0.25, 0.5, 0.75):
+        wanted = pose_a[:3, 3] + s * (pose_b[:3, 3] - pose_a[:3, 3])
+        found = arm.fk(q_a + s * (q_b - q_a))
+        if np.linalg.norm(found[:3, 3] - wanted) > MIDWAY_TOL:
+            return False
+        if np.abs(found[:3, :3] - pose_a[:3, :3]).max() > 0.02:  # the orientation is fixed along the line
+            return False
+    return True
+
+
 def approach_joints(
     arm: Arm,
     contact: np.ndarray,
@@ -142,6 +172,7 @@ def approach_joints(
     step: float = APPROACH_STEP,
     max_joint_step: float = MAX_JOINT_STEP,
     yaw_free: bool = False,
+    direction: np.ndarray | None = None,
 ) -> JointPath | CartesianFailure:
     """The approach to `contact` in joints, pre-contact pose first, contact last.
 
@@ -150,7 +181,7 @@ def approach_joints(
     one the plan chose and the chain follows it back to the stand-off. A
     failure's `index` counts poses from the pre-contact pose.
     """
-    poses = retreat_poses(contact, standoff, step)
+    poses = retreat_poses(contact, standoff, step, direction)
     outward = follow_poses(arm, poses, q_contact, max_joint_step=max_joint_step, yaw_free=yaw_free)
     if isinstance(outward, CartesianFailure):
         reason = f"{outward.reason} (poses counted from the contact outward)"
@@ -167,10 +198,18 @@ def retreat_joints(
     step: float = APPROACH_STEP,
     max_joint_step: float = MAX_JOINT_STEP,
     yaw_free: bool = False,
+    direction: np.ndarray | None = None,
 ) -> JointPath | CartesianFailure:
     """The retreat from `contact` in joints: contact first, pre-contact pose last (`approach_joints` reversed)."""
     approach = approach_joints(
-        arm, contact, standoff, q_contact, step=step, max_joint_step=max_joint_step, yaw_free=yaw_free
+        arm,
+        contact,
+        standoff,
+        q_contact,
+        step=step,
+        max_joint_step=max_joint_step,
+        yaw_free=yaw_free,
+        direction=direction,
     )
     return approach if isinstance(approach, CartesianFailure) else approach.reversed()
 

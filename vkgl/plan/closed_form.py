@@ -23,7 +23,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import lsq_linear, nnls
 
 from vkgl.plan.graph import motion_type
 from vkgl.plan.model import GoalSpec, Problem
@@ -66,6 +65,8 @@ def _goal_values(
     problem: Problem, seq: Sequence, goal: GoalSpec, values: np.ndarray
 ) -> dict[int, tuple[float, bool]] | Rejection:
     """Values of the goal body's motions that meet its goal (and whether they are unique), or a Rejection."""
+    if goal.opening is not None:
+        return _joint_goal_values(problem, seq, goal)
     own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
     turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
     slides = [i for i in own if i not in turns]
@@ -86,13 +87,7 @@ def _goal_values(
     angles = np.array(candidates).reshape(len(candidates), len(turns))
     origins, columns = _affine_positions(problem, seq, goal.body, turns, slides, angles)
     slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
-    best: tuple[float, int, np.ndarray] | None = None
-    for row in range(len(angles)):
-        offset = goal.position - origins[row, : len(goal.position)]
-        residual, solution = _closest(columns[row], offset, slide_limits)
-        if best is None or residual < best[0]:
-            best = (residual, row, solution)
-    assert best is not None
+    best = _best_row(columns, origins, goal.position, slide_limits)
     slack = goal.tol_position + (0.5 * math.pi / (TURN_GRID - 1) * LEVER_BOUND if len(turns) > 1 else 0.0)
     if best[0] > slack:
         how = "along its slides" if slides else "and nothing slides it"
@@ -107,6 +102,71 @@ def _goal_values(
     out = {i: (float(a), exact_turns) for i, a in zip(turns, angles[best[1]])}
     out.update({i: (float(v), exact_turns and unique) for i, v in zip(slides, best[2])})
     return out
+
+
+def _joint_goal_values(problem: Problem, seq: Sequence, goal: GoalSpec) -> dict[int, tuple[float, bool]] | Rejection:
+    """Motion values that give the goal body's joint the goal's coordinate, or why none can.
+
+    The coordinate is linear in the body's motion values when a slide's body
+    only slides (each slide adds its value times its axis along the joint's)
+    or a hinge's body only turns about axes along the hinge's (each turn adds
+    its angle, signed); then the reachable interval is exact and one motion is
+    pinned. Otherwise the optimiser alone decides.
+    """
+    body = problem.bodies[goal.body]
+    own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
+    if body.joint_axis is None or goal.opening is None or not own:
+        return {}
+    weights = []
+    for i in own:
+        e = seq.variables[i][1]
+        axis, center = unit_axis_and_center(problem.affordance(e.body, e.affordance).motion)
+        along = float(body.joint_axis @ axis)
+        if body.joint == "prismatic" and center is not None:
+            return {}  # a turn moves the body's position nonlinearly
+        if body.joint == "revolute" and center is not None and abs(abs(along) - 1.0) > 1e-6:
+            return {}  # a turn about another axis: not a sum of angles
+        weights.append(0.0 if body.joint == "revolute" and center is None else along)
+    limits = [_limits(problem, seq, i) for i in own]
+    low = sum(min(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
+    high = sum(max(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
+    target = goal.opening
+    if not low - goal.tol_opening <= target <= high + goal.tol_opening:
+        why = _joint_why(problem, seq, goal.body, target, own, (low, high))
+        return Rejection("goal", why, max(low - target, target - high))
+    # A start: every value at its lower bound, then the motions that move the joint the needed way share
+    # what is left in proportion to how far each can move it (for one motion, the exact value).
+    values = [lo for lo, _ in limits]
+    left = min(max(target, low), high) - sum(w * v for w, v in zip(weights, values))
+    helping = [k for k, w in enumerate(weights) if w * left > 0]
+    room = sum(abs(weights[k]) * (limits[k][1] - limits[k][0]) for k in helping)
+    for k in helping:
+        values[k] += (limits[k][1] - limits[k][0]) * min(1.0, abs(left) / room) if room > 0 else 0.0
+    exact = len(own) == 1 and weights[0] != 0.0
+    return {i: (float(v), exact) for i, v in zip(own, values)}
+
+
+def _joint_why(
+    problem: Problem, seq: Sequence, body: str, target: float, own: list[int], reach: tuple[float, float]
+) -> str:
+    """`drawer must open 20.0 cm on its prismatic joint, but Drawer.push_center_px opens it 0.0 to 8.8 cm here`."""
+    joint = problem.bodies[body].joint
+    low, high = reach
+    scale, unit = (100.0, "cm") if joint == "prismatic" else (math.degrees(1.0), "deg")
+    names = sorted({_name(problem, seq, i) for i in own})
+    movers = names[0] if len(names) == 1 else f"its {len(own)} motions ({', '.join(names)})"
+    ranged = sorted(
+        {
+            f"{_name(problem, seq, i)} {_limits(problem, seq, i)[1] * scale:.1f} {unit}"
+            for i in own
+            if _has_range(problem, seq, i)
+        }
+    )
+    within = f", each contact within the range it was explored over ({', '.join(ranged)})" if ranged else ""
+    return (
+        f"{body} must open {target * scale:.1f} {unit} on its {joint} joint, but {movers} "
+        f"open{'s' if len(names) == 1 else ''} it {low * scale:.1f} to {high * scale:.1f} {unit} here{within}"
+    )
 
 
 def _limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:
@@ -250,6 +310,43 @@ def _affine_positions(
     return pose[:, :3, 3], stacked
 
 
+SCREEN = 1e-9
+"""m: rows whose estimated distance to the goal is within this of the best estimate are solved exactly."""
+
+
+def _best_row(
+    columns: np.ndarray, origins: np.ndarray, position: np.ndarray, limits: np.ndarray
+) -> tuple[float, int, np.ndarray]:
+    """(distance left, row, slide values) of the first row of turn angles whose slides come closest to `position`.
+
+    Every row's `_closest`; with at most one slide, all rows are first estimated in one NumPy pass, and only
+    those within `SCREEN` of the best estimate are solved by `_closest` (the estimates differ from it by
+    rounding only, far less than `SCREEN`, so the same row and numbers come out, in a fraction of the time:
+    a two-turn sequence has up to `TURN_GRID` rows).
+    """
+    n, k = len(columns), len(position)
+    offsets = position - origins[:, :k]
+    rows: list[int] = list(range(n))
+    if columns.shape[2] <= 1 and n > 1:
+        if columns.shape[2] == 0:
+            estimate = np.linalg.norm(offsets, axis=1)
+        else:
+            a = columns[:, :k, 0]
+            norm = np.einsum("ij,ij->i", a, a)
+            along = np.divide(np.einsum("ij,ij->i", a, offsets), norm, out=np.zeros(n), where=norm > 0)
+            value = np.clip(along, limits[0, 0], limits[0, 1])
+            estimate = np.linalg.norm(a * value[:, None] - offsets, axis=1)
+        if np.isfinite(estimate).all():
+            rows = np.flatnonzero(estimate <= estimate.min() + SCREEN).tolist()
+    best: tuple[float, int, np.ndarray] | None = None
+    for row in rows:
+        residual, solution = _closest(columns[row], position - origins[row, :k], limits)
+        if best is None or residual < best[0]:
+            best = (residual, row, solution)
+    assert best is not None
+    return best
+
+
 def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tuple[float, np.ndarray]:
     """Slide values within `limits` (s x 2) that bring the position closest to `offset` away, and the distance left.
 
@@ -265,6 +362,8 @@ def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tup
         norm = float(a @ a)
         value = min(max(float(a @ offset) / norm if norm > 0 else 0.0, lower[0]), upper[0])
         return float(np.linalg.norm(a * value - offset)), np.array([value])
+    from scipy.optimize import lsq_linear, nnls  # here: two slides of one body are rare, the import is not cheap
+
     solution, residual = nnls(columns, offset)
     if np.all(solution >= lower) and np.all(solution <= upper):
         return float(residual), solution
@@ -294,12 +393,24 @@ def _turn_candidates(
     if len(signs) == 1:
         angle = _within(signs[0] * needed, tol, limits[0])
         return [] if angle is None else [(angle,)]
-    out: list[tuple[float, ...]] = []
-    for first in np.linspace(limits[0][0], limits[0][1], TURN_GRID):
-        second = _within(signs[1] * (needed - signs[0] * first), tol, limits[1])
-        if second is not None:
-            out.append((float(first), second))
-    return out
+    firsts = np.linspace(limits[0][0], limits[0][1], TURN_GRID)
+    seconds = _within_all(signs[1] * (needed - signs[0] * firsts), tol, limits[1])
+    found = ~np.isnan(seconds)
+    return list(zip(firsts[found].tolist(), seconds[found].tolist()))
+
+
+def _within_all(angles: np.ndarray, tol: float, limits: tuple[float, float]) -> np.ndarray:
+    """`_within` of each of `angles` at once (NaN for None): the same operations, elementwise."""
+    low, high = limits
+    turn = 2 * math.pi
+    base = np.remainder(angles, turn)  # Python's float % and NumPy's remainder round alike
+    shifted = np.stack([base - turn, base, base + turn], axis=1)
+    values = np.minimum(np.maximum(shifted, low), high)
+    misses = np.abs(values - shifted)
+    ok = misses <= tol
+    pick = np.argmin(np.where(ok, misses, np.inf), axis=1)  # the first of equal misses, as `_within` keeps
+    chosen = values[np.arange(len(angles)), pick]
+    return np.where(ok.any(axis=1), chosen, np.nan)
 
 
 def _within(angle: float, tol: float, limits: tuple[float, float]) -> float | None:

@@ -29,8 +29,8 @@ from typing import TYPE_CHECKING, Any
 import dartpy as dart
 import numpy as np
 
-from vkgl.lang.geometry import shape_mesh
-from vkgl.lang.ir import Shape
+from vkgl.lang.geometry import shape_mesh, shape_vertices
+from vkgl.lang.ir import Scene, Shape
 from vkgl.shapes import dart_shapes
 
 if TYPE_CHECKING:
@@ -81,10 +81,14 @@ class CollisionScene:
         table_size: np.ndarray | None = None,
         table_z: float = 0.0,
         tol: float = TOUCH_TOL,
+        margin: float = 0.0,
     ) -> None:
         """Bodies named by `shapes` (IR shapes, body frame).
 
         A table too, when `table_center` and `table_size` (x, y) are given.
+        `margin` (m) grows every box and cylinder of the bodies (not the table)
+        by that much on each side: a scene in which "free" means at least that
+        clear of them (meshes keep their size).
         """
         if TABLE in shapes:
             raise ValueError(f"a body may not be called `{TABLE}` in a collision scene: that name is the table's")
@@ -101,11 +105,12 @@ class CollisionScene:
         self._placed: dict[str, bytes] = {}
         self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
         for name, shape in shapes.items():
-            mesh = shape_mesh(shape)
-            parts = dart_shapes(shape)
+            parts = (
+                [(_grown(part, margin), local) for part, local in dart_shapes(shape)] if margin else dart_shapes(shape)
+            )
             # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
-            self._add(name, parts, float(np.linalg.norm(mesh.vertices, axis=1).max()) * 1.005 + tol)
-            self._support[name] = [_support(part, local, mesh) for part, local in parts]
+            self._add(name, parts, _extent(shape) * 1.005 + tol)
+            self._support[name] = [_support(part, local, shape) for part, local in parts]
         self.table_box: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) corners of the slab
         self.table_top = float(table_z)
         if table_center is not None and table_size is not None:
@@ -118,12 +123,28 @@ class CollisionScene:
         self._table_memo: dict[tuple[str, bytes], bool] = {}
 
     @classmethod
-    def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL) -> CollisionScene:
+    def from_problem(cls, problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0) -> CollisionScene:
         """The scene of a `vkgl.plan.model.Problem`: its bodies' shapes and its table (if the scene has one)."""
         shapes = {name: body.type.shape for name, body in problem.bodies.items()}
         return cls(
-            shapes, table_center=problem.table_center, table_size=problem.table_size, table_z=problem.table_z, tol=tol
+            shapes,
+            table_center=problem.table_center,
+            table_size=problem.table_size,
+            table_z=problem.table_z,
+            tol=tol,
+            margin=margin,
         )
+
+    @classmethod
+    def from_scene(
+        cls, scene: Scene, shapes: Mapping[str, Shape], tol: float = TOUCH_TOL, margin: float = 0.0
+    ) -> CollisionScene:
+        """The bodies `shapes` (by scene body name) and the table of a compiled `scene`."""
+        from vkgl.lang.geometry import table_top
+        from vkgl.plan.model import scene_table
+
+        center, size = scene_table(scene)
+        return cls(shapes, table_center=center, table_size=size, table_z=table_top(scene), tol=tol, margin=margin)
 
     # ------------------------------------------------------------ building
 
@@ -307,15 +328,30 @@ class CollisionScene:
         return out
 
 
-def _support(shape: Any, local: np.ndarray, mesh: Any) -> tuple[str, np.ndarray, np.ndarray]:
+def _extent(shape: Shape) -> float:
+    """How far the body's mesh reaches from its frame's origin (m)."""
+    return float(np.linalg.norm(shape_vertices(shape), axis=1).max())
+
+
+def _support(part: Any, local: np.ndarray, shape: Shape) -> tuple[str, np.ndarray, np.ndarray]:
     """(kind, size, pose in the body frame) of a DART part for `lowest`: a box's half sides, a cylinder's
     (radius, half height), else the body's whole hull vertices (body frame: a lower bound for the part)."""
+    kind = part.getType()
+    if kind == "BoxShape":
+        return "box", np.asarray(part.getSize(), dtype=float) / 2, local
+    if kind == "CylinderShape":
+        return "cylinder", np.array([part.getRadius(), part.getHeight() / 2]), local
+    return "points", np.asarray(shape_mesh(shape).convex_hull.vertices, dtype=float), np.eye(4)
+
+
+def _grown(shape: Any, margin: float) -> Any:
+    """A DART box or cylinder `margin` larger on every side (other shapes as they are)."""
     kind = shape.getType()
     if kind == "BoxShape":
-        return "box", np.asarray(shape.getSize(), dtype=float) / 2, local
+        return dart.dynamics.BoxShape(np.asarray(shape.getSize(), dtype=float) + 2 * margin)
     if kind == "CylinderShape":
-        return "cylinder", np.array([shape.getRadius(), shape.getHeight() / 2]), local
-    return "points", np.asarray(mesh.convex_hull.vertices, dtype=float), np.eye(4)
+        return dart.dynamics.CylinderShape(shape.getRadius() + margin, shape.getHeight() + 2 * margin)
+    return shape
 
 
 def _isometry(matrix: np.ndarray) -> Any:

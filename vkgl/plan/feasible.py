@@ -27,7 +27,6 @@ from dataclasses import dataclass
 
 import nlopt
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.plan.closed_form import closed_form
 from vkgl.plan.model import GoalSpec, Problem
@@ -117,7 +116,7 @@ class _Evaluator:
 
 
 def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray:
-    """Each goal's position error (per component) and yaw error, divided by its tolerance."""
+    """Each goal's position error (per component), yaw error and joint coordinate error, divided by its tolerance."""
     out: list[float] = []
     for goal in problem.goals:
         pose = final[goal.body]
@@ -125,6 +124,8 @@ def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray
             out.extend((pose[: len(goal.position), 3] - goal.position) / goal.tol_position)
         if goal.yaw is not None:
             out.append(wrap_angle(yaw_of(pose) - goal.yaw) / goal.tol_yaw)
+        if goal.opening is not None:
+            out.append((problem.bodies[goal.body].joint_state(pose) - goal.opening) / goal.tol_opening)
     return np.asarray(out, dtype=float)
 
 
@@ -138,6 +139,11 @@ def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalS
         ):
             return False
         if goal.yaw is not None and abs(wrap_angle(yaw_of(pose) - goal.yaw)) > goal.tol_yaw:
+            return False
+        if (
+            goal.opening is not None
+            and abs(problem.bodies[goal.body].joint_state(pose) - goal.opening) > goal.tol_opening
+        ):
             return False
     return True
 
@@ -161,27 +167,24 @@ def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[flo
         out.extend(float(v) for v in offset)
     if body.joint_limits is not None and body.joint_axis is not None:
         lower, upper = body.joint_limits
-        if body.joint == "prismatic":
-            state = float(body.joint_axis @ (body.rest[:3, :3].T @ (pose[:3, 3] - body.rest[:3, 3])))
-        else:
-            relative = body.rest[:3, :3].T @ pose[:3, :3]
-            state = float(body.joint_axis @ _rotation_vector(relative))
+        state = body.joint_state(pose)
         out.extend((lower - state, state - upper))
     return out
 
 
-def limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
-    """Which limit a body would pass, with the numbers: its joint's range, or the table's edge."""
+def limit_words(problem: Problem, name: str, pose: np.ndarray, goal: GoalSpec | None = None) -> str:
+    """Which limit a body would pass, with the numbers: its joint's range, or the table's edge.
+
+    The joint's coordinate is where `goal` (else the body's first goal that says) puts it, if one does.
+    """
     body = problem.bodies[name]
     if body.joint_limits is not None and body.joint_axis is not None:
         lower, upper = body.joint_limits
-        if body.joint == "prismatic":
-            state = float(body.joint_axis @ (body.rest[:3, :3].T @ (pose[:3, 3] - body.rest[:3, 3])))
-            scale, unit = 100.0, "cm"
-        else:
-            state = float(body.joint_axis @ _rotation_vector(body.rest[:3, :3].T @ pose[:3, :3]))
-            scale, unit = math.degrees(1.0), "deg"
-        needed = goal_joint_state(problem, name)
+        state = body.joint_state(pose)
+        scale, unit = (100.0, "cm") if body.joint == "prismatic" else (math.degrees(1.0), "deg")
+        needed = goal_joint_state(problem, name, goal)
+        if needed is not None and lower <= needed <= upper:
+            needed = None  # the goal is within the limits: it is the motion's way there that passes one
         what = "the goal needs it at" if needed is not None else "it would have to move to"
         state = needed if needed is not None else state
         edge, side = (upper, "upper") if state > (lower + upper) / 2 else (lower, "lower")
@@ -193,21 +196,25 @@ def limit_words(problem: Problem, name: str, pose: np.ndarray) -> str:
     return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (its frame leaves the table)"
 
 
-def goal_joint_state(problem: Problem, name: str) -> float | None:
-    """Where a goal puts a body with a prismatic joint, as a joint position (m); None without such a goal."""
+def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) -> float | None:
+    """Where a goal puts a body's physical joint (m or rad); None without such a goal.
+
+    A joint goal says it (`opening`); a position goal says it for a prismatic
+    joint. `goal` picks the goal; by default, the body's first that says.
+    """
     body = problem.bodies[name]
-    if body.joint != "prismatic" or body.joint_axis is None:
+    if body.joint_axis is None:
         return None
-    for goal in problem.goals:
-        if goal.body == name and goal.position is not None:
+    for chosen in problem.goals if goal is None else [goal]:
+        if chosen.body != name:
+            continue
+        if chosen.opening is not None:
+            return chosen.opening
+        if body.joint == "prismatic" and chosen.position is not None:
             offset = np.zeros(3)
-            offset[: len(goal.position)] = goal.position[:3] - body.rest[: len(goal.position), 3]
+            offset[: len(chosen.position)] = chosen.position[:3] - body.rest[: len(chosen.position), 3]
             return float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
     return None
-
-
-def _rotation_vector(rotation: np.ndarray) -> np.ndarray:
-    return Rotation.from_matrix(rotation).as_rotvec()
 
 
 def task_space(

@@ -30,6 +30,10 @@ from vkgl.plan.reach import Rejection
 from vkgl.plan.rollout import ModeTrace
 from vkgl.plan.sweep import sweep_mode
 
+TRANSIT_CLEARANCE = 0.01
+"""m: a transit keeps the arm and a held tool at least this far from every body (the physics' contacts have
+margins, and the bodies are not exactly where the plan has them)."""
+
 
 class GeometryCheck:
     """The collision checks of one planning problem (built lazily: most sequences never get this far)."""
@@ -39,6 +43,7 @@ class GeometryCheck:
         self.problem = problem
         self._scene: CollisionScene | None = None
         self._arm: ArmCollision | None = None
+        self._transit: ArmCollision | None = None
         self.queries = 0
 
     @property
@@ -47,6 +52,14 @@ class GeometryCheck:
         if self._scene is None:
             self._scene = CollisionScene.from_problem(self.problem)
         return self._scene
+
+    @property
+    def transit_collision(self) -> ArmCollision:
+        """The arm against the bodies grown by `TRANSIT_CLEARANCE`: free space for transits, with room to spare."""
+        if self._transit is None:
+            grown = CollisionScene.from_problem(self.problem, margin=TRANSIT_CLEARANCE)
+            self._transit = ArmCollision(grown, self.problem.arm)
+        return self._transit
 
     @property
     def arm_collision(self) -> ArmCollision:
@@ -73,8 +86,14 @@ class GeometryCheck:
     def arm(self, graphs: Iterable[KGraph], traces: list[ModeTrace], q_start: list, q_end: list) -> Rejection | None:
         """Why the arm (or a tool in its hand) would hit a body or the table at its configurations, or None."""
         robot = self.problem.robot_effector.name
+        before: set[str] = set()
         for k, (graph, trace) in enumerate(zip(graphs, traces, strict=True)):
             touched = {e.body for e in graph.engaged if e.effector == robot}
+            if not trace.hand:
+                # the hand rests where the previous mode left it, still at the contact it has just removed
+                # (the retreat out of it is checked with the arm's paths)
+                touched |= before
+            before = touched
             held = self._held(graph, touched)
             for q, poses, when in ((q_start[k], trace.start, "start"), (q_end[k], trace.end, "end")):
                 if q is None:

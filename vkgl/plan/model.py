@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from vkgl.errors import InputError
-from vkgl.lang.geometry import resting_height, scene_body_pose, table_top
+from vkgl.lang.geometry import joint_axis, joint_coordinate, resting_height, scene_body_pose, table_top
 from vkgl.lang.ir import (
     Affordance,
     Body,
@@ -63,6 +63,16 @@ class PlanBody:
     joint_axis: np.ndarray | None = None
     joint_limits: tuple[float, float] | None = None
 
+    def joint_state(self, pose: np.ndarray) -> float:
+        """The coordinate of the physical joint at world `pose` (m or rad), 0 at `rest`; the body needs a joint.
+
+        Prismatic: the displacement from rest along the axis. Revolute: the
+        rotation from rest about the axis (its rotation vector's component),
+        exact up to half a turn. Goals and joint limits are measured alike.
+        """
+        assert self.joint is not None and self.joint_axis is not None, f"{self.name} has no physical joint"
+        return joint_coordinate(self.joint, self.joint_axis, self.rest, pose)
+
 
 @dataclass(frozen=True)
 class EffectorSpec:
@@ -89,13 +99,19 @@ class EffectorSpec:
 
 @dataclass(frozen=True)
 class GoalSpec:
-    """One goal in SI: `position` (2 or 3 components, or None), `yaw` (rad, or None) and the tolerances."""
+    """One goal in SI: `position` (2 or 3 components, or None), `yaw` (rad, or None) and the tolerances.
+
+    A joint goal sets `opening` instead (the coordinate of the body's physical
+    joint, m or rad, `PlanBody.joint_state`) with its tolerance `tol_opening`.
+    """
 
     body: str
     position: np.ndarray | None
     yaw: float | None
     tol_position: float
     tol_yaw: float
+    opening: float | None = None
+    tol_opening: float = 0.0
 
 
 @dataclass
@@ -116,6 +132,8 @@ class Problem:
     max_depth: int
     timeout: float
     avoid: Avoid | None = None  # what a re-solve must not repeat (`vkgl.plan.avoid`); None: nothing
+    arm_start: np.ndarray | None = None
+    """The arm's joints before the first step (None: its home configuration)."""
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
     _actions: dict[tuple[str, str], np.ndarray] = field(default_factory=dict, repr=False)
@@ -178,7 +196,7 @@ def build_problem(
         raise InputError(f"max_depth must be at least 1 (graphs in a sequence, G0 included), got {depth}")
     if not limit > 0:
         raise InputError(f"the timeout must be positive, got {limit} s")
-    center, size = _table(scene)
+    center, size = scene_table(scene)
     return Problem(
         program, task, scene, bodies, placed.name, arm, effectors, goals, center, size, table_top(scene), depth, limit
     )
@@ -226,7 +244,7 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         on_table=scene_body.placement.on_table,
         affordances=usable,
         joint=None if joint is None else joint.type,
-        joint_axis=None if joint is None else joint.axis.array() / np.linalg.norm(joint.axis.array()),
+        joint_axis=None if joint is None else joint_axis(joint),
         joint_limits=None if joint is None else (joint.lower.value, joint.upper.value),
     )
 
@@ -269,10 +287,22 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     position = goal.position.array() if goal.position is not None else None
     yaw = goal.yaw.value if goal.yaw is not None else None
     tol_p, tol_y = goal.tolerance()
-    return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
+    if goal.opening is None:
+        return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
+    body = bodies[name]
+    wanted = {"prismatic": ("m", "cm", "mm"), "revolute": ("deg", "rad")}.get(body.joint or "", ())
+    if goal.opening.unit not in wanted:  # what `vkgc check` reports (E441, E201), for goals made without it
+        kind = "a length" if body.joint == "prismatic" else "an angle"
+        has = f"a {body.joint} joint, which opens by {kind}" if body.joint else "no physical joint to open"
+        raise InputError(f"{_where(goal)}task {task.name}: the joint goal on `{name}` cannot hold: `{name}` has {has}")
+    tolerance = goal.opening_tolerance()
+    if not tolerance > 0:  # what `vkgc check` reports (E411)
+        raise InputError(f"{_where(goal)}task {task.name}: the joint goal on `{name}` needs a positive tolerance")
+    return GoalSpec(name, position, yaw, float(tol_p), float(tol_y), goal.opening.value, tolerance)
 
 
-def _table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
+def scene_table(scene: Scene) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """The table's centre and size (x, y, m) in `scene`, or (None, None) without a table."""
     if scene.table is None:
         return None, None
     return np.asarray(scene.table.position.values[:2], dtype=float), np.asarray(

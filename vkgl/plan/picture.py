@@ -3,7 +3,8 @@
 One column per mode of the plan (G0, G1, ...): on top a top view of the
 table with the arm's reach at the hand's height (the annulus computed from the
 URDF), every body where the mode starts (dashed) and ends (filled), the hand's
-path during the mode and the goal (red outline); below it the mode's kinematic
+path during the mode and the goal (red outline: at the goal's pose, or with
+the body's joint at the goal's opening); below it the mode's kinematic
 graph (networkx), each edge labelled with its type.
 """
 
@@ -128,11 +129,8 @@ def _draw_scene(
         ax.add_patch(Circle(base, r_min, fill=False, linestyle=":", color="0.45"))
         ax.plot(*base, marker="s", color="0.3")
         for goal in problem.goals:
-            if goal.position is not None and goal.body in outlines:
-                pose = np.eye(4)
-                yaw = goal.yaw if goal.yaw is not None else 0.0
-                pose[:2, :2] = [[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]
-                pose[:2, 3] = goal.position[:2]
+            pose = _goal_pose(problem, goal)
+            if pose is not None and goal.body in outlines:
                 for part in outlines[goal.body]:
                     ax.add_patch(Polygon(_placed(part, pose), fill=False, edgecolor="red", linestyle="--"))
     for name in end:
@@ -154,6 +152,22 @@ def _draw_scene(
     ax.set_ylim(*limits[1])
     ax.set_aspect("equal")
     ax.tick_params(labelsize=7)
+
+
+def _goal_pose(problem: Any, goal: Any) -> np.ndarray | None:
+    """Where a goal puts its body, to draw it: the goal's position and yaw, or its joint at the goal's opening."""
+    if goal.position is not None:
+        pose = np.eye(4)
+        yaw = goal.yaw if goal.yaw is not None else 0.0
+        pose[:2, :2] = [[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]
+        pose[:2, 3] = goal.position[:2]
+        return pose
+    body = problem.bodies[goal.body]
+    if goal.opening is not None and body.type.joint is not None:
+        from vkgl.lang.geometry import joint_pose
+
+        return joint_pose(body.type.joint, body.rest, goal.opening)
+    return None
 
 
 def _placed(outline: np.ndarray, pose: np.ndarray) -> np.ndarray:

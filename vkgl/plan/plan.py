@@ -1,4 +1,4 @@
-"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/1` document, or drawn (`vkgl.plan.picture`).
+"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/2` document, or drawn (`vkgl.plan.picture`).
 
 A plan of depth D has D graphs (G0 included) and D - 1 steps. Step k is the
 transition into G_k followed by the motion G_k allows: `poses_start` are the
@@ -20,19 +20,20 @@ import numpy as np
 from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord, from_json, to_json
 from vkgl.plan.graph import edges
 from vkgl.plan.model import Problem
+from vkgl.plan.rollout import ModeTrace
 from vkgl.se3 import yaw_of
 
 
 @dataclass(frozen=True, eq=False)
 class PlanStep(PlanStepRecord):
-    """One step of a plan: the `vkg-plan/1` step record, plus the hand's poses along it (for pictures)."""
+    """One step of a plan: the `vkg-plan/2` step record, plus the hand's poses along it (for pictures)."""
 
     hand: list[np.ndarray] = field(default_factory=list)
 
 
 @dataclass
 class Plan:
-    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/1`.
+    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/2`.
 
     `status` is "solved", "infeasible" or "timeout"; `reason` says why when it
     is not solved. `graphs` holds each graph's edges `(parent, child, type)`.
@@ -50,7 +51,7 @@ class Plan:
     final: dict[str, np.ndarray] = field(default_factory=dict)
     start: dict[str, np.ndarray] = field(default_factory=dict)
     problem: Problem | None = field(default=None, repr=False)
-    details: dict[str, Any] = field(default_factory=dict)  # more counters, not part of vkg-plan/1
+    details: dict[str, Any] = field(default_factory=dict)  # more counters, not part of vkg-plan/2
 
     @property
     def depth(self) -> int | None:
@@ -60,7 +61,7 @@ class Plan:
     # ------------------------------------------------------------ the document
 
     def document(self) -> PlanDocument:
-        """The plan as a `vkg-plan/1` document (`vkgl.formats.plan`), exactly as its JSON reads back.
+        """The plan as a `vkg-plan/2` document (`vkgl.formats.plan`), exactly as its JSON reads back.
 
         Numbers are rounded as the JSON writes them, so that carrying out the
         document in memory and carrying out the file `vkgc solve --json`
@@ -82,7 +83,7 @@ class Plan:
         )
 
     def to_json(self) -> dict[str, Any]:
-        """The plan in the `vkg-plan/1` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
+        """The plan in the `vkg-plan/2` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
         return to_json(self._unrounded_document())
 
     # ------------------------------------------------------------ text
@@ -140,3 +141,23 @@ def robot_entry(problem: Problem) -> PlanRobot:
 def graph_edges(problem: Problem, graphs: list[Any]) -> list[list[tuple[str, str, str]]]:
     """The edges of every graph of a sequence."""
     return [edges(problem, g) for g in graphs]
+
+
+def plan_step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarray, q_end: np.ndarray) -> PlanStep:
+    """The plan step of `action` (the transition into the mode of `trace`), the arm at `q_start`/`q_end`."""
+    e = action.engagement
+    aff = problem.affordance(e.body, e.affordance)
+    value = trace.values.get(e, 0.0) if action.op == "add" else 0.0
+    return PlanStep(
+        op=action.op,
+        affordance=f"{problem.bodies[e.body].type.name}.{e.affordance}",
+        body=e.body,
+        effector=e.effector,
+        motion=aff.motion.type,
+        value=float(max(0.0, value)),
+        poses_start=dict(trace.start),
+        poses_end=dict(trace.end),
+        q_start=np.asarray(q_start, dtype=float),
+        q_end=np.asarray(q_end, dtype=float),
+        hand=list(trace.hand),
+    )

@@ -26,11 +26,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vkgl.plan.arm_paths import ArmPathPlanner
 from vkgl.plan.avoid import EXCLUDED_WORDS, excluded, repeated_failure
 from vkgl.plan.feasible import Counters, JointSolution, TaskSolution, goal_holds, joint_space, task_space
 from vkgl.plan.geometry_check import GeometryCheck
 from vkgl.plan.graph import successors
 from vkgl.plan.model import Problem
+from vkgl.plan.plan import PlanStep, plan_step
 from vkgl.plan.reach import Rejection, unreachable
 from vkgl.plan.rollout import Sequence, extend, rollout, start_sequence
 
@@ -48,6 +50,9 @@ class SearchStats:
     task_space_checks: int = 0
     geometry_checks: int = 0
     joint_space_checks: int = 0
+    arm_path_checks: int = 0  # sequences whose arm paths (approach, transit, retreat) were planned
+    transits: int = 0
+    arm_path_time: float = 0.0  # s spent planning arm paths (part of the search's time)
     work: Counters = field(default_factory=Counters)
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
@@ -71,6 +76,7 @@ class SearchResult:
     sequence: Sequence | None = None
     task: TaskSolution | None = None
     joints: JointSolution | None = None
+    steps: tuple[PlanStep, ...] = ()
 
 
 def search(problem: Problem, *, deadline: float, progress: bool = False) -> SearchResult:
@@ -78,9 +84,10 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     stats = SearchStats()
     reporter = _Progress(progress)
     geometry = GeometryCheck(problem)
+    checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
     root = start_sequence(problem)
     if goal_holds(problem, root.zero_poses):
-        found = _unless_excluded(problem, _check(problem, root, stats, deadline, geometry), stats)
+        found = _unless_excluded(problem, _check(problem, root, stats, deadline, checks), stats)
         return found or SearchResult("infeasible", "", stats)
     queue: deque[Sequence] = deque([root])
     try:
@@ -106,7 +113,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                     stats.reject(rejection, action.label(problem))
                     continue
                 if _moves_goal_body(problem, child):
-                    found = _unless_excluded(problem, _check(problem, child, stats, deadline, geometry), stats)
+                    found = _unless_excluded(problem, _check(problem, child, stats, deadline, checks), stats)
                     if found is not None:
                         return found
                 else:
@@ -140,10 +147,19 @@ def _unless_excluded(problem: Problem, found: SearchResult | None, stats: Search
     return None
 
 
+@dataclass(frozen=True)
+class _Checks:
+    """The search's checks that keep state for a whole problem (collision world, arm path planner)."""
+
+    geometry: GeometryCheck
+    arm_paths: ArmPathPlanner
+
+
 def _check(
-    problem: Problem, seq: Sequence, stats: SearchStats, deadline: float, geometry: GeometryCheck
+    problem: Problem, seq: Sequence, stats: SearchStats, deadline: float, checks: _Checks
 ) -> SearchResult | None:
-    """Task space, collision geometry, joint space, the arm's geometry; a SearchResult when all hold, else None."""
+    """Task space, collision geometry, joint space, the arm's geometry and paths; a SearchResult when all hold."""
+    geometry = checks.geometry
     label = " -> ".join(a.label(problem) for a in seq.actions) or "G0"
     if seq.variables or seq.actions:
         stats.task_space_checks += 1
@@ -167,7 +183,33 @@ def _check(
     if clash is not None:
         stats.reject(clash, label)
         return None
-    return SearchResult("solved", "", stats, seq, solution, joints)
+    steps = _arm_paths(problem, seq, solution, joints, stats, deadline, checks.arm_paths)
+    if isinstance(steps, Rejection):
+        stats.reject(steps, label)
+        return None
+    return SearchResult("solved", "", stats, seq, solution, joints, steps)
+
+
+def _arm_paths(
+    problem: Problem,
+    seq: Sequence,
+    solution: TaskSolution,
+    joints: JointSolution,
+    stats: SearchStats,
+    deadline: float,
+    planner: ArmPathPlanner,
+) -> tuple[PlanStep, ...] | Rejection:
+    """The sequence's plan steps with the arm's paths between contacts, or why a path cannot be planned."""
+    steps = [
+        plan_step(problem, action, solution.traces[k], joints.q_start[k], joints.q_end[k])
+        for k, action in enumerate(seq.actions, start=1)
+    ]
+    stats.arm_path_checks += 1
+    planned = planner.plan(steps, problem.arm_start, deadline=deadline)
+    stats.transits, stats.arm_path_time = planner.transits, planner.seconds
+    if isinstance(planned, Rejection):
+        return planned
+    return tuple(planned)
 
 
 _KIND_WORDS = {
@@ -178,14 +220,27 @@ _KIND_WORDS = {
     "table": "would push a body off the table or past its joint's limits",
     "ik": "failed inverse kinematics",
     "collision": "would make a body pass through another (or the arm hit one)",
+    "approach": "had a contact the arm cannot approach or leave in a straight line",
+    "transit": "found no collision-free way for the arm between contacts",
     "timeout": "ran out of time",
 }
 
 # How far a rejected sequence got: a failure in joint space came closer to a plan than one in task space,
 # which came closer than a hand pose out of reach. The decisive cause is the furthest stage's.
-_STAGE = {"reach": 0, "yaw": 1, "position": 1, "goal": 1, "table": 1, "collision": 2, "ik": 2, "timeout": 2}
-_KIND_WORDS["excluded"] = EXCLUDED_WORDS  # a re-solve's exclusions (`vkgl.plan.avoid`), after joint space
-_STAGE["excluded"] = 3
+_STAGE = {
+    "reach": 0,
+    "yaw": 1,
+    "position": 1,
+    "goal": 1,
+    "table": 1,
+    "collision": 2,
+    "ik": 2,
+    "timeout": 2,
+    "approach": 3,
+    "transit": 3,
+}
+_KIND_WORDS["excluded"] = EXCLUDED_WORDS  # a re-solve's exclusions (`vkgl.plan.avoid`), after every check
+_STAGE["excluded"] = 4
 
 
 def _summary(stats: SearchStats) -> str:
@@ -206,6 +261,8 @@ def _accounting(stats: SearchStats) -> str:
         parts.append(f"{stats.joint_space_checks} of them also in joint space")
     if stats.rejections["excluded"] > stats.excluded:
         parts.append(f"{stats.rejections['excluded'] - stats.excluded} feasible but excluded as repeats")
+    if stats.arm_path_checks:
+        parts.append(f"{stats.arm_path_checks} of those also for the arm's paths between contacts")
     return (
         f"{stats.sequences} sequences tried: {stats.passed_over} only lead to others (their last step moves "
         f"no goal body), " + ", ".join(parts)

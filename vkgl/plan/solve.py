@@ -8,6 +8,7 @@ a search that runs out of time are results, not errors: `plan.status` is
 from __future__ import annotations
 
 import time
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -16,8 +17,7 @@ from vkgl.lang.ir import Task
 from vkgl.lang.program import Program
 from vkgl.plan.avoid import Avoid
 from vkgl.plan.model import Problem, build_problem
-from vkgl.plan.plan import Plan, PlanStep, graph_edges, robot_entry
-from vkgl.plan.rollout import ModeTrace
+from vkgl.plan.plan import Plan, graph_edges, robot_entry
 from vkgl.plan.search import SearchResult, SearchStats, search
 
 
@@ -29,19 +29,24 @@ def solve(
     timeout: float | None = None,
     progress: bool = False,
     avoid: Avoid | None = None,
+    arm_start: Sequence[float] | None = None,
 ) -> Plan:
     """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
 
     Breadth-first search over graph sequences (`vkgl.plan.search`) with
     task-space and joint-space feasibility checks (`vkgl.plan.feasible`).
-    `progress` shows the search on stderr. `avoid` names the plans already
-    tried and the steps that failed in execution (`vkgl.plan.avoid`): a
-    re-solve returns none of them (rejections of kind "excluded").
+    `progress` shows the search on stderr; `arm_start` are the arm's joints
+    where its first path starts (its home configuration by default: where
+    execution puts it). `avoid` names the plans already tried and the steps
+    that failed in execution (`vkgl.plan.avoid`): a re-solve returns none of
+    them (rejections of kind "excluded").
     Deterministic: the same input gives the same plan.
     """
     started = time.perf_counter()
     problem = build_problem(program, task, max_depth=max_depth, timeout=timeout)
     problem.avoid = avoid or None
+    if arm_start is not None:
+        problem.arm_start = np.asarray(arm_start, dtype=float)
     deadline = started + problem.timeout
     why = _hopeless(problem)
     if why is not None:
@@ -50,16 +55,21 @@ def solve(
 
 
 def _hopeless(problem: Problem) -> str | None:
-    """Why no search can succeed, found without searching (goal off the table, nothing moves the body), or None."""
+    """Why no search can succeed, found without searching, or None.
+
+    A goal past the body's joint limits (a joint goal's opening, or where a
+    position goal puts a slide), a goal off the table, or nothing to move the body.
+    """
     from vkgl.plan.feasible import goal_joint_state, limit_words
 
     for goal in problem.goals:
         body = problem.bodies[goal.body]
-        state = goal_joint_state(problem, goal.body)
+        state = goal_joint_state(problem, goal.body, goal)
         if state is not None and body.joint_limits is not None:
             lower, upper = body.joint_limits
-            if not lower - goal.tol_position <= state <= upper + goal.tol_position:
-                return limit_words(problem, goal.body, body.rest)
+            tolerance = goal.tol_opening if goal.opening is not None else goal.tol_position
+            if not lower - tolerance <= state <= upper + tolerance:
+                return limit_words(problem, goal.body, body.rest, goal)
         movers = [a for a in body.affordances if a.motion.type in ("prismatic", "revolute")]
         if goal.position is not None and problem.table_center is not None and body.on_table:
             low = problem.table_center - problem.table_size / 2  # type: ignore[operator]
@@ -105,6 +115,9 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
         "optimisations": result.stats.work.optimisations,
         "ik_calls": result.stats.work.ik_calls,
         "rejections": dict(result.stats.rejections),
+        "arm_paths": result.stats.arm_path_checks,
+        "transits": result.stats.transits,
+        "arm_path_time_s": round(result.stats.arm_path_time, 4),
     }
     plan = Plan(
         problem.task.name,
@@ -118,34 +131,12 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
     )
     if result.status != "solved":
         return plan
-    seq, task, joints = result.sequence, result.task, result.joints
-    assert seq is not None and task is not None and joints is not None
+    seq, task = result.sequence, result.task
+    assert seq is not None and task is not None
     plan.graphs = graph_edges(problem, list(seq.graphs))
-    plan.steps = [
-        _step(problem, action, task.traces[k], joints.q_start[k], joints.q_end[k])
-        for k, action in enumerate(seq.actions, start=1)
-    ]
+    plan.steps = list(result.steps)
     plan.final = dict(task.traces[-1].end)
     return plan
-
-
-def _step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarray, q_end: np.ndarray) -> PlanStep:
-    e = action.engagement
-    aff = problem.affordance(e.body, e.affordance)
-    value = trace.values.get(e, 0.0) if action.op == "add" else 0.0
-    return PlanStep(
-        op=action.op,
-        affordance=f"{problem.bodies[e.body].type.name}.{e.affordance}",
-        body=e.body,
-        effector=e.effector,
-        motion=aff.motion.type,
-        value=float(max(0.0, value)),
-        poses_start=dict(trace.start),
-        poses_end=dict(trace.end),
-        q_start=np.asarray(q_start, dtype=float),
-        q_end=np.asarray(q_end, dtype=float),
-        hand=list(trace.hand),
-    )
 
 
 __all__ = ["Avoid", "Plan", "solve"]

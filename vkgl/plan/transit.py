@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -99,6 +99,7 @@ def plan_transit(
     time_limit: float = 1.0,
     resolution: float = DEFAULT_RESOLUTION,
     straight_first: bool = True,
+    via: Iterable[np.ndarray] = (),
 ) -> TransitPath | TransitFailure:
     """A collision-free joint path from `start_q` to `goal_q` within [`lower`, `upper`], or why there is none.
 
@@ -106,7 +107,11 @@ def plan_transit(
     joint step, see `vkgl.plan.density.edge_resolution`), satisfies `is_valid`.
     `seed` makes the search reproducible; `time_limit` (s) bounds the search
     (the fast path and the final checks are not cut). `straight_first=False`
-    skips the fast path (for benchmarks). Exceptions of `is_valid` propagate.
+    skips the fast path (for benchmarks). `via`: polylines of intermediate
+    configurations (each k x n, without the ends) tried in turn after the
+    straight line and before OMPL, e.g. up, across and down (a lazy iterable
+    is only asked when the straight line is blocked). Exceptions of
+    `is_valid` propagate.
     """
     began = time.perf_counter()
     start, goal = np.asarray(start_q, dtype=float), np.asarray(goal_q, dtype=float)
@@ -139,6 +144,13 @@ def plan_transit(
         stage("straight")
         if clear:
             return found(np.vstack([start, goal]), "straight")
+        for middle in via:
+            polyline = np.vstack([start, np.atleast_2d(np.asarray(middle, dtype=float)), goal])
+            within = bool(np.all((polyline >= low - 1e-9) & (polyline <= high + 1e-9)))
+            clear = within and path_is_valid(polyline, check, resolution)
+            stage("via")
+            if clear:
+                return found(polyline, "via")
 
     time_left = time_limit - (time.perf_counter() - began)
     if time_left <= 0:
@@ -146,6 +158,8 @@ def plan_transit(
     inside = np.clip(start, low, high), np.clip(goal, low, high)  # within 1e-9: OMPL would reject the ends
     outcome = _quiet_ompl(*inside, check, stage, low, high, seed=seed, time_limit=time_left, resolution=resolution)
     if isinstance(outcome, str):
+        if outcome.startswith("no path found"):
+            outcome = f"no path found by {PLANNER} within {time_limit:.3g} s or {SEARCH_CHECKS} checks"
         return failed(outcome)
     for waypoints in outcome:
         valid = path_is_valid(waypoints, check, resolution)
@@ -154,6 +168,11 @@ def plan_transit(
             return found(waypoints, "rrtconnect")
     return failed(f"{PLANNER}'s path failed the dense re-validation")
 
+
+SEARCH_CHECKS = 20_000
+"""Validity checks RRTConnect may spend before it gives up. This budget, not the clock, ends a search on any
+reasonably fast machine, so the same input gives the same answer however loaded the machine is (`time_limit`
+is the safety net)."""
 
 _OMPL_LOCK = threading.Lock()
 """OMPL's seed generator and log level are global: one planning call at a time in a process, so that threads
@@ -295,6 +314,7 @@ class _StateValidity:
         self.check = check
         self.n = n
         self.errors = errors
+        self.budget = check.calls + SEARCH_CHECKS
 
     def __call__(self, state: Any) -> bool:
         """Whether the OMPL state is valid."""
@@ -312,8 +332,8 @@ class _StateValidity:
             return False
 
     def failed(self) -> bool:
-        """Whether `is_valid` raised (the planner's extra termination condition)."""
-        return bool(self.errors)
+        """Whether `is_valid` raised, or the search used up its `SEARCH_CHECKS` (the planner's extra stop)."""
+        return bool(self.errors) or self.check.calls > self.budget
 
 
 __all__ = ["PLANNER", "TransitFailure", "TransitPath", "plan_transit"]

@@ -37,10 +37,10 @@ from typing import Any
 import dartpy as dart
 import numpy as np
 
+from vkgl.robot.pad import FINGERTIP_RADIUS
 from vkgl.shapes import isometry, translation
 from vkgl.sim.world import dress_body_node
 
-FINGERTIP_RADIUS = 0.005  # m
 FINGERTIP_MASS = 0.05  # kg
 FINGERTIP_FRICTION = 1.0  # rubber-like; the pair takes the body's smaller coefficient
 NO_LOAD_SPEED = 0.1  # m/s, the drive's speed when nothing resists (quasi-static pushing)

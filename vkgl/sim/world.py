@@ -17,7 +17,8 @@ Bodies: shapes become DART shapes (box, cylinder, mesh, or one shape node per
 part of a union); the mass properties come from the body's triangle mesh
 (trimesh) scaled to the declared mass. A body without a joint hangs on a free
 joint; a body with `joint prismatic|revolute` hangs on that joint, anchored to
-the world where the body stands, with its limits enforced.
+the world where the body stands, with its limits enforced and its `damping`
+and `friction` (Coulomb) if it declares them.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import trimesh
 
 from vkgl.errors import InputError
 from vkgl.lang.geometry import shape_mesh
-from vkgl.lang.ir import Body, Table
+from vkgl.lang.ir import Body, Quantity, Table
 from vkgl.shapes import dart_shapes, isometry, translation
 
 TIME_STEP = 0.001  # s
@@ -125,7 +126,20 @@ def _add_jointed(skeleton: Any, body: Body, anchor: np.ndarray) -> tuple[Any, An
     joint.setPositionUpperLimit(0, upper)
     joint.setLimitEnforcement(True)
     joint.setPosition(0, min(max(0.0, lower), upper))  # the declared pose, or the nearest limit
+    # Viscous damping (N*s/m or N*m*s/rad: DART integrates it implicitly, stable for any value) and Coulomb
+    # friction (N or N*m: a constraint of the LCP solver, so a push below it leaves the joint at rest).
+    if spec.damping is not None:
+        joint.setDampingCoefficient(0, _non_negative(spec.damping, f"the damping of {body.name}'s joint"))
+    if spec.friction is not None:
+        joint.setCoulombFriction(0, _non_negative(spec.friction, f"the friction of {body.name}'s joint"))
     return joint, node
+
+
+def _non_negative(q: Quantity, what: str) -> float:
+    """The SI value of `q` if it is finite and >= 0 (as the checker wants, E440), else an InputError."""
+    if not (np.isfinite(q.value) and q.value >= 0.0):
+        raise InputError(f"{q.span or 'the IR'}: {what} must be zero or positive, got {q.value:g}")
+    return float(q.value)
 
 
 def dress_body_node(node: Any, body: Body) -> None:

@@ -1,0 +1,15 @@
+"""Hover texts built from the IR (the LSP tests cover the protocol)."""
+
+from __future__ import annotations
+
+from vkgl.editor.hover import body_hover
+from vkgl.lang.parser import parse_module
+
+
+def test_a_bodys_hover_shows_its_joints_damping_and_friction() -> None:
+    body = parse_module(
+        "body Slide { shape box (30, 40, 10) cm mass 2 kg "
+        "joint prismatic axis (1, 0, 0) limits (0, 30) cm damping 5 N*s/m friction 2 N }",
+        "slide.vkg",
+    ).decls[0]
+    assert "- joint `prismatic axis (1, 0, 0) limits (0, 30) cm damping 5 N*s/m friction 2 N`" in body_hover(body)

@@ -1,0 +1,117 @@
+"""Checks of physical joints' dynamics (`damping`, `friction`) and of joint goals (`goal B open Q`).
+
+A joint goal names a scene body whose type must have a physical joint (E441);
+its opening is a length for a prismatic joint and an angle for a revolute one
+(E201); and it should lie within the joint's limits, give or take its
+tolerance (W604: a warning, because the task is well formed and the planner
+answers it with "no plan", with the same numbers).
+"""
+
+from __future__ import annotations
+
+import math
+
+from vkgl.lang import codes, ir, limits
+from vkgl.lang.check_context import CheckContext, shown
+from vkgl.lang.limits import Limit
+from vkgl.lang.program import Program
+from vkgl.lang.units import dimension_of, unit_list
+
+# The range of a joint's damping and friction, by the kind of joint (the units the builder checked).
+_DYNAMICS_LIMITS: dict[str, dict[str, Limit]] = {
+    "prismatic": {"damping": limits.LINEAR_DAMPING, "friction": limits.JOINT_FORCE},
+    "revolute": {"damping": limits.ANGULAR_DAMPING, "friction": limits.JOINT_TORQUE},
+}
+# How a joint of each kind is called in messages, and what its coordinate is.
+_JOINT_WORD = {"prismatic": "slide", "revolute": "hinge"}
+_OPENING_DIMENSION = {"prismatic": "length", "revolute": "angle"}
+
+
+def check_joint_dynamics(body: ir.Body, ctx: CheckContext) -> None:
+    """E440 for a negative damping or friction of the body's joint, E209 for one beyond its range."""
+    joint = body.joint
+    if joint is None:
+        return
+    for what, q in (("damping", joint.damping), ("friction", joint.friction)):
+        if q is None:
+            continue
+        if q.value < 0:  # (NaN, already reported, fails every comparison)
+            ctx.error(
+                codes.NEGATIVE_JOINT_DYNAMICS,
+                f"the {what} of `{body.name}`'s joint must not be negative, got {shown(q)}",
+                q.span,
+                f"{what} resists the joint's motion; 0 means none",
+            )
+        elif not _DYNAMICS_LIMITS[joint.type][what].holds(q.value):
+            limit = _DYNAMICS_LIMITS[joint.type][what]
+            ctx.error(
+                codes.OUT_OF_RANGE,
+                f"the {what} of `{body.name}`'s joint must be {limit.shown}, got {shown(q)}",
+                q.span,
+            )
+
+
+def check_joint_goals(program: Program, ctx: CheckContext) -> None:
+    """Every joint goal of every task: a body with a joint (E441), the right kind of value (E201), the limits (W604)."""
+    for task in program.tasks.values():
+        scene = program.scenes.get(task.scene.name)
+        if scene is None:
+            continue
+        types = {b.name: b.type.name for b in scene.bodies}
+        for goal in task.goals:
+            body = program.bodies.get(types.get(goal.body.name, ""))
+            if goal.opening is not None and body is not None:
+                _check_joint_goal(goal, goal.opening, body, ctx)
+
+
+def _check_joint_goal(goal: ir.Goal, opening: ir.Quantity, body: ir.Body, ctx: CheckContext) -> None:
+    name = goal.body.name
+    joint = body.joint
+    if joint is None:
+        ctx.error(
+            codes.NO_JOINT_TO_OPEN,
+            f"`{name}` has no physical joint to open: its type `{body.name}` declares no `joint`",
+            goal.body.span,
+            f"give `{name}` a pose goal instead (`goal {name} at (x, y) m`), or declare a joint in `{body.name}`",
+        )
+        return
+    if not opening.unit or math.isnan(opening.value):
+        return  # its unit was already reported
+    wanted = _OPENING_DIMENSION[joint.type]
+    if dimension_of(opening.unit) != wanted:
+        article = "a length" if wanted == "length" else "an angle"
+        got = "an angle" if wanted == "length" else "a length"
+        also = " (and for its tolerance)" if goal.tol_opening is not None else ""
+        ctx.error(
+            codes.WRONG_DIMENSION,
+            f"expected {article} for the {joint.type} joint of `{name}`, got {got} {shown(opening)}",
+            opening.span,
+            f"a {_JOINT_WORD[joint.type]} opens by {article}: use {unit_list(wanted)}{also}",
+        )
+        return
+    _check_within_limits(goal, opening, joint, ctx)
+
+
+def _check_within_limits(goal: ir.Goal, opening: ir.Quantity, joint: ir.Joint, ctx: CheckContext) -> None:
+    """W604 when the opening, give or take its tolerance, lies outside the joint's limits."""
+    tolerance = goal.opening_tolerance()
+    lower, upper = joint.lower.value, joint.upper.value
+    if opening.value - tolerance > upper:
+        stop = upper
+    elif opening.value + tolerance < lower:
+        stop = lower
+    else:
+        return  # within the limits (or limits already reported as reversed or NaN)
+
+    def said(value: float) -> str:  # in the goal's unit, so that the numbers compare at a glance
+        return shown(ir.Quantity(value=value, unit=opening.unit)).strip("`")
+
+    word = _JOINT_WORD[joint.type]
+    ctx.warn(
+        codes.JOINT_GOAL_PAST_LIMIT,
+        f"`{goal.body.name}` cannot open {shown(opening)}: its {word} stops at {said(stop)} "
+        f"(its limits are {said(lower).split()[0]} to {said(upper)})",
+        opening.span,
+        f"no plan can reach it, even within the goal's tolerance of {said(tolerance)}: open it within the "
+        "limits, or widen them if the real joint goes further",
+    )
