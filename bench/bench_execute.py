@@ -58,6 +58,7 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float):
 
 def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -> tuple[list[str], list[str]]:
     """Two table rows (nominal start, disturbed start): solve, then execute open and closed loop."""
+    from vkgl.api import resolver
     from vkgl.execute.closed_loop import execute
     from vkgl.lang.compiler import compile_file
 
@@ -71,7 +72,7 @@ def bench_task(path: Path, gif_dir: Path | None, disturb: tuple[float, float]) -
     rows = []
     for kind, world in (("", program), ("_disturbed", _disturbed(program, task.name, *disturb))):
         opened = execute(world, task.name, plan, record=gif_dir is not None)
-        closed = execute(world, task.name, plan, replan=True, record=gif_dir is not None, resolve=_plan)
+        closed = execute(world, task.name, plan, replan=True, record=gif_dir is not None, resolve=resolver)
         if gif_dir is not None:
             from vkgl.execute.animate import animate
 

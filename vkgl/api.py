@@ -24,12 +24,15 @@ from typing import TYPE_CHECKING, Union
 from vkgl.errors import InputError
 
 if TYPE_CHECKING:
-    from vkgl.formats.execution_report import ExecutionReport, StepReport
+    from vkgl.execute.progress import Progress
+    from vkgl.execute.resolving import Attempts
+    from vkgl.formats.execution_report import ExecutionReport, Resolve, StepReport
     from vkgl.formats.plan import PlanDocument
     from vkgl.formats.trials import Trials
     from vkgl.infer.library import InferenceResult
     from vkgl.lang.ir import Body, Task
     from vkgl.lang.program import Program
+    from vkgl.plan.avoid import Avoid
     from vkgl.plan.plan import Plan
     from vkgl.sim.explore import Runner
 
@@ -82,10 +85,13 @@ def solve(
     max_depth: int | None = None,
     timeout: float | None = None,
     progress: bool = False,
+    avoid: Avoid | None = None,
 ) -> Plan:
     """Plan for `task` of `program` (its only task when None); return a Plan.
 
-    `max_depth` and `timeout` override the task's `search` block. A goal that
+    `max_depth` and `timeout` override the task's `search` block. `avoid`
+    (`vkgl.plan.avoid.Avoid`) names plans already tried and steps that failed
+    in execution, which the plan must not repeat. A goal that
     no plan reaches, or a search that runs out of time, is a result, not an
     error: `plan.status` is "infeasible" or "timeout" and `plan.reason` says
     why. Input errors raise `vkgl.errors.InputError`.
@@ -93,7 +99,9 @@ def solve(
     from vkgl.plan.solve import solve as solve_task
 
     compiled = _program(program)
-    return solve_task(compiled, _task(compiled, task), max_depth=max_depth, timeout=timeout, progress=progress)
+    return solve_task(
+        compiled, _task(compiled, task), max_depth=max_depth, timeout=timeout, progress=progress, avoid=avoid
+    )
 
 
 def execute(
@@ -105,13 +113,19 @@ def execute(
     max_replans: int = 3,
     record: bool = False,
     on_step: Callable[[StepReport], None] | None = None,
+    on_progress: Callable[[Progress], None] | None = None,
+    on_resolve: Callable[[Resolve], None] | None = None,
 ) -> ExecutionReport:
     """Carry `plan` out in DART physics and report how close the bodies came to the goal.
 
     With `replan`, the loop re-solves (with `solve`) from the observed scene
-    whenever a body strays from the plan, at most `max_replans` times. With
-    `record`, the report keeps frames for `vkgl.execute.animate.animate`.
-    `on_step` is told of every step as it ends (the CLI prints a line each).
+    whenever a body strays from the plan or a step fails, at most
+    `max_replans` times, never repeating a plan tried nor a step that failed
+    where it failed. With `record`, the report keeps frames for
+    `vkgl.execute.animate.animate`. `on_step` is told of every step as it
+    ends (the CLI prints a line each), `on_progress` where the execution is
+    while it runs (`vkgl.execute.progress.Progress`: the CLI's live bar),
+    `on_resolve` of every re-solve (the CLI prints what it excluded and found).
     """
     from vkgl.execute.closed_loop import execute as execute_plan
     from vkgl.formats.plan import PlanDocument
@@ -127,14 +141,22 @@ def execute(
         replan=replan,
         max_replans=max_replans,
         record=record,
-        resolve=_resolver,
+        resolve=resolver,
         on_step=on_step,
+        on_progress=on_progress,
+        on_resolve=on_resolve,
     )
 
 
-def _resolver(program: Program, task: str) -> PlanDocument:
-    """How the closed loop re-solves: the planner, on the program it observed."""
-    return solve(program, task).document()
+def resolver(program: Program, task: str, attempts: Attempts) -> PlanDocument:
+    """How the closed loop re-solves: the planner, on the program it observed, avoiding what was tried.
+
+    The plans tried and the steps that failed (`attempts`) become the
+    planner's `vkgl.plan.avoid.Avoid`.
+    """
+    from vkgl.plan.avoid import Avoid
+
+    return solve(program, task, avoid=Avoid.of(attempts.plans, attempts.failed_steps)).document()
 
 
 def explore(

@@ -19,6 +19,7 @@ from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 from vkgl.errors import InputError
 from vkgl.execute.closed_loop import execute
+from vkgl.execute.resolving import Attempts
 from vkgl.formats.plan import PlanDocument, from_json, to_json
 from vkgl.lang.compiler import compile_file
 from vkgl.lang.geometry import scene_body_pose
@@ -46,10 +47,10 @@ def _push_steps(plan: dict[str, Any]) -> list[dict[str, Any]]:
     return [s for s in plan["steps"] if s["op"] == "add" and s["motion"] in ("prismatic", "revolute")]
 
 
-def _resolve_with_the_planner(program: Program, task: str) -> PlanDocument:
-    from vkgl.plan.solve import solve
+def _resolve_with_the_planner(program: Program, task: str, attempts: Attempts) -> PlanDocument:
+    from vkgl.api import resolver
 
-    return solve(program, program.task(task)).document()
+    return resolver(program, task, attempts)
 
 
 def test_the_planned_push_reaches_the_goal_in_physics(open_loop, task_a):
@@ -63,7 +64,7 @@ def test_the_planned_push_reaches_the_goal_in_physics(open_loop, task_a):
     assert np.linalg.norm(report.final["block"][:2, 3] - start[:2, 3]) > 0.1
     assert len(report.steps) == len(plan.steps)
     assert report.text().splitlines()[-1].startswith("reached")
-    assert report.to_json()["format"] == "vkg-execution/2"
+    assert report.to_json()["format"] == "vkg-execution/3"
 
 
 def test_a_push_from_the_wrong_side_is_reported_as_not_reached(task_a):
@@ -109,7 +110,7 @@ def _stray_plan(plan: PlanDocument) -> PlanDocument:
     return from_json(stray)
 
 
-def _push_the_rest(program: Program, task: str) -> PlanDocument:
+def _push_the_rest(program: Program, task: str, attempts: Attempts) -> PlanDocument:
     """A stand-in for the planner in task (a): push the block, as observed, straight on to the goal."""
     scene = program.scenes[program.task(task).scene.name]
     block = next(b for b in scene.bodies if b.name == "block")
@@ -122,9 +123,9 @@ def test_closed_loop_replans_when_the_block_strays_from_the_plan(task_a):
     program, plan = task_a
     observed_starts = []
 
-    def resolve(observed: Program, task: str) -> PlanDocument:
+    def resolve(observed: Program, task: str, attempts: Attempts) -> PlanDocument:
         observed_starts.append(observed.scenes["tabletop"])
-        return _push_the_rest(observed, task)
+        return _push_the_rest(observed, task, attempts)
 
     report = execute(program, TASK, _stray_plan(plan), replan=True, resolve=resolve)
     assert report.replans == 1, report.text()
@@ -256,7 +257,7 @@ def test_when_re_solving_finds_no_plan_the_current_plan_is_carried_on(task_a):
     start[0, 3] -= 0.006  # 6 mm closer: more than half the tolerance off, yet the plan still ends within it
     world = program.with_start_poses(program.task(TASK), {"block": start})
 
-    def no_plan(observed: Program, task: str) -> PlanDocument:
+    def no_plan(observed: Program, task: str, attempts: Attempts) -> PlanDocument:
         return PlanDocument(task, "infeasible", None, plan.stats, plan.robot, reason="nothing found")
 
     report = execute(world, TASK, plan, replan=True, resolve=no_plan)

@@ -16,12 +16,14 @@ def test_solve_execute_replan_writes_the_report(tmp_path, capsys):
     captured = capsys.readouterr()
     out = captured.out
     assert code == 0
-    # progress: a line per step as it ends, on stderr, piped or not
-    assert "executing: step 1 done at t = " in captured.err
+    # progress: piped, one plain line per step as it ends, on stderr (no bar, no control sequences)
+    assert captured.err.splitlines() == [line for line in captured.err.splitlines() if line.startswith("executing: ")]
+    assert [line.split(" done")[0] for line in captured.err.splitlines()] == ["executing: step 1"]
+    assert "\x1b" not in captured.err and "\x1b" not in out
     assert "execution of a_push in DART, closed loop (replan):" in out
     assert any(line.startswith("reached:") for line in out.splitlines())
     data = json.loads(report.read_text())
-    assert data["format"] == "vkg-execution/2" and data["status"] == "reached" and data["closed_loop"]
+    assert data["format"] == "vkg-execution/3" and data["status"] == "reached" and data["closed_loop"]
 
 
 def test_an_animation_that_cannot_be_written_is_refused_before_executing(tmp_path, capsys):

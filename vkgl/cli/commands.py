@@ -250,24 +250,25 @@ def _execute(args: argparse.Namespace, program: Any, plan: Any) -> bool:
 
         check_animation_path(args.animate)  # refuse a bad file name before minutes of simulation
 
-    def step_done(step: Any) -> None:  # one line per step as it happens, on a terminal or piped
-        origin = "" if step.plan == 0 else f" [replan {step.plan}]"
-        print(f"executing: step {step.index}{origin} done at t = {step.end_time:.2f} s: {step.title}", file=sys.stderr)
-        sys.stderr.flush()
+    from vkgl.cli.progress import ExecutionProgress
 
-    report = api.execute(
-        program,
-        plan.task,
-        plan,
-        replan=args.replan,
-        max_replans=args.max_replans,
-        record=bool(args.animate),
-        on_step=step_done,
-    )
+    # a line per step (and per re-solve) as it happens, on a terminal or piped; a live bar on a terminal
+    with ExecutionProgress(sys.stderr, live=_is_terminal(sys.stderr)) as shown:
+        report = api.execute(
+            program,
+            plan.task,
+            plan,
+            replan=args.replan,
+            max_replans=args.max_replans,
+            record=bool(args.animate),
+            on_step=shown.step_done,
+            on_progress=shown.progress,
+            on_resolve=shown.resolved,
+        )
     print(report.text())
     if args.execution_json:
         write_text(args.execution_json, json.dumps(report.to_json(), indent=1) + "\n")
-        print(f"{args.execution_json}: execution as vkg-execution/2")
+        print(f"{args.execution_json}: execution as vkg-execution/3")
     if args.animate:
         from vkgl.execute.animate import animate
 

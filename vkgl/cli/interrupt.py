@@ -41,6 +41,8 @@ def on_interrupt(signum: int, frame: FrameType | None) -> None:
     discard_temporaries()
     try:
         sys.stdout.flush()
+        if sys.stderr.isatty():  # a live bar (exploring, executing) hides the cursor: clear its line, show it
+            sys.stderr.write("\r\x1b[2K\x1b[?25h")
         sys.stderr.write("vkgc: interrupted\n")
         sys.stderr.flush()
     finally:

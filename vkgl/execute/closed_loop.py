@@ -18,13 +18,16 @@ again from the observed scene (the same task, its scene's start poses replaced
 by the observed ones); after `max_replans` re-solves it gives up and says why.
 A re-solve first asks for half of every goal tolerance (`RESOLVE_MARGIN`), and
 for all of it only when that finds no plan: an execution policy, kept here.
-If a re-solve finds no plan and nothing was put down, the current plan goes on.
+A re-solve learns from what went wrong (`vkgl.execute.resolving.Attempts`):
+it excludes every step the arm could not carry out, where it failed, and
+every plan already tried; the report's `resolves` say what each excluded and
+found. If a re-solve finds no plan and nothing was put down, the current plan
+goes on.
 The report's status is `reached` when every goal of the task holds at the end.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import time
 from collections.abc import Callable, Mapping
 
@@ -32,22 +35,15 @@ import numpy as np
 
 from vkgl.errors import InputError, VkgError
 from vkgl.execute.effector_path import rotation_angle
+from vkgl.execute.progress import Progress, ProgressFeed
 from vkgl.execute.replay import Replay
+from vkgl.execute.resolving import RESOLVE_MARGIN, Attempts, FailedStep, Resolver, resolve_with_margin
 from vkgl.execute.world_arm import ArmStuck
-from vkgl.formats.execution_report import Deviation, Disturbance, ExecutionReport, GoalResult, StepReport
+from vkgl.formats.execution_report import Deviation, Disturbance, ExecutionReport, GoalResult, Resolve, StepReport
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
-from vkgl.lang.ir import (
-    Goal,
-    Quantity,
-    Task,
-)
+from vkgl.lang.ir import Goal, Task
 from vkgl.lang.program import Program
 from vkgl.se3 import angle_difference, yaw_of
-
-Resolver = Callable[[Program, str], PlanDocument]
-"""Solves a task (by name) of a program; returns its `vkg-plan/2` document, of any status.
-
-May raise VkgError (reported as a re-solve that found no plan)."""
 
 Step = tuple[int, PlanStepRecord]
 """A plan step with its number in its plan (from 1)."""
@@ -65,23 +61,31 @@ def execute(
     record: bool = False,
     resolve: Resolver | None = None,
     on_step: Callable[[StepReport], None] | None = None,
+    on_progress: Callable[[Progress], None] | None = None,
+    on_resolve: Callable[[Resolve], None] | None = None,
 ) -> ExecutionReport:
     """Carry out a solved `vkg-plan/2` plan for `task` in DART and report how close it got to the goal.
 
-    `on_step(step_report)` is called as each step ends (progress for long runs).
+    `on_step(step_report)` is called as each step ends (progress for long runs),
+    `on_progress(progress)` while the world runs (`vkgl.execute.progress`: the
+    step, the arm's phase, the simulated time), `on_resolve(resolve)` after
+    each re-solve (why, what it excluded, what it found).
     `task` is the Task IR, its name, or None for the program's first task.
     With `replan`, re-solve from the observed scene whenever a body strays
     from the plan by more than half its tolerance (at most `max_replans`
-    times) with `resolve(program, task_name) -> PlanDocument`, which the
-    caller must then supply (ValueError otherwise). With `record`, the
-    report keeps frames for `animate`.
+    times) with `resolve(program, task_name, attempts) -> PlanDocument`, which
+    the caller must then supply (ValueError otherwise); `attempts` names the
+    plans tried and the steps that failed, which the new plan must not
+    repeat. With `record`, the report keeps frames for `animate`.
     Raises InputError when `max_replans` is negative (before any work), when
     the plan is not solved or does not fit the program.
     """
     if max_replans < 0:
         raise InputError(f"max_replans must be 0 or more, not {max_replans}")
     if replan and resolve is None:
-        raise ValueError("execute(replan=True) needs `resolve`, a function (program, task name) -> PlanDocument")
+        raise ValueError(
+            "execute(replan=True) needs `resolve`, a function (program, task name, attempts) -> PlanDocument"
+        )
     if not isinstance(plan, PlanDocument):
         raise TypeError(
             f"execute() takes a vkgl.formats.plan.PlanDocument, not {type(plan).__name__} "
@@ -96,9 +100,14 @@ def execute(
         raise InputError(f"the plan is for task `{plan.task}`, not `{task.name}`")
     replay = Replay(program, scene, _solved(plan).robot, record=record)
     loop = _Loop(program, task, replay, replan=replan, max_replans=max_replans, resolve=resolve)
-    loop.on_step = on_step
+    loop.on_step, loop.on_resolve = on_step, on_resolve
+    loop.feed = ProgressFeed(on_progress, lambda: replay.label, lambda: replay.time)
+    replay.watch(loop.feed.tick if on_progress is not None else None)
     loop.expect(plan)
-    status, reason = loop.run(_numbered(plan))
+    try:
+        status, reason = loop.run(_numbered(plan))
+    finally:
+        replay.watch(None)
     disturbed = loop.disturbances() if status in ("reached", "missed") else []
     if disturbed and status == "reached":
         status, reason = "disturbed", "; ".join(d.text() for d in disturbed)
@@ -119,6 +128,7 @@ def execute(
         table=scene.table,
         closed_loop=replan,
         disturbed=disturbed,
+        resolves=loop.resolves,
     )
 
 
@@ -157,6 +167,8 @@ class _Loop:
     ) -> None:
         self.resolve = resolve
         self.on_step: Callable[[StepReport], None] | None = None  # told of every step as it ends
+        self.on_resolve: Callable[[Resolve], None] | None = None  # told of every re-solve
+        self.feed = ProgressFeed(None, lambda: "", lambda: 0.0)  # where the execution is, for a live display
         self.program = program
         self.task = task
         self.replay = replay
@@ -167,6 +179,10 @@ class _Loop:
         self.solve_time = 0.0
         self.reports: list[StepReport] = []
         self.log: list[str] = []
+        self.resolves: list[Resolve] = []
+        self.tried: list[PlanDocument] = []  # every plan carried out (or begun), for re-solves to avoid
+        self.failed: list[FailedStep] = []  # every step the arm could not carry out, for re-solves to avoid
+        self.plan_length = 0
         self.watching = True  # False while carrying on with a plan that could not be replaced
         self.bystanders: dict[str, np.ndarray] = {}  # bodies the plan being carried out leaves still, and where
 
@@ -188,6 +204,7 @@ class _Loop:
         while True:
             outcome = self._run_plan(steps)
             if outcome is None:  # every step of the plan was carried out
+                self.feed.begin(self.plan_no, 0, self.plan_length, "letting go at the end")
                 try:
                     self.replay.let_go("end")
                     self.replay.settle(FINAL_SETTLE, "end")
@@ -212,9 +229,11 @@ class _Loop:
     def _run_plan(self, steps: list[Step]) -> tuple[str, str, list[Step]] | None:
         """Carry out `steps`; None when all were, else (kind, why, the steps not carried out)."""
         for i, (index, step) in enumerate(steps):
+            self.feed.begin(self.plan_no, index, self.plan_length, step.title())
             try:
                 self.replay.run_step(index, step)
             except ArmStuck as exc:
+                self.failed.append(FailedStep(self.plan_no, index, step, str(exc)))
                 self._report(index, step, [])
                 return "failed", f"step {index} ({step.title()}): {exc}", []
             deviations = self._deviations(step)
@@ -270,6 +289,8 @@ class _Loop:
 
     def expect(self, plan: PlanDocument) -> None:
         """Note the bodies `plan` leaves where they are (the ones it never moves), and where that is."""
+        self.tried.append(plan)
+        self.plan_length = len(plan.steps)
         start = plan.steps[0].poses_start if plan.steps else {}
         self.bystanders = {
             name: np.asarray(pose)
@@ -335,6 +356,7 @@ class _Loop:
         if self.replans >= self.max_replans:
             return status, f"gave up after {self.replans} replan{'s' if self.replans != 1 else ''}: {why}"
         undoes_plan = self.replay.holding() is not None
+        self.feed.begin(self.plan_no, 0, self.plan_length, "putting things down to re-solve")
         try:
             self.replay.let_go("replan")
             self.replay.put_down("replan")
@@ -345,28 +367,44 @@ class _Loop:
         self.replans += 1
         self.plan_no += 1
         assert self.resolve is not None  # execute() refuses replan=True without one
+        self.feed.phase("re-solving")
+        attempts = Attempts(tuple(self.tried), tuple(self.failed))
         started = time.perf_counter()
         plan: PlanDocument | None = None
         try:
-            plan = resolve_with_margin(self.resolve, observed, self.task.name)
-            found = f"{plan.status}: {plan.reason}"
+            plan = resolve_with_margin(self.resolve, observed, self.task.name, attempts)
+            found, reason = plan.status, plan.reason
         except VkgError as exc:
-            found = f"error: {exc}"
+            found, reason = "error", str(exc)
         finally:
-            self.solve_time += time.perf_counter() - started
+            spent = time.perf_counter() - started
+            self.solve_time += spent
+        solved = plan is not None and plan.solved
+        carry_on = not solved and bool(remaining) and not undoes_plan
+        record = Resolve(
+            self.replans,
+            why,
+            tuple(f.record() for f in attempts.failed),
+            len(attempts.plans),
+            found,
+            "" if solved else reason,
+            tuple(s.title() for s in plan.steps) if plan is not None and solved else (),
+            "new plan" if solved else "carry on" if carry_on else "stop",
+            spent,
+        )
+        self.resolves.append(record)
+        self._note(record.text())
+        if self.on_resolve is not None:
+            self.on_resolve(record)
         if plan is None or not plan.solved:
-            if remaining and not undoes_plan:
+            if carry_on:
                 self.plan_no -= 1  # still the same plan
                 self.watching = False
-                self._note(f"{why}; re-solving found no plan ({found}); carrying on with the current plan")
-                return remaining
-            self._note(f"{why}; re-solving found no plan ({found})")
-            return "missed", f"replan {self.replans} found no plan ({found})"
-        steps = _numbered(plan)
+                return remaining or []
+            return status, f"replan {self.replans} found no plan ({found}{': ' + reason if reason else ''})"
         self.expect(plan)
         self.watching = True
-        self._note(f"{why}; re-solved from the observed scene: {len(steps)} step(s)")
-        return steps
+        return _numbered(plan)
 
 
 def _stray(when: str, deviation: Deviation) -> str:
@@ -374,42 +412,6 @@ def _stray(when: str, deviation: Deviation) -> str:
         f"{when} {deviation.body} is off the plan by {deviation.position * 100:.2f} cm, "
         f"{np.degrees(deviation.angle):.2f} deg"
     )
-
-
-RESOLVE_MARGIN = 0.5
-"""A re-solve first asks for this fraction of each goal tolerance, then (if that finds no plan) for all of it."""
-
-
-def resolve_with_margin(resolve: Resolver, program: Program, task: str) -> PlanDocument:
-    """Re-solve `task` of `program` with `resolve`, keeping a margin inside the goal tolerance if possible.
-
-    A planner returns the first plan that meets the goal within its
-    tolerance, often at the tolerance's edge; from an observed (already
-    disturbed) scene that leaves physics no margin. So the re-solve first
-    asks for `RESOLVE_MARGIN` of every tolerance and only when that finds no
-    plan for all of it.
-    """
-    plan = resolve(_with_tighter_goals(program, task, RESOLVE_MARGIN), task)
-    if not plan.solved:
-        plan = resolve(program, task)
-    return plan
-
-
-def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Program:
-    """A copy of `program` whose task `task_name` asks for `fraction` of each goal tolerance."""
-    task = program.task(task_name)
-    goals = []
-    for goal in task.goals:
-        tol_p, tol_y = goal.tolerance()
-        goals.append(
-            goal.model_copy(
-                update={
-                    "tol_position": Quantity(value=tol_p * fraction, unit="m"),
-                    "tol_yaw": Quantity(value=tol_y * fraction, unit="rad"),
-                }
-            )
-        )
-    return dataclasses.replace(program, tasks={**program.tasks, task_name: task.model_copy(update={"goals": goals})})
 
 
 def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:
@@ -426,3 +428,6 @@ def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:
         parts.append(f"yaw {np.degrees(goal.yaw.value):.1f} deg")
     parts.append(f"within {tol_p * 100:.1f} cm, {np.degrees(tol_y):.1f} deg")
     return GoalResult(goal.body.name, " ".join(parts), position_error, yaw_error, tol_p, tol_y)
+
+
+__all__ = ["RESOLVE_MARGIN", "Attempts", "Progress", "Resolver", "execute", "resolve_with_margin"]

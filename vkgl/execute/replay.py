@@ -14,6 +14,8 @@ The plan comes as a `vkgl.formats.plan.PlanDocument`; nothing here reads JSON.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from vkgl.execute.arm_moves import ArmMoves
@@ -41,6 +43,15 @@ class Replay:
     def time(self) -> float:
         """Simulated time since the start (s)."""
         return self.sim.time
+
+    @property
+    def label(self) -> str:
+        """What the arm is doing now, as the animation labels it (`step 2 motion`, `replan retreat`)."""
+        return self.sim.label
+
+    def watch(self, on_advance: Callable[[], None] | None) -> None:
+        """Call `on_advance()` after every control period the world runs (None: stop)."""
+        self.sim.on_advance = on_advance
 
     @property
     def frames(self) -> Frames | None:

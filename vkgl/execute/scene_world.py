@@ -9,6 +9,7 @@ answers where the bodies are and how high the arm must travel to clear them.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -68,6 +69,7 @@ class SceneWorld:
         self.planned = self.poses()  # the ghost: where the current plan wants every body now
         self.frames = Frames(list(self.nodes)) if record else None
         self.label = "start"
+        self.on_advance: Callable[[], None] | None = None  # told after every `advance` (live progress)
         self._next_frame = 0.0
         self.record()
 
@@ -104,6 +106,8 @@ class SceneWorld:
                 self.record()
         if self.guarded:  # once per control period is enough to stop in time
             self._check_clear()
+        if self.on_advance is not None:
+            self.on_advance()
 
     def _check_clear(self) -> None:
         """Stop a move through free space as soon as the robot or what it holds touches a body."""

@@ -1,7 +1,7 @@
 """What an execution in DART did: per step, real vs planned poses; at the end, the error to the goal.
 
 `ExecutionReport.text()` is what `vkgc solve --execute` prints;
-`ExecutionReport.to_json()` is the `vkg-execution/2` record of the same, and
+`ExecutionReport.to_json()` is the `vkg-execution/3` record of the same, and
 `write(path, report)` puts it in a file.
 """
 
@@ -17,8 +17,9 @@ import numpy as np
 from vkgl.formats.atomic import write_text
 from vkgl.se3 import yaw_of
 
-FORMAT = "vkg-execution/2"
-"""Version 2 adds the `disturbed` list and the status "disturbed" (a bystander moved; docs/execution.md)."""
+FORMAT = "vkg-execution/3"
+"""Version 2 added the `disturbed` list and the status "disturbed" (a bystander moved); version 3 adds the
+`resolves` list (each re-solve: why, what it excluded, what it found; docs/execution.md)."""
 
 
 def _planar(pose: np.ndarray) -> str:
@@ -104,6 +105,75 @@ class Disturbance:
         )
 
 
+@dataclass(frozen=True)
+class ExcludedStep:
+    """A step that failed in execution, which a re-solve excluded: which plan, which step, and why it failed."""
+
+    plan: int  # 0 = the plan given, 1.. = replans
+    index: int  # the step's number in its plan (from 1)
+    title: str
+    why: str
+
+    def text(self) -> str:
+        """`step 1 of plan 0 `add Block.push_center_px on block with arm.fingertip: slide 15.0 cm``."""
+        return f"step {self.index} of plan {self.plan} `{self.title}`"
+
+
+@dataclass(frozen=True)
+class Resolve:
+    """One re-solve of the closed loop: what triggered it, what it had to avoid, and what came of it.
+
+    `excluded` are the steps that had failed so far (the new plan repeats
+    none of them where it failed), `tried` the number of plans carried out so
+    far (the new plan is none of them); `found` is the planner's status
+    ("solved", "infeasible", "timeout", or "error"), `reason` why it is not
+    solved, `new_plan` the titles of the new plan's steps; `outcome` says what
+    the loop did: "new plan", "carry on" (no plan found, the current plan
+    goes on) or "stop" (no plan found, nothing to go on with).
+    """
+
+    number: int
+    after: str
+    excluded: tuple[ExcludedStep, ...]
+    tried: int
+    found: str
+    reason: str
+    new_plan: tuple[str, ...]
+    outcome: str
+    solve_time: float
+
+    def text(self) -> str:
+        """One line for the log: why, what was excluded, and the new plan (or why there is none)."""
+        tried = f"the {self.tried} plan{'s' if self.tried != 1 else ''} tried"
+        failed = ", ".join(e.text() for e in self.excluded)
+        what = f"the failed {failed} and {tried}" if failed else tried
+        head = f"{self.after}; re-solve {self.number} excludes {what}"
+        if self.outcome == "new plan":
+            steps = ", ".join(f"`{title}`" for title in self.new_plan) or "nothing to do"
+            return f"{head}; re-solved from the observed scene: new plan of {_count(len(self.new_plan))}: {steps}"
+        found = f"{self.found}: {self.reason}" if self.reason else self.found
+        tail = "; carrying on with the current plan" if self.outcome == "carry on" else ""
+        return f"{head}; re-solving found no plan ({found}){tail}"
+
+    def to_json(self) -> dict[str, Any]:
+        """The re-solve as plain data (an entry of `resolves` in `vkg-execution/3`)."""
+        return {
+            "number": self.number,
+            "after": self.after,
+            "excluded": [{"plan": e.plan, "step": e.index, "title": e.title, "why": e.why} for e in self.excluded],
+            "tried_plans": self.tried,
+            "found": self.found,
+            "reason": self.reason,
+            "new_plan": list(self.new_plan),
+            "outcome": self.outcome,
+            "solve_time_s": round(self.solve_time, 3),
+        }
+
+
+def _count(n: int) -> str:
+    return f"{n} step{'s' if n != 1 else ''}"
+
+
 @dataclass
 class ExecutionReport:
     """The outcome of executing a plan in DART.
@@ -133,6 +203,7 @@ class ExecutionReport:
     table: Any = None  # the scene's Table IR (for drawing)
     closed_loop: bool = False
     disturbed: list[Disturbance] = field(default_factory=list)
+    resolves: list[Resolve] = field(default_factory=list)  # every re-solve, in order (`replan_log` in words)
 
     @property
     def reached(self) -> bool:
@@ -172,7 +243,7 @@ class ExecutionReport:
         return "\n".join(lines)
 
     def to_json(self) -> dict[str, Any]:
-        """The report as plain data (`vkg-execution/2`)."""
+        """The report as plain data (`vkg-execution/3`)."""
         return {
             "format": FORMAT,
             "task": self.task,
@@ -181,6 +252,7 @@ class ExecutionReport:
             "closed_loop": self.closed_loop,
             "replans": self.replans,
             "replan_log": list(self.replan_log),
+            "resolves": [r.to_json() for r in self.resolves],
             "sim_time_s": round(self.sim_time, 6),
             "wall_time_s": round(self.wall_time, 3),
             "solve_time_s": round(self.solve_time, 3),
@@ -226,5 +298,5 @@ class ExecutionReport:
 
 
 def write(path: str | Path, report: ExecutionReport) -> None:
-    """Write the report as `vkg-execution/2` JSON to `path`, atomically (temporary file, then renamed)."""
+    """Write the report as `vkg-execution/3` JSON to `path`, atomically (temporary file, then renamed)."""
     write_text(path, json.dumps(report.to_json(), indent=1) + "\n")

@@ -2,14 +2,19 @@
 
 Shared by the simulator (collision shapes, mass properties) and the planner
 (footprints, resting poses), so both see the same body.
+
+trimesh is imported where a mesh is made: its import (with networkx and
+SciPy's image module) costs about a third of a second, and the planner only
+needs the vertices of boxes and unions of boxes (`shape_vertices`, the same
+numbers as the meshes' without making them).
 """
 
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 from scipy.spatial.transform import Rotation
 
 from vkgl.errors import InputError
@@ -25,6 +30,9 @@ from vkgl.lang.ir import (
     UnionShape,
 )
 
+if TYPE_CHECKING:
+    import trimesh
+
 
 def shape_mesh(shape: Shape) -> trimesh.Trimesh:
     """The shape as one triangle mesh in the body frame (SI units)."""
@@ -33,6 +41,8 @@ def shape_mesh(shape: Shape) -> trimesh.Trimesh:
 
 @lru_cache(maxsize=256)
 def _shape_mesh_cached(shape: Shape) -> trimesh.Trimesh:
+    import trimesh
+
     if isinstance(shape, BoxShape):
         return trimesh.creation.box(extents=shape.size.values)
     if isinstance(shape, CylinderShape):
@@ -52,6 +62,8 @@ def _shape_mesh_cached(shape: Shape) -> trimesh.Trimesh:
 
 
 def _load_mesh(shape: MeshShape) -> trimesh.Trimesh:
+    import trimesh
+
     path = shape.resolved or shape.path
     try:
         loaded = trimesh.load(path, force="mesh")
@@ -63,6 +75,43 @@ def _load_mesh(shape: MeshShape) -> trimesh.Trimesh:
     return loaded
 
 
+def shape_vertices(shape: Shape) -> np.ndarray:
+    """The vertices of `shape_mesh(shape)` (body frame), read-only: no copy of the mesh when only they are needed."""
+    return _shape_vertices_cached(shape)
+
+
+@lru_cache(maxsize=256)
+def _shape_vertices_cached(shape: Shape) -> np.ndarray:
+    vertices = _box_vertices(shape)
+    if vertices is None:
+        vertices = np.array(_shape_mesh_cached(shape).vertices, dtype=float)
+    vertices.flags.writeable = False
+    return vertices
+
+
+_UNIT_BOX = np.array([[0, 0, 0], [0, 0, 1], [0, 1, 0], [0, 1, 1], [1, 0, 0], [1, 0, 1], [1, 1, 0], [1, 1, 1]], float)
+_IDENTITY4 = np.eye(4)
+
+
+def _box_vertices(shape: Shape) -> np.ndarray | None:
+    """The vertices of the mesh of a box or a union of boxes, computed as trimesh computes them (its box's
+    corners, `apply_transform` per part, parts stacked in order), without trimesh; None for other shapes."""
+    if isinstance(shape, BoxShape):
+        return (_UNIT_BOX - 0.5) * np.asarray(shape.size.values, dtype=np.float64)
+    if not isinstance(shape, UnionShape):
+        return None
+    parts = []
+    for part in shape.parts:
+        vertices = _box_vertices(part.shape)
+        if vertices is None:
+            return None
+        matrix = np.asarray(part.pose.matrix(), order="C", dtype=np.float64)
+        if float(np.ptp(matrix - _IDENTITY4)) >= 1e-8 and np.abs(matrix - _IDENTITY4).max() >= 1e-8:
+            vertices = np.dot(matrix, np.column_stack((vertices, np.ones(len(vertices)))).T).T[:, :3]
+        parts.append(vertices)
+    return np.vstack(parts)
+
+
 def body_mesh(body: Body) -> trimesh.Trimesh:
     """The body's shape as a mesh in its own frame."""
     return shape_mesh(body.shape)
@@ -70,8 +119,7 @@ def body_mesh(body: Body) -> trimesh.Trimesh:
 
 def resting_height(body: Body, yaw: float, table_top: float) -> float:
     """The z of the body frame when the body, turned by `yaw`, rests on a table top at `table_top`."""
-    mesh = body_mesh(body)
-    rotated = Rotation.from_euler("z", yaw).apply(mesh.vertices)
+    rotated = Rotation.from_euler("z", yaw).apply(shape_vertices(body.shape).copy())  # SciPy wants it writeable
     return float(table_top - rotated[:, 2].min())
 
 
@@ -150,6 +198,8 @@ def ray_hit(mesh: trimesh.Trimesh, start: np.ndarray, direction: np.ndarray) -> 
     (trimesh's own ray queries need the optional `rtree` package; a ray against
     every triangle plane plus trimesh's barycentric test is enough for one ray.)
     """
+    import trimesh
+
     direction = np.asarray(direction, dtype=float)
     triangles = mesh.triangles
     normals = mesh.face_normals

@@ -24,6 +24,7 @@ import numpy as np
 
 from vkgl.plan.collision import TABLE, CollisionScene, Contact
 from vkgl.robot import Arm, load_skeleton
+from vkgl.robot.kinematics import link_probe
 from vkgl.robot.pad import FINGER_PAD_WIDTH, FINGERTIP_RADIUS, pad_pose
 
 PAD = "fingertip"
@@ -47,70 +48,51 @@ class Held:
 class ArmCollision:
     """The collision shapes of an arm's links, checked against a `CollisionScene`.
 
-    Built once per planning problem (it clones and groups the URDF's shapes);
-    each query costs one forward kinematics of the clone and one FCL call per
-    group (two when a tool is held).
+    Built once per planning problem (it groups the URDF's shapes; the clone of
+    the arm's skeleton that carries them is made once per process); each query
+    costs one forward kinematics of the clone and one FCL call per group (two
+    when a tool is held).
     """
 
     def __init__(self, scene: CollisionScene, arm: Arm, skip_links: Iterable[str] = ()) -> None:
         """The links of `arm` (all with collision geometry, but `skip_links`) against `scene`'s bodies."""
         self.scene = scene
         self.arm = arm
-        self.skeleton = load_skeleton(arm.urdf)
-        iso = dart.math.Isometry3()
-        iso.set_matrix(np.asarray(arm.base, dtype=float))
-        self.skeleton.getRootJoint().setTransformFromParentBodyNode(iso)
+        self.skeleton, shape_nodes, pad = _collision_links(arm)
         self._dofs = [int(self.skeleton.getJoint(name).getIndexInSkeleton(0)) for name in arm.joint_names]
         self._all_dofs = self._dofs == list(range(self.skeleton.getNumDofs()))
-        self._link = self.skeleton.getBodyNode(arm.effector_link)
+        self._link = _probe(self.skeleton, arm.effector_link)
+        self._q: np.ndarray | None = None
+        self._other_lists: dict[tuple[tuple[str, ...], str | None, bool], list[str]] = {}
         self.group = scene.detector.createCollisionGroup()
         self.link_of: dict[str, str] = {}  # shape node name -> link name (what contacts call it)
         skip = set(skip_links)
-        for i in range(self.skeleton.getNumBodyNodes()):
-            node = self.skeleton.getBodyNode(i)
-            if node.getName() in skip:
-                continue
-            for j in range(node.getNumShapeNodes()):
-                shape_node = node.getShapeNode(j)
-                if shape_node.hasCollisionAspect():
-                    self.group.addShapeFrame(shape_node)
-                    self.link_of[shape_node.getName()] = node.getName()
+        for shape_node, link in shape_nodes:
+            if link not in skip:
+                self.group.addShapeFrame(shape_node)
+                self.link_of[shape_node.getName()] = link
         self.links = tuple(dict.fromkeys(self.link_of.values()))
         """The links whose geometry is checked, root first."""
-        self.pad_group = self._add_pad(scene)
-
-    def _add_pad(self, scene: CollisionScene) -> Any:
-        """The fingertip pad (`vkgl.robot.pad`) welded to the effector link, in a group of its own.
-
-        The pad is what pushes: it may touch the body the hand acts on, and it
-        is not checked while the hand holds a tool (the executed arm's pad is
-        then switched off too).
-        """
-        joint, body = self._link.createWeldJointAndBodyNodePair()
-        iso = dart.math.Isometry3()
-        iso.set_matrix(np.asarray(self.arm.link_offset, dtype=float) @ pad_pose())
-        joint.setTransformFromParentBodyNode(iso)
-        body.setName(PAD)
-        # FCL has no capsules: the cylinder that holds the capsule (its caps included) stands in for it
-        node = body.createShapeNode(
-            dart.dynamics.CylinderShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH + 2 * FINGERTIP_RADIUS)
-        )
-        node.createCollisionAspect()
-        group = scene.detector.createCollisionGroup()
-        group.addShapeFrame(node)
-        self.link_of[node.getName()] = PAD
-        return group
+        # the fingertip pad (`vkgl.robot.pad`, welded to the effector link: `_collision_links`), in a group of
+        # its own: the pad is what pushes, it may touch the body the hand acts on, and it is not checked while
+        # the hand holds a tool (the executed arm's pad is then switched off too)
+        self.pad_group = scene.detector.createCollisionGroup()
+        self.pad_group.addShapeFrame(pad)
+        self.link_of[pad.getName()] = PAD
 
     def set_configuration(self, q: Sequence[float] | np.ndarray) -> None:
         """Put the arm's joints (order of `Arm.joint_names`) at `q`."""
+        self._q = np.array(q, dtype=float)
         if self._all_dofs:
-            self.skeleton.setPositions(np.asarray(q, dtype=float))
+            self.skeleton.setPositions(self._q)
         else:
-            self.skeleton.setPositions(self._dofs, np.asarray(q, dtype=float))
+            self.skeleton.setPositions(self._dofs, self._q)
 
     def effector_pose(self) -> np.ndarray:
         """The world pose of the effector frame at the current configuration (equals `Arm.fk(q)`)."""
-        return self._link.getWorldTransform().matrix() @ self.arm.link_offset
+        if self._q is not None:  # the skeleton is shared with the arm's other checkers: be at our configuration
+            self.set_configuration(self._q)
+        return self._link.getTransform().matrix() @ self.arm.link_offset
 
     def overlap(
         self,
@@ -137,8 +119,8 @@ class ArmCollision:
         self.set_configuration(q)
         others = self._others(ignore, held, table)
         out = self.scene.collide(self.group, self.scene.group(others), self.link_of) if others else []
-        pad_others = [n for n in others if n not in set(pad_may_touch)]
-        if held is None and pad_others:
+        pad_others = self._pad_others(others, held, pad_may_touch)
+        if pad_others:
             out.extend(self.scene.collide(self.pad_group, self.scene.group(pad_others), self.link_of))
         if held is not None:
             tool_pose = self.effector_pose() @ held.in_hand
@@ -165,18 +147,89 @@ class ArmCollision:
         others = self._others(ignore, held, table)
         if others and self.scene.collides(self.group, self.scene.group(others)):
             return False
-        pad_others = [n for n in others if n not in set(pad_may_touch)]
-        if held is None and pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)):
+        pad_others = self._pad_others(others, held, pad_may_touch)
+        if pad_others and self.scene.collides(self.pad_group, self.scene.group(pad_others)):
             return False
         if held is not None:
-            self.scene.place({held.body: self.effector_pose() @ held.in_hand})
+            # the joints were just set: read the link's pose directly (no re-set, see effector_pose)
+            self.scene.place({held.body: self._link.getTransform().matrix() @ self.arm.link_offset @ held.in_hand})
             targets = [n for n in others if n not in held.acts_on]
             return not (targets and self.scene.collides(self.scene.group([held.body]), self.scene.group(targets)))
         return True
 
-    def _others(self, ignore: Iterable[str], held: Held | None, table: bool) -> list[str]:
-        """The scene's bodies (and table) the links are checked against."""
-        skip = set(ignore)
+    @staticmethod
+    def _pad_others(others: list[str], held: Held | None, pad_may_touch: Iterable[str]) -> list[str]:
+        """What the fingertip pad is checked against: nothing while a tool is held (the executed arm's pad is
+        switched off then), else `others` but the bodies it may touch."""
         if held is not None:
-            skip.add(held.body)
-        return [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
+            return []
+        skip = set(pad_may_touch)
+        return [n for n in others if n not in skip]
+
+    def _others(self, ignore: Iterable[str], held: Held | None, table: bool) -> list[str]:
+        """The scene's bodies (and table) the links are checked against (remembered: transit planning asks
+        the same question thousands of times; do not change the list)."""
+        ignored = tuple(ignore)
+        key = (ignored, None if held is None else held.body, table)
+        found = self._other_lists.get(key)
+        if found is None:
+            skip = set(ignored)
+            if held is not None:
+                skip.add(held.body)
+            found = [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
+            self._other_lists[key] = found
+        return found
+
+
+_LINKS: dict[tuple[str, bytes, str, bytes], tuple[Any, list[tuple[Any, str]], Any]] = {}
+"""Per URDF, base pose and effector: a skeleton for collision queries, its collision shape nodes with their
+links, and the fingertip pad's shape node.
+
+One clone per arm and process instead of one per planning problem. The `ArmCollision`s of an arm share it,
+which is sound because each of them sets the joints before every use of the links' poses (`overlap`, `free`,
+`effector_pose`)."""
+
+
+_PROBES: dict[tuple[int, str], Any] = {}
+
+
+def _probe(skeleton: Any, link: str) -> Any:
+    """A frame on `link` of a shared skeleton (`vkgl.robot.kinematics.link_probe`), one per skeleton and link."""
+    key = (id(skeleton), link)
+    if key not in _PROBES:
+        _PROBES[key] = link_probe(skeleton.getBodyNode(link))
+    return _PROBES[key]
+
+
+def _collision_links(arm: Arm) -> tuple[Any, list[tuple[Any, str]], Any]:
+    """The shared skeleton of `arm` (root at its base), its shape nodes with collision geometry (root first)
+    and the shape node of the fingertip pad welded to its effector link."""
+    key = (arm.urdf, np.asarray(arm.base, dtype=float).tobytes(), arm.effector_link, arm.link_offset.tobytes())
+    found = _LINKS.get(key)
+    if found is None:
+        skeleton = load_skeleton(arm.urdf)
+        iso = dart.math.Isometry3()
+        iso.set_matrix(np.asarray(arm.base, dtype=float))
+        skeleton.getRootJoint().setTransformFromParentBodyNode(iso)
+        shape_nodes = []
+        for i in range(skeleton.getNumBodyNodes()):
+            node = skeleton.getBodyNode(i)
+            for j in range(node.getNumShapeNodes()):
+                shape_node = node.getShapeNode(j)
+                if shape_node.hasCollisionAspect():
+                    shape_nodes.append((shape_node, node.getName()))
+        found = _LINKS[key] = (skeleton, shape_nodes, _pad(skeleton.getBodyNode(arm.effector_link), arm))
+    return found
+
+
+def _pad(link: Any, arm: Arm) -> Any:
+    """The fingertip pad (`vkgl.robot.pad`) welded to the effector `link`: its collision shape node."""
+    joint, body = link.createWeldJointAndBodyNodePair()
+    iso = dart.math.Isometry3()
+    iso.set_matrix(np.asarray(arm.link_offset, dtype=float) @ pad_pose())
+    joint.setTransformFromParentBodyNode(iso)
+    body.setName(PAD)
+    # FCL has no capsules: the cylinder that holds the capsule (its caps included) stands in for it
+    node = body.createShapeNode(dart.dynamics.CylinderShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH + 2 * FINGERTIP_RADIUS))
+    node.createCollisionAspect()
+    return node

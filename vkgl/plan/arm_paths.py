@@ -291,42 +291,44 @@ class ArmPathPlanner:
     def _retreat(self, step: PlanStepRecord, state: _ArmState, label: str) -> ArmSegment | Rejection:
         """Straight back out of the contact the step removes, against the way it pushed; when that way is
         blocked (a hook behind a handle's bar), straight up."""
-        first = self._retreat_along(step, state, label, self._push_direction(step, step.poses_start))
+        away = -self._push_direction(step, step.poses_start)
+        what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        first = self._move_away(state, away, STANDOFF, step.poses_start, {step.body}, label, what)
         if not isinstance(first, Rejection) or state.held is not None:
             return first
-        above = self._retreat_along(step, state, label, DOWN)
+        above = self._move_away(state, -DOWN, STANDOFF, step.poses_start, {step.body}, label, what)
         return first if isinstance(above, Rejection) else above
-
-    def _retreat_along(
-        self, step: PlanStepRecord, state: _ArmState, label: str, direction: np.ndarray
-    ) -> ArmSegment | Rejection:
-        contact = self.problem.arm.fk(state.q)
-        poses = approach_poses(contact, STANDOFF, APPROACH_STEP, direction)[::-1]
-        path = follow_poses(self.problem.arm, poses, state.q)
-        if isinstance(path, CartesianFailure):
-            return Rejection("approach", f"{label}: no straight retreat from the contact ({path.reason})", 1.0)
-        joints = path.joints.copy()
-        joints[0] = state.q
-        clash = self._first_clash(joints[1:], step.poses_start, state.held, set(), {step.body})
-        if clash is not None:
-            return Rejection("approach", f"{label}: the straight retreat from the contact is blocked: {clash}", 1.0)
-        state.q = joints[-1]
-        return self._straight("retreat", joints, STANDOFF)
 
     def _lift(self, state: _ArmState, poses: Mapping[str, np.ndarray], label: str) -> ArmSegment | Rejection:
         """Straight up `LIFT` from where the arm is (after a grasp or a release)."""
+        what = ("lift", "the hand cannot rise straight up", "the way straight up is blocked")
+        return self._move_away(state, -DOWN, LIFT, poses, set(), label, what)
+
+    def _move_away(
+        self,
+        state: _ArmState,
+        way: np.ndarray,
+        length: float,
+        poses: Mapping[str, np.ndarray],
+        pad_may_touch: set[str],
+        label: str,
+        what: tuple[str, str, str],
+    ) -> ArmSegment | Rejection:
+        """A straight move of the hand by `length` along `way` from where the arm is; `what`: the segment's
+        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose."""
+        phase, no_path, blocked = what
         start = self.problem.arm.fk(state.q)
-        up = approach_poses(start, LIFT, APPROACH_STEP, DOWN)[::-1]  # from `start` up to LIFT above it
-        path = follow_poses(self.problem.arm, up, state.q)
+        out = approach_poses(start, length, APPROACH_STEP, -way)[::-1]  # from `start` to `length` along `way`
+        path = follow_poses(self.problem.arm, out, state.q)
         if isinstance(path, CartesianFailure):
-            return Rejection("approach", f"{label}: the hand cannot rise straight up ({path.reason})", 1.0)
+            return Rejection("approach", f"{label}: {no_path} ({path.reason})", 1.0)
         joints = path.joints.copy()
         joints[0] = state.q
-        clash = self._first_clash(joints[1:], poses, state.held, set())
+        clash = self._first_clash(joints[1:], poses, state.held, set(), pad_may_touch)
         if clash is not None:
-            return Rejection("approach", f"{label}: the way straight up is blocked: {clash}", 1.0)
+            return Rejection("approach", f"{label}: {blocked}: {clash}", 1.0)
         state.q = joints[-1]
-        return self._straight("lift", joints, LIFT)
+        return self._straight(phase, joints, length)
 
     def _transit(
         self,

@@ -23,7 +23,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import lsq_linear, nnls
 
 from vkgl.plan.graph import motion_type
 from vkgl.plan.model import GoalSpec, Problem
@@ -88,13 +87,7 @@ def _goal_values(
     angles = np.array(candidates).reshape(len(candidates), len(turns))
     origins, columns = _affine_positions(problem, seq, goal.body, turns, slides, angles)
     slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
-    best: tuple[float, int, np.ndarray] | None = None
-    for row in range(len(angles)):
-        offset = goal.position - origins[row, : len(goal.position)]
-        residual, solution = _closest(columns[row], offset, slide_limits)
-        if best is None or residual < best[0]:
-            best = (residual, row, solution)
-    assert best is not None
+    best = _best_row(columns, origins, goal.position, slide_limits)
     slack = goal.tol_position + (0.5 * math.pi / (TURN_GRID - 1) * LEVER_BOUND if len(turns) > 1 else 0.0)
     if best[0] > slack:
         how = "along its slides" if slides else "and nothing slides it"
@@ -317,6 +310,43 @@ def _affine_positions(
     return pose[:, :3, 3], stacked
 
 
+SCREEN = 1e-9
+"""m: rows whose estimated distance to the goal is within this of the best estimate are solved exactly."""
+
+
+def _best_row(
+    columns: np.ndarray, origins: np.ndarray, position: np.ndarray, limits: np.ndarray
+) -> tuple[float, int, np.ndarray]:
+    """(distance left, row, slide values) of the first row of turn angles whose slides come closest to `position`.
+
+    Every row's `_closest`; with at most one slide, all rows are first estimated in one NumPy pass, and only
+    those within `SCREEN` of the best estimate are solved by `_closest` (the estimates differ from it by
+    rounding only, far less than `SCREEN`, so the same row and numbers come out, in a fraction of the time:
+    a two-turn sequence has up to `TURN_GRID` rows).
+    """
+    n, k = len(columns), len(position)
+    offsets = position - origins[:, :k]
+    rows: list[int] = list(range(n))
+    if columns.shape[2] <= 1 and n > 1:
+        if columns.shape[2] == 0:
+            estimate = np.linalg.norm(offsets, axis=1)
+        else:
+            a = columns[:, :k, 0]
+            norm = np.einsum("ij,ij->i", a, a)
+            along = np.divide(np.einsum("ij,ij->i", a, offsets), norm, out=np.zeros(n), where=norm > 0)
+            value = np.clip(along, limits[0, 0], limits[0, 1])
+            estimate = np.linalg.norm(a * value[:, None] - offsets, axis=1)
+        if np.isfinite(estimate).all():
+            rows = np.flatnonzero(estimate <= estimate.min() + SCREEN).tolist()
+    best: tuple[float, int, np.ndarray] | None = None
+    for row in rows:
+        residual, solution = _closest(columns[row], position - origins[row, :k], limits)
+        if best is None or residual < best[0]:
+            best = (residual, row, solution)
+    assert best is not None
+    return best
+
+
 def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tuple[float, np.ndarray]:
     """Slide values within `limits` (s x 2) that bring the position closest to `offset` away, and the distance left.
 
@@ -332,6 +362,8 @@ def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tup
         norm = float(a @ a)
         value = min(max(float(a @ offset) / norm if norm > 0 else 0.0, lower[0]), upper[0])
         return float(np.linalg.norm(a * value - offset)), np.array([value])
+    from scipy.optimize import lsq_linear, nnls  # here: two slides of one body are rare, the import is not cheap
+
     solution, residual = nnls(columns, offset)
     if np.all(solution >= lower) and np.all(solution <= upper):
         return float(residual), solution
@@ -361,12 +393,24 @@ def _turn_candidates(
     if len(signs) == 1:
         angle = _within(signs[0] * needed, tol, limits[0])
         return [] if angle is None else [(angle,)]
-    out: list[tuple[float, ...]] = []
-    for first in np.linspace(limits[0][0], limits[0][1], TURN_GRID):
-        second = _within(signs[1] * (needed - signs[0] * first), tol, limits[1])
-        if second is not None:
-            out.append((float(first), second))
-    return out
+    firsts = np.linspace(limits[0][0], limits[0][1], TURN_GRID)
+    seconds = _within_all(signs[1] * (needed - signs[0] * firsts), tol, limits[1])
+    found = ~np.isnan(seconds)
+    return list(zip(firsts[found].tolist(), seconds[found].tolist()))
+
+
+def _within_all(angles: np.ndarray, tol: float, limits: tuple[float, float]) -> np.ndarray:
+    """`_within` of each of `angles` at once (NaN for None): the same operations, elementwise."""
+    low, high = limits
+    turn = 2 * math.pi
+    base = np.remainder(angles, turn)  # Python's float % and NumPy's remainder round alike
+    shifted = np.stack([base - turn, base, base + turn], axis=1)
+    values = np.minimum(np.maximum(shifted, low), high)
+    misses = np.abs(values - shifted)
+    ok = misses <= tol
+    pick = np.argmin(np.where(ok, misses, np.inf), axis=1)  # the first of equal misses, as `_within` keeps
+    chosen = values[np.arange(len(angles)), pick]
+    return np.where(ok.any(axis=1), chosen, np.nan)
 
 
 def _within(angle: float, tol: float, limits: tuple[float, float]) -> float | None:

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import dartpy as dart
 import numpy as np
 
-from vkgl.lang.geometry import shape_mesh
+from vkgl.lang.geometry import shape_mesh, shape_vertices
 from vkgl.lang.ir import Scene, Shape
 from vkgl.shapes import dart_shapes
 
@@ -105,13 +105,12 @@ class CollisionScene:
         self._placed: dict[str, bytes] = {}
         self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
         for name, shape in shapes.items():
-            mesh = shape_mesh(shape)
             parts = (
                 [(_grown(part, margin), local) for part, local in dart_shapes(shape)] if margin else dart_shapes(shape)
             )
             # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
-            self._add(name, parts, float(np.linalg.norm(mesh.vertices, axis=1).max()) * 1.005 + tol)
-            self._support[name] = [_support(part, local, mesh) for part, local in parts]
+            self._add(name, parts, _extent(shape) * 1.005 + tol)
+            self._support[name] = [_support(part, local, shape) for part, local in parts]
         self.table_box: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) corners of the slab
         self.table_top = float(table_z)
         if table_center is not None and table_size is not None:
@@ -329,15 +328,20 @@ class CollisionScene:
         return out
 
 
-def _support(shape: Any, local: np.ndarray, mesh: Any) -> tuple[str, np.ndarray, np.ndarray]:
+def _extent(shape: Shape) -> float:
+    """How far the body's mesh reaches from its frame's origin (m)."""
+    return float(np.linalg.norm(shape_vertices(shape), axis=1).max())
+
+
+def _support(part: Any, local: np.ndarray, shape: Shape) -> tuple[str, np.ndarray, np.ndarray]:
     """(kind, size, pose in the body frame) of a DART part for `lowest`: a box's half sides, a cylinder's
     (radius, half height), else the body's whole hull vertices (body frame: a lower bound for the part)."""
-    kind = shape.getType()
+    kind = part.getType()
     if kind == "BoxShape":
-        return "box", np.asarray(shape.getSize(), dtype=float) / 2, local
+        return "box", np.asarray(part.getSize(), dtype=float) / 2, local
     if kind == "CylinderShape":
-        return "cylinder", np.array([shape.getRadius(), shape.getHeight() / 2]), local
-    return "points", np.asarray(mesh.convex_hull.vertices, dtype=float), np.eye(4)
+        return "cylinder", np.array([part.getRadius(), part.getHeight() / 2]), local
+    return "points", np.asarray(shape_mesh(shape).convex_hull.vertices, dtype=float), np.eye(4)
 
 
 def _grown(shape: Any, margin: float) -> Any:

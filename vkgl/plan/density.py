@@ -60,13 +60,26 @@ def _shape_extent(body: Any) -> float:
     return extent
 
 
+_REACHES: dict[tuple[str, str, bytes, float], np.ndarray] = {}
+
+
 def link_reach(arm: Arm, tool_reach: float = 0.0) -> np.ndarray:
     """r_i (m, one per joint of `arm.joint_names`): a bound on the distance from joint i's axis of any point
     of the arm that joint i moves, of the effector, and of a held tool reaching `tool_reach` beyond the effector.
 
     Triangle inequality along the chain: from joint i's origin, the lengths of
     every later joint offset to a link's origin, plus that link's shape extent.
+    Computed once per process for each URDF, effector and tool reach (a read-only array).
     """
+    key = (arm.urdf, arm.effector_link, np.asarray(arm.link_offset, dtype=float).tobytes(), float(tool_reach))
+    found = _REACHES.get(key)
+    if found is None:
+        found = _REACHES[key] = _link_reach(arm, tool_reach)
+        found.flags.writeable = False
+    return found
+
+
+def _link_reach(arm: Arm, tool_reach: float) -> np.ndarray:
     skeleton = arm.skeleton
     joints = [skeleton.getJoint(name) for name in arm.joint_names]
     effector_body = skeleton.getBodyNode(arm.effector_link)

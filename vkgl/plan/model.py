@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -28,6 +29,9 @@ from vkgl.lang.ir import (
 )
 from vkgl.lang.program import Program
 from vkgl.robot import Arm
+
+if TYPE_CHECKING:
+    from vkgl.plan.avoid import Avoid
 
 DEFAULT_MAX_DEPTH = 6
 """Graphs in the longest sequence searched (G0 included) when the task says nothing."""
@@ -127,6 +131,7 @@ class Problem:
     table_z: float
     max_depth: int
     timeout: float
+    avoid: Avoid | None = None  # what a re-solve must not repeat (`vkgl.plan.avoid`); None: nothing
     arm_start: np.ndarray | None = None
     """The arm's joints before the first step (None: its home configuration)."""
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)

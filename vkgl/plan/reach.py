@@ -61,8 +61,12 @@ def reach_violations(problem: Problem, points: np.ndarray) -> np.ndarray:
     heights = points[:, 2]
     if np.ptp(heights) < 5e-4:  # planar motions: one height for all, one reach lookup
         intervals = np.tile(problem.arm.reach(float(heights[0])), (len(points), 1))
-    else:
-        intervals = np.array([problem.arm.reach(float(z)) for z in heights])
+    else:  # one reach lookup per height (a hand path holds few)
+        known: dict[float, tuple[float, float]] = {}
+        for z in heights.tolist():
+            if z not in known:
+                known[z] = problem.arm.reach(z)
+        intervals = np.array([known[z] for z in heights.tolist()])
     radius = np.hypot(points[:, 0] - problem.arm.base[0, 3], points[:, 1] - problem.arm.base[1, 3])
     out = np.maximum(intervals[:, 0] + REACH_MARGIN - radius, radius - (intervals[:, 1] - REACH_MARGIN))
     return np.where(intervals[:, 1] > 0, out, 1.0)

@@ -151,8 +151,33 @@ def motion_matrix(constraint: object, value: float) -> np.ndarray:
     return motion_matrices(constraint, np.array([value]))[0]
 
 
+_MOTIONS: dict[tuple[int, bytes], tuple[object, np.ndarray]] = {}
+_MOTIONS_KEPT = 4096
+"""Motion matrices remembered (the optimiser's finite differences move one value at a time: the other modes'
+motions repeat, and a SciPy rotation costs tens of microseconds)."""
+_MOTION_PATH = 16
+"""Paths up to this many values are remembered (a rollout's have 5 or 6): at most about 8 MB."""
+
+
 def motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
-    """`motion_matrix` for each of `values` at once (n x 4 x 4): one scipy call for a whole path."""
+    """`motion_matrix` for each of `values` at once (n x 4 x 4, read-only): one scipy call for a whole path."""
+    if len(values) > _MOTION_PATH:  # long scans (closed_form's 181 angles) are not kept
+        m = _motion_matrices(constraint, values)
+        m.flags.writeable = False
+        return m
+    key = (id(constraint), np.asarray(values, dtype=float).tobytes())
+    cached = _MOTIONS.get(key)
+    if cached is not None and cached[0] is constraint:  # the constraint is kept, so that its id stays its own
+        return cached[1]
+    if len(_MOTIONS) >= _MOTIONS_KEPT:
+        _MOTIONS.clear()
+    m = _motion_matrices(constraint, values)
+    m.flags.writeable = False
+    _MOTIONS[key] = (constraint, m)
+    return m
+
+
+def _motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
     axis, center = unit_axis_and_center(constraint)
     m = np.zeros((len(values), 4, 4))
     m[:, 3, 3] = 1.0

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vkgl.plan.arm_paths import ArmPathPlanner
+from vkgl.plan.avoid import EXCLUDED_WORDS, excluded, repeated_failure
 from vkgl.plan.feasible import Counters, JointSolution, TaskSolution, goal_holds, joint_space, task_space
 from vkgl.plan.geometry_check import GeometryCheck
 from vkgl.plan.graph import successors
@@ -43,6 +44,7 @@ class SearchStats:
     graphs_expanded: int = 0
     sequences: int = 0
     pruned: int = 0
+    excluded: int = 0  # sequences cut at once for repeating a step that failed in execution (`vkgl.plan.avoid`)
     passed_over: int = 0  # sequences whose last mode moves no goal body: extended, never checked themselves
     cut_by_depth: int = 0  # sequences at max_depth that could have been extended further
     task_space_checks: int = 0
@@ -85,7 +87,8 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
     root = start_sequence(problem)
     if goal_holds(problem, root.zero_poses):
-        return _check(problem, root, stats, deadline, checks) or SearchResult("infeasible", "", stats)
+        found = _unless_excluded(problem, _check(problem, root, stats, deadline, checks), stats)
+        return found or SearchResult("infeasible", "", stats)
     queue: deque[Sequence] = deque([root])
     try:
         while queue:
@@ -105,8 +108,12 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                     stats.pruned += 1
                     stats.reject(rejection, action.label(problem))
                     continue
+                if (rejection := repeated_failure(problem, seq, child, action)) is not None:
+                    stats.excluded += 1  # with everything that would follow it
+                    stats.reject(rejection, action.label(problem))
+                    continue
                 if _moves_goal_body(problem, child):
-                    found = _check(problem, child, stats, deadline, checks)
+                    found = _unless_excluded(problem, _check(problem, child, stats, deadline, checks), stats)
                     if found is not None:
                         return found
                 else:
@@ -127,6 +134,17 @@ def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
     mode = seq.depth - 1
     goal_bodies = {g.body for g in problem.goals}
     return any(m == mode and e.body in goal_bodies for m, e in seq.variables)
+
+
+def _unless_excluded(problem: Problem, found: SearchResult | None, stats: SearchStats) -> SearchResult | None:
+    """`found`, unless it repeats what a re-solve must avoid (`vkgl.plan.avoid`): then None, counted as "excluded"."""
+    if found is None or found.sequence is None or found.task is None:
+        return found
+    rejection = excluded(problem, found.sequence.actions, found.task.traces)
+    if rejection is None:
+        return found
+    stats.reject(rejection, " -> ".join(a.label(problem) for a in found.sequence.actions) or "G0")
+    return None
 
 
 @dataclass(frozen=True)
@@ -221,6 +239,8 @@ _STAGE = {
     "approach": 3,
     "transit": 3,
 }
+_KIND_WORDS["excluded"] = EXCLUDED_WORDS  # a re-solve's exclusions (`vkgl.plan.avoid`), after every check
+_STAGE["excluded"] = 4
 
 
 def _summary(stats: SearchStats) -> str:
@@ -235,8 +255,12 @@ def _accounting(stats: SearchStats) -> str:
     """Where every sequence tried went; the parts add up to the total."""
     checked = stats.task_space_checks
     parts = [f"{stats.pruned} with the hand out of reach at once", f"{checked} checked in task space"]
+    if stats.excluded:
+        parts.insert(1, f"{stats.excluded} repeating a step that failed in execution")
     if stats.joint_space_checks:
         parts.append(f"{stats.joint_space_checks} of them also in joint space")
+    if stats.rejections["excluded"] > stats.excluded:
+        parts.append(f"{stats.rejections['excluded'] - stats.excluded} feasible but excluded as repeats")
     if stats.arm_path_checks:
         parts.append(f"{stats.arm_path_checks} of those also for the arm's paths between contacts")
     return (

@@ -15,6 +15,7 @@ import numpy as np
 
 from vkgl.lang.ir import Task
 from vkgl.lang.program import Program
+from vkgl.plan.avoid import Avoid
 from vkgl.plan.model import Problem, build_problem
 from vkgl.plan.plan import Plan, graph_edges, robot_entry
 from vkgl.plan.search import SearchResult, SearchStats, search
@@ -27,6 +28,7 @@ def solve(
     max_depth: int | None = None,
     timeout: float | None = None,
     progress: bool = False,
+    avoid: Avoid | None = None,
     arm_start: Sequence[float] | None = None,
 ) -> Plan:
     """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
@@ -35,10 +37,14 @@ def solve(
     task-space and joint-space feasibility checks (`vkgl.plan.feasible`).
     `progress` shows the search on stderr; `arm_start` are the arm's joints
     where its first path starts (its home configuration by default: where
-    execution puts it). Deterministic: the same input gives the same plan.
+    execution puts it). `avoid` names the plans already tried and the steps
+    that failed in execution (`vkgl.plan.avoid`): a re-solve returns none of
+    them (rejections of kind "excluded").
+    Deterministic: the same input gives the same plan.
     """
     started = time.perf_counter()
     problem = build_problem(program, task, max_depth=max_depth, timeout=timeout)
+    problem.avoid = avoid or None
     if arm_start is not None:
         problem.arm_start = np.asarray(arm_start, dtype=float)
     deadline = started + problem.timeout
@@ -133,4 +139,4 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
     return plan
 
 
-__all__ = ["Plan", "solve"]
+__all__ = ["Avoid", "Plan", "solve"]

@@ -128,7 +128,7 @@ def sweep_mode(
     not move in the mode are the still ones; a body that moves but follows no
     engagement's motion is only checked at the mode's ends (by `overlap`).
     """
-    moving = {n for n in trace.start if not np.allclose(trace.start[n], trace.end[n], atol=1e-9)}
+    moving = {n for n in trace.start if not _close(trace.start[n], trace.end[n], 1e-9)}
     still = {n: p for n, p in trace.start.items() if n not in moving}
     skip = set(ignore)
     for e in trace.values:
@@ -143,9 +143,14 @@ def sweep_mode(
             continue
         frame = trace.start[e.body]
         carried = frame @ motion_matrices(constraint, np.array([value]))[0] @ np.linalg.inv(frame)
-        movers = {n: trace.start[n] for n in moving if np.allclose(trace.end[n], carried @ trace.start[n], atol=1e-6)}
+        movers = {n: trace.start[n] for n in moving if _close(trace.end[n], carried @ trace.start[n], 1e-6)}
         movers[e.body] = frame
         found = sweep(scene, frame, constraint, value, movers, still, skip, step=step)
         if found:
             return found
     return []
+
+
+def _close(a: np.ndarray, b: np.ndarray, atol: float) -> bool:
+    """`np.allclose(a, b, atol=atol)` for finite poses, without its overhead (it is asked per body and mode)."""
+    return bool((np.abs(a - b) <= atol + 1e-5 * np.abs(b)).all())

@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -99,7 +99,7 @@ def plan_transit(
     time_limit: float = 1.0,
     resolution: float = DEFAULT_RESOLUTION,
     straight_first: bool = True,
-    via: Sequence[np.ndarray] = (),
+    via: Iterable[np.ndarray] = (),
 ) -> TransitPath | TransitFailure:
     """A collision-free joint path from `start_q` to `goal_q` within [`lower`, `upper`], or why there is none.
 
@@ -109,7 +109,8 @@ def plan_transit(
     (the fast path and the final checks are not cut). `straight_first=False`
     skips the fast path (for benchmarks). `via`: polylines of intermediate
     configurations (each k x n, without the ends) tried in turn after the
-    straight line and before OMPL, e.g. up, across and down. Exceptions of
+    straight line and before OMPL, e.g. up, across and down (a lazy iterable
+    is only asked when the straight line is blocked). Exceptions of
     `is_valid` propagate.
     """
     began = time.perf_counter()

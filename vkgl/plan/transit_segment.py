@@ -12,7 +12,7 @@ limits scaled by `TRANSIT_SPEED_SCALE` (`vkgl.plan.timing`).
 from __future__ import annotations
 
 import functools
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 import numpy as np
 
@@ -54,7 +54,7 @@ def transit_segment(
     reach = 0.0 if held is None else tool_reach(collision, held)
     found = plan_transit(
         start, goal, valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
-        resolution=edge_resolution(arm, tool_reach=reach), via=over(arm, start, goal),
+        resolution=edge_resolution(arm, tool_reach=reach), via=_over_when_asked(arm, start, goal),
     )  # fmt: skip
     if isinstance(found, TransitFailure):
         return found
@@ -70,18 +70,25 @@ def over(arm: Arm, start: np.ndarray, goal: np.ndarray) -> list[np.ndarray]:
     behind); going over it is the obvious way, and checking it costs far
     less than a sampling-based search.
     """
-    out = []
+    return list(_over_when_asked(arm, start, goal))
+
+
+def _over_when_asked(arm: Arm, start: np.ndarray, goal: np.ndarray) -> Iterator[np.ndarray]:
+    """`over`'s polylines, each solved only when the transit gets to it (most transits take the straight line,
+    and each height costs two IK solves)."""
     for height in VIA_HEIGHTS:
-        ends = []
-        for q in (start, goal):
-            pose = arm.fk(q)
-            pose[2, 3] += height
-            found = arm.ik(pose, q0=q)
-            if found is not None:
-                ends.append(np.asarray(found, dtype=float))
-        if len(ends) == 2:
-            out.append(np.vstack(ends))
-    return out
+        yield from _over_at(arm, start, goal, height)
+
+
+def _over_at(arm: Arm, start: np.ndarray, goal: np.ndarray, height: float) -> list[np.ndarray]:
+    ends = []
+    for q in (start, goal):
+        pose = arm.fk(q)
+        pose[2, 3] += height
+        found = arm.ik(pose, q0=q)
+        if found is not None:
+            ends.append(np.asarray(found, dtype=float))
+    return [np.vstack(ends)] if len(ends) == 2 else []
 
 
 def tool_reach(collision: ArmCollision, held: Held) -> float:

@@ -188,7 +188,7 @@ class Arm:
         that height. Assumes an upright base; cached per URDF, effector and
         height above the base (to the mm) for the process.
         """
-        return reach_module.cached_reach(self._ik, self._model_key, round(height - self.base[2, 3], 3))
+        return reach_module.reach_at(self._ik, self._model_key, float(self.base[2, 3]), float(height))
 
     def reachable(self, point: Sequence[float] | np.ndarray) -> bool:
         """Whether the effector can be hand-down at `point` (world, 3-d): its radius lies in `reach(point z)`."""

@@ -10,7 +10,7 @@ same target gives the same joints on every run.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 import numpy as np
@@ -58,12 +58,19 @@ class InverseKinematics:
         """Joint angles that put the effector frame at `local` (4x4, root frame), or None (see `Arm.ik`)."""
         if not np.isfinite(local).all() or np.linalg.norm(local[:3, 3] - self.anchor) > self.radius + POSITION_TOL:
             return None
-        seeds: list[np.ndarray] = [] if q0 is None else [q0]
-        seeds += [self.aimed_home(local[:3, 3], None if yaw_free else local[:3, :3]), self.home, *self.random_seeds]
-        return self.solve_from(local, seeds, yaw_free=yaw_free, tol=tol)
+        return self.solve_from(local, self._seeds(local, q0, yaw_free), yaw_free=yaw_free, tol=tol)
+
+    def _seeds(self, local: np.ndarray, q0: np.ndarray | None, yaw_free: bool) -> Iterator[np.ndarray]:
+        """`q0` (if given), `home` aimed at `local`, `home`, the random seeds: made only when tried (the first
+        one usually solves, and aiming costs a SciPy rotation)."""
+        if q0 is not None:
+            yield q0
+        yield self.aimed_home(local[:3, 3], None if yaw_free else local[:3, :3])
+        yield self.home
+        yield from self.random_seeds
 
     def solve_from(
-        self, local: np.ndarray, seeds: Sequence[np.ndarray], *, yaw_free: bool, tol: float
+        self, local: np.ndarray, seeds: Iterable[np.ndarray], *, yaw_free: bool, tol: float
     ) -> np.ndarray | None:
         """The first seed's local optimum that is a solution for the root-frame target `local`, or None."""
         cost = self._cost(local, yaw_free)
@@ -103,12 +110,17 @@ class InverseKinematics:
             local = np.eye(4)
             local[:3, :3] = rotation
             local[:3, 3] = rotation @ np.array([radius, 0.0, 0.0]) + np.array([0.0, 0.0, height])
-            seeds = [*warm, self.aimed_home(local[:3, 3])]
-            if thorough:
-                seeds += [self.home, *self.random_seeds]
-            return self.solve_from(local, seeds, yaw_free=True, tol=1e-4)
+            return self.solve_from(local, self._hand_down_seeds(local, warm, thorough), yaw_free=True, tol=1e-4)
 
         return solve
+
+    def _hand_down_seeds(self, local: np.ndarray, warm: list[np.ndarray], thorough: bool) -> Iterator[np.ndarray]:
+        """The seeds of `hand_down_solver`'s IK, made only when tried."""
+        yield from warm
+        yield self.aimed_home(local[:3, 3])
+        if thorough:
+            yield self.home
+            yield from self.random_seeds
 
     def _cost(self, local: np.ndarray, yaw_free: bool) -> Objective:
         """The NLopt objective (value and gradient) of the weighted pose error to `local`."""

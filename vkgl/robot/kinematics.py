@@ -6,6 +6,7 @@ numpy, so that one parsed URDF serves every base.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -48,6 +49,7 @@ class Chain:
         self._all_dofs = dofs == list(range(skeleton.getNumDofs()))
         self._jacobian_columns = self._columns_of_chain()
         self._point = self.link_offset[:3, 3].copy()
+        self._probe = link_probe(self.link)
 
     def _columns_of_chain(self) -> np.ndarray | None:
         """Which columns of the link's DART Jacobian belong to `joint_names`, in their order (None: all, in order)."""
@@ -64,16 +66,29 @@ class Chain:
     def link_pose(self, q: np.ndarray) -> np.ndarray:
         """The effector link's pose (4x4) in the root frame at joint angles `q` (without the effector offset)."""
         self._set(q)
-        return self.link.getWorldTransform().matrix()
+        return self._probe.getTransform().matrix()
 
     def pose_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The effector frame in the root frame and its 6 x n Jacobian (angular rows first, root frame)."""
         self._set(q)
-        pose = self.link.getWorldTransform().matrix() @ self.link_offset
+        pose = self._probe.getTransform().matrix() @ self.link_offset
         jac = self.link.getWorldJacobian(self._point)
         if self._jacobian_columns is not None:
             jac = jac[:, self._jacobian_columns]
         return pose, jac
+
+    def at_last_q(self) -> Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]:
+        """`pose_and_jacobian`, remembering its last answer: for NLopt problems whose objective and constraints
+        are all asked at the same point (one kinematics per point instead of one per function; same numbers)."""
+        last: list[Any] = [None, None]
+
+        def kinematics(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            key = q.tobytes()
+            if last[0] != key:
+                last[0], last[1] = key, self.pose_and_jacobian(q)
+            return last[1]  # type: ignore[no-any-return]
+
+        return kinematics
 
     def reach_bound(self) -> tuple[np.ndarray, float]:
         """A point that no joint moves (on the first joint's axis) and how far from it the effector can ever be.
@@ -103,4 +118,13 @@ class Chain:
         return anchor, length
 
 
-__all__ = ["Chain"]
+def link_probe(link: Any) -> Any:
+    """A frame fixed on `link` at its origin: its world transform is the link's, the same matrix, read in a sixth
+    of the time (dartpy's BodyNode getters are slow to call; a SimpleFrame's are not). This is the innermost call
+    of IK and of the reach. The link's skeleton may go first: DART then hangs the frame on the world."""
+    import dartpy as dart
+
+    return dart.dynamics.SimpleFrame(link, f"{link.getName()}#probe")
+
+
+__all__ = ["Chain", "link_probe"]

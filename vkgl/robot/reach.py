@@ -36,9 +36,25 @@ def cached_reach(ik: InverseKinematics, model: tuple[Any, ...], height: float) -
     return _REACH_CACHE[key]
 
 
+_AT_HEIGHT: dict[tuple[Any, ...], tuple[float, float]] = {}
+
+
+def reach_at(ik: InverseKinematics, model: tuple[Any, ...], base_z: float, height: float) -> tuple[float, float]:
+    """`cached_reach` at the world `height` above a base at `base_z` (rounded to the mm), remembered per exact
+    height: the planner asks about the same few heights thousands of times, and rounding costs more than a look-up."""
+    key = (*model, base_z, height)
+    found = _AT_HEIGHT.get(key)
+    if found is None:
+        if len(_AT_HEIGHT) >= 65536:
+            _AT_HEIGHT.clear()
+        found = _AT_HEIGHT[key] = cached_reach(ik, model, round(height - base_z, 3))
+    return found
+
+
 def clear_reach_cache() -> None:
     """Forget every reach computed so far (for benchmarks that time the first computation)."""
     _REACH_CACHE.clear()
+    _AT_HEIGHT.clear()
 
 
 def reach(ik: InverseKinematics, height: float) -> tuple[float, float]:
@@ -53,10 +69,11 @@ def reach(ik: InverseKinematics, height: float) -> tuple[float, float]:
     if inner is None or outer is None:
         return (0.0, 0.0)
     interval: tuple[float, float] | None = (inner[0] + REACH_PRECISION, outer[0] - REACH_PRECISION)
+    solved: tuple[np.ndarray, np.ndarray] | None = None  # the IK solutions at both ends, at the last azimuth
     for azimuth in (math.radians(a) for a in REACH_AZIMUTHS_DEG):
         if interval is None or interval[0] >= interval[1]:
             return (0.0, 0.0)
-        interval = _confirmed_interval(ik, height, azimuth, interval, (inner[1], outer[1]))
+        interval, solved = _confirmed_interval(ik, height, azimuth, interval, (inner[1], outer[1]), solved)
     return (0.0, 0.0) if interval is None else interval
 
 
@@ -69,23 +86,25 @@ def extreme_radius(ik: InverseKinematics, height: float, *, largest: bool) -> tu
     """
     chain = ik.chain
     sign = -1.0 if largest else 1.0
+    kinematics = chain.at_last_q()  # NLopt asks the objective and both constraints at each point
+    up = np.eye(3)
 
     def radius_squared(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
+        pose, jac = kinematics(q)
         x, y = pose[0, 3], pose[1, 3]
         if grad.size:
             grad[:] = sign * 2.0 * (x * jac[3] + y * jac[4])
         return sign * (x * x + y * y)
 
     def at_height(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
+        pose, jac = kinematics(q)
         if grad.size:
             grad[:] = jac[5]
         return float(pose[2, 3] - height)
 
     def upright(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
-        residual, direction = orientation_residual(pose[:3, :3], np.eye(3), yaw_free=True)
+        pose, jac = kinematics(q)
+        residual, direction = orientation_residual(pose[:3, :3], up, yaw_free=True)
         if grad.size:
             grad[:] = jac[:3].T @ direction
         # the residual is never negative: <= 0 means within 1e-10 of upright (about 1e-5 rad)
@@ -145,20 +164,28 @@ def _confirmed_interval(
     azimuth: float,
     interval: tuple[float, float],
     extremes: tuple[np.ndarray, np.ndarray],
-) -> tuple[float, float] | None:
-    """`interval` if IK reaches both its ends along `azimuth`, else its intersection with the bisected one there.
+    solved: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[tuple[float, float] | None, tuple[np.ndarray, np.ndarray] | None]:
+    """`interval` if IK reaches both its ends along `azimuth`, else its intersection with the bisected one there;
+    and the IK solutions at both ends when it reached them (None otherwise).
 
-    The IK of each end starts from the extreme configuration turned by the
-    first joint to face `azimuth`, when the joint's limits allow.
+    The IK of each end starts from the solution at the previous azimuth (`solved`), then from the extreme
+    configuration, each turned by the first joint to face `azimuth` when the joint's limits allow. A turned
+    solution usually solves at once: an arm whose first joint turns it about the vertical reaches the same
+    radius at every azimuth with the same other joints.
     """
     solve = ik.hand_down_solver(height, azimuth)
-    inner, outer = (_turned_toward(ik, q, azimuth) for q in extremes)
-    if solve(interval[1], outer, True) is not None and solve(interval[0], inner, True) is not None:
-        return interval
+    starts = [extremes] if solved is None else [solved, extremes]
+    inner = [seed for pair in starts for seed in _turned_toward(ik, pair[0], azimuth)]
+    outer = [seed for pair in starts for seed in _turned_toward(ik, pair[1], azimuth)]
+    q_outer = solve(interval[1], outer, True)
+    q_inner = None if q_outer is None else solve(interval[0], inner, True)
+    if q_outer is not None and q_inner is not None:
+        return interval, (q_inner, q_outer)
     here = radial_interval(ik, height, azimuth)
     if here is None or max(interval[0], here[0]) >= min(interval[1], here[1]):
-        return None
-    return (max(interval[0], here[0]), min(interval[1], here[1]))
+        return None, None
+    return (max(interval[0], here[0]), min(interval[1], here[1])), None
 
 
 def _turned_toward(ik: InverseKinematics, q: np.ndarray, azimuth: float) -> list[np.ndarray]:
@@ -192,4 +219,5 @@ __all__ = [
     "extreme_radius",
     "radial_interval",
     "reach",
+    "reach_at",
 ]

@@ -21,6 +21,8 @@ def ready_pose(chain: Chain, robot: str) -> np.ndarray:
     """
     middle = (chain.lower + chain.upper) / 2
     span = chain.upper - chain.lower
+    kinematics = chain.at_last_q()  # the two constraints are asked at the same points
+    up = np.eye(3)
 
     def distance(q: np.ndarray, grad: np.ndarray) -> float:
         centre = (q - middle) / span
@@ -29,15 +31,15 @@ def ready_pose(chain: Chain, robot: str) -> np.ndarray:
         return float(centre @ centre)
 
     def orientation(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
-        residual, direction = orientation_residual(pose[:3, :3], np.eye(3), yaw_free=False)
+        pose, jac = kinematics(q)
+        residual, direction = orientation_residual(pose[:3, :3], up, yaw_free=False)
         if grad.size:
             grad[:] = jac[:3].T @ direction
         # the residual is never negative: <= 0 means within 1e-10 of upright (about 1e-5 rad)
         return residual - 1e-10
 
     def sideways(q: np.ndarray, grad: np.ndarray) -> float:
-        pose, jac = chain.pose_and_jacobian(q)
+        pose, jac = kinematics(q)
         if grad.size:
             grad[:] = jac[4]
         return float(pose[1, 3])

@@ -1,0 +1,124 @@
+"""Benchmark: the paper's six tasks solved in fresh processes, as `vkgc solve` meets them.
+
+    python bench/bench_first_solve.py [--runs 5] [--alone]
+
+Each run is a new Python process that imports vkgl, compiles the six example
+tasks and solves each once, in the paper's order (a to f), with the collision
+checks on: the first solve of each task pays what a process computes once and
+keeps (the arm loaded from its URDF, its ready pose, its reach at each new
+height, the arm's collision skeleton). `--alone` also solves each task in a
+process of its own (each then pays all of that itself).
+
+Prints Markdown tables of the medians over `--runs` runs: wall time
+(`time.perf_counter`) and CPU time of the process (`time.process_time`) per
+phase. On a shared machine wall time grows with the load and CPU time much
+less: both are printed, with the load average before and after.
+
+Targets (issue 12): the six first solves together at most 0.5 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+TASKS = ["a_push", "b_stick_push", "c_hook_pull", "d_rotate_push", "e_rotate_stick_push", "f_rotate_hook_pull"]
+
+
+def _clock() -> tuple[float, float]:
+    return time.perf_counter(), time.process_time()
+
+
+def _since(start: tuple[float, float]) -> list[float]:
+    wall, cpu = _clock()
+    return [wall - start[0], cpu - start[1]]
+
+
+def child(tasks: list[str]) -> dict[str, object]:
+    """Run in a fresh process: import, compile, first solves; every phase as [wall, cpu] seconds."""
+    started = _clock()
+    sys.path.insert(0, str(REPO))
+    import vkgl.plan.solve  # noqa: F401 - the planner's imports (DART, NLopt, SciPy, trimesh)
+    from vkgl.api import solve
+    from vkgl.lang.compiler import compile_file
+
+    out: dict[str, object] = {"import": _since(started)}
+    started = _clock()
+    programs = {name: compile_file(str(REPO / "examples" / "tasks" / f"{name}.vkg")) for name in tasks}
+    out["compile"] = _since(started)
+    first = {}
+    for name in tasks:
+        started = _clock()
+        plan = solve(programs[name])
+        first[name] = _since(started)
+        if plan.status != "solved":
+            raise SystemExit(f"{name}: {plan.status}: {plan.reason}")
+    out["first"] = first
+    return out
+
+
+def _run(tasks: list[str]) -> dict[str, object]:
+    """One fresh process solving `tasks`; its phases."""
+    result = subprocess.run(
+        [sys.executable, __file__, "--child", *tasks], capture_output=True, text=True, check=True, cwd=REPO
+    )
+    return json.loads(result.stdout.strip().splitlines()[-1])  # type: ignore[no-any-return]
+
+
+def _median(values: list[list[float]]) -> tuple[float, float]:
+    return statistics.median(v[0] for v in values), statistics.median(v[1] for v in values)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmark and print the tables."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5, help="fresh processes per measurement (medians reported)")
+    parser.add_argument("--alone", action="store_true", help="also solve each task in a process of its own")
+    parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.child:
+        print(json.dumps(child(args.child)))
+        return 0
+    load_before = os.getloadavg()[0]
+    runs = [_run(TASKS) for _ in range(args.runs)]
+    alone = {name: [_run([name]) for _ in range(args.runs)] for name in TASKS} if args.alone else {}
+    load_after = os.getloadavg()[0]
+    print(
+        f"## Six tasks in one fresh process ({args.runs} runs, medians; {os.cpu_count()} cores, "
+        f"load average {load_before:.1f} before, {load_after:.1f} after)\n"
+    )
+    head = "| phase | wall (s) | CPU (s) |" + (" alone: wall (s) | alone: CPU (s) |" if alone else "")
+    print(head)
+    print("|---|---:|---:|" + ("---:|---:|" if alone else ""))
+    for phase in ("import", "compile"):
+        wall, cpu = _median([r[phase] for r in runs])  # type: ignore[misc]
+        print(f"| {phase} (six tasks) | {wall:.3f} | {cpu:.3f} |" + (" | |" if alone else ""))
+    for name in TASKS:
+        wall, cpu = _median([r["first"][name] for r in runs])  # type: ignore[index]
+        row = f"| first solve {name} | {wall:.3f} | {cpu:.3f} |"
+        if alone:
+            a_wall, a_cpu = _median([r["first"][name] for r in alone[name]])  # type: ignore[index]
+            row += f" {a_wall:.3f} | {a_cpu:.3f} |"
+        print(row)
+    totals = [[sum(r["first"][n][k] for n in TASKS) for k in (0, 1)] for r in runs]  # type: ignore[index]
+    wall, cpu = _median(totals)
+    row = f"| **first solves, total** | **{wall:.3f}** | **{cpu:.3f}** |"
+    if alone:
+        alone_totals = [
+            sum(statistics.median(r["first"][n][k] for r in alone[n]) for n in TASKS)  # type: ignore[index]
+            for k in (0, 1)
+        ]
+        row += f" {alone_totals[0]:.3f} | {alone_totals[1]:.3f} |"
+    print(row)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
