@@ -52,6 +52,36 @@ def test_ik_warm_started_follows_a_path_without_jumps(arm: Arm) -> None:
         q = nxt
 
 
+def test_ik_near_tracks_a_straight_path_in_small_steps_as_tightly_as_ik(arm: Arm) -> None:
+    rng = np.random.default_rng(5)
+    for yaw_free in (False, True):
+        q = arm.home.copy()
+        start = arm.fk(q)
+        for _ in range(15):
+            start = start.copy()
+            start[:3, 3] += rng.uniform(-0.01, 0.01, 3)
+            nxt = arm.ik_near(start, q, yaw_free=yaw_free)
+            assert nxt is not None
+            assert np.all(arm.lower <= nxt) and np.all(nxt <= arm.upper)
+            pose = arm.fk(nxt)
+            assert np.linalg.norm(pose[:3, 3] - start[:3, 3]) < 1.5e-4
+            axis_error = math.acos(min(1.0, float(pose[:3, 2] @ start[:3, 2])))
+            assert axis_error < 1.5e-3
+            if not yaw_free:
+                assert pose_error(pose, start)[1] < 1.5e-3
+            assert np.max(np.abs(nxt - q)) < 0.2  # the small step stays on its branch
+            q = nxt
+
+
+def test_ik_near_falls_back_to_ik_for_a_far_target(arm: Arm) -> None:
+    near = arm.ik(hand_down(0.4, -0.3, 0.05))
+    far = hand_down(0.5, 0.35, 0.2)  # 67 cm away: Gauss-Newton steps from `near` are no answer, NLopt's seeds are
+    found = arm.ik_near(far, near)
+    assert found is not None
+    position, angle = pose_error(arm.fk(found), far)
+    assert position < 1e-3 and angle < math.radians(0.5)
+
+
 def test_ik_with_yaw_free_matches_position_and_z_axis_only(arm: Arm) -> None:
     tilted = transform(Rotation.from_euler("xz", [20, 70], degrees=True).as_matrix(), (0.5, 0.15, 0.1))
     found = arm.ik(tilted, yaw_free=True)

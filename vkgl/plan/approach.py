@@ -126,7 +126,10 @@ def follow_poses(
     joints: list[np.ndarray] = []
     previous = None if q_first is None else np.asarray(q_first, dtype=float)
     for index, pose in enumerate(poses):
-        q = arm.ik(pose, previous, yaw_free=yaw_free, tol=tol)
+        if previous is None:
+            q = arm.ik(pose, None, yaw_free=yaw_free, tol=tol)
+        else:  # the poses are 1 cm apart: the previous solution is a step away
+            q = arm.ik_near(pose, previous, yaw_free=yaw_free, tol=tol)
         if q is None:
             return CartesianFailure(f"no IK solution for pose {index} of {len(poses)}", index)
         if joints:

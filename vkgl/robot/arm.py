@@ -161,6 +161,20 @@ class Arm:
         start = None if q0 is None else np.asarray(q0, dtype=float)
         return self._ik.solve(local, start, yaw_free=yaw_free, tol=tol)
 
+    def ik_near(
+        self, target: np.ndarray, q0: Sequence[float] | np.ndarray, *, yaw_free: bool = False, tol: float = 1e-4
+    ) -> np.ndarray | None:
+        """`ik` for a target a small step from `q0`'s effector pose (a straight path's next pose).
+
+        Damped Gauss-Newton steps from `q0` first (`InverseKinematics.track`: a
+        few forward kinematics instead of an NLopt run); when they stall, `ik`
+        from `q0`. The same tolerance and solution rule as `ik`.
+        """
+        local = self._base_inverse @ np.asarray(target, dtype=float)
+        start = np.asarray(q0, dtype=float)
+        found = self._ik.track(local, start, yaw_free=yaw_free, tol=tol)
+        return found if found is not None else self._ik.solve(local, start, yaw_free=yaw_free, tol=tol)
+
     def spread_seeds(self) -> list[np.ndarray]:
         """`home` and the fixed random seeds within the joint limits (the same on every run): starting
         points for IK that should find the arm's other configurations for one pose."""

@@ -29,6 +29,12 @@ RANDOM_SEEDS = 16
 MAX_EVALUATIONS = 250
 """Objective evaluations per local IK run."""
 
+TRACK_STEPS = 8
+"""Gauss-Newton steps of `InverseKinematics.track` before it gives up (a 1 cm step needs two or three)."""
+
+TRACK_DAMPING = 1e-3
+"""Damping of `track`'s least-squares steps (keeps them bounded near singular configurations)."""
+
 HandDownSolver = Callable[[float, list[np.ndarray], bool], "np.ndarray | None"]
 """`solve(radius, warm_seeds, thorough)`: IK of a hand-down pose at one height and azimuth (see `hand_down_solver`)."""
 
@@ -81,6 +87,28 @@ class InverseKinematics:
             pose = self.chain.pose_and_jacobian(q)[0]
             if position_error(pose, local) <= position_tol and angle_error(pose, local, yaw_free) <= angle_tol:
                 return q
+        return None
+
+    def track(self, local: np.ndarray, q0: np.ndarray, *, yaw_free: bool, tol: float) -> np.ndarray | None:
+        """A solution for `local` near `q0` by damped Gauss-Newton steps on the pose residual, or None.
+
+        For targets a small step from `q0`'s pose (a straight Cartesian path in
+        1 cm steps): two or three steps of one forward kinematics each, where an
+        NLopt run from `q0` costs about 30 evaluations. It stops where `solve`'s
+        runs stop (the weighted pose error within `tol`), within the joint
+        limits. None when the steps stall (a far target, a joint limit, a
+        singular configuration): then use `solve`.
+        """
+        lower, upper = self.chain.lower, self.chain.upper
+        point, rotation = local[:3, 3], local[:3, :3]
+        q = np.clip(np.asarray(q0, dtype=float), lower, upper)
+        for _ in range(TRACK_STEPS + 1):
+            pose, jac = self.chain.pose_and_jacobian(q)
+            residual, jacobian = _pose_residual(pose, jac, point, rotation, yaw_free)
+            if float(residual @ residual) <= tol * tol:
+                return q
+            normal = jacobian @ jacobian.T + TRACK_DAMPING**2 * np.eye(len(residual))
+            q = np.clip(q - jacobian.T @ np.linalg.solve(normal, residual), lower, upper)
         return None
 
     def aimed_home(self, point: np.ndarray, rotation: np.ndarray | None = None) -> np.ndarray:
@@ -156,6 +184,26 @@ class InverseKinematics:
         start = np.clip(seed, lower, upper)
         slsqp(tracked, start, lower, upper, max_evaluations=MAX_EVALUATIONS, xtol=1e-10, ftol=1e-16, stop=stop)
         return start if best[1] is None else best[1]
+
+
+def _pose_residual(
+    pose: np.ndarray, jac: np.ndarray, point: np.ndarray, rotation: np.ndarray, yaw_free: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """The weighted pose error (position; LENGTH_SCALE x orientation) and its Jacobian in the joints.
+
+    `jac` is the chain's (rows 0-2 angular, 3-5 linear). Full orientation: the
+    small rotation w with R = exp(w) R_target (its rate is the angular
+    velocity); yaw free: z - z_target (its rate is omega x z).
+    """
+    angular, linear = jac[:3], jac[3:]
+    if yaw_free:
+        z = pose[:3, 2]
+        cross = np.array([[0.0, -z[2], z[1]], [z[2], 0.0, -z[0]], [-z[1], z[0], 0.0]])
+        rot_error, rot_jac = z - rotation[:, 2], -cross @ angular
+    else:
+        rot_error, rot_jac = orientation_residual(pose[:3, :3], rotation, False)[1] / 2.0, angular
+    residual = np.concatenate([pose[:3, 3] - point, LENGTH_SCALE * rot_error])
+    return residual, np.vstack([linear, LENGTH_SCALE * rot_jac])
 
 
 def _wrapped(angle: float, lower: float, upper: float) -> float:
