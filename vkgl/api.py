@@ -86,12 +86,15 @@ def solve(
     timeout: float | None = None,
     progress: bool = False,
     avoid: Avoid | None = None,
+    arm_start: Sequence[float] | None = None,
 ) -> Plan:
     """Plan for `task` of `program` (its only task when None); return a Plan.
 
     `max_depth` and `timeout` override the task's `search` block. `avoid`
     (`vkgl.plan.avoid.Avoid`) names plans already tried and steps that failed
-    in execution, which the plan must not repeat. A goal that
+    in execution, which the plan must not repeat. `arm_start` are the arm's
+    joints where its first path starts (default: its home configuration,
+    where execution starts it). A goal that
     no plan reaches, or a search that runs out of time, is a result, not an
     error: `plan.status` is "infeasible" or "timeout" and `plan.reason` says
     why. Input errors raise `vkgl.errors.InputError`.
@@ -100,7 +103,13 @@ def solve(
 
     compiled = _program(program)
     return solve_task(
-        compiled, _task(compiled, task), max_depth=max_depth, timeout=timeout, progress=progress, avoid=avoid
+        compiled,
+        _task(compiled, task),
+        max_depth=max_depth,
+        timeout=timeout,
+        progress=progress,
+        avoid=avoid,
+        arm_start=arm_start,
     )
 
 
@@ -152,11 +161,13 @@ def resolver(program: Program, task: str, attempts: Attempts) -> PlanDocument:
     """How the closed loop re-solves: the planner, on the program it observed, avoiding what was tried.
 
     The plans tried and the steps that failed (`attempts`) become the
-    planner's `vkgl.plan.avoid.Avoid`.
+    planner's `vkgl.plan.avoid.Avoid`; the new plan's arm paths start where
+    the arm stands (`attempts.arm`).
     """
     from vkgl.plan.avoid import Avoid
 
-    return solve(program, task, avoid=Avoid.of(attempts.plans, attempts.failed_steps)).document()
+    avoid = Avoid.of(attempts.plans, attempts.failed_steps)
+    return solve(program, task, avoid=avoid, arm_start=attempts.arm).document()
 
 
 def explore(

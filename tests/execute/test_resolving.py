@@ -110,3 +110,12 @@ def test_when_nothing_else_works_the_loop_stops_after_one_re_solve(monkeypatch):
     assert report.reason.startswith("replan 1 found no plan (infeasible: no sequence of at most")
     assert "repeated a plan already tried or a step that failed in execution" in report.reason
     assert report.resolves[0].outcome == "stop"
+
+
+def test_a_re_solve_plans_the_arm_from_where_it_stands() -> None:
+    program = compile_file(str(EXAMPLES / "tasks" / "a_push.vkg"))
+    first = solve(program, program.task())
+    standing = np.asarray(first.document().steps[0].path[0].joints[0], dtype=float) + 0.1
+    again = resolver(program, "a_push", Attempts(arm=tuple(standing)))
+    assert again.status == "solved", again.reason
+    assert np.allclose(again.steps[0].path[0].joints[0], standing)

@@ -368,7 +368,7 @@ class _Loop:
         self.plan_no += 1
         assert self.resolve is not None  # execute() refuses replan=True without one
         self.feed.phase("re-solving")
-        attempts = Attempts(tuple(self.tried), tuple(self.failed))
+        attempts = Attempts(tuple(self.tried), tuple(self.failed), tuple(float(v) for v in self.replay.sim.arm.q))
         started = time.perf_counter()
         plan: PlanDocument | None = None
         try:

@@ -43,15 +43,17 @@ class Attempts:
 
     plans: tuple[PlanDocument, ...] = ()
     failed: tuple[FailedStep, ...] = ()
+    arm: tuple[float, ...] | None = None
+    """The arm's joints where it stands (the re-solved plan's paths start there); None: its home configuration."""
 
     @property
     def failed_steps(self) -> tuple[PlanStepRecord, ...]:
-        """The `vkg-plan/1` records of the steps that failed, in order."""
+        """The `vkg-plan/2` records of the steps that failed, in order."""
         return tuple(f.step for f in self.failed)
 
 
 Resolver = Callable[[Program, str, Attempts], PlanDocument]
-"""Solves a task (by name) of a program, repeating none of the attempts; returns its `vkg-plan/1` document, of
+"""Solves a task (by name) of a program, repeating none of the attempts; returns its `vkg-plan/2` document, of
 any status. Must not return a plan of `attempts.plans` nor repeat a step of `attempts.failed` where it failed
 (`vkgl.plan.avoid` says how the planner decides). May raise VkgError (reported as a re-solve that found no plan)."""
 
