@@ -275,7 +275,9 @@ class WorldArm:
 
     def _solve(self, target: np.ndarray, q_hint: np.ndarray | None) -> np.ndarray:
         q = self.q
-        q_next = self.arm.ik(target, q0=q)
+        # one control period's move is small: Gauss-Newton steps from where the arm is move its joints least
+        # (no switch of configuration), NLopt from there only when they stall
+        q_next = self.arm.ik_near(target, q)
         if q_hint is not None and (q_next is None or self.link_travel(q, np.asarray(q_next)) > MAX_LINK_STEP):
             from_hint = self.arm.ik(target, q0=q_hint)
             q_next = from_hint if from_hint is not None else q_next
