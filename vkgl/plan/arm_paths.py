@@ -176,10 +176,12 @@ class ArmPathPlanner:
         for pitch in PITCHES if state.held is None else PITCHES[:1]:
             hand = upright @ _pitched_back(pitch)
             poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
-            for seed in (step.q_start, arm.home):  # a failing IK is costly (restarts): two seeds per pitch
+            for seed in (step.q_start, arm.home):
                 q0 = arm.ik(hand, q0=seed)
                 if q0 is None:
-                    continue
+                    # IK restarts from home and the same fixed seeds after the given one: from home it would
+                    # fail again (19 local runs for nothing)
+                    break
                 chain = follow_poses(arm, poses, q0)
                 if isinstance(chain, CartesianFailure):
                     first = first or chain.reason
