@@ -79,6 +79,13 @@ class ArmCollision:
         self.pad_group = scene.detector.createCollisionGroup()
         self.pad_group.addShapeFrame(pad)
         self.link_of[pad.getName()] = PAD
+        # links and pad in one group: one FCL call where both are checked against the same bodies (the bare
+        # arm's transits, the common validity check)
+        self._links_and_pad = scene.detector.createCollisionGroup()
+        for shape_node, link in shape_nodes:
+            if link not in skip:
+                self._links_and_pad.addShapeFrame(shape_node)
+        self._links_and_pad.addShapeFrame(pad)
 
     def set_configuration(self, q: Sequence[float] | np.ndarray) -> None:
         """Put the arm's joints (order of `Arm.joint_names`) at `q`."""
@@ -145,6 +152,8 @@ class ArmCollision:
             self.scene.place(poses)
         self.set_configuration(q)
         others = self._others(ignore, held, table)
+        if held is None and not pad_may_touch:
+            return not (others and self.scene.collides(self._links_and_pad, self.scene.group(others)))
         if others and self.scene.collides(self.group, self.scene.group(others)):
             return False
         pad_others = self._pad_others(others, held, pad_may_touch)
