@@ -69,6 +69,7 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
         result["outcome"] = {"solved": "solved", "infeasible": "no plan", "timeout": "timeout"}[plan.status]
         result["reason"] = (plan.reason or "").splitlines()[0] if plan.reason else ""
         result["arm_path_s"] = plan.details.get("arm_path_time_s")
+        result["transit_s"] = plan.details.get("transit_time_s")
         if plan.status != "solved":
             return result
         plan_json = plan.to_json()
@@ -171,6 +172,9 @@ def report_text(results: list[dict[str, Any]]) -> str:
             f"Arm paths (approach, retreat, transit) planned in the search: median {statistics.median(arm):.0f} ms "
             f"per solved task (max {max(arm):.0f} ms; all candidates the search checked, not only the plan's)."
         )
+    transit = [1000 * r["transit_s"] for r in results if r["outcome"] == "solved" and r.get("transit_s") is not None]
+    if transit:
+        parts.append(f"Of that, transit planning: median {statistics.median(transit):.0f} ms per solved task.")
     return "\n\n".join(parts)
 
 

@@ -98,6 +98,7 @@ class ArmPathPlanner:
         self.geometry = geometry
         self.transits = 0
         self.seconds = 0.0
+        self.transit_seconds = 0.0  # of `seconds`, in transit planning (the rest: IK of straight moves, checks)
 
     def plan(
         self,
@@ -348,7 +349,9 @@ class ArmPathPlanner:
         # a held tool works close to the body it acts on (a hook's shaft along the block it pulls): its transits
         # keep no clearance beyond the exact geometry; the bare arm's keep `TRANSIT_CLEARANCE`
         collision = self.geometry.transit_collision if state.held is None else self.geometry.arm_collision
+        began = time.perf_counter()
         found = transit_segment(collision, state.q, goal, poses, state.held, seed=k, time_limit=limit)
+        self.transit_seconds += time.perf_counter() - began
         if isinstance(found, TransitFailure):
             blocker = self._blocker(found.reason, state.q, goal, state.held)
             return Rejection("transit", f"{label}: no collision-free way for the arm to the contact: {blocker}", 1.0)

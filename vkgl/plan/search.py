@@ -53,6 +53,7 @@ class SearchStats:
     arm_path_checks: int = 0  # sequences whose arm paths (approach, transit, retreat) were planned
     transits: int = 0
     arm_path_time: float = 0.0  # s spent planning arm paths (part of the search's time)
+    transit_time: float = 0.0  # s of `arm_path_time` spent in transit planning
     work: Counters = field(default_factory=Counters)
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
@@ -206,7 +207,7 @@ def _arm_paths(
     ]
     stats.arm_path_checks += 1
     planned = planner.plan(steps, problem.arm_start, deadline=deadline)
-    stats.transits, stats.arm_path_time = planner.transits, planner.seconds
+    stats.transits, stats.arm_path_time, stats.transit_time = planner.transits, planner.seconds, planner.transit_seconds
     if isinstance(planned, Rejection):
         return planned
     return tuple(planned)

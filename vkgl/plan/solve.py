@@ -118,6 +118,7 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
         "arm_paths": result.stats.arm_path_checks,
         "transits": result.stats.transits,
         "arm_path_time_s": round(result.stats.arm_path_time, 4),
+        "transit_time_s": round(result.stats.transit_time, 4),
     }
     plan = Plan(
         problem.task.name,
