@@ -59,6 +59,21 @@ def test_a_push_through_another_block_is_no_plan_and_names_it() -> None:
     assert plan.reason.index("pass through") < plan.reason.index("needed the hand")  # the decisive cause first
 
 
+def test_a_block_in_the_way_is_pushed_aside_first_and_the_plan_works_in_physics() -> None:
+    # block2 lies across the path (turned 90 degrees: its pushes move it sideways, out of the way)
+    source = SCENE.replace("at ({x2}, {y2}) m yaw 0deg", "at ({x2}, {y2}) m yaw 90deg").replace(
+        "max_depth 3", "max_depth 5"
+    )
+    program = vkgl.compile_source(source.format(x2=0.62, y2=0.0, gx=0.75), "aside.vkg", base_dir=_EMPTY)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved", plan.reason
+    steps = plan.to_json()["steps"]
+    assert steps[0]["body"] == "block2" and steps[-1]["body"] == "block"
+    assert check_plan(program, "through", plan.to_json()) == []
+    report = vkgl.execute(program, "through", plan)
+    assert report.status == "reached", report.text()  # not "disturbed": block2 ends where the plan put it
+
+
 @pytest.mark.parametrize(("x2", "y2", "gx"), [(0.62, 0.3, 0.75), (0.9, 0.0, 0.6), (0.62, -0.22, 0.72)])
 def test_a_block_beside_the_path_leaves_the_push_alone(x2: float, y2: float, gx: float) -> None:
     program = _program(x2, y2, gx)

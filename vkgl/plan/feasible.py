@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import nlopt
@@ -43,6 +44,11 @@ JOINT_SAMPLES = 6
 RESTARTS = 3
 """Deterministic extra starts of the task-space optimisation when the goal leaves a value free."""
 
+ALTERNATIVE_FRACTIONS = (0.25, 0.5, 1.0)
+"""Where in their ranges the motion values start when the search asks for other solutions of a sequence (a
+body in the way moved a quarter, half, then all of the way it was explored: the shortest move that clears the
+path first)."""
+
 FD_STEP = 1e-7
 """Step of the forward-difference gradients (m or rad)."""
 
@@ -61,6 +67,7 @@ class TaskSolution:
 
     values: np.ndarray
     traces: list[ModeTrace]
+    free: bool = False  # the goal leaves some value free: other solutions may exist (`task_space_alternatives`)
 
 
 # ---------------------------------------------------------------- task space
@@ -239,11 +246,43 @@ def task_space(
         violation = float(c.max())
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
-            return TaskSolution(x, rollout(problem, seq, x, JOINT_SAMPLES))
+            return TaskSolution(x, rollout(problem, seq, x, JOINT_SAMPLES), free=not pinned)
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)
     return _why_not(problem, seq, best[1] if best is not None else guess)
+
+
+def task_space_alternatives(
+    problem: Problem, seq: Sequence, found: TaskSolution, deadline: float, counters: Counters | None = None
+) -> Iterator[TaskSolution]:
+    """Other motion values for `seq` that reach the goal too, when the goal leaves some of them free.
+
+    The search asks for them when `found` makes bodies pass through one
+    another: a body in the way pushed or turned farther than the first
+    solution moved it may clear the path. Each starts the optimiser with every
+    value at one of `ALTERNATIVE_FRACTIONS` of its range (the goal then pins
+    the values it needs); solutions equal to one already given are skipped.
+    Deterministic.
+    """
+    if not found.free:
+        return
+    evaluator = _Evaluator(problem, seq)
+    lower, upper = bounds(problem, seq)
+    given = [found.values]
+    for fraction in ALTERNATIVE_FRACTIONS:
+        if time.perf_counter() > deadline:
+            return
+        x = _optimise(evaluator, lower + fraction * (upper - lower), lower, upper, deadline)
+        if counters is not None:
+            counters.optimisations += 1
+        _, c = evaluator.evaluate(x)
+        if float(c.max()) > 1e-6 or any(np.allclose(x, other, atol=1e-3) for other in given):
+            continue
+        traces = rollout(problem, seq, x, JOINT_SAMPLES)
+        if goal_holds(problem, traces[-1].end):
+            given.append(x)
+            yield TaskSolution(x, traces, free=True)
 
 
 def _optimise(

@@ -28,7 +28,15 @@ import numpy as np
 
 from vkgl.plan.arm_paths import ArmPathPlanner
 from vkgl.plan.avoid import EXCLUDED_WORDS, excluded, repeated_failure
-from vkgl.plan.feasible import Counters, JointSolution, TaskSolution, goal_holds, joint_space, task_space
+from vkgl.plan.feasible import (
+    Counters,
+    JointSolution,
+    TaskSolution,
+    goal_holds,
+    joint_space,
+    task_space,
+    task_space_alternatives,
+)
 from vkgl.plan.geometry_check import GeometryCheck
 from vkgl.plan.graph import successors
 from vkgl.plan.model import Problem
@@ -173,8 +181,11 @@ def _check(
     stats.geometry_checks += 1
     clash = geometry.bodies(seq.graphs, solution.traces)
     if clash is not None:
-        stats.reject(clash, label)
-        return None
+        cleared = _clear_of_each_other(problem, seq, solution, stats, deadline, geometry)
+        if cleared is None:
+            stats.reject(clash, label)
+            return None
+        solution = cleared
     stats.joint_space_checks += 1
     joints = joint_space(problem, solution, deadline, stats.work)
     if isinstance(joints, Rejection):
@@ -189,6 +200,18 @@ def _check(
         stats.reject(steps, label)
         return None
     return SearchResult("solved", "", stats, seq, solution, joints, steps)
+
+
+def _clear_of_each_other(
+    problem: Problem, seq: Sequence, found: TaskSolution, stats: SearchStats, deadline: float, geometry: GeometryCheck
+) -> TaskSolution | None:
+    """Other motion values of `seq` whose bodies pass clear of one another (a body in the way moved farther
+    aside first), or None: `found`'s bodies collide."""
+    for other in task_space_alternatives(problem, seq, found, deadline, stats.work):
+        stats.geometry_checks += 1
+        if geometry.bodies(seq.graphs, other.traces) is None:
+            return other
+    return None
 
 
 def _arm_paths(
