@@ -10,8 +10,9 @@ transit dashed, approach solid, lift and retreat dotted; the contact motion
 black); the title says which phase it is and how high the hand is above the
 table (a transit goes up over the bodies, which a top view does not show).
 
-GIFs are written with matplotlib's PillowWriter (pillow is a dependency of
-matplotlib); `.mp4` needs ffmpeg on the PATH.
+GIFs are written with Pillow (a dependency of matplotlib), drawing only what
+moves and with one palette (`vkgl.execute.gif`); `.mp4` needs ffmpeg on the
+PATH (matplotlib's FFMpegWriter, every frame drawn whole).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
+from vkgl.execute.gif import write_gif
 from vkgl.formats.execution_report import ExecutionReport
 from vkgl.lang.geometry import shape_mesh
 from vkgl.lang.ir import Body, UnionShape
@@ -137,12 +139,19 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
         height = f"   hand {(effector[i, 2] - table_z) * 100:3.0f} cm up"
         title.set_text(f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{height}{status}")
 
-    # One draw per frame: grab_frame renders the figure itself (FuncAnimation.save would draw twice).
-    with writer.saving(fig, str(path), dpi=fig.dpi):
-        for i in indices:
-            draw(i)
-            writer.grab_frame()
-    plt.close(fig)
+    moving: list[Any] = [patch for patches in (*real_patches.values(), *ghost_patches.values()) for patch in patches]
+    moving += [arm_line, *traces.values(), tip, title]
+    try:
+        if path.suffix.lower() == ".gif":
+            write_gif(fig, moving, draw, indices, path, fps=FPS)
+        else:  # One draw per frame: grab_frame renders the figure itself (FuncAnimation.save would draw twice).
+            assert writer is not None
+            with writer.saving(fig, str(path), dpi=fig.dpi):
+                for i in indices:
+                    draw(i)
+                    writer.grab_frame()
+    finally:
+        plt.close(fig)
     return path
 
 
@@ -190,13 +199,14 @@ def check_animation_path(path: str | Path) -> None:
 
 
 def _writer(path: Path, animation: Any) -> Any:
+    """matplotlib's writer for an MP4, None for a GIF (`vkgl.execute.gif` writes it); InputError if neither works."""
     suffix = path.suffix.lower()
     if suffix == ".gif":
         try:
-            import PIL  # noqa: F401  (pillow comes with matplotlib; PillowWriter needs it)
+            import PIL  # noqa: F401  (pillow comes with matplotlib; vkgl.execute.gif writes with it)
         except ImportError as exc:
             raise InputError(f"{path}: writing a GIF needs pillow, which is not installed") from exc
-        return animation.PillowWriter(fps=FPS)
+        return None
     if suffix == ".mp4":
         if not animation.writers.is_available("ffmpeg"):
             raise InputError(f"{path}: writing an MP4 needs ffmpeg on the PATH; write a .gif instead")
