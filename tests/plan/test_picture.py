@@ -112,7 +112,7 @@ def test_the_side_view_shows_the_transit_going_up_over_the_table(plans) -> None:
 
 
 def test_the_picture_is_the_same_bytes_every_time(plans) -> None:
-    plan = plans["d_rotate_push"]
+    plan = plans["b_stick_push"]
     assert plan_image(plan, "png") == plan_image(plan, "png")
 
 

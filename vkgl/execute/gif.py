@@ -21,8 +21,9 @@ colours, so that it must store every frame whole. Here instead:
   maximum coverage keeps white and erred 0.18.)
 
 On the execution of task a (213 frames, 560 x 448), on a loaded 2-core
-machine: 10.4 s and 769 kB with a full redraw and a palette per frame,
-4.3 s and 319 kB this way.
+machine: 27.2 s and 759 kB with PillowWriter, 10.4 s and 769 kB with the
+blitting alone (a palette per frame), 5.8 s and 319 kB this way
+(docs/execution.md, "The animation", has tasks e and f).
 
 Both are deterministic: the same figure and frames give the same bytes.
 """
