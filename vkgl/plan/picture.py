@@ -2,10 +2,15 @@
 
 One column per mode of the plan (G0, G1, ...): on top a top view of the
 table with the arm's reach at the hand's height (the annulus computed from the
-URDF), every body where the mode starts (dashed) and ends (filled), the hand's
-path during the mode and the goal (red outline: at the goal's pose, or with
-the body's joint at the goal's opening); below it the mode's kinematic
-graph (networkx), each edge labelled with its type.
+URDF), every body where the mode starts (dashed) and ends (filled), the goal
+(red outline: at the goal's pose, or with the body's joint at the goal's
+opening), the hand's path during the mode (black dots) and the arm's planned
+paths into the mode (`vkgl.plan.picture_paths`: transit, approach, lift or
+retreat, one style each); below it a side view (x, z) of the same, at the
+same scale, since a transit up over a body and down again is a line back
+and forth in the top view; at the bottom the mode's kinematic graph
+(networkx), each edge labelled with its type. A legend under the columns
+names the styles.
 """
 
 from __future__ import annotations
@@ -18,8 +23,10 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.plan.picture_paths import draw_tracks, legend_handles, step_tracks
 
 _COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
+_COLUMN_WIDTH = 3.6  # inches per mode
 _EDGE_STYLE = {"fixed": "solid", "prismatic": "dashed", "revolute": "dashdot", "free": "dotted"}
 
 
@@ -37,33 +44,62 @@ def plot_plan(plan: Any, path: str | Path) -> None:
 
 def plan_image(plan: Any, image_format: str = "png") -> bytes:
     """The picture of a solved plan as bytes of `image_format` (png, svg, pdf, ...)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+    fig = plan_figure(plan)
     import matplotlib.pyplot as plt
 
-    if plan.status != "solved":
-        raise InputError(f"task {plan.task} has no plan to draw ({plan.status}: {plan.reason})")
-    modes = _modes(plan)
-    fig, axes = plt.subplots(
-        2, len(modes), figsize=(3.6 * len(modes), 6.4), squeeze=False, gridspec_kw={"height_ratios": [3, 2]}
-    )
-    colors = {name: _COLORS[i % len(_COLORS)] for i, name in enumerate(plan.start)}
-    outlines = _outlines(plan)
-    limits = _limits(plan, modes)
-    for k, (title, start, end, hand) in enumerate(modes):
-        ax = axes[0][k]
-        _draw_scene(ax, plan, start, end, hand, colors, outlines, limits)
-        ax.set_title(title, fontsize=9)
-        _draw_graph(axes[1][k], plan.graphs[k], colors)
-    fig.suptitle(f"{plan.task}: {plan.depth} graphs, {len(plan.steps)} steps", fontsize=11)
-    fig.tight_layout()
     buffer = io.BytesIO()
     try:
         fig.savefig(buffer, format=image_format, dpi=110)
     finally:
         plt.close(fig)
     return buffer.getvalue()
+
+
+def plan_figure(plan: Any) -> Any:
+    """The matplotlib Figure of a solved plan (the caller closes it: `matplotlib.pyplot.close(fig)`).
+
+    Its axes are, column by column (one column per mode): the top view, the
+    side view and the graph. The arm's paths are lines whose gid starts with
+    `picture_paths.GID_PREFIX`.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    if plan.status != "solved":
+        raise InputError(f"task {plan.task} has no plan to draw ({plan.status}: {plan.reason})")
+    modes = _modes(plan)
+    tracks = _tracks(plan)
+    solids = _solids(plan)
+    outlines = {name: [_hull(part[:, :2]) for part in parts] for name, parts in solids.items()}
+    limits = _limits(plan, modes)
+    heights = _heights(plan, modes, tracks, solids)
+    # Rows as tall as their views at one scale (both have equal axes and the same x range); the graph below.
+    width = limits[0][1] - limits[0][0]
+    rows = [(limits[1][1] - limits[1][0]) / width, (heights[1] - heights[0]) / width, 0.6]
+    fig, axes = plt.subplots(
+        3,
+        len(modes),
+        figsize=(_COLUMN_WIDTH * len(modes), _COLUMN_WIDTH * 0.85 * sum(rows) + 1.4),
+        squeeze=False,
+        gridspec_kw={"height_ratios": rows},
+    )
+    colors = {name: _COLORS[i % len(_COLORS)] for i, name in enumerate(plan.start)}
+    for k, (title, start, end, hand) in enumerate(modes):
+        _draw_scene(axes[0][k], plan, start, end, hand, colors, outlines, limits)
+        draw_tracks(axes[0][k], tracks[k], (0, 1), step=k)
+        axes[0][k].set_title(title, fontsize=9)
+        _draw_side(axes[1][k], plan, start, end, hand, colors, solids, (limits[0], heights))
+        draw_tracks(axes[1][k], tracks[k], (0, 2), step=k)
+        _draw_graph(axes[2][k], plan.graphs[k], colors)
+    axes[1][0].set_ylabel("z (m)", fontsize=7)
+    fig.suptitle(f"{plan.task}: {plan.depth} graphs, {len(plan.steps)} steps", fontsize=11)
+    handles = [*legend_handles(), Line2D([], [], color="red", ls="--", lw=1, label="goal")]
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    return fig
 
 
 def _modes(plan: Any) -> list[tuple[str, dict, dict, list]]:
@@ -75,10 +111,16 @@ def _modes(plan: Any) -> list[tuple[str, dict, dict, list]]:
     return out
 
 
-def _outlines(plan: Any) -> dict[str, list[np.ndarray]]:
-    """Each body's footprint seen from above, in its own frame: the convex hull of each part of its shape."""
-    from scipy.spatial import ConvexHull
+def _tracks(plan: Any) -> list[list[tuple[str, np.ndarray]]]:
+    """Per mode, the effector's track along each planned arm segment into it (none into G0, none without an arm)."""
+    if plan.problem is None:
+        return [[] for _ in range(len(plan.steps) + 1)]
+    fk = plan.problem.arm.fk
+    return [[], *(step_tracks(fk, step) for step in plan.steps)]
 
+
+def _solids(plan: Any) -> dict[str, list[np.ndarray]]:
+    """Each body's shape in its own frame: the vertices (k x 3) of each part of its shape."""
     from vkgl.lang.geometry import shape_mesh
     from vkgl.lang.ir import UnionShape
 
@@ -94,9 +136,29 @@ def _outlines(plan: Any) -> dict[str, list[np.ndarray]]:
             mesh = shape_mesh(part)
             if pose is not None:
                 mesh.apply_transform(pose)
-            points = mesh.vertices[:, :2]
-            out[name].append(points[ConvexHull(points).vertices])
+            out[name].append(np.asarray(mesh.vertices, dtype=float))
     return out
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """The convex outline (k x 2, in order) of 2-d points."""
+    from scipy.spatial import ConvexHull
+
+    return points[ConvexHull(points).vertices]
+
+
+def _heights(plan: Any, modes: list, tracks: list, solids: dict) -> tuple[float, float]:
+    """The side views' common z range: the table top to the highest body, hand or arm path, with a margin."""
+    problem = plan.problem
+    low = problem.table_z if problem is not None else 0.0
+    tops = [low + 0.1]
+    for k, (_, start, end, hand) in enumerate(modes):
+        tops += [float(p[2, 3]) for p in hand]
+        tops += [float(points[:, 2].max()) for _, points in tracks[k]]
+        for poses in (start, end):
+            for name, pose in poses.items():
+                tops += [float((part @ pose[2, :3]).max() + pose[2, 3]) for part in solids.get(name, [])]
+    return low - 0.04, max(tops) + 0.05
 
 
 def _limits(plan: Any, modes: list) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -152,6 +214,44 @@ def _draw_scene(
     ax.set_ylim(*limits[1])
     ax.set_aspect("equal")
     ax.tick_params(labelsize=7)
+
+
+def _draw_side(
+    ax: Any, plan: Any, start: dict, end: dict, hand: list, colors: dict, solids: dict, limits: tuple
+) -> None:
+    """The side view (x, z; seen from -y) of a mode: the table's edge, the bodies, the hand in contact."""
+    from matplotlib.patches import Polygon, Rectangle
+
+    problem = plan.problem
+    if problem is not None and problem.table_center is not None:
+        left = problem.table_center[0] - problem.table_size[0] / 2
+        ax.add_patch(
+            Rectangle((left, problem.table_z - 0.03), problem.table_size[0], 0.03, facecolor="0.93", edgecolor="0.6")
+        )
+        ax.plot(problem.arm.base[0, 3], problem.arm.base[2, 3], marker="s", color="0.3")
+    for name in end:
+        moved = np.abs(start[name] - end[name]).max() > 1e-9
+        for part in solids.get(name, []):
+            if moved:
+                ax.add_patch(
+                    Polygon(_silhouette(part, start[name]), fill=False, edgecolor=colors[name], linestyle="--")
+                )
+            ax.add_patch(
+                Polygon(_silhouette(part, end[name]), facecolor=colors[name], alpha=0.6, edgecolor=colors[name])
+            )
+    if hand:
+        path = np.array([p[:3, 3] for p in hand])
+        ax.plot(path[:, 0], path[:, 2], "k.-", markersize=3, linewidth=1)
+    ax.set_xlim(*limits[0])
+    ax.set_ylim(*limits[1])
+    ax.set_aspect("equal")
+    ax.tick_params(labelsize=7)
+
+
+def _silhouette(vertices: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """The outline (x, z) of a part with body-frame `vertices` at world `pose`, seen from the side."""
+    placed = vertices @ pose[:3, :3].T + pose[:3, 3]
+    return _hull(placed[:, [0, 2]])
 
 
 def _goal_pose(problem: Any, goal: Any) -> np.ndarray | None:
