@@ -22,6 +22,7 @@ from typing import Any
 import dartpy as dart
 import numpy as np
 
+from vkgl.plan.clearance import SAFETY, Clearance, cover_box, cover_shape, scene_boxes, spheres_to_boxes
 from vkgl.plan.collision import TABLE, CollisionScene, Contact
 from vkgl.robot import Arm, load_skeleton
 from vkgl.robot.kinematics import link_probe
@@ -79,6 +80,8 @@ class ArmCollision:
         self.pad_group = scene.detector.createCollisionGroup()
         self.pad_group.addShapeFrame(pad)
         self.link_of[pad.getName()] = PAD
+        self._spheres = _link_spheres(self.skeleton, [(n, link) for n, link in shape_nodes if link not in skip], pad)
+        self._pad_probe = _probe(self.skeleton, PAD)
         # links and pad in one group: one FCL call where both are checked against the same bodies (the bare
         # arm's transits, the common validity check)
         self._links_and_pad = scene.detector.createCollisionGroup()
@@ -166,6 +169,37 @@ class ArmCollision:
             return not (targets and self.scene.collides(self.scene.group([held.body]), self.scene.group(targets)))
         return True
 
+    def clearance(self, held: Held | None = None, table: bool = True) -> Clearance:
+        """A lower bound on how far the arm (its links and pad, or its links and a held tool) is from what
+        `free` checks it against at a configuration, with the bodies as they are placed now
+        (`vkgl.plan.clearance`): for conservative advancement along transits."""
+        others = self._others((), held, table)
+        link_boxes = scene_boxes(self.scene, others)
+        # the pad is not checked while a tool is held (`free`): its spheres are left out then
+        spheres = self._spheres if held is None else [s for s in self._spheres if s[0] is not self._pad_probe]
+        probes = [probe for probe, _, _ in spheres]
+        which = np.concatenate([np.full(local.shape[1], i) for i, (_, local, _) in enumerate(spheres)])
+        local = np.hstack([local for _, local, _ in spheres]).T  # (S, 4) homogeneous, each in its link's frame
+        radii = np.concatenate([r for _, _, r in spheres])
+
+        def links(q: np.ndarray) -> float:
+            self.set_configuration(q)
+            frames = np.array([probe.getTransform().matrix() for probe in probes])[which, :3, :]
+            return spheres_to_boxes(np.einsum("sij,sj->si", frames, local), radii, link_boxes)
+
+        if held is None:
+            return lambda q: links(q) - SAFETY
+        tool_boxes = scene_boxes(self.scene, [n for n in others if n not in held.acts_on])
+        tool_centres, tool_radii = _cover_boxes(self.scene.part_boxes_local(held.body))
+        in_hand = self.arm.link_offset @ held.in_hand
+
+        def with_tool(q: np.ndarray) -> float:
+            room = links(q)  # sets the joints
+            tool = (self._link.getTransform().matrix() @ in_hand @ tool_centres)[:3].T
+            return min(room, spheres_to_boxes(tool, tool_radii, tool_boxes)) - SAFETY
+
+        return with_tool
+
     @staticmethod
     def _pad_others(others: list[str], held: Held | None, pad_may_touch: Iterable[str]) -> list[str]:
         """What the fingertip pad is checked against: nothing while a tool is held (the executed arm's pad is
@@ -229,6 +263,41 @@ def _collision_links(arm: Arm) -> tuple[Any, list[tuple[Any, str]], Any]:
                     shape_nodes.append((shape_node, node.getName()))
         found = _LINKS[key] = (skeleton, shape_nodes, _pad(skeleton.getBodyNode(arm.effector_link), arm))
     return found
+
+
+def _cover_boxes(boxes: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """Spheres (centres 4 x k homogeneous in the boxes' frame, radii k) that contain the boxes (pose, half)."""
+    centres, radii = [], []
+    for pose, half in boxes:
+        local, radius = cover_box(2 * np.asarray(half, dtype=float))
+        centres.append(pose @ np.vstack([local.T, np.ones(len(radius))]))
+        radii.append(radius)
+    return np.hstack(centres), np.concatenate(radii)
+
+
+def _link_spheres(
+    skeleton: Any, shape_nodes: list[tuple[Any, str]], pad: Any
+) -> list[tuple[Any, np.ndarray, np.ndarray]]:
+    """Per moving link: its probe, the centres (4 x k, homogeneous, link frame) and radii of spheres that contain
+    its collision shapes (`vkgl.plan.clearance`). The root link never moves: it is left out (it stands on the
+    table, where a bound would always be zero)."""
+    root = skeleton.getBodyNode(0).getName()
+    per_link: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}
+    for node, link in [*shape_nodes, (pad, PAD)]:
+        if link == root:
+            continue
+        covered = cover_shape(node.getShape())
+        if covered is None:
+            raise ValueError(f"no sphere cover for the {node.getShape().getType()} of link {link}")
+        centres, radii = covered
+        placed = np.asarray(node.getRelativeTransform().matrix()) @ np.vstack([centres.T, np.ones(len(radii))])
+        found = per_link.setdefault(link, ([], []))
+        found[0].append(placed)
+        found[1].append(radii)
+    return [
+        (_probe(skeleton, link), np.hstack(centres), np.concatenate(radii))
+        for link, (centres, radii) in per_link.items()
+    ]
 
 
 def _pad(link: Any, arm: Arm) -> Any:

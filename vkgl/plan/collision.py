@@ -293,6 +293,28 @@ class CollisionScene:
             known = self._table_memo[key] = bool(self.near_table(name, np.asarray(pose, dtype=float)[None])[0])
         return known
 
+    def part_boxes(self, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        """World boxes (pose 4x4, half sides) that contain the parts of body `name` where it was last placed
+        (`part_boxes_local` placed with the body)."""
+        frame, local = self._frames[name][0]
+        body = np.asarray(frame.getTransform().matrix()) @ np.linalg.inv(local)
+        return [(body @ pose, half) for pose, half in self.part_boxes_local(name)]
+
+    def part_boxes_local(self, name: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Boxes (pose 4x4 in the body's frame, half sides) that contain the parts of body `name`, as grown by
+        the scene's margin: boxes as they are, cylinders in their bounding boxes, other shapes in the box
+        around the body's hull. For bounds on distances (`vkgl.plan.clearance`)."""
+        out = []
+        for kind, size, pose in self._support[name]:
+            if kind == "box":
+                out.append((pose, np.asarray(size, dtype=float)))
+            elif kind == "cylinder":
+                out.append((pose, np.array([size[0], size[0], size[1]], dtype=float)))
+            else:
+                low, high = size.min(axis=0), size.max(axis=0)
+                out.append((_translation((low + high) / 2), (high - low) / 2))
+        return out
+
     def near_table(self, name: str, poses: np.ndarray) -> np.ndarray:
         """For each of `poses` (n x 4 x 4) of body `name`, whether it may sink into the table deeper than the tolerance.
 

@@ -44,6 +44,21 @@ DEFAULT_RESOLUTION = 0.0045
 
 Validity = Callable[[np.ndarray], bool]
 
+Advance = tuple[Callable[[np.ndarray], float], np.ndarray]
+"""(clearance, reach): a lower bound (m) on the arm's distance to everything at a configuration
+(`vkgl.plan.clearance`) and `link_reach` of the arm (and tool): conservative advancement along segments."""
+
+PROBES = 7
+"""Dense samples checked first, coarse to fine, before the walk of conservative advancement (the first three
+levels of the bisection order)."""
+
+SKIP_MIN = 4
+"""Dense steps a skip must save to be taken: a clearance bound costs about as much as two or three checks."""
+
+FINE_RUN = 8
+"""Dense checks made in a row where the clearance bound is not positive, before the bound is asked again (near a
+body the bound stays at zero for a while, and asking it costs about a check)."""
+
 
 def _shape_extent(body: Any) -> float:
     """The largest distance from `body`'s origin of a corner of its collision shapes' bounding boxes (m)."""
@@ -143,18 +158,62 @@ class CountingChecker:
         return bool(self.is_valid(q))
 
 
-def segment_is_valid(a: np.ndarray, b: np.ndarray, is_valid: Validity, resolution: float) -> bool:
-    """Whether every sample of the straight segment a-b, `resolution` apart, is valid (ends not checked)."""
+def segment_is_valid(
+    a: np.ndarray, b: np.ndarray, is_valid: Validity, resolution: float, advance: Advance | None = None
+) -> bool:
+    """Whether every sample of the straight segment a-b, `resolution` apart, is valid (ends not checked).
+
+    With `advance` (a clearance bound and the arm's link reach), stretches the
+    bound proves clear are skipped (`advanced_segment_is_valid`).
+    """
+    if advance is not None:
+        return advanced_segment_is_valid(a, b, is_valid, resolution, advance)
     count = pieces(a, b, resolution)
     delta = b - a
     return all(is_valid(a + delta * (k / count)) for k in _bisection_order(count))
 
 
-def path_is_valid(waypoints: np.ndarray, is_valid: Validity, resolution: float) -> bool:
+def advanced_segment_is_valid(
+    a: np.ndarray, b: np.ndarray, is_valid: Validity, resolution: float, advance: Advance
+) -> bool:
+    """`segment_is_valid` by conservative advancement: from a to b, where the clearance bound `d` (m) is
+    positive, no arm point touches anything, and none can until it has moved `d`: the walk skips that far
+    (`sum_i r_i |dq_i|` bounds the motion of every point, see the module's docstring). Where the bound is not
+    positive, the configurations are checked `resolution` apart as without it, `FINE_RUN` at a time."""
+    clearance, reach = advance
+    delta = b - a
+    length = float(np.linalg.norm(delta))
+    if length == 0.0:
+        return True
+    # a blocked segment is usually blocked in a stretch that the dense samples' coarsest levels hit (the
+    # middle first): a few of them find it sooner than a walk from one end
+    count = pieces(a, b, resolution)
+    if not all(is_valid(a + delta * (k / count)) for k in itertools.islice(_bisection_order(count), PROBES)):
+        return False
+    travel = float(reach @ np.abs(delta))  # the farthest any arm point moves from a to b (m)
+    fine = resolution / length  # one sample of the dense check, as a fraction of the segment
+    s = 0.0
+    while s < 1.0:
+        room = clearance(a + s * delta)
+        if travel <= 0.0 and room > 0.0:
+            return True
+        if room > 0.0 and room / travel >= SKIP_MIN * fine:  # a short skip costs more than the checks it saves
+            s += room / travel
+            continue
+        for _ in range(FINE_RUN):
+            if s > 0.0 and not is_valid(a + s * delta):
+                return False
+            s += fine
+            if s >= 1.0:
+                break
+    return True
+
+
+def path_is_valid(waypoints: np.ndarray, is_valid: Validity, resolution: float, advance: Advance | None = None) -> bool:
     """Whether every waypoint and every dense sample of every segment of `waypoints` (k x n) is valid."""
     if not all(is_valid(q) for q in waypoints):
         return False
-    return all(segment_is_valid(a, b, is_valid, resolution) for a, b in itertools.pairwise(waypoints))
+    return all(segment_is_valid(a, b, is_valid, resolution, advance) for a, b in itertools.pairwise(waypoints))
 
 
 def densify(waypoints: np.ndarray, resolution: float) -> np.ndarray:

@@ -48,7 +48,14 @@ from typing import Any
 
 import numpy as np
 
-from vkgl.plan.density import DEFAULT_RESOLUTION, CountingChecker, Validity, path_is_valid, segment_is_valid
+from vkgl.plan.density import (
+    DEFAULT_RESOLUTION,
+    Advance,
+    CountingChecker,
+    Validity,
+    path_is_valid,
+    segment_is_valid,
+)
 
 PLANNER = "RRTConnect"
 
@@ -100,6 +107,7 @@ def plan_transit(
     resolution: float = DEFAULT_RESOLUTION,
     straight_first: bool = True,
     via: Iterable[np.ndarray] = (),
+    advance: Advance | None = None,
 ) -> TransitPath | TransitFailure:
     """A collision-free joint path from `start_q` to `goal_q` within [`lower`, `upper`], or why there is none.
 
@@ -110,7 +118,10 @@ def plan_transit(
     skips the fast path (for benchmarks). `via`: polylines of intermediate
     configurations (each k x n, without the ends) tried in turn after the
     straight line and before OMPL, e.g. up, across and down (a lazy iterable
-    is only asked when the straight line is blocked). Exceptions of
+    is only asked when the straight line is blocked). `advance` (a clearance
+    bound and the link reach, `vkgl.plan.density.Advance`) lets the straight
+    line, the polylines and the final re-validation skip the stretches the
+    bound proves clear (OMPL's own edge checks stay dense). Exceptions of
     `is_valid` propagate.
     """
     began = time.perf_counter()
@@ -140,14 +151,14 @@ def plan_transit(
             return failed(f"the {name} configuration is invalid (in collision)")
     stage("ends")
     if straight_first:
-        clear = segment_is_valid(start, goal, check, resolution)
+        clear = segment_is_valid(start, goal, check, resolution, advance)
         stage("straight")
         if clear:
             return found(np.vstack([start, goal]), "straight")
         for middle in via:
             polyline = np.vstack([start, np.atleast_2d(np.asarray(middle, dtype=float)), goal])
             within = bool(np.all((polyline >= low - 1e-9) & (polyline <= high + 1e-9)))
-            clear = within and path_is_valid(polyline, check, resolution)
+            clear = within and path_is_valid(polyline, check, resolution, advance)
             stage("via")
             if clear:
                 return found(polyline, "via")
@@ -162,7 +173,7 @@ def plan_transit(
             outcome = f"no path found by {PLANNER} within {time_limit:.3g} s or {SEARCH_CHECKS} checks"
         return failed(outcome)
     for waypoints in outcome:
-        valid = path_is_valid(waypoints, check, resolution)
+        valid = path_is_valid(waypoints, check, resolution, advance)
         stage("revalidate")
         if valid:
             return found(waypoints, "rrtconnect")

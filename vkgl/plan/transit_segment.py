@@ -18,7 +18,7 @@ import numpy as np
 
 from vkgl.formats.plan import ArmSegment
 from vkgl.plan.arm_collision import ArmCollision, Held
-from vkgl.plan.density import edge_resolution
+from vkgl.plan.density import edge_resolution, link_reach
 from vkgl.plan.timing import time_path, velocity_limits
 from vkgl.plan.transit import TransitFailure, plan_transit
 from vkgl.robot import Arm
@@ -52,9 +52,10 @@ def transit_segment(
         return collision.free(q, held=held)
 
     reach = 0.0 if held is None else tool_reach(collision, held)
+    advance = (collision.clearance(held), link_reach(arm, reach))
     found = plan_transit(
         start, goal, valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
-        resolution=edge_resolution(arm, tool_reach=reach), via=_over_when_asked(arm, start, goal),
+        resolution=edge_resolution(arm, tool_reach=reach), via=_over_when_asked(arm, start, goal), advance=advance,
     )  # fmt: skip
     if isinstance(found, TransitFailure):
         return found
