@@ -195,17 +195,7 @@ def _draw_scene(
             if pose is not None and goal.body in outlines:
                 for part in outlines[goal.body]:
                     ax.add_patch(Polygon(_placed(part, pose), fill=False, edgecolor="red", linestyle="--"))
-    for name in end:
-        if name in outlines:
-            moved = np.abs(start[name] - end[name]).max() > 1e-9
-            for part in outlines[name]:
-                if moved:
-                    ax.add_patch(
-                        Polygon(_placed(part, start[name]), fill=False, edgecolor=colors[name], linestyle="--")
-                    )
-                ax.add_patch(
-                    Polygon(_placed(part, end[name]), facecolor=colors[name], alpha=0.6, edgecolor=colors[name])
-                )
+    _draw_bodies(ax, start, end, colors, outlines, _placed)
     if hand:
         path = np.array([p[:2, 3] for p in hand])
         ax.plot(path[:, 0], path[:, 1], "k.-", markersize=3, linewidth=1)
@@ -216,11 +206,24 @@ def _draw_scene(
     ax.tick_params(labelsize=7)
 
 
+def _draw_bodies(ax: Any, start: dict, end: dict, colors: dict, parts: dict, outline: Any) -> None:
+    """Each body's parts as `outline(part, pose)` polygons: filled where the mode ends, dashed where it
+    started if it moved."""
+    from matplotlib.patches import Polygon
+
+    for name in end:
+        moved = np.abs(start[name] - end[name]).max() > 1e-9
+        for part in parts.get(name, []):
+            if moved:
+                ax.add_patch(Polygon(outline(part, start[name]), fill=False, edgecolor=colors[name], linestyle="--"))
+            ax.add_patch(Polygon(outline(part, end[name]), facecolor=colors[name], alpha=0.6, edgecolor=colors[name]))
+
+
 def _draw_side(
     ax: Any, plan: Any, start: dict, end: dict, hand: list, colors: dict, solids: dict, limits: tuple
 ) -> None:
     """The side view (x, z; seen from -y) of a mode: the table's edge, the bodies, the hand in contact."""
-    from matplotlib.patches import Polygon, Rectangle
+    from matplotlib.patches import Rectangle
 
     problem = plan.problem
     if problem is not None and problem.table_center is not None:
@@ -229,16 +232,7 @@ def _draw_side(
             Rectangle((left, problem.table_z - 0.03), problem.table_size[0], 0.03, facecolor="0.93", edgecolor="0.6")
         )
         ax.plot(problem.arm.base[0, 3], problem.arm.base[2, 3], marker="s", color="0.3")
-    for name in end:
-        moved = np.abs(start[name] - end[name]).max() > 1e-9
-        for part in solids.get(name, []):
-            if moved:
-                ax.add_patch(
-                    Polygon(_silhouette(part, start[name]), fill=False, edgecolor=colors[name], linestyle="--")
-                )
-            ax.add_patch(
-                Polygon(_silhouette(part, end[name]), facecolor=colors[name], alpha=0.6, edgecolor=colors[name])
-            )
+    _draw_bodies(ax, start, end, colors, solids, _silhouette)
     if hand:
         path = np.array([p[:3, 3] for p in hand])
         ax.plot(path[:, 0], path[:, 2], "k.-", markersize=3, linewidth=1)
