@@ -118,6 +118,35 @@ def test_vkgc_solve_opens_the_stdlib_drawer_5_cm(tmp_path: Path, capsys: pytest.
     assert first[:3, 3] - last[:3, 3] == pytest.approx([0.0, 0.0, 0.03], abs=1e-3)
 
 
+CABINET_KITCHEN = """use stdlib.robots.panda
+use stdlib.affordances.drawer
+use stdlib.furniture.drawer_cabinet
+
+scene kitchen {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    cabinet : DrawerCabinet on table at (0.7, 0.25) m yaw 180deg
+    drawer : Drawer at (0.7, 0.25, 0.073) m yaw 180deg
+}
+
+task open { scene kitchen  goal drawer open 20 cm within 1 cm }
+"""
+
+
+def test_the_drawer_in_its_cabinet_is_pulled_with_the_hand_along_its_front() -> None:
+    """The fingertip's yaw is free, and IK's choice stands the 20 cm long hand across the handle, into the
+    cabinet's top board; the search then pins the yaw to the action frame's: the hand lies along the front."""
+    program = vkgl.compile_source(CABINET_KITCHEN, "kitchen.vkg", base_dir=HERE)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved" and plan.depth == 2, plan.reason
+    (step,) = plan.steps
+    assert step.affordance == "Drawer.pull_center_px" and step.value == pytest.approx(0.20, abs=1e-6)
+    hand = plan.problem.arm.fk(np.asarray(step.q_start))
+    pull = plan.start["drawer"][:3, :3] @ np.array([1.0, 0.0, 0.0])  # the drawer's +x: toward the robot
+    assert hand[:3, 0] @ pull == pytest.approx(1.0, abs=1e-3)  # the hand's x along the pull: across the front
+    assert joint_goal_problems(program, json.loads(json.dumps(plan.to_json()))) == []
+
+
 def test_a_joint_goal_past_the_limit_is_a_warning_then_no_plan_with_the_numbers(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
