@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.geometry import scene_body_pose
+from vkgl.lang.geometry import scene_body_anchor, scene_body_pose
 from vkgl.lang.ir import FixedC, PrismaticC, RevoluteC
 from vkgl.lang.program import Program
 
@@ -69,7 +69,7 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
     scene = program.scenes[task.scene.name]
     types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
     poses = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
-    rest = dict(poses)
+    rest = {sb.name: scene_body_anchor(scene, sb, types[sb.name]) for sb in scene.bodies}  # joints' zero
     fk = DartFK(plan["robot"])
     robot_effector = f"{plan['robot']['name']}.{plan['robot']['effector']}"
     problems: list[str] = []
@@ -176,7 +176,7 @@ def joint_goal_problems(program: Program, plan_json: dict[str, Any]) -> list[str
     task = program.tasks[plan["task"]]
     scene = program.scenes[task.scene.name]
     types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
-    rest = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
+    rest = {sb.name: scene_body_anchor(scene, sb, types[sb.name]) for sb in scene.bodies}  # joints' zero
     final = {n: np.array(m) for n, m in plan["final"].items()}
     return _check_joint_goals(task, final, rest, types)
 
@@ -184,7 +184,8 @@ def joint_goal_problems(program: Program, plan_json: dict[str, Any]) -> list[str
 def _check_joint_goals(
     task: Any, final: dict[str, np.ndarray], rest: dict[str, np.ndarray], types: dict[str, Any]
 ) -> list[str]:
-    """`goal B open Q`: B's joint coordinate (from its start, along or about the joint's axis) is within tolerance."""
+    """`goal B open Q`: B's joint coordinate (from where the scene places it, `rest`: along or about the joint's
+    axis) is within tolerance."""
     out = []
     for goal in task.goals:
         if goal.opening is None:

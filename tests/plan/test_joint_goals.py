@@ -283,3 +283,43 @@ def test_the_joint_goals_example_of_the_language_reference_solves(tmp_path: Path
         plan = vkgl.solve(program, task)
         assert plan.status == "solved" and plan.depth == 2, plan.reason
         assert joint_goal_problems(program, json.loads(json.dumps(plan.to_json()))) == []
+
+
+# ---------------------------------------------------------------- a joint that starts open
+
+OPENED = """
+scene opened {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    slide : Slide open 10 cm on table at (0.4, 0) m
+    block : Block on table at (0.45, -0.4) m yaw 0deg
+}
+"""
+
+
+def test_a_slide_that_starts_open_is_measured_from_where_it_is_placed() -> None:
+    """`open 10 cm` starts it 10 cm out; `goal slide open 16 cm` is 6 cm more, one contact of exactly 6 cm."""
+    program = local(OPENED + "task t { scene opened  goal slide open 16 cm within 5 mm }\n")
+    plan = vkgl.solve(program)
+    assert plan.status == "solved" and plan.depth == 2, plan.reason
+    body = plan.problem.bodies["slide"]
+    assert body.start_state == pytest.approx(0.10, abs=1e-12)
+    assert plan.start["slide"][0, 3] == pytest.approx(0.50, abs=1e-12)  # placed at 0.40, started 10 cm out
+    assert plan.steps[0].value == pytest.approx(0.06, abs=1e-9)
+    assert body.joint_state(plan.final["slide"]) == pytest.approx(0.16, abs=1e-9)
+    assert _goal_pose(plan.problem, plan.problem.goals[0]) == pytest.approx(plan.final["slide"], abs=1e-9)
+    assert joint_goal_problems(program, json.loads(json.dumps(plan.to_json()))) == []
+
+
+def test_a_start_opening_counts_in_what_the_motions_must_add_and_in_the_limits() -> None:
+    program = local(OPENED + "task t { scene opened  goal slide open 25 cm within 5 mm  search { max_depth 2 } }\n")
+    plan = vkgl.solve(program)
+    assert plan.status == "infeasible"
+    assert "slide must move 15.0 cm on its prismatic joint (from 10.0 to 25.0 cm), but Slide.push_open moves it" in (
+        plan.reason
+    )
+    past = vkgl.solve(local(OPENED + "task t { scene opened  goal slide open 35 cm within 1 cm }\n"))
+    assert past.status == "infeasible"
+    assert "the goal needs it at 35.0 cm on its prismatic joint, past its upper limit of 30.0 cm" in past.reason
+    held = vkgl.solve(local(OPENED + "task t { scene opened  goal slide open 10 cm }\n"))
+    assert held.status == "solved" and held.steps == []  # it starts there

@@ -213,7 +213,7 @@ def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) 
         if body.joint == "prismatic" and chosen.position is not None:
             offset = np.zeros(3)
             offset[: len(chosen.position)] = chosen.position[:3] - body.rest[: len(chosen.position), 3]
-            return float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
+            return body.start_state + float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
     return None
 
 
