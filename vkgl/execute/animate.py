@@ -16,7 +16,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
-from vkgl.formats.execution_report import ExecutionReport
+from vkgl.formats.execution_report import ExecutionReport, joint_value_text
 from vkgl.lang.geometry import shape_mesh
 from vkgl.lang.ir import Body, UnionShape
 
@@ -104,7 +104,7 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
         arm_line.set_data(links[:, 0], links[:, 1])
         tip.set_data([frames.effector[i][0, 3]], [frames.effector[i][1, 3]])
         shoved = f" ({', '.join(d.body for d in report.disturbed)})" if report.disturbed else ""
-        status = f"  —  {report.status}{shoved}" if i == indices[-1] else ""
+        status = f"  —  {report.status}{shoved}{_openings(report)}" if i == indices[-1] else ""
         title.set_text(f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{status}")
 
     # One draw per frame: grab_frame renders the figure itself (FuncAnimation.save would draw twice).
@@ -114,6 +114,17 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
             writer.grab_frame()
     plt.close(fig)
     return path
+
+
+def _openings(report: ExecutionReport) -> str:
+    """The joint goals at the end, for the last frame's title: `, drawer open 19.9 cm (goal 20.0 cm)`."""
+    parts = [
+        f"{g.body} open {joint_value_text(g.opening.joint, g.opening.real)} "
+        f"(goal {joint_value_text(g.opening.joint, g.opening.target)})"
+        for g in report.goals
+        if g.opening is not None
+    ]
+    return f", {', '.join(parts)}" if parts else ""
 
 
 def check_animation_path(path: str | Path) -> None:
