@@ -20,7 +20,8 @@ plans, from where the previous step left the arm:
   (`GRASP_STANDOFF`). When the way back along the push is blocked, the
   contact is approached from above instead: the fingertip hooked behind a
   handle's bar pushes away from the body it pulls, so backing off along its
-  push would put the hand into that body; it comes down into the gap.
+  push would put the hand into that body; it comes down into the gap (and so
+  does a held hook's cross-piece, behind a bar it pulls).
 
 Every segment is timed: transits within the URDF's joint velocity limits
 (scaled by `TRANSIT_SPEED_SCALE`), the straight moves at `CARTESIAN_SPEED`.
@@ -247,7 +248,7 @@ class ArmPathPlanner:
         if grasp:
             return self._approach(k, step, state, label, deadline, DOWN, GRASP_STANDOFF)
         first = self._approach(k, step, state, label, deadline, self._push_direction(step, step.poses_start), STANDOFF)
-        if not isinstance(first, Rejection) or first.kind != "approach" or state.held is not None:
+        if not isinstance(first, Rejection) or first.kind != "approach":
             return first
         above = self._approach(k, step, state, label, deadline, DOWN, STANDOFF)
         return first if isinstance(above, Rejection) else above
@@ -290,11 +291,11 @@ class ArmPathPlanner:
 
     def _retreat(self, step: PlanStepRecord, state: _ArmState, label: str) -> ArmSegment | Rejection:
         """Straight back out of the contact the step removes, against the way it pushed; when that way is
-        blocked (a hook behind a handle's bar), straight up."""
+        blocked (a fingertip or a held hook behind a handle's bar), straight up."""
         away = -self._push_direction(step, step.poses_start)
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
         first = self._move_away(state, away, STANDOFF, step.poses_start, {step.body}, label, what)
-        if not isinstance(first, Rejection) or state.held is not None:
+        if not isinstance(first, Rejection):
             return first
         above = self._move_away(state, -DOWN, STANDOFF, step.poses_start, {step.body}, label, what)
         return first if isinstance(above, Rejection) else above
