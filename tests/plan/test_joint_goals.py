@@ -323,3 +323,37 @@ def test_a_start_opening_counts_in_what_the_motions_must_add_and_in_the_limits()
     assert "the goal needs it at 35.0 cm on its prismatic joint, past its upper limit of 30.0 cm" in past.reason
     held = vkgl.solve(local(OPENED + "task t { scene opened  goal slide open 10 cm }\n"))
     assert held.status == "solved" and held.steps == []  # it starts there
+
+
+@pytest.mark.parametrize(
+    ("scene", "goal", "words"),
+    [
+        (
+            "kitchen",
+            "door open 100deg",
+            "door: the goal needs it at 100.0 deg on its revolute joint, past its upper limit",
+        ),
+        (
+            "kitchen_door_open",
+            "door open -10deg",
+            "door: the goal needs it at -10.0 deg on its revolute joint, past its lower",
+        ),
+        (
+            "kitchen_door_open",
+            "drawer open 31.5 cm",
+            "the goal needs it at 31.5 cm on its prismatic joint, past its upper",
+        ),
+    ],
+)
+def test_vkgc_solve_says_no_plan_with_the_numbers_for_the_stdlib_door_and_drawer_past_their_limits(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], scene: str, goal: str, words: str
+) -> None:
+    examples = HERE.parents[1] / "examples"
+    task = write(
+        tmp_path,
+        f'use "{(examples / "scenes" / "kitchen.vkg").as_posix()}"\nuse stdlib.affordances.drawer\n'
+        f"use stdlib.affordances.door\n\ntask past {{ scene {scene}  goal {goal} }}\n",
+    )
+    assert main(["solve", str(task)]) == 2
+    out = capsys.readouterr().out
+    assert "infeasible" in out and words in out and "0 graphs expanded" in out
