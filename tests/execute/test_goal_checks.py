@@ -54,3 +54,13 @@ def test_the_replanning_limits_are_half_the_tolerance_of_the_bodys_kind() -> Non
     # a body on a joint without a joint goal: half the default tolerance of its joint's kind
     assert replan_limits(TASK, "cupboard", "revolute")[2] == pytest.approx(math.radians(1.5))
     assert replan_limits(TASK, "slide", "prismatic")[2] == pytest.approx(0.005)
+
+
+def test_the_animations_last_title_says_how_far_each_joint_goal_is_open() -> None:
+    from vkgl.execute.animate import _openings
+    from vkgl.formats.execution_report import ExecutionReport
+
+    goals = [check_goal(DRAWER, np.eye(4), "prismatic", 0.1988), check_goal(BLOCK, np.eye(4))]
+    report = ExecutionReport("g", "reached", "", [], goals, 0, [], {}, 10.0, 1.0, 0.0)
+    assert _openings(report) == ", drawer open 19.9 cm (goal 20.0 cm)"
+    assert _openings(ExecutionReport("a", "reached", "", [], goals[1:], 0, [], {}, 1.0, 1.0, 0.0)) == ""
