@@ -118,10 +118,10 @@ def test_committed_stdlib_is_what_learn_makes(learned) -> None:
 def test_a_user_library_layout(tmp_path) -> None:
     bodies = tmp_path / "mylib" / "bodies"
     bodies.mkdir(parents=True)
-    # the layout is the question, not the physics: the stdlib Drawer explored for 1 s instead of 10
+    # the layout is the question, not the physics: the stdlib Drawer explored for 3 s instead of 10
     text = (BODIES / "drawer.vkg").read_text(encoding="utf-8")
     assert text.count("duration 10 s") == 2
-    (bodies / "drawer.vkg").write_text(text.replace("duration 10 s", "duration 1 s"), encoding="utf-8")
+    (bodies / "drawer.vkg").write_text(text.replace("duration 10 s", "duration 3 s"), encoding="utf-8")
     (out,) = learn(bodies / "drawer.vkg", jobs=1)
     assert out == tmp_path / "mylib" / "affordances" / "drawer.vkg"
     text = out.read_text(encoding="utf-8")
