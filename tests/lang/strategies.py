@@ -327,7 +327,8 @@ def scenes() -> st.SearchStrategy[ir.Scene]:
         st.builds(ir.Placement, on_table=st.just(True), pose=poses(n=2, rpy=False)),
         st.builds(ir.Placement, on_table=st.just(False), pose=poses()),
     )
-    body = st.builds(ir.SceneBody, name=names(), type=refs(), placement=placement)
+    opening = st.none() | st.sampled_from(["length", "angle"]).flatmap(quantities)  # `open Q`: a joint's start
+    body = st.builds(ir.SceneBody, name=names(), type=refs(), placement=placement, opening=opening)
     return st.builds(
         ir.Scene,
         name=names(),

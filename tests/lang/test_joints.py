@@ -192,3 +192,58 @@ def test_open_stays_a_legal_name_outside_goals(tmp_path: Path) -> None:
         "task t { scene open goal open open 5 cm }\n"
     )
     assert check_text(tmp_path, text) == []
+
+
+# ---------------------------------------------------------------- a joint's start: `B : T open Q at POSE`
+
+
+def test_a_scene_body_starts_open_in_si_and_prints_back() -> None:
+    text = (
+        "scene s {\n    table size (1.6, 1.2) m at (0.5, 0, 0) m\n    robot arm : Panda at (0, 0, 0) m\n"
+        "    drawer : KitchenDrawer open 12 cm on table at (0.45, 0) m\n"
+        "    door : KitchenDoor open 60deg at (0.7, 0.35, 0.25) m yaw 180deg\n"
+        "    block : Block on table at (0.45, -0.4) m yaw 0deg\n}\n"
+    )
+    module = parse_module(text, "a.vkg")
+    drawer, door, block = module.decls[0].bodies
+    assert (drawer.opening.value, drawer.opening.unit) == (pytest.approx(0.12), "cm") and drawer.placement.on_table
+    assert door.start_opening() == pytest.approx(math.radians(60)) and not door.placement.on_table
+    assert block.opening is None and block.start_opening() == 0.0
+    printed = print_module(module)
+    assert "    drawer : KitchenDrawer open 12 cm on table at (0.45, 0) m\n" in printed
+    assert "    door : KitchenDoor open 60deg at (0.7, 0.35, 0.25) m yaw 180deg\n" in printed
+    assert parse_module(printed, "a.vkg") == module
+
+
+OPEN_KITCHEN = (
+    KITCHEN + "scene opened {{\n    table size (1.6, 1.2) m at (0.5, 0, 0) m\n    robot arm : Panda at (0, 0, 0) m\n"
+    "    {body}\n}}\n"
+)
+
+
+@pytest.mark.parametrize(
+    ("placed", "codes"),
+    [
+        ("drawer : KitchenDrawer open 12 cm on table at (0.45, 0) m", []),
+        ("drawer : KitchenDrawer open 0.3 m on table at (0.45, 0) m", []),  # at its upper limit
+        ("door : KitchenDoor open 1 rad on table at (0.7, 0.35) m", []),
+        ("drawer : KitchenDrawer open 31 cm on table at (0.45, 0) m", ["E442"]),
+        ("door : KitchenDoor open -5deg on table at (0.7, 0.35) m", ["E442"]),
+        ("door : KitchenDoor open 5 cm on table at (0.7, 0.35) m", ["E201"]),
+        ("drawer : KitchenDrawer open 5 on table at (0.45, 0) m", ["E202"]),
+        ("block : Block open 5 cm on table at (0.45, -0.4) m", ["E441"]),
+    ],
+)
+def test_a_start_opening_is_checked_against_the_bodys_joint(tmp_path: Path, placed: str, codes: list) -> None:
+    diagnostics = check_text(tmp_path, OPEN_KITCHEN.format(body=placed))
+    assert [d.code for d in diagnostics] == codes
+
+
+def test_the_scene_checks_see_the_body_where_it_starts_open(tmp_path: Path) -> None:
+    """A block 25 cm in front of the closed drawer is clear of it; with the drawer started 30 cm open, it is not."""
+    block = "block : Block on table at (0.75, 0) m yaw 0deg"
+    shut = OPEN_KITCHEN.format(body=f"drawer : KitchenDrawer on table at (0.45, 0) m\n    {block}")
+    assert check_text(tmp_path, shut) == []
+    opened = OPEN_KITCHEN.format(body=f"drawer : KitchenDrawer open 30 cm on table at (0.45, 0) m\n    {block}")
+    (overlap,) = check_text(tmp_path, opened)
+    assert overlap.code == "E420" and "`drawer` and `block` overlap by 5.0 cm" in overlap.message

@@ -173,3 +173,93 @@ def test_a_changed_goal_is_solved(program) -> None:  # type: ignore[no-untyped-d
     plan = vkgl.solve(program.with_goal("a_push", "block", at=(0.62, 0.0), yaw=0.0))
     assert plan.status == "solved"
     assert plan.final["block"][:2, 3] == pytest.approx((0.62, 0.0), abs=0.01)
+
+
+# ---------------------------------------------------------------- bodies on physical joints
+
+KITCHEN = """\
+use stdlib.robots.panda
+use stdlib.affordances.drawer
+use stdlib.affordances.door
+use stdlib.bodies.block
+
+scene kitchen {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    drawer : Drawer on table at (0.45, -0.2) m yaw 0deg
+    door : Door open 30deg on table at (0.5, 0.35) m yaw 180deg
+    block : Block on table at (0.2, -0.45) m yaw 0deg
+}
+
+task open_drawer {
+    scene kitchen
+    goal drawer open 5 cm within 1 cm
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def kitchen():  # type: ignore[no-untyped-def]
+    return compile_source(KITCHEN, "kitchen.vkg")
+
+
+def test_with_goal_open_makes_a_joint_goal_of_the_joints_kind(kitchen) -> None:  # type: ignore[no-untyped-def]
+    wider = kitchen.with_goal("open_drawer", "drawer", open=0.12, within=0.005)
+    (goal,) = wider.task().goals
+    assert (goal.opening.value, goal.opening.unit) == (0.12, "m") and goal.opening_tolerance() == 0.005
+    assert goal.position is None and goal.yaw is None
+    kept = kitchen.with_goal("open_drawer", "drawer", open=0.1).task().goals[0]
+    assert kept.opening_tolerance() == pytest.approx(0.01)  # the replaced joint goal's tolerance
+    door = kitchen.with_goal("open_drawer", "door", open=math.radians(45)).task().goals
+    assert [g.body.name for g in door] == ["drawer", "door"]  # added: the task had no goal on the door
+    assert (door[1].opening.unit, door[1].opening_tolerance()) == ("rad", pytest.approx(DEFAULT_TOL_YAW))
+    back = kitchen.with_goal("open_drawer", "drawer", at=(0.5, -0.2)).task().goals[0]
+    assert back.opening is None and back.position.values == (0.5, -0.2)  # a pose goal replaces the joint goal
+
+
+def test_with_goal_open_refuses_what_cannot_be_a_joint_goal(kitchen) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(InputError, match="`block` has no physical joint to open: its type `Block` declares no"):
+        kitchen.with_goal("open_drawer", "block", open=0.05)
+    with pytest.raises(InputError, match="takes no position or heading"):
+        kitchen.with_goal("open_drawer", "drawer", open=0.05, at=(0.5, 0))
+    with pytest.raises(InputError, match="one positive number of m"):
+        kitchen.with_goal("open_drawer", "drawer", open=0.05, within=(0.01, 0.05))
+    with pytest.raises(InputError, match="one positive number of rad"):
+        kitchen.with_goal("open_drawer", "door", open=0.5, within=-0.1)
+    with pytest.raises(InputError, match="finite number of m"):
+        kitchen.with_goal("open_drawer", "drawer", open=math.nan)
+    with pytest.raises(InputError, match=r"tolerances of a pose goal are \(metres, radians\)"):
+        kitchen.with_goal("open_drawer", "block", at=(0.2, -0.45), within=0.01)
+
+
+def test_a_joint_goal_from_python_is_solved(kitchen) -> None:  # type: ignore[no-untyped-def]
+    import vkgl
+
+    plan = vkgl.solve(kitchen.with_goal("open_drawer", "drawer", open=0.08, within=0.005))
+    assert plan.status == "solved", plan.reason
+    assert plan.problem.bodies["drawer"].joint_state(plan.final["drawer"]) == pytest.approx(0.08, abs=0.005)
+
+
+def test_with_start_poses_keeps_a_jointed_body_on_its_anchor_and_starts_it_open(kitchen) -> None:  # type: ignore[no-untyped-def]
+    from vkgl.lang.geometry import joint_pose, scene_body_anchor, scene_body_pose
+
+    scene = kitchen.scenes["kitchen"]
+    placed = {b.name: b for b in scene.bodies}
+    drawer, door = kitchen.bodies["Drawer"], kitchen.bodies["Door"]
+    pulled = joint_pose(drawer.joint, scene_body_anchor(scene, placed["drawer"], drawer), 0.07)
+    swung = joint_pose(door.joint, scene_body_anchor(scene, placed["door"], door), math.radians(50))
+    moved = kitchen.with_start_poses("open_drawer", {"drawer": pulled, "door": swung})
+    bodies = {b.name: b for b in moved.scenes["kitchen"].bodies}
+    assert bodies["drawer"].placement == placed["drawer"].placement  # the slide stays where it is fixed
+    assert (bodies["drawer"].opening.value, bodies["drawer"].opening.unit) == (pytest.approx(0.07), "m")
+    assert bodies["door"].placement == placed["door"].placement
+    assert bodies["door"].start_opening() == pytest.approx(math.radians(50))
+    new_scene = moved.scenes["kitchen"]
+    assert scene_body_pose(new_scene, bodies["drawer"], drawer) == pytest.approx(pulled, abs=1e-12)
+    assert scene_body_pose(new_scene, bodies["door"], door) == pytest.approx(swung, abs=1e-12)
+    assert scene_body_pose(scene, placed["door"], door) == pytest.approx(
+        joint_pose(door.joint, scene_body_anchor(scene, placed["door"], door), math.radians(30)), abs=1e-12
+    )  # `open 30deg` as written
+    beyond = joint_pose(drawer.joint, scene_body_anchor(scene, placed["drawer"], drawer), 0.3002)
+    past = moved.with_start_poses("open_drawer", {"drawer": beyond})
+    assert next(b for b in past.scenes["kitchen"].bodies if b.name == "drawer").start_opening() == 0.3  # its stop

@@ -14,13 +14,15 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.geometry import scene_body_pose
+from vkgl.lang.geometry import scene_body_anchor, scene_body_pose
 from vkgl.lang.ir import FixedC, PrismaticC, RevoluteC
 from vkgl.lang.program import Program
 
 POSE_TOL = 1e-6  # m / rad: recomposed poses agree with the plan's to this
 HAND_TOL = 2e-3  # m: FK of the plan's joints puts the hand this close to where it must be
 AXIS_TOL = np.radians(1.0)  # the hand's z axis is this close to where it must point
+PAD_RADIUS = 0.005  # m: the fingertip pad's radius (its axis runs along the effector's y, this far behind the origin)
+MAX_LEAN = np.radians(60.0)  # a pushing hand may lean back about the pad's axis by up to this much
 
 
 class DartFK:
@@ -69,7 +71,7 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
     scene = program.scenes[task.scene.name]
     types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
     poses = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
-    rest = dict(poses)
+    rest = {sb.name: scene_body_anchor(scene, sb, types[sb.name]) for sb in scene.bodies}  # joints' zero
     fk = DartFK(plan["robot"])
     robot_effector = f"{plan['robot']['name']}.{plan['robot']['effector']}"
     problems: list[str] = []
@@ -133,8 +135,10 @@ def _check_step(
     owner, _, frame = step["effector"].partition(".")
     for pose, q in ((start[body], step["q_start"]), (expected, step["q_end"])):
         contact = pose @ action
-        if step["effector"] == robot_effector:
-            out += _hand_at(k, f"touching {body}", fk(q), contact, yaw_matters=aff.motion.type == "free")
+        if step["effector"] == robot_effector and aff.motion.type != "free":
+            out += _pad_at(k, f"touching {body}", fk(q), contact)
+        elif step["effector"] == robot_effector:
+            out += _hand_at(k, f"touching {body}", fk(q), contact, yaw_matters=True)
         else:
             tool_frame = types[owner].frame(frame).pose.matrix()
             tool_pose = start[owner] if pose is start[body] else end[owner]
@@ -152,6 +156,23 @@ def _hand_at(k: int, what: str, hand: np.ndarray, target: np.ndarray, *, yaw_mat
     else:
         angle = np.arccos(np.clip(hand[:3, 2] @ target[:3, 2], -1, 1))
     return [f"step {k}: the hand is turned {np.degrees(angle):.1f} deg off while {what}"] if angle > AXIS_TOL else []
+
+
+def _pad_at(k: int, what: str, hand: np.ndarray, target: np.ndarray) -> list[str]:
+    """The fingertip pad touches as the affordance's action says: the pad's axis (the effector's y through a
+    point `PAD_RADIUS` behind its origin) where the action puts it, the hand upright (its yaw free) or leaned
+    back about that axis by at most `MAX_LEAN` (the planner leans it to clear a tall face)."""
+    tilt = np.arccos(np.clip(hand[:3, 2] @ target[:3, 2], -1, 1))
+    if tilt <= AXIS_TOL:
+        return _hand_at(k, what, hand, target, yaw_matters=False)  # upright: the pad's yaw about the vertical is free
+    behind = np.array([-PAD_RADIUS, 0.0, 0.0, 1.0])
+    error = np.linalg.norm((hand @ behind)[:3] - (target @ behind)[:3])
+    if error > HAND_TOL:
+        return [f"step {k}: the pad is {error * 1000:.1f} mm away while {what}"]
+    along = np.arccos(np.clip(abs(hand[:3, 1] @ target[:3, 1]), -1, 1))
+    if along > AXIS_TOL or tilt > MAX_LEAN + AXIS_TOL:
+        return [f"step {k}: the hand is turned {np.degrees(tilt):.1f} deg off while {what}"]
+    return []
 
 
 def _check_goals(task: Any, final: dict[str, np.ndarray]) -> list[str]:
@@ -176,7 +197,7 @@ def joint_goal_problems(program: Program, plan_json: dict[str, Any]) -> list[str
     task = program.tasks[plan["task"]]
     scene = program.scenes[task.scene.name]
     types = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
-    rest = {sb.name: scene_body_pose(scene, sb, types[sb.name]) for sb in scene.bodies}
+    rest = {sb.name: scene_body_anchor(scene, sb, types[sb.name]) for sb in scene.bodies}  # joints' zero
     final = {n: np.array(m) for n, m in plan["final"].items()}
     return _check_joint_goals(task, final, rest, types)
 
@@ -184,7 +205,8 @@ def joint_goal_problems(program: Program, plan_json: dict[str, Any]) -> list[str
 def _check_joint_goals(
     task: Any, final: dict[str, np.ndarray], rest: dict[str, np.ndarray], types: dict[str, Any]
 ) -> list[str]:
-    """`goal B open Q`: B's joint coordinate (from its start, along or about the joint's axis) is within tolerance."""
+    """`goal B open Q`: B's joint coordinate (from where the scene places it, `rest`: along or about the joint's
+    axis) is within tolerance."""
     out = []
     for goal in task.goals:
         if goal.opening is None:

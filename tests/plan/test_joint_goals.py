@@ -118,6 +118,35 @@ def test_vkgc_solve_opens_the_stdlib_drawer_5_cm(tmp_path: Path, capsys: pytest.
     assert first[:3, 3] - last[:3, 3] == pytest.approx([0.0, 0.0, 0.03], abs=1e-3)
 
 
+CABINET_KITCHEN = """use stdlib.robots.panda
+use stdlib.affordances.drawer
+use stdlib.furniture.drawer_cabinet
+
+scene kitchen {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    cabinet : DrawerCabinet on table at (0.7, 0.25) m yaw 180deg
+    drawer : Drawer at (0.7, 0.25, 0.073) m yaw 180deg
+}
+
+task open { scene kitchen  goal drawer open 20 cm within 1 cm }
+"""
+
+
+def test_the_drawer_in_its_cabinet_is_pulled_with_the_hand_along_its_front() -> None:
+    """The fingertip's yaw is free, and IK's choice stands the 20 cm long hand across the handle, into the
+    cabinet's top board; the search then pins the yaw to the action frame's: the hand lies along the front."""
+    program = vkgl.compile_source(CABINET_KITCHEN, "kitchen.vkg", base_dir=HERE)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved" and plan.depth == 2, plan.reason
+    (step,) = plan.steps
+    assert step.affordance == "Drawer.pull_center_px" and step.value == pytest.approx(0.20, abs=1e-6)
+    hand = plan.problem.arm.fk(np.asarray(step.q_start))
+    pull = plan.start["drawer"][:3, :3] @ np.array([1.0, 0.0, 0.0])  # the drawer's +x: toward the robot
+    assert hand[:3, 0] @ pull == pytest.approx(1.0, abs=1e-3)  # the hand's x along the pull: across the front
+    assert joint_goal_problems(program, json.loads(json.dumps(plan.to_json()))) == []
+
+
 def test_a_joint_goal_past_the_limit_is_a_warning_then_no_plan_with_the_numbers(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -254,3 +283,77 @@ def test_the_joint_goals_example_of_the_language_reference_solves(tmp_path: Path
         plan = vkgl.solve(program, task)
         assert plan.status == "solved" and plan.depth == 2, plan.reason
         assert joint_goal_problems(program, json.loads(json.dumps(plan.to_json()))) == []
+
+
+# ---------------------------------------------------------------- a joint that starts open
+
+OPENED = """
+scene opened {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    slide : Slide open 10 cm on table at (0.4, 0) m
+    block : Block on table at (0.45, -0.4) m yaw 0deg
+}
+"""
+
+
+def test_a_slide_that_starts_open_is_measured_from_where_it_is_placed() -> None:
+    """`open 10 cm` starts it 10 cm out; `goal slide open 16 cm` is 6 cm more, one contact of exactly 6 cm."""
+    program = local(OPENED + "task t { scene opened  goal slide open 16 cm within 5 mm }\n")
+    plan = vkgl.solve(program)
+    assert plan.status == "solved" and plan.depth == 2, plan.reason
+    body = plan.problem.bodies["slide"]
+    assert body.start_state == pytest.approx(0.10, abs=1e-12)
+    assert plan.start["slide"][0, 3] == pytest.approx(0.50, abs=1e-12)  # placed at 0.40, started 10 cm out
+    assert plan.steps[0].value == pytest.approx(0.06, abs=1e-9)
+    assert body.joint_state(plan.final["slide"]) == pytest.approx(0.16, abs=1e-9)
+    assert _goal_pose(plan.problem, plan.problem.goals[0]) == pytest.approx(plan.final["slide"], abs=1e-9)
+    assert joint_goal_problems(program, json.loads(json.dumps(plan.to_json()))) == []
+
+
+def test_a_start_opening_counts_in_what_the_motions_must_add_and_in_the_limits() -> None:
+    program = local(OPENED + "task t { scene opened  goal slide open 25 cm within 5 mm  search { max_depth 2 } }\n")
+    plan = vkgl.solve(program)
+    assert plan.status == "infeasible"
+    assert "slide must move 15.0 cm on its prismatic joint (from 10.0 to 25.0 cm), but Slide.push_open moves it" in (
+        plan.reason
+    )
+    past = vkgl.solve(local(OPENED + "task t { scene opened  goal slide open 35 cm within 1 cm }\n"))
+    assert past.status == "infeasible"
+    assert "the goal needs it at 35.0 cm on its prismatic joint, past its upper limit of 30.0 cm" in past.reason
+    held = vkgl.solve(local(OPENED + "task t { scene opened  goal slide open 10 cm }\n"))
+    assert held.status == "solved" and held.steps == []  # it starts there
+
+
+@pytest.mark.parametrize(
+    ("scene", "goal", "words"),
+    [
+        (
+            "kitchen",
+            "door open 100deg",
+            "door: the goal needs it at 100.0 deg on its revolute joint, past its upper limit",
+        ),
+        (
+            "kitchen_door_open",
+            "door open -10deg",
+            "door: the goal needs it at -10.0 deg on its revolute joint, past its lower",
+        ),
+        (
+            "kitchen_door_open",
+            "drawer open 31.5 cm",
+            "the goal needs it at 31.5 cm on its prismatic joint, past its upper",
+        ),
+    ],
+)
+def test_vkgc_solve_says_no_plan_with_the_numbers_for_the_stdlib_door_and_drawer_past_their_limits(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], scene: str, goal: str, words: str
+) -> None:
+    examples = HERE.parents[1] / "examples"
+    task = write(
+        tmp_path,
+        f'use "{(examples / "scenes" / "kitchen.vkg").as_posix()}"\nuse stdlib.affordances.drawer\n'
+        f"use stdlib.affordances.door\n\ntask past {{ scene {scene}  goal {goal} }}\n",
+    )
+    assert main(["solve", str(task)]) == 2
+    out = capsys.readouterr().out
+    assert "infeasible" in out and words in out and "0 graphs expanded" in out

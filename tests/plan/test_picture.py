@@ -96,17 +96,20 @@ def test_each_path_ends_where_the_step_starts_and_the_phases_look_different(plan
         plt.close(fig)
 
 
-def test_the_side_view_shows_the_transit_going_up_over_the_table(plans) -> None:
-    """Step 2 of task b carries the stick from where it lay to behind the block: it goes up and down again."""
+def test_the_side_view_shows_a_transit_going_up_over_what_lies_between(plans) -> None:
+    """Task d's first transit goes up, across and down (its straight joint-space line is blocked): the side view
+    shows it rise, and its axes hold it."""
     import matplotlib.pyplot as plt
 
-    plan = plans["b_stick_push"]
-    fig = plan_figure(plan)
+    fig = plan_figure(plans["d_rotate_push"])
     try:
-        (_, side) = _path_lines(fig)[(2, 1, "transit")]
-        z = side.get_ydata()
-        assert z.max() > max(z[0], z[-1]) + 0.05
-        assert side.axes.get_ylim()[1] >= z.max()
+        risen = [
+            side
+            for (_, _, phase), (_, side) in _path_lines(fig).items()
+            if phase == "transit" and side.get_ydata().max() > max(side.get_ydata()[[0, -1]]) + 0.05
+        ]
+        assert risen
+        assert all(side.axes.get_ylim()[1] >= side.get_ydata().max() for side in risen)
     finally:
         plt.close(fig)
 

@@ -76,11 +76,13 @@ def block(steps: int = 9, faces: list[str] | None = None, duration: float = 2.0,
     )
 
 
-def hook_policy(frame: str, force: float, duration: float, line: int = 20) -> Explore:
-    """`explore pull { contacts at FRAME  force normal F  duration D }`: the fingertip behind a handle."""
+def hook_policy(frames: str | list[str], force: float, duration: float, line: int = 20) -> Explore:
+    """`explore pull { contacts at FRAME[, FRAME]  force normal F  duration D }`: the fingertip behind a handle."""
+    names = [frames] if isinstance(frames, str) else frames
+    refs = [Ref(name=name, span=span(line + 1, 21, len(name))) for name in names]
     return Explore(
         name="pull",
-        contacts=ContactSpec(frames=[Ref(name=frame, span=span(line + 1, 21, len(frame)))], span=span(line + 1)),
+        contacts=ContactSpec(frames=refs, span=span(line + 1)),
         force=ForceSpec(mode="normal", magnitude=q(force, "N", line + 2), span=span(line + 2)),
         duration=q(duration, "s", line + 3),
         span=span(line),
@@ -90,34 +92,45 @@ def hook_policy(frame: str, force: float, duration: float, line: int = 20) -> Ex
 def part(size: tuple[float, float, float], at: tuple[float, float, float]) -> ShapePart:
     """A box of a union, in cm."""
     return ShapePart(
-        shape=BoxShape(size=v(*(x / 100 for x in size), unit="cm")),
-        pose=Pose(position=v(*(x / 100 for x in at), unit="cm")),
+        shape=BoxShape(size=v(*(round(x / 100, 12) for x in size), unit="cm")),  # as the parser reads "22.4 cm"
+        pose=Pose(position=v(*(round(x / 100, 12) for x in at), unit="cm")),
     )
 
 
-def drawer(steps: int = 3, limits: tuple[float, float] = (0.0, 0.30), duration: float = 4.0) -> Body:
-    """The Drawer: a box with a bar handle in front of its +x face, closed by pushes and opened by a pull."""
+def drawer(steps: int = 1, limits: tuple[float, float] = (0.0, 0.30), duration: float = 10.0) -> Body:
+    """The Drawer: a box with a bar handle in front of its +x face, closed by pushes and opened by pulls behind
+    the bar's middle and its overhang; its slide damped and rubbing."""
     return Body(
         name="Drawer",
         shape=UnionShape(
             parts=[
                 part((30, 40, 10), (0, 0, 0)),
-                part((4, 1, 1), (17, -6.5, 0)),
-                part((4, 1, 1), (17, 6.5, 0)),
-                part((1, 14, 1), (19.5, 0, 0)),
+                part((4, 1, 1), (17, -6.4, 0)),
+                part((4, 1, 1), (17, 6.4, 0)),
+                part((1, 22.4, 1), (19.5, 0, 0)),
             ]
         ),
         mass=q(2.0, "kg"),
         friction=0.5,
-        frames=[Frame(name="handle", pose=Pose(position=v(0.19, 0, 0, unit="cm")))],
-        joint=Joint(type="prismatic", axis=v(1, 0, 0), lower=q(limits[0], "cm"), upper=q(limits[1], "cm")),
-        explores=[push_policy(["+x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
+        frames=[
+            Frame(name="handle", pose=Pose(position=v(0.19, 0, 0, unit="cm"))),
+            Frame(name="bar_end", pose=Pose(position=v(0.19, 0.105, 0, unit="cm"))),
+        ],
+        joint=Joint(
+            type="prismatic",
+            axis=v(1, 0, 0),
+            lower=q(limits[0], "cm"),
+            upper=q(limits[1], "cm"),
+            damping=q(4.0, "N*s/m"),
+            friction=q(1.5, "N"),
+        ),
+        explores=[push_policy(["+x"], steps, 1.0, duration), hook_policy(["handle", "bar_end"], 1.0, duration)],
         name_span=span(7, 6, 6),
         span=span(7, 1, 30),
     )
 
 
-def door(steps: int = 3, duration: float = 7.0) -> Body:
+def door(steps: int = 1, duration: float = 12.0) -> Body:
     """The Door: a plate hinged at its -y edge, a bar handle on its +x face; pushes close it, a pull opens it."""
     return Body(
         name="Door",
@@ -131,13 +144,15 @@ def door(steps: int = 3, duration: float = 7.0) -> Body:
         ),
         mass=q(3.0, "kg"),
         friction=0.5,
-        frames=[Frame(name="handle", pose=Pose(position=v(0.05, 0.164, 0.15, unit="cm")))],
+        frames=[Frame(name="handle", pose=Pose(position=v(0.05, 0.135, 0.15, unit="cm")))],
         joint=Joint(
             type="revolute",
             axis=v(0, 0, -1),
             through=v(0, -0.20, 0, unit="cm"),
             lower=q(0.0, "deg"),
             upper=q(math.pi / 2, "deg"),
+            damping=q(0.3, "N*m*s/rad"),
+            friction=q(0.2, "N*m"),
         ),
         explores=[push_policy(["+x"], steps, 1.0, duration), hook_policy("handle", 1.0, duration)],
         name_span=span(7, 6, 4),

@@ -80,8 +80,9 @@ def test_coulomb_friction_holds_a_slide_against_a_weaker_push_and_slows_a_strong
 
 
 def test_a_damped_hinge_turns_less_under_the_same_push() -> None:
-    door = stdlib_body("Door")
-    assert door.joint is not None
+    stdlib = stdlib_body("Door")
+    assert stdlib.joint is not None
+    door = stdlib.model_copy(update={"joint": stdlib.joint.model_copy(update={"damping": None, "friction": None})})
     damped = door.model_copy(update={"joint": door.joint.model_copy(update={"damping": q(2.0, "N*m*s/rad")})})
     push, at = np.array([1.0, 0.0, 0.0]), np.array([-0.01, 0.15, 0.0])  # on the inside, 35 cm from the hinge
     free_angle, _ = pushed(door, push, at)
@@ -111,3 +112,29 @@ def test_exploration_pushes_a_damped_drawer_open_less_far() -> None:
         opened.append(float(x[-1] - x[0]))
     free, damped = opened
     assert free > 0.05 and 0.0 < damped < 0.5 * free, opened
+
+
+def test_the_fingertips_force_limit_covers_a_joints_friction_as_the_tables_for_a_lying_body() -> None:
+    """`force normal F` is the push beyond friction: a slide's friction force, a hinge's torque over the lever."""
+    from vkgl.sim.explore import push_force_limit
+
+    assert push_force_limit(drawer(), 1.0) == 1.0  # no friction: F
+    assert push_force_limit(drawer(friction=1.5), 1.0, np.array([0.19, 0.0, 0.0])) == pytest.approx(2.5)
+    door = stdlib_body("Door")  # 0.2 N*m at its hinge, through (0, -20, 0) cm about z
+    assert door.joint is not None and door.joint.friction is not None and door.joint.friction.value == 0.2
+    assert push_force_limit(door, 1.0, np.array([0.01, 0.0, 0.0])) == pytest.approx(1.0 + 0.2 / np.hypot(0.01, 0.2))
+    assert push_force_limit(door, 1.0, np.array([0.05, 0.135, 0.15])) == pytest.approx(
+        1.0 + 0.2 / np.hypot(0.05, 0.335)
+    )
+    assert push_force_limit(door, 1.0, np.array([0.0, -0.2, 0.3])) == pytest.approx(1.0 + 0.2 / 0.01)  # on the axis
+    block = stdlib_body("Block")
+    assert push_force_limit(block, 1.0) == pytest.approx(1.0 + 0.5 * 0.5 * 9.81)
+
+
+def test_exploration_pulls_a_rubbing_drawer_open_with_the_push_beyond_its_friction() -> None:
+    """A 3 N slide friction would hold a fingertip limited to the declared 1 N; beyond it, the drawer opens."""
+    body = drawer(friction=3.0)
+    pull = with_durations(body.model_copy(update={"explores": body.explores[1:]}), 1.0)
+    trials = explore(pull, jobs=1)
+    x = trials.T_ow[0, : trials.samples(0), 0, 3]
+    assert float(x[-1] - x[0]) > 0.02

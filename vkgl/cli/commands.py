@@ -268,7 +268,7 @@ def _execute(args: argparse.Namespace, program: Any, plan: Any) -> bool:
     print(report.text())
     if args.execution_json:
         write_text(args.execution_json, json.dumps(report.to_json(), indent=1) + "\n")
-        print(f"{args.execution_json}: execution as vkg-execution/3")
+        print(f"{args.execution_json}: execution as vkg-execution/4")
     if args.animate:
         from vkgl.execute.animate import animate
 

@@ -25,7 +25,7 @@ from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
 from vkgl.execute.gif import write_gif
-from vkgl.formats.execution_report import ExecutionReport
+from vkgl.formats.execution_report import ExecutionReport, joint_value_text
 from vkgl.lang.geometry import shape_mesh
 from vkgl.lang.ir import Body, UnionShape
 from vkgl.plan.picture_paths import PHASE_STYLES
@@ -135,7 +135,7 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
         for group, (xs, ys) in trace_lines(effector[:, :2], groups, first, i).items():
             traces[group].set_data(xs, ys)
         shoved = f" ({', '.join(d.body for d in report.disturbed)})" if report.disturbed else ""
-        status = f"  —  {report.status}{shoved}" if i == indices[-1] else ""
+        status = f"  —  {report.status}{shoved}{_openings(report)}" if i == indices[-1] else ""
         height = f"   hand {(effector[i, 2] - table_z) * 100:3.0f} cm up"
         title.set_text(f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{height}{status}")
 
@@ -186,6 +186,17 @@ def trace_lines(points: np.ndarray, groups: list[str], first: int, last: int) ->
         ys.append(points[j, 1])
         previous = groups[j]
     return out
+
+
+def _openings(report: ExecutionReport) -> str:
+    """The joint goals at the end, for the last frame's title: `, drawer open 19.9 cm (goal 20.0 cm)`."""
+    parts = [
+        f"{g.body} open {joint_value_text(g.opening.joint, g.opening.real)} "
+        f"(goal {joint_value_text(g.opening.joint, g.opening.target)})"
+        for g in report.goals
+        if g.opening is not None
+    ]
+    return f", {', '.join(parts)}" if parts else ""
 
 
 def check_animation_path(path: str | Path) -> None:

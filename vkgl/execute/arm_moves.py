@@ -83,10 +83,43 @@ class ArmMoves:
         """
         model = self.sim.arm_model
         shift = model.fk(segment.joints[-1])[:3, 3] - model.fk(segment.joints[0])[:3, 3]
+        self.straight("retreat", shift, paths.APPROACH_SPEED, label)
+
+    def straight(self, phase: str, shift: np.ndarray, speed: float, label: str, *, track: bool = True) -> bool:
+        """Move the hand by `shift` (m, world) in a straight line from where it really is, at `speed` (m/s).
+
+        Solved as the planner solves its straight moves (`vkgl.plan.approach.
+        follow_poses`: IK every 5 mm, each from the last, one configuration
+        throughout) and followed in joint space, so that a move the planner
+        checked is one the arm can make even where it stands at a joint limit
+        (tracking the line by IK every control period would have to switch
+        configuration there). When no such chain exists: tracked by IK if
+        `track`, else nothing is done and False is returned.
+        """
+        from vkgl.plan.approach import APPROACH_STEP, CartesianFailure, follow_poses
+
         start = self.sim.arm.effector_pose()
-        end = start.copy()
-        end[:3, 3] += shift
-        self.run([paths.line("retreat", start, end, paths.APPROACH_SPEED)], label)
+        length = float(np.linalg.norm(shift))
+        count = max(1, int(np.ceil(length / APPROACH_STEP)))
+        poses = []
+        for i in range(count + 1):
+            pose = start.copy()
+            pose[:3, 3] += shift * (i / count)
+            poses.append(pose)
+        chain = follow_poses(self.sim.arm_model, poses, self.sim.arm.q)
+        if isinstance(chain, CartesianFailure):
+            if not track:
+                return False
+            end = start.copy()
+            end[:3, 3] += shift
+            self.run([paths.line(phase, start, end, speed)], label)
+            return True
+        joints = chain.joints.copy()
+        joints[0] = self.sim.arm.q
+        self.sim.label = f"{label} {phase}"
+        times = np.linspace(0.0, max(length / speed, 1e-3), len(joints))
+        self.sim.arm.follow_joints(joints, times, lambda n, s: self.sim.advance(n))
+        return True
 
     def join(self, q_target: np.ndarray, label: str) -> None:
         """Bring the arm to `q_target` when it is not there: a step from close by, else a planned transit.

@@ -12,8 +12,9 @@ never compiles and never imports the planner: re-solving goes through the
 Open loop (`replan=False`) the plan's steps are carried out one after another
 (`vkgl.execute.replay`) and the bodies end wherever physics puts them. Closed loop
 (`replan=True`), before the first step and after every step the real poses are
-compared with the plan; when a body is off by more than half the goal's
-tolerance the robot lets go, puts down what it holds, and the task is solved
+compared with the plan (a body on a physical joint by its joint's
+coordinate, `vkgl.execute.goal_checks`); when a body is off by more than half
+the goal's tolerance the robot lets go, puts down what it holds, and the task is solved
 again from the observed scene (the same task, its scene's start poses replaced
 by the observed ones); after `max_replans` re-solves it gives up and says why.
 A re-solve first asks for half of every goal tolerance (`RESOLVE_MARGIN`), and
@@ -23,7 +24,8 @@ it excludes every step the arm could not carry out, where it failed, and
 every plan already tried; the report's `resolves` say what each excluded and
 found. If a re-solve finds no plan and nothing was put down, the current plan
 goes on.
-The report's status is `reached` when every goal of the task holds at the end.
+The report's status is `reached` when every goal of the task holds at the end
+(a joint goal on the simulated joint's coordinate).
 """
 
 from __future__ import annotations
@@ -35,11 +37,20 @@ import numpy as np
 
 from vkgl.errors import InputError, VkgError
 from vkgl.execute.effector_path import rotation_angle
+from vkgl.execute.goal_checks import check_goal, miss_reason, replan_limits
 from vkgl.execute.progress import Progress, ProgressFeed
 from vkgl.execute.replay import Replay
 from vkgl.execute.resolving import RESOLVE_MARGIN, Attempts, FailedStep, Resolver, resolve_with_margin
 from vkgl.execute.world_arm import ArmStuck
-from vkgl.formats.execution_report import Deviation, Disturbance, ExecutionReport, GoalResult, Resolve, StepReport
+from vkgl.formats.execution_report import (
+    Deviation,
+    Disturbance,
+    ExecutionReport,
+    GoalResult,
+    Opening,
+    Resolve,
+    StepReport,
+)
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
 from vkgl.lang.ir import Goal, Task
 from vkgl.lang.program import Program
@@ -129,6 +140,7 @@ def execute(
         closed_loop=replan,
         disturbed=disturbed,
         resolves=loop.resolves,
+        final_openings=replay.openings(),
     )
 
 
@@ -251,19 +263,14 @@ class _Loop:
 
     # ------------------------------------------------------------ comparisons
 
-    def _limits(self, body: str) -> tuple[float, float]:
-        """Half the goal tolerance of `body` (position m, angle rad); defaults for bodies without a goal."""
-        goal = next((g for g in self.task.goals if g.body.name == body), None)
-        tol_p, tol_a = goal.tolerance() if goal is not None else Goal.default_tolerance()
-        return tol_p / 2, tol_a / 2
-
     def _deviations(
         self, step: PlanStepRecord, planned_poses: Mapping[str, np.ndarray] | None = None
     ) -> list[Deviation]:
         """Real vs planned poses (default: the step's end poses) of the bodies that matter: the goal
-        bodies and the step's body."""
+        bodies and the step's body; a body on a physical joint also by its joint's coordinate."""
         planned_poses = step.poses_end if planned_poses is None else planned_poses
         real = self.replay.poses()
+        openings = self.replay.openings()
         held = self.replay.holding()
         names = [g.body.name for g in self.task.goals]
         if step.body not in names and step.body != held:
@@ -273,7 +280,11 @@ class _Loop:
             if name not in planned_poses or name not in real:
                 continue
             planned = planned_poses[name]
-            lim_p, lim_a = self._limits(name)
+            joint = self.replay.joint_type(name)
+            lim_p, lim_a, lim_j = replan_limits(self.task, name, joint)
+            opening = None
+            if joint is not None:
+                opening = Opening(joint, self.replay.opening_at(name, planned), openings[name], lim_j)
             out.append(
                 Deviation(
                     name,
@@ -283,6 +294,7 @@ class _Loop:
                     rotation_angle(planned, real[name]),
                     lim_p,
                     lim_a,
+                    opening,
                 )
             )
         return out
@@ -320,21 +332,17 @@ class _Loop:
         return out
 
     def goal_results(self) -> list[GoalResult]:
-        """Every goal of the task against the bodies' real poses now."""
+        """Every goal of the task against the bodies' real poses now (a joint goal against its joint's coordinate)."""
         real = self.replay.poses()
-        return [_check_goal(goal, real[goal.body.name]) for goal in self.task.goals if goal.body.name in real]
+        openings = self.replay.openings()
+        return [
+            check_goal(goal, real[name], self.replay.joint_type(name), openings.get(name))
+            for goal in self.task.goals
+            if (name := goal.body.name) in real
+        ]
 
     def _miss_reason(self) -> str:
-        parts = []
-        for g in self.goal_results():
-            errors = []
-            if g.position_error is not None and g.position_error > g.tol_position:
-                errors.append(f"{g.position_error * 100:.2f} cm (tolerance {g.tol_position * 100:.2f} cm)")
-            if g.yaw_error is not None and abs(g.yaw_error) > g.tol_yaw:
-                errors.append(f"{np.degrees(abs(g.yaw_error)):.2f} deg (tolerance {np.degrees(g.tol_yaw):.2f} deg)")
-            if errors:
-                parts.append(f"{g.body} is off its goal by {' and '.join(errors)}")
-        return "; ".join(parts)
+        return miss_reason(self.goal_results())
 
     # ------------------------------------------------------------ replanning
 
@@ -408,26 +416,14 @@ class _Loop:
 
 
 def _stray(when: str, deviation: Deviation) -> str:
+    if deviation.opening is not None:
+        o = deviation.opening
+        off = f"{abs(o.error) * 100:.2f} cm" if o.joint == "prismatic" else f"{np.degrees(abs(o.error)):.2f} deg"
+        return f"{when} {deviation.body} is off the plan by {off} on its {o.joint} joint"
     return (
         f"{when} {deviation.body} is off the plan by {deviation.position * 100:.2f} cm, "
         f"{np.degrees(deviation.angle):.2f} deg"
     )
-
-
-def _check_goal(goal: Goal, pose: np.ndarray) -> GoalResult:
-    tol_p, tol_y = goal.tolerance()
-    position_error = None
-    parts = [goal.body.name]
-    if goal.position is not None:
-        target = goal.position.array()
-        position_error = float(np.linalg.norm(pose[: len(target), 3] - target))
-        parts.append(f"at ({', '.join(f'{v:.3f}' for v in target)}) m")
-    yaw_error = None
-    if goal.yaw is not None:
-        yaw_error = angle_difference(yaw_of(pose), goal.yaw.value)
-        parts.append(f"yaw {np.degrees(goal.yaw.value):.1f} deg")
-    parts.append(f"within {tol_p * 100:.1f} cm, {np.degrees(tol_y):.1f} deg")
-    return GoalResult(goal.body.name, " ".join(parts), position_error, yaw_error, tol_p, tol_y)
 
 
 __all__ = ["RESOLVE_MARGIN", "Attempts", "Progress", "Resolver", "execute", "resolve_with_margin"]

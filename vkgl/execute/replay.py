@@ -71,6 +71,19 @@ class Replay:
         """The name of the tool in the hand, if any."""
         return self.sim.holding()
 
+    def openings(self) -> dict[str, float]:
+        """The coordinate of every body's physical joint now (m or rad, 0 where the scene places the body)."""
+        return self.sim.openings()
+
+    def opening_at(self, name: str, pose: np.ndarray) -> float:
+        """The coordinate of body `name`'s physical joint at world `pose` (a planned pose)."""
+        return self.sim.opening_at(name, pose)
+
+    def joint_type(self, name: str) -> str | None:
+        """ "prismatic" or "revolute" for a body on a physical joint, else None."""
+        joint = self.sim.types[name].joint
+        return None if joint is None else joint.type
+
     # ------------------------------------------------------------ acting
 
     def run_step(self, index: int, step: PlanStepRecord) -> None:

@@ -86,14 +86,14 @@ def _with_tighter_goals(program: Program, task_name: str, fraction: float) -> Pr
     goals = []
     for goal in task.goals:
         tol_p, tol_y = goal.tolerance()
-        goals.append(
-            goal.model_copy(
-                update={
-                    "tol_position": Quantity(value=tol_p * fraction, unit="m"),
-                    "tol_yaw": Quantity(value=tol_y * fraction, unit="rad"),
-                }
-            )
-        )
+        tighter = {
+            "tol_position": Quantity(value=tol_p * fraction, unit="m"),
+            "tol_yaw": Quantity(value=tol_y * fraction, unit="rad"),
+        }
+        if goal.opening is not None:  # a joint goal: its one tolerance, in SI of its kind
+            unit = "rad" if goal.opening.unit in ("deg", "rad") else "m"
+            tighter["tol_opening"] = Quantity(value=goal.opening_tolerance() * fraction, unit=unit)
+        goals.append(goal.model_copy(update=tighter))
     return dataclasses.replace(program, tasks={**program.tasks, task_name: task.model_copy(update={"goals": goals})})
 
 

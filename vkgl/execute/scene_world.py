@@ -18,7 +18,7 @@ from vkgl.errors import InputError, SimulationError
 from vkgl.execute.world_arm import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
 from vkgl.formats.execution_report import Frames
 from vkgl.formats.plan import PlanRobot
-from vkgl.lang.geometry import body_mesh, scene_body_pose, table_top
+from vkgl.lang.geometry import body_mesh, joint_axis, joint_coordinate, scene_body_anchor, table_top
 from vkgl.lang.ir import Body, Scene
 from vkgl.lang.program import Program
 
@@ -42,9 +42,15 @@ class SceneWorld:
         use_coulomb_friction(self.world)
         self.table = sim_world.add_table(self.world, scene.table)[1] if scene.table is not None else None
         self.nodes: dict[str, tuple[Any, Any]] = {}
+        self.anchors: dict[str, np.ndarray] = {}  # bodies on physical joints: where their coordinate is 0
         for sb in scene.bodies:
-            pose = scene_body_pose(scene, sb, self.types[sb.name])
-            self.nodes[sb.name] = sim_world.add_body(self.world, sb.name, self.types[sb.name], pose)
+            # a body on a physical joint is anchored where it is placed and starts at its `open Q`
+            anchor = scene_body_anchor(scene, sb, self.types[sb.name])
+            joint_start = None
+            if self.types[sb.name].joint is not None:
+                self.anchors[sb.name] = anchor
+                joint_start = sb.start_opening()
+            self.nodes[sb.name] = sim_world.add_body(self.world, sb.name, self.types[sb.name], anchor, joint_start)
         self.robot_name, robot_ir, base = self._robot(robot)
         self.base_xy = base[:2, 3].copy()
         self.effector_name = robot.effector
@@ -95,6 +101,16 @@ class SceneWorld:
     def holding(self) -> str | None:
         """The name of the tool in the hand, if any."""
         return None if self.arm.held is None else self.arm.held.name
+
+    def openings(self) -> dict[str, float]:
+        """The coordinate of every body's physical joint now, as DART's joint has it (m or rad, 0 at the anchor)."""
+        return {name: float(self.nodes[name][0].getPosition(0)) for name in self.anchors}
+
+    def opening_at(self, name: str, pose: np.ndarray) -> float:
+        """The coordinate of body `name`'s physical joint when the body is at world `pose` (a planned pose)."""
+        joint = self.types[name].joint
+        assert joint is not None, f"{name} has no physical joint"
+        return joint_coordinate(joint.type, joint_axis(joint), self.anchors[name], pose)
 
     # ------------------------------------------------------------ running
 

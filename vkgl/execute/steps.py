@@ -5,7 +5,10 @@ lift, retreat, transit, approach; `ArmMoves.follow_path`), then its action,
 from the step's `op` and the affordance's motion:
 - push (add, prismatic/revolute): the path ends in contact; move the effector
   with the body's planned motion (planned poses_start -> poses_end), settle;
-- let go (remove of a push): the path is the retreat out of the contact;
+- let go (remove of a push): the path is the retreat out of the contact
+  (outside a plan, at its end or before a re-solve, `let_go` leaves the
+  contact the way the plan's approach came into it: straight back, or
+  straight up from a hook behind a handle's bar);
 - grasp (add, free motion, e.g. Stick.wield): the path comes down onto the
   tool's grasp frame; hold the tool;
 - release (remove of a grasp): lower the tool onto the table and let go (the
@@ -41,6 +44,7 @@ class StepKinds:
         self.moves = moves
         self.grasp_planned: np.ndarray | None = None  # effector frame in the held tool's frame, as planned
         self.push_direction: np.ndarray | None = None  # x axis of the pushing frame while in contact
+        self.from_above = False  # the contact was approached from above (a hook behind a bar): leave it upward
 
     def _frame_of(self, body_type: Body, frame: str, where: str) -> np.ndarray:
         found = body_type.frame(frame)
@@ -86,6 +90,7 @@ class StepKinds:
         # the fingertip pushes; an open gripper closing around a tool, or a hand holding one, does not
         self.sim.arm.fingertip_collides(self.sim.arm.held is None and not (step.motion == "free" and step.op == "add"))
         self.moves.follow_path(step.path, label)
+        self.from_above = _approached_from_above(self.sim, step)
         if step.motion == "free":
             (self._grasp if step.op == "add" else self._release)(step, label)
         elif step.op == "add":
@@ -127,15 +132,23 @@ class StepKinds:
         self.moves.run([paths.hold("settle", end, SETTLE)], label)
 
     def let_go(self, label: str = "end") -> None:
-        """Break contact: back off against the push direction, then lift. Nothing if not in contact."""
+        """Break contact: back off against the push direction, then lift; straight up when the plan came into the
+        contact from above (a hook behind a handle's bar: backing off would put the hand into the body it pulled).
+        Nothing if not in contact."""
         if self.push_direction is None:
+            return
+        up = np.array([0.0, 0.0, 1.0])
+        if self.from_above:
+            self.moves.straight("retreat", (STANDOFF + LIFT) * up, paths.APPROACH_SPEED, label)
+            self.push_direction = None
             return
         start = self.sim.arm.effector_pose()
         back = paths.backed_off(start, STANDOFF, self.push_direction)
-        up = paths.at_height(back, back[2, 3] + LIFT)
-        self.moves.run(
-            [paths.line("retreat", start, back, paths.APPROACH_SPEED), paths.line("retreat", back, up)], label
-        )
+        # as the planner checked the last contact could be left (`vkgl.plan.arm_paths`): straight back out of
+        # it, or straight up where no arm configuration goes back, then up
+        if not self.moves.straight("retreat", back[:3, 3] - start[:3, 3], paths.APPROACH_SPEED, label, track=False):
+            self.moves.straight("retreat", STANDOFF * up, paths.APPROACH_SPEED, label)
+        self.moves.straight("retreat", LIFT * up, paths.TRANSIT_SPEED, label)
         self.push_direction = None
 
     def _grasp(self, step: PlanStepRecord, label: str) -> None:
@@ -176,6 +189,16 @@ class StepKinds:
         """Let the world run with the arm still."""
         pose = self.sim.arm.effector_pose()
         self.moves.run([paths.hold("settle", pose, seconds)], label)
+
+
+def _approached_from_above(sim: SceneWorld, step: PlanStepRecord) -> bool:
+    """Whether the step's planned approach came down into its contact (its last move more vertical than
+    horizontal: a held tool's approach comes down to its stand-off first, then goes along its push)."""
+    approach = next((s for s in reversed(step.path) if s.phase == "approach"), None)
+    if approach is None or len(approach.joints) < 2:
+        return False
+    way = sim.arm_model.fk(approach.joints[-2])[:3, 3] - sim.arm_model.fk(approach.joints[-1])[:3, 3]
+    return bool(way[2] > float(np.linalg.norm(way[:2])))
 
 
 __all__ = ["StepKinds"]

@@ -1,8 +1,9 @@
 """What an execution in DART did: per step, real vs planned poses; at the end, the error to the goal.
 
 `ExecutionReport.text()` is what `vkgc solve --execute` prints;
-`ExecutionReport.to_json()` is the `vkg-execution/3` record of the same, and
-`write(path, report)` puts it in a file.
+`ExecutionReport.to_json()` is the `vkg-execution/4` record of the same, and
+`write(path, report)` puts it in a file. A body on a physical joint is judged
+by its joint's coordinate (`Opening`): how far its slide or hinge is open.
 """
 
 from __future__ import annotations
@@ -17,13 +18,51 @@ import numpy as np
 from vkgl.formats.atomic import write_text
 from vkgl.se3 import yaw_of
 
-FORMAT = "vkg-execution/3"
+FORMAT = "vkg-execution/4"
 """Version 2 added the `disturbed` list and the status "disturbed" (a bystander moved); version 3 adds the
-`resolves` list (each re-solve: why, what it excluded, what it found; docs/execution.md)."""
+`resolves` list (each re-solve: why, what it excluded, what it found); version 4 adds the joint coordinates of
+bodies on physical joints: `opening` of goals and of step deviations, and `final_openings` (docs/execution.md)."""
 
 
 def _planar(pose: np.ndarray) -> str:
     return f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}) m yaw {np.degrees(yaw_of(pose)):6.1f} deg"
+
+
+def joint_value_text(joint: str, value: float) -> str:
+    """A joint coordinate in words: `18.7 cm` for a prismatic joint, `45.0 deg` for a revolute one."""
+    if joint == "prismatic":
+        return f"{value * 100:.1f} cm"
+    return f"{np.degrees(value):.1f} deg"
+
+
+def _joint_error_text(joint: str, value: float) -> str:
+    return f"{abs(value) * 100:.2f} cm" if joint == "prismatic" else f"{np.degrees(abs(value)):.2f} deg"
+
+
+@dataclass(frozen=True)
+class Opening:
+    """The coordinate of a body's physical joint (m for a prismatic joint, rad for a revolute one), 0 where the
+    scene places the body: `real` in DART against `target` (the plan's, or a joint goal's), within `limit` (the
+    goal's tolerance, or the closed loop's replanning limit)."""
+
+    joint: str  # "prismatic" or "revolute"
+    target: float
+    real: float
+    limit: float
+
+    @property
+    def error(self) -> float:
+        """real - target (m or rad): positive when the joint is open further than wanted."""
+        return self.real - self.target
+
+    @property
+    def exceeded(self) -> bool:
+        """True when the real coordinate is farther than `limit` from the target."""
+        return abs(self.error) > self.limit
+
+    def to_json(self, target: str) -> dict[str, Any]:
+        """As plain data; `target` names the target's key (`goal` or `planned`)."""
+        return {"joint": self.joint, target: self.target, "real": self.real, "error": self.error}
 
 
 @dataclass
@@ -50,11 +89,27 @@ class Deviation:
     angle: float
     limit_position: float
     limit_angle: float
+    opening: Opening | None = None  # a body on a physical joint: its coordinate, planned and real
 
     @property
     def exceeded(self) -> bool:
-        """True when the deviation is beyond the replanning limits."""
+        """True when the deviation is beyond the replanning limits (for a body on a joint: its coordinate's)."""
+        if self.opening is not None:
+            return self.opening.exceeded
         return self.position > self.limit_position or self.angle > self.limit_angle
+
+    def text(self) -> str:
+        """One line: where the body was planned and where it is, and how far apart (the coordinate for a joint)."""
+        if self.opening is not None:
+            o = self.opening
+            return (
+                f"{self.body:<8} planned open {joint_value_text(o.joint, o.target)}   real open "
+                f"{joint_value_text(o.joint, o.real)}   off {_joint_error_text(o.joint, o.error)}"
+            )
+        return (
+            f"{self.body:<8} planned {_planar(self.planned)}   real {_planar(self.real)}"
+            f"   off {self.position * 100:.2f} cm, {np.degrees(self.angle):.2f} deg"
+        )
 
 
 @dataclass
@@ -79,13 +134,45 @@ class GoalResult:
     yaw_error: float | None  # rad, None when the goal does not constrain heading
     tol_position: float
     tol_yaw: float
+    opening: Opening | None = None  # a joint goal: the joint's real coordinate against the goal's, within its tolerance
 
     @property
     def ok(self) -> bool:
         """True when the body is within the goal's tolerance."""
         pos_ok = self.position_error is None or self.position_error <= self.tol_position
         yaw_ok = self.yaw_error is None or abs(self.yaw_error) <= self.tol_yaw
-        return pos_ok and yaw_ok
+        return pos_ok and yaw_ok and (self.opening is None or not self.opening.exceeded)
+
+    def errors(self) -> str:
+        """How far off the goal the body is: `off 0.04 cm, 0.03 deg`, or for a joint goal `drawer is open 18.7 cm,
+        off 1.30 cm`."""
+        parts = []
+        if self.position_error is not None:
+            parts.append(f"{self.position_error * 100:.2f} cm")
+        if self.yaw_error is not None:
+            parts.append(f"{np.degrees(abs(self.yaw_error)):.2f} deg")
+        off = f"off {', '.join(parts)}" if parts else ""
+        if self.opening is None:
+            return off or "off"
+        o = self.opening
+        opened = f"{self.body} is open {joint_value_text(o.joint, o.real)}, off {_joint_error_text(o.joint, o.error)}"
+        return f"{opened}; {off}" if off else opened
+
+    def miss(self) -> str:
+        """Why the goal is not met, with the numbers (empty when it is)."""
+        errors = []
+        if self.position_error is not None and self.position_error > self.tol_position:
+            errors.append(f"{self.position_error * 100:.2f} cm (tolerance {self.tol_position * 100:.2f} cm)")
+        if self.yaw_error is not None and abs(self.yaw_error) > self.tol_yaw:
+            errors.append(f"{np.degrees(abs(self.yaw_error)):.2f} deg (tolerance {np.degrees(self.tol_yaw):.2f} deg)")
+        out = [f"{self.body} is off its goal by {' and '.join(errors)}"] if errors else []
+        o = self.opening
+        if o is not None and o.exceeded:
+            out.append(
+                f"{self.body} is open {joint_value_text(o.joint, o.real)}, goal {joint_value_text(o.joint, o.target)} "
+                f"within {_joint_error_text(o.joint, o.limit)}"
+            )
+        return "; ".join(out)
 
 
 @dataclass(frozen=True)
@@ -156,7 +243,7 @@ class Resolve:
         return f"{head}; re-solving found no plan ({found}){tail}"
 
     def to_json(self) -> dict[str, Any]:
-        """The re-solve as plain data (an entry of `resolves` in `vkg-execution/3`)."""
+        """The re-solve as plain data (an entry of `resolves` in `vkg-execution/3` and later)."""
         return {
             "number": self.number,
             "after": self.after,
@@ -204,6 +291,7 @@ class ExecutionReport:
     closed_loop: bool = False
     disturbed: list[Disturbance] = field(default_factory=list)
     resolves: list[Resolve] = field(default_factory=list)  # every re-solve, in order (`replan_log` in words)
+    final_openings: dict[str, float] = field(default_factory=dict)  # bodies on physical joints: m or rad at the end
 
     @property
     def reached(self) -> bool:
@@ -221,19 +309,11 @@ class ExecutionReport:
             lines.append(f"  step {step.index}{origin}: {step.title}  (t = {step.end_time:.2f} s)")
             for dev in step.deviations:
                 flag = "  > half tolerance" if dev.exceeded else ""
-                lines.append(
-                    f"      {dev.body:<8} planned {_planar(dev.planned)}   real {_planar(dev.real)}"
-                    f"   off {dev.position * 100:.2f} cm, {np.degrees(dev.angle):.2f} deg{flag}"
-                )
+                lines.append(f"      {dev.text()}{flag}")
             if step.replan:
                 lines.append(f"    replan: {step.replan}")
         for goal in self.goals:
-            errors = []
-            if goal.position_error is not None:
-                errors.append(f"{goal.position_error * 100:.2f} cm")
-            if goal.yaw_error is not None:
-                errors.append(f"{np.degrees(abs(goal.yaw_error)):.2f} deg")
-            lines.append(f"  goal {goal.text}: off {', '.join(errors)}  {'ok' if goal.ok else 'NOT MET'}")
+            lines.append(f"  goal {goal.text}: {goal.errors()}  {'ok' if goal.ok else 'NOT MET'}")
         lines += [f"  DISTURBED: {d.text()}" for d in self.disturbed]
         summary = (
             f"{self.status}: {self.sim_time:.1f} s simulated in {self.wall_time:.1f} s wall"
@@ -243,7 +323,7 @@ class ExecutionReport:
         return "\n".join(lines)
 
     def to_json(self) -> dict[str, Any]:
-        """The report as plain data (`vkg-execution/3`)."""
+        """The report as plain data (`vkg-execution/4`)."""
         return {
             "format": FORMAT,
             "task": self.task,
@@ -268,6 +348,7 @@ class ExecutionReport:
                             "real": d.real.tolist(),
                             "position_error_m": d.position,
                             "angle_error_rad": d.angle,
+                            "opening": d.opening.to_json("planned") if d.opening is not None else None,
                         }
                         for d in s.deviations
                     },
@@ -280,6 +361,9 @@ class ExecutionReport:
                     "body": g.body,
                     "position_error_m": g.position_error,
                     "yaw_error_rad": g.yaw_error,
+                    "opening": (
+                        {**g.opening.to_json("goal"), "tolerance": g.opening.limit} if g.opening is not None else None
+                    ),
                     "ok": g.ok,
                 }
                 for g in self.goals
@@ -294,9 +378,10 @@ class ExecutionReport:
                 for d in self.disturbed
             ],
             "final": {name: pose.tolist() for name, pose in self.final.items()},
+            "final_openings": dict(self.final_openings),
         }
 
 
 def write(path: str | Path, report: ExecutionReport) -> None:
-    """Write the report as `vkg-execution/3` JSON to `path`, atomically (temporary file, then renamed)."""
+    """Write the report as `vkg-execution/4` JSON to `path`, atomically (temporary file, then renamed)."""
     write_text(path, json.dumps(report.to_json(), indent=1) + "\n")

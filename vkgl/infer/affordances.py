@@ -11,7 +11,9 @@ Trials are grouped by where and how the robot acted and by what the body did:
 - a PULL is a push whose contact lies beyond the body's origin in the
   direction of the force (by more than 1 mm): the fingertip pushed a surface
   that faces the body, such as the inner face of a handle's bar it hooked
-  behind, and the body followed it.
+  behind, and the body followed it. Pulls at different places are not
+  merged: each is a handle frame the body declares (`contacts at`), and a
+  tool may fit behind one and not another.
 - a WIELD exploration (one grasp, many force directions: the contact point is
   shared by trials whose forces differ) is one group whose constraint must
   explain every trial at once: its models are fitted to all its trials
@@ -208,7 +210,10 @@ def _merge_equivalent(keyed: dict[tuple, list[TrialInference]]) -> list[list[Tri
 
     Pushing a drawer at either end slides it along the same rail, pushing a door
     anywhere turns it about the same hinge: one affordance, not three. Turns
-    about different centres (the Block's two ends) stay apart.
+    about different centres (the Block's two ends) stay apart, and so do pulls
+    at different places: they were made at frames the body declares to be
+    pulled at (`contacts at`), and what fits behind one handle (a hook's
+    cross-piece at a bar's overhang) may not fit behind another.
     """
     order = sorted(keyed, key=lambda k: (k[0], str(k[2]), k[3], k[4], k[5], _PLACES.index(k[1])))
     merged: list[tuple[tuple, TrialInference, list[TrialInference]]] = []
@@ -217,7 +222,8 @@ def _merge_equivalent(keyed: dict[tuple, list[TrialInference]]) -> list[list[Tri
         head = _representative(members)
         for other_key, other_head, other_members in merged:
             same_kind = (other_key[0], *other_key[2:]) == (key[0], *key[2:])
-            if same_kind and _same_constraint(head.motion, other_head.motion):
+            apart = key[5] == "pull" and other_key[1] != key[1]
+            if same_kind and not apart and _same_constraint(head.motion, other_head.motion):
                 other_members.extend(members)
                 break
         else:

@@ -427,22 +427,28 @@ class Builder(TaskBuilder):
         )
 
     def scene_on_table(self, meta: Any, children: list[Any]) -> ir.SceneBody:
-        name, kind, raw = children
+        name, kind, raw = children[0], children[1], children[-1]
         pose = self.to_pose(raw, sizes=(2,), rpy_allowed=False)
         return new_node(
             ir.SceneBody,
             name=str(name),
             type=new_node(ir.Ref, name=str(kind), span=self.tspan(kind)),
             placement=new_node(ir.Placement, on_table=True, pose=pose, span=raw.span),
+            opening=children[2] if len(children) > 3 else None,
             span=self.span(meta),
         )
 
     def scene_at(self, meta: Any, children: list[Any]) -> ir.SceneBody:
-        name, kind, raw = children
+        name, kind, raw = children[0], children[1], children[-1]
         return new_node(
             ir.SceneBody,
             name=str(name),
             type=new_node(ir.Ref, name=str(kind), span=self.tspan(kind)),
             placement=new_node(ir.Placement, on_table=False, pose=self.to_pose(raw), span=raw.span),
+            opening=children[2] if len(children) > 3 else None,
             span=self.span(meta),
         )
+
+    def scene_open(self, meta: Any, children: list[Any]) -> ir.Quantity:
+        """`open Q` of a scene body: where its joint starts, a length or an angle (its joint decides which)."""
+        return self._opening(children[0])

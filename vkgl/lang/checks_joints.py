@@ -1,10 +1,14 @@
-"""Checks of physical joints' dynamics (`damping`, `friction`) and of joint goals (`goal B open Q`).
+"""Checks of physical joints' dynamics (`damping`, `friction`), of joint goals (`goal B open Q`) and of
+joints' starts (`B : T at POSE open Q` in a scene).
 
 A joint goal names a scene body whose type must have a physical joint (E441);
 its opening is a length for a prismatic joint and an angle for a revolute one
 (E201); and it should lie within the joint's limits, give or take its
 tolerance (W604: a warning, because the task is well formed and the planner
-answers it with "no plan", with the same numbers).
+answers it with "no plan", with the same numbers). A scene body that starts
+`open Q` needs a joint too (E441), an opening of the joint's kind (E201), and
+one within the joint's limits (E442: an error, since no simulated joint can
+start beyond its stops).
 """
 
 from __future__ import annotations
@@ -51,8 +55,27 @@ def check_joint_dynamics(body: ir.Body, ctx: CheckContext) -> None:
             )
 
 
+def opening_problem(opening: ir.Quantity, joint: ir.Joint) -> str | None:
+    """What is wrong with `opening` as a coordinate of `joint`: "unit" (none, or of the other kind), "limits"
+    (outside them, which must hold and be in order), or None when it is a coordinate the joint can take."""
+    if not opening.unit or not math.isfinite(opening.value):
+        return "unit"
+    if dimension_of(opening.unit) != _OPENING_DIMENSION[joint.type]:
+        return "unit"
+    lower, upper = joint.lower.value, joint.upper.value
+    if not (math.isfinite(lower) and math.isfinite(upper) and lower <= upper):
+        return "limits"
+    return None if lower - 1e-12 <= opening.value <= upper + 1e-12 else "limits"
+
+
 def check_joint_goals(program: Program, ctx: CheckContext) -> None:
-    """Every joint goal of every task: a body with a joint (E441), the right kind of value (E201), the limits (W604)."""
+    """Every joint goal of every task: a body with a joint (E441), the right kind of value (E201), the limits (W604);
+    every scene body that starts `open Q`: a joint (E441), the right kind (E201), within its limits (E442)."""
+    for each in program.scenes.values():
+        for placed in each.bodies:
+            body = program.bodies.get(placed.type.name)
+            if placed.opening is not None and body is not None:
+                _check_start_opening(placed, placed.opening, body, ctx)
     for task in program.tasks.values():
         scene = program.scenes.get(task.scene.name)
         if scene is None:
@@ -90,6 +113,51 @@ def _check_joint_goal(goal: ir.Goal, opening: ir.Quantity, body: ir.Body, ctx: C
         )
         return
     _check_within_limits(goal, opening, joint, ctx)
+
+
+def _check_start_opening(placed: ir.SceneBody, opening: ir.Quantity, body: ir.Body, ctx: CheckContext) -> None:
+    """`B : T at POSE open Q`: T has a joint (E441), Q is of its kind (E201) and within its limits (E442)."""
+    name, joint = placed.name, body.joint
+    if joint is None:
+        ctx.error(
+            codes.NO_JOINT_TO_OPEN,
+            f"`{name}` has no physical joint to start open: its type `{body.name}` declares no `joint`",
+            opening.span,
+            f"leave out `open {opening.value if not opening.unit else shown(opening).strip('`')}`: a body "
+            "without a joint starts where it is placed",
+        )
+        return
+    if not opening.unit or math.isnan(opening.value):
+        return  # its unit was already reported
+    wanted = _OPENING_DIMENSION[joint.type]
+    if dimension_of(opening.unit) != wanted:
+        article = "a length" if wanted == "length" else "an angle"
+        got = "an angle" if wanted == "length" else "a length"
+        ctx.error(
+            codes.WRONG_DIMENSION,
+            f"expected {article} for the {joint.type} joint of `{name}`, got {got} {shown(opening)}",
+            opening.span,
+            f"a {_JOINT_WORD[joint.type]} opens by {article}: use {unit_list(wanted)}",
+        )
+        return
+    if opening_problem(opening, joint) != "limits":
+        return
+    lower, upper = joint.lower.value, joint.upper.value
+    if not (math.isfinite(lower) and math.isfinite(upper) and lower <= upper):
+        return  # the limits themselves were reported
+
+    def said(value: float) -> str:  # in the opening's unit
+        return shown(ir.Quantity(value=value, unit=opening.unit)).strip("`")
+
+    stop = upper if opening.value > upper else lower
+    ctx.error(
+        codes.START_PAST_JOINT_LIMIT,
+        f"`{name}` cannot start open {shown(opening)}: its {_JOINT_WORD[joint.type]} stops at {said(stop)} "
+        f"(its limits are {said(lower).split()[0]} to {said(upper)})",
+        opening.span,
+        "the joint starts within its limits: give an opening between them, or widen them if the real joint goes "
+        "further",
+    )
 
 
 def _check_within_limits(goal: ir.Goal, opening: ir.Quantity, joint: ir.Joint, ctx: CheckContext) -> None:

@@ -30,6 +30,8 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.lang import codes, ir
 from vkgl.lang.check_context import CheckContext
+from vkgl.lang.checks_joints import opening_problem
+from vkgl.lang.geometry import joint_pose
 from vkgl.lang.program import Program
 from vkgl.lang.solids import (
     Piece,
@@ -121,6 +123,7 @@ def _check_scene(
         pose = _start_pose(scene_body, local, table)
         if local is None or pose is None:
             continue
+        pose = _opened(scene_body, body, pose)
         if table is not None and _far(pose, table):
             _report_far(scene_body, pose, table, ctx)
             continue
@@ -161,6 +164,18 @@ def _bases(scene: ir.Scene, program: Program) -> list[Base]:
         if robot is not None and pose is not None and np.all(np.abs(pose[:3, 3]) < FAR):
             bases.append(Base(placed.name, robot_base(robot, pose)))
     return bases
+
+
+def _opened(scene_body: ir.SceneBody, body: ir.Body, placed: np.ndarray) -> np.ndarray:
+    """Where a body placed at `placed` starts: there, or, when it starts `open Q` on its joint, with the joint
+    at Q (an opening of the wrong kind or past the joint's limits is reported by `checks_joints`: placed as 0)."""
+    joint, opening = body.joint, scene_body.opening
+    if joint is None or opening is None or opening_problem(opening, joint) is not None:
+        return placed
+    axis = np.asarray(joint.axis.values, dtype=float)
+    if len(axis) != 3 or not np.all(np.isfinite(axis)) or not np.linalg.norm(axis) > 0:
+        return placed
+    return joint_pose(joint, placed, opening.value)
 
 
 def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Table | None) -> np.ndarray | None:

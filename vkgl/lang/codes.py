@@ -330,6 +330,7 @@ from vkgl.lang.codes_physics import (  # noqa: E402
     OFF_TABLE,
     RANGE_WITHOUT_STATE,
     REVERSED_RANGE,
+    START_PAST_JOINT_LIMIT,
 )
 
 # modules and files (E5xx), warnings (W6xx): registered after the codes above, in this order
@@ -392,6 +393,7 @@ __all__ = [
     "SHADOWED_STDLIB",
     "SOURCE_TOO_LARGE",
     "SOURCE_UNREADABLE",
+    "START_PAST_JOINT_LIMIT",
     "STATEMENT_MISSING",
     "STATEMENT_TWICE",
     "TASK_WITHOUT_GOAL",

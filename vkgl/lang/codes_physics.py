@@ -103,10 +103,20 @@ NEGATIVE_JOINT_DYNAMICS = _code(
 )
 NO_JOINT_TO_OPEN = _code(
     "E441",
-    "a joint goal on a body without a physical joint",
+    "an opening for a body without a physical joint",
     (
-        "`goal B open Q` sets the coordinate of B's physical joint (its slide or hinge), so B's type must "
-        "declare a `joint prismatic|revolute ...`. A body without one has no opening: give it a pose goal "
-        "(`goal B at (x, y) m`), or name the body that has the joint."
+        "`goal B open Q` sets the coordinate of B's physical joint (its slide or hinge), and `B : T at POSE "
+        "open Q` in a scene starts it there, so B's type must declare a `joint prismatic|revolute ...`. A body "
+        "without one has no opening: give it a pose goal (`goal B at (x, y) m`) or leave out the scene's "
+        "`open Q`, or name the body that has the joint."
+    ),
+)
+START_PAST_JOINT_LIMIT = _code(
+    "E442",
+    "a body that starts open past its joint's limits",
+    (
+        "`B : T at POSE open Q` starts B's physical joint at Q, measured from where B is placed (0) as the "
+        "joint's `limits` are. A joint cannot start past its stops: give a Q within the limits, or widen them "
+        "if the real joint goes further."
     ),
 )

@@ -127,8 +127,19 @@ def scene_body_pose(scene: Scene, scene_body: SceneBody, body: Body) -> np.ndarr
     """The 4x4 world pose where a scene body starts.
 
     `on table at (x, y)` puts the body's lowest point on the table top; a plain
-    `at POSE` is taken as written.
+    `at POSE` is taken as written. A body on a physical joint that starts
+    `open Q` starts there with its joint at Q (`scene_body_anchor` is where it
+    is placed, its joint at 0).
     """
+    anchor = scene_body_anchor(scene, scene_body, body)
+    if body.joint is None or scene_body.opening is None:
+        return anchor
+    return joint_pose(body.joint, anchor, scene_body.start_opening())
+
+
+def scene_body_anchor(scene: Scene, scene_body: SceneBody, body: Body) -> np.ndarray:
+    """The 4x4 world pose where a scene body is placed: where it starts, or for a body on a physical joint
+    where the joint's coordinate is 0 (the joint is anchored to the world there)."""
     pose = scene_body.placement.pose
     matrix = pose.matrix()
     if scene_body.placement.on_table:

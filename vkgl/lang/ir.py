@@ -376,11 +376,23 @@ class SceneRobot(Node):
 
 
 class SceneBody(Node):
-    """`NAME : TYPE on table at (x, y) UNIT yaw Q` or `NAME : TYPE at POSE`."""
+    """`NAME : TYPE [open Q] on table at (x, y) UNIT yaw Q` or `NAME : TYPE [open Q] at POSE`.
+
+    A body with a physical joint is hung on it where `placement` puts it: that
+    is where its joint's coordinate is 0 (its limits and joint goals are
+    measured from there). `opening` (a length for a prismatic joint, an angle
+    for a revolute one) is the coordinate the joint starts at; None is 0, the
+    body then starts where it is placed.
+    """
 
     name: str
     type: Ref
     placement: Placement
+    opening: Quantity | None = None
+
+    def start_opening(self) -> float:
+        """The joint coordinate the body starts at, SI (m or rad): `opening`, or 0."""
+        return float(self.opening.value) if self.opening is not None else 0.0
 
 
 class Scene(Node):

@@ -224,7 +224,8 @@ class _Layout:
             self.add(k, f"robot {r.name} : {r.type.name} at {pose_text(r.pose)}", _line_of(r.span))
         for b in s.bodies:
             where = "on table at" if b.placement.on_table else "at"
-            self.add(k, f"{b.name} : {b.type.name} {where} {pose_text(b.placement.pose)}", _line_of(b.span))
+            opening = f" open {quantity_text(b.opening)}" if b.opening is not None else ""
+            self.add(k, f"{b.name} : {b.type.name}{opening} {where} {pose_text(b.placement.pose)}", _line_of(b.span))
 
     def task_items(self, k: int, t: Task) -> None:
         self.add(k, "scene " + t.scene.name, _line_of(t.scene.span))

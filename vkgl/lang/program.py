@@ -116,24 +116,39 @@ class Program:
         *,
         at: Sequence[float] | None = None,
         yaw: float | None = None,
-        within: tuple[float, float] | None = None,
+        within: tuple[float, float] | float | None = None,
+        open: float | None = None,  # the goal's keyword, as in `goal B open Q` (shadows the builtin here only)
     ) -> Program:
         """A copy whose `task` has the goal on `body` replaced (or added, if it had none).
 
         `at`: (x, y) or (x, y, z) in metres, None for a heading-only goal; `yaw`:
         radians, None for a free heading; `within`: (metres, radians) tolerances,
         None to keep those of the goal replaced (the defaults for a new goal).
-        Raises InputError for an unknown task or body, or a goal that says nothing.
+        `open`: a joint goal instead (`goal B open Q`): the coordinate of the
+        body's physical joint, metres for a prismatic joint and radians for a
+        revolute one, 0 where the scene places the body; its `within` is one
+        number of the same kind (None: the tolerance of the joint goal
+        replaced, else 1 cm or 3 deg).
+        Raises InputError for an unknown task or body, a goal that says nothing,
+        a joint goal with a position or heading too, or on a body without a joint.
         """
         chosen = self._task_of(task)
         scene = self._scene_of(chosen)
-        self._scene_body(scene, body)
+        placed = self._scene_body(scene, body)
+        if open is not None:
+            if at is not None or yaw is not None:
+                raise InputError(
+                    f"a joint goal on `{body}` (`open`) takes no position or heading: give one or the other"
+                )
+            return self._with_joint_goal(chosen, placed, float(open), within)
         if at is None and yaw is None:
             raise InputError(f"a goal on `{body}` needs a position (`at`), a heading (`yaw`), or both")
         if at is not None and len(at) not in (2, 3):
             raise InputError(f"a goal position is (x, y) or (x, y, z) in metres, got {len(at)} values")
         old = [g for g in chosen.goals if g.body.name == body]
         if within is not None:
+            if not isinstance(within, Sequence) or len(within) != 2:
+                raise InputError(f"the tolerances of a pose goal are (metres, radians), got {within!r}")
             if not all(math.isfinite(t) and t > 0 for t in within):
                 raise InputError(f"goal tolerances must be positive, got {tuple(within)}")
             tol_position: Quantity | None = Quantity(value=float(within[0]), unit="m")
@@ -148,10 +163,42 @@ class Program:
             tol_position=tol_position if at is not None else None,
             tol_yaw=tol_yaw,
         )
-        goals = [g for g in chosen.goals if g.body.name != body]
-        index = chosen.goals.index(old[0]) if old else len(chosen.goals)
+        return self._with_goal_on(chosen, goal)
+
+    def _with_joint_goal(
+        self, task: Task, placed: SceneBody, value: float, within: tuple[float, float] | float | None
+    ) -> Program:
+        """`with_goal(..., open=value)`: the joint goal on `placed`, of its joint's kind (m or rad)."""
+        name = placed.name
+        kind = self.bodies.get(placed.type.name)
+        joint = kind.joint if kind is not None else None
+        if joint is None:
+            raise InputError(
+                f"`{name}` has no physical joint to open: its type `{placed.type.name}` declares no `joint` "
+                "(give it a pose goal, `at=` and `yaw=`)"
+            )
+        unit = "m" if joint.type == "prismatic" else "rad"
+        if not math.isfinite(value):
+            raise InputError(f"a joint goal's opening must be a finite number of {unit}, got {value}")
+        old = next((g for g in task.goals if g.body.name == name and g.opening is not None), None)
+        tolerance = old.tol_opening if old is not None else None
+        if within is not None:
+            if isinstance(within, Sequence) or not (math.isfinite(within) and within > 0):
+                raise InputError(f"a joint goal's tolerance is one positive number of {unit}, got {within!r}")
+            tolerance = Quantity(value=float(within), unit=unit)
+        elif tolerance is not None and tolerance.unit not in (("m", "cm", "mm") if unit == "m" else ("deg", "rad")):
+            tolerance = None  # the old goal's was of the other kind: the default
+        goal = Goal(body=Ref(name=name), opening=Quantity(value=value, unit=unit), tol_opening=tolerance)
+        return self._with_goal_on(task, goal)
+
+    def _with_goal_on(self, task: Task, goal: Goal) -> Program:
+        """A copy whose `task` has `goal` in place of its goals on the same body (where the first was)."""
+        body = goal.body.name
+        old = [g for g in task.goals if g.body.name == body]
+        goals = [g for g in task.goals if g.body.name != body]
+        index = task.goals.index(old[0]) if old else len(task.goals)
         goals.insert(min(index, len(goals)), goal)
-        return dataclasses.replace(self, tasks={**self.tasks, chosen.name: chosen.model_copy(update={"goals": goals})})
+        return dataclasses.replace(self, tasks={**self.tasks, task.name: task.model_copy(update={"goals": goals})})
 
     def with_start(
         self, scene_or_task: str | Task | Scene, body: str, *, at: Sequence[float], yaw: float = 0.0
@@ -175,16 +222,30 @@ class Program:
         """A copy whose task scene starts where the bodies are (`poses`: scene body name -> 4x4 world pose).
 
         A body placed on the table that still lies level (tilt under 2 deg) is placed
-        `on table at (x, y) yaw`; any other is placed at its full pose. Bodies not in
+        `on table at (x, y) yaw`; any other is placed at its full pose. A body on a
+        physical joint stays where its joint is anchored (its placement, where the
+        coordinate is 0) and starts `open` at the coordinate of its pose there, so
+        that its limits and joint goals keep their meaning. Bodies not in
         `poses` keep their placement; names that are not scene bodies are ignored.
         This is what the closed-loop executor does with observed poses.
         """
+        from vkgl.lang.geometry import joint_axis, joint_coordinate, scene_body_anchor
+
         scene = self._scene_of(self._task_of(task))
         bodies = []
         for scene_body in scene.bodies:
             pose = poses.get(scene_body.name)
             if pose is None:
                 bodies.append(scene_body)
+                continue
+            body = self.bodies.get(scene_body.type.name)
+            joint = body.joint if body is not None else None
+            if body is not None and joint is not None:
+                anchor = scene_body_anchor(scene, scene_body, body)
+                value = joint_coordinate(joint.type, joint_axis(joint), anchor, np.asarray(pose, dtype=float))
+                value = min(max(value, joint.lower.value), joint.upper.value)  # a stop holds it within
+                unit = "m" if joint.type == "prismatic" else "rad"
+                bodies.append(scene_body.model_copy(update={"opening": Quantity(value=value, unit=unit)}))
                 continue
             placement = observed_placement(np.asarray(pose, dtype=float), scene_body.placement.on_table)
             bodies.append(scene_body.model_copy(update={"placement": placement}))

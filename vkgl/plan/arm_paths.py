@@ -20,7 +20,8 @@ plans, from where the previous step left the arm:
   (`GRASP_STANDOFF`). When the way back along the push is blocked, the
   contact is approached from above instead: the fingertip hooked behind a
   handle's bar pushes away from the body it pulls, so backing off along its
-  push would put the hand into that body; it comes down into the gap.
+  push would put the hand into that body; it comes down into the gap (and so
+  does a held hook's cross-piece, behind a bar it pulls).
 
 Every segment is timed: transits within the URDF's joint velocity limits
 (scaled by `TRANSIT_SPEED_SCALE`), the straight moves at `CARTESIAN_SPEED`.
@@ -119,7 +120,7 @@ class ArmPathPlanner:
             state = _ArmState(np.asarray(self.problem.arm.home if q_start is None else q_start, dtype=float))
             out = []
             for k, step in enumerate(steps, start=1):
-                planned = self._planned_step(k, step, state, deadline)
+                planned = self._planned_step(k, step, state, deadline, last=k == len(steps))
                 if isinstance(planned, Rejection):
                     return planned
                 out.append(planned)
@@ -127,9 +128,11 @@ class ArmPathPlanner:
         finally:
             self.seconds += time.perf_counter() - began
 
-    def _planned_step(self, k: int, step: StepT, state: _ArmState, deadline: float | None) -> StepT | Rejection:
+    def _planned_step(
+        self, k: int, step: StepT, state: _ArmState, deadline: float | None, *, last: bool = False
+    ) -> StepT | Rejection:
         """The step with its path; a contact tries each arm configuration that carries its motion in turn,
-        until one can be approached."""
+        until one can be approached (and, for the `last` step, left again)."""
         if step.op != "add" or step.motion == "free":
             found = self._step(k, step, state, deadline)
             return found if isinstance(found, Rejection) else replace(step, path=found)
@@ -141,6 +144,8 @@ class ArmPathPlanner:
             attempt = _ArmState(state.q.copy(), state.held, state.lift)
             moved = replace(step, q_start=chain[0], q_end=chain[-1])
             found = self._step(k, moved, attempt, deadline)
+            if not isinstance(found, Rejection) and last:
+                found = self._leave(moved, attempt, label) or found
             if not isinstance(found, Rejection):
                 state.q, state.held, state.lift = attempt.q, attempt.held, attempt.lift
                 return replace(moved, path=found)
@@ -250,7 +255,7 @@ class ArmPathPlanner:
         if grasp:
             return self._approach(k, step, state, label, deadline, DOWN, GRASP_STANDOFF)
         first = self._approach(k, step, state, label, deadline, self._push_direction(step, step.poses_start), STANDOFF)
-        if not isinstance(first, Rejection) or first.kind != "approach" or state.held is not None:
+        if not isinstance(first, Rejection) or first.kind != "approach":
             return first
         above = self._approach(k, step, state, label, deadline, DOWN, STANDOFF)
         return first if isinstance(above, Rejection) else above
@@ -291,13 +296,24 @@ class ArmPathPlanner:
             return transit
         return [transit, self._straight("approach", joints, length)]
 
+    def _leave(self, step: PlanStepRecord, state: _ArmState, label: str) -> Rejection | None:
+        """Why the arm could not leave the plan's last contact as execution leaves it (straight back out of it,
+        or up where that is blocked, then up), or None. Nothing is added to the plan: a plan ends in its last
+        contact, and execution breaks it with that move (`vkgl.execute.steps`)."""
+        after = _ArmState(np.asarray(state.q, dtype=float).copy(), state.held, False)
+        retreat = self._retreat(replace(step, poses_start=step.poses_end), after, f"{label}, at the end")
+        if isinstance(retreat, Rejection):
+            return retreat
+        lift = self._lift(after, step.poses_end, f"{label}, at the end")
+        return lift if isinstance(lift, Rejection) else None
+
     def _retreat(self, step: PlanStepRecord, state: _ArmState, label: str) -> ArmSegment | Rejection:
         """Straight back out of the contact the step removes, against the way it pushed; when that way is
-        blocked (a hook behind a handle's bar), straight up."""
+        blocked (a fingertip or a held hook behind a handle's bar), straight up."""
         away = -self._push_direction(step, step.poses_start)
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
         first = self._move_away(state, away, STANDOFF, step.poses_start, {step.body}, label, what)
-        if not isinstance(first, Rejection) or state.held is not None:
+        if not isinstance(first, Rejection):
             return first
         above = self._move_away(state, -DOWN, STANDOFF, step.poses_start, {step.body}, label, what)
         return first if isinstance(above, Rejection) else above

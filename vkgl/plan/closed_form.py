@@ -130,7 +130,7 @@ def _joint_goal_values(problem: Problem, seq: Sequence, goal: GoalSpec) -> dict[
     limits = [_limits(problem, seq, i) for i in own]
     low = sum(min(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
     high = sum(max(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
-    target = goal.opening
+    target = goal.opening - body.start_state  # what the motions must add to where the joint starts
     if not low - goal.tol_opening <= target <= high + goal.tol_opening:
         why = _joint_why(problem, seq, goal.body, target, own, (low, high))
         return Rejection("goal", why, max(low - target, target - high))
@@ -163,6 +163,14 @@ def _joint_why(
         }
     )
     within = f", each contact within the range it was explored over ({', '.join(ranged)})" if ranged else ""
+    start = problem.bodies[body].start_state
+    if abs(start) > 1e-12:  # it starts open: say from where to where
+        end = start + target
+        return (
+            f"{body} must move {target * scale:.1f} {unit} on its {joint} joint (from {start * scale:.1f} to "
+            f"{end * scale:.1f} {unit}), but {movers} move{'s' if len(names) == 1 else ''} it "
+            f"{low * scale:.1f} to {high * scale:.1f} {unit} here{within}"
+        )
     return (
         f"{body} must open {target * scale:.1f} {unit} on its {joint} joint, but {movers} "
         f"open{'s' if len(names) == 1 else ''} it {low * scale:.1f} to {high * scale:.1f} {unit} here{within}"

@@ -220,7 +220,7 @@ def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) 
         if body.joint == "prismatic" and chosen.position is not None:
             offset = np.zeros(3)
             offset[: len(chosen.position)] = chosen.position[:3] - body.rest[: len(chosen.position), 3]
-            return float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
+            return body.start_state + float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
     return None
 
 
@@ -357,9 +357,20 @@ class JointSolution:
 
 
 def joint_space(
-    problem: Problem, solution: TaskSolution, deadline: float, counters: Counters | None = None
+    problem: Problem,
+    solution: TaskSolution,
+    deadline: float,
+    counters: Counters | None = None,
+    *,
+    pin_yaw: bool = False,
 ) -> JointSolution | Rejection:
-    """IK for every hand pose of the rollout, in order, each warm-started from the one before."""
+    """IK for every hand pose of the rollout, in order, each warm-started from the one before.
+
+    A fingertip's yaw about its push direction is free (the round fingertip pushes the same at any yaw);
+    with `pin_yaw` it is the action frame's, as the arm's paths pin it (`vkgl.plan.arm_paths`): the
+    hand then lies along the face it pushes, not across it (the search asks for that when the hand at
+    a free yaw hits something, such as the cabinet around a drawer's handle).
+    """
     arm = problem.arm
     q = arm.home.copy()
     q_start: list[np.ndarray] = []
@@ -373,7 +384,7 @@ def joint_space(
             calls += 1
             if counters is not None:
                 counters.ik_calls += 1
-            found = arm.ik(pose, q0=q, yaw_free=trace.yaw_free)
+            found = arm.ik(pose, q0=q, yaw_free=trace.yaw_free and not pin_yaw)
             if found is None:
                 where = f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}, {pose[2, 3]:.3f}) m"
                 return Rejection("ik", f"no joint configuration puts the hand at {where} in mode {k}")

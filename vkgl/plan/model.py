@@ -16,7 +16,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from vkgl.errors import InputError
-from vkgl.lang.geometry import joint_axis, joint_coordinate, resting_height, scene_body_pose, table_top
+from vkgl.lang.geometry import (
+    joint_axis,
+    joint_coordinate,
+    resting_height,
+    scene_body_anchor,
+    scene_body_pose,
+    table_top,
+)
 from vkgl.lang.ir import (
     Affordance,
     Body,
@@ -50,7 +57,9 @@ class PlanBody:
     lies on the table (where a released tool is put down); `affordances`: the
     affordances of its type with a fixed action (the only ones an effector can
     enact); `joint`: the type of its physical joint to the world, if any, with
-    `joint_axis` (body frame) and `joint_limits`.
+    `joint_axis` (body frame), `joint_limits` and `joint_zero`, the world pose
+    where its coordinate is 0 (where the scene places it: `rest` unless the
+    scene starts it `open Q`).
     """
 
     name: str
@@ -62,16 +71,23 @@ class PlanBody:
     joint: str | None = None
     joint_axis: np.ndarray | None = None
     joint_limits: tuple[float, float] | None = None
+    joint_zero: np.ndarray | None = None
 
     def joint_state(self, pose: np.ndarray) -> float:
-        """The coordinate of the physical joint at world `pose` (m or rad), 0 at `rest`; the body needs a joint.
+        """The coordinate of the physical joint at world `pose` (m or rad), 0 at `joint_zero`; the body needs a joint.
 
-        Prismatic: the displacement from rest along the axis. Revolute: the
-        rotation from rest about the axis (its rotation vector's component),
+        Prismatic: the displacement from `joint_zero` along the axis. Revolute:
+        the rotation from it about the axis (its rotation vector's component),
         exact up to half a turn. Goals and joint limits are measured alike.
         """
         assert self.joint is not None and self.joint_axis is not None, f"{self.name} has no physical joint"
-        return joint_coordinate(self.joint, self.joint_axis, self.rest, pose)
+        zero = self.rest if self.joint_zero is None else self.joint_zero
+        return joint_coordinate(self.joint, self.joint_axis, zero, pose)
+
+    @property
+    def start_state(self) -> float:
+        """The joint's coordinate at the start (m or rad): 0 unless the scene starts it `open Q`."""
+        return self.joint_state(self.rest)
 
 
 @dataclass(frozen=True)
@@ -246,6 +262,7 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         joint=None if joint is None else joint.type,
         joint_axis=None if joint is None else joint_axis(joint),
         joint_limits=None if joint is None else (joint.lower.value, joint.upper.value),
+        joint_zero=None if joint is None else scene_body_anchor(scene, scene_body, body),
     )
 
 

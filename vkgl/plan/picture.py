@@ -260,7 +260,8 @@ def _goal_pose(problem: Any, goal: Any) -> np.ndarray | None:
     if goal.opening is not None and body.type.joint is not None:
         from vkgl.lang.geometry import joint_pose
 
-        return joint_pose(body.type.joint, body.rest, goal.opening)
+        zero = body.rest if body.joint_zero is None else body.joint_zero
+        return joint_pose(body.type.joint, zero, goal.opening)
     return None
 
 

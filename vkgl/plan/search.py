@@ -192,6 +192,13 @@ def _check(
         stats.reject(joints, label)
         return None
     clash = geometry.arm(seq.graphs, solution.traces, joints.q_start, joints.q_end)
+    if clash is not None and any(trace.yaw_free for trace in solution.traces):
+        # the hand at the yaw IK chose may stand across a handle into its cabinet; along the face it may not
+        pinned = joint_space(problem, solution, deadline, stats.work, pin_yaw=True)
+        if not isinstance(pinned, Rejection):
+            again = geometry.arm(seq.graphs, solution.traces, pinned.q_start, pinned.q_end)
+            if again is None:
+                joints, clash = pinned, None
     if clash is not None:
         stats.reject(clash, label)
         return None

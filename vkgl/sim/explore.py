@@ -16,9 +16,11 @@ fails (NaN, body leaves the table, deep penetration) keeps its samples up to
 the failure, is marked `ok = False` and says why in `reason`.
 
 The force of a push (docs/exploration.md, "Force"): `force normal F` is the
-push beyond what the table's friction can hold. The fingertip's force limit is
-F + mu m g for a body lying on the table (mu, m as declared), F for a body held
-by a joint or a hand.
+push beyond what friction can hold. The fingertip's force limit is F + mu m g
+for a body lying on the table (mu, m as declared), F plus the joint's Coulomb
+friction at the contact for a body on a joint (its `friction`, a torque
+divided by the contact's distance from a hinge's axis), F for a tool held by
+a hand.
 """
 
 from __future__ import annotations
@@ -54,6 +56,7 @@ LIFT_LIMIT = 0.01  # m the lowest point of a lying body may rise above (or sink 
 MAX_SPEED = 10.0  # m/s: nothing explored at 10 cm/s gets near this unless the simulation diverges
 MAX_TURN_RATE = 100.0  # rad/s
 PENETRATION_LIMIT = 0.005  # m of contact penetration beyond which the simulation is not trusted
+MIN_LEVER = 0.01  # m: a hinge's friction torque is covered as if no push were closer to its axis
 G = -sim_world.GRAVITY[2]  # m/s^2
 
 
@@ -345,7 +348,7 @@ class _PushTrial(_Trial):
         effector = np.eye(4)
         effector[:3, :3] = frame_facing(direction, start_body[:3, :3] @ spec.line_axis)
         effector[:3, 3] = (start_body @ np.append(spec.contact, 1.0))[:3] - gap * direction
-        self.pusher = Pusher(self.world, effector, push_force_limit(body, spec.magnitude))
+        self.pusher = Pusher(self.world, effector, push_force_limit(body, spec.magnitude, spec.contact))
         table_filter = dart.collision.BodyNodeCollisionFilter()
         table_filter.addBodyNodePairToBlackList(self.pusher.node, self.table)  # the robot hovers, never rubs the table
         self.world.getConstraintSolver().getCollisionOption().collisionFilter = table_filter
@@ -399,12 +402,28 @@ def step_counts(duration: float) -> tuple[int, int]:
     return round(duration / sim_world.TIME_STEP), max(1, round(SAMPLE_PERIOD / sim_world.TIME_STEP))
 
 
-def push_force_limit(body: Body, force: float) -> float:
-    """The fingertip's force limit: the declared push beyond the table's friction on a lying body."""
-    if body.joint is not None:
-        return force  # hangs on its joint: the table does not hold it
-    friction = body.friction if body.friction is not None else sim_world.DEFAULT_FRICTION
-    return force + friction * body.mass.value * G
+def push_force_limit(body: Body, force: float, contact: np.ndarray | None = None) -> float:
+    """The fingertip's force limit: the declared push beyond what friction holds.
+
+    A lying body: beyond the table's friction, mu m g. A body on a joint (the
+    table does not hold it): beyond the joint's Coulomb `friction` at the
+    contact (`contact`, body frame): a slide's force as it is, a hinge's
+    torque over the contact's distance from the axis (at least 1 cm, so that a
+    push on the axis itself stays finite).
+    """
+    joint = body.joint
+    if joint is None:
+        friction = body.friction if body.friction is not None else sim_world.DEFAULT_FRICTION
+        return force + friction * body.mass.value * G
+    if joint.friction is None or joint.friction.value <= 0.0:
+        return force
+    if joint.type == "prismatic":
+        return force + float(joint.friction.value)
+    axis = joint.axis.array() / np.linalg.norm(joint.axis.array())
+    through = joint.through.array() if joint.through is not None else np.zeros(3)
+    offset = (np.zeros(3) if contact is None else np.asarray(contact, dtype=float)) - through
+    lever = float(np.linalg.norm(offset - (offset @ axis) * axis))
+    return force + float(joint.friction.value) / max(lever, MIN_LEVER)
 
 
 def assemble(body: str, specs: list[TrialSpec], results: list[TrialResult]) -> Trials:
