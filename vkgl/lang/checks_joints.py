@@ -98,21 +98,28 @@ def _check_joint_goal(goal: ir.Goal, opening: ir.Quantity, body: ir.Body, ctx: C
             f"give `{name}` a pose goal instead (`goal {name} at (x, y) m`), or declare a joint in `{body.name}`",
         )
         return
+    also = " (and for its tolerance)" if goal.tol_opening is not None else ""
+    if _of_the_joints_kind(name, opening, joint, ctx, also):
+        _check_within_limits(goal, opening, joint, ctx)
+
+
+def _of_the_joints_kind(name: str, opening: ir.Quantity, joint: ir.Joint, ctx: CheckContext, also: str = "") -> bool:
+    """Whether `opening` is a length for a prismatic joint, an angle for a revolute one (else E201, reported);
+    False too for a quantity whose unit was already reported."""
     if not opening.unit or math.isnan(opening.value):
-        return  # its unit was already reported
+        return False  # its unit was already reported
     wanted = _OPENING_DIMENSION[joint.type]
-    if dimension_of(opening.unit) != wanted:
-        article = "a length" if wanted == "length" else "an angle"
-        got = "an angle" if wanted == "length" else "a length"
-        also = " (and for its tolerance)" if goal.tol_opening is not None else ""
-        ctx.error(
-            codes.WRONG_DIMENSION,
-            f"expected {article} for the {joint.type} joint of `{name}`, got {got} {shown(opening)}",
-            opening.span,
-            f"a {_JOINT_WORD[joint.type]} opens by {article}: use {unit_list(wanted)}{also}",
-        )
-        return
-    _check_within_limits(goal, opening, joint, ctx)
+    if dimension_of(opening.unit) == wanted:
+        return True
+    article = "a length" if wanted == "length" else "an angle"
+    got = "an angle" if wanted == "length" else "a length"
+    ctx.error(
+        codes.WRONG_DIMENSION,
+        f"expected {article} for the {joint.type} joint of `{name}`, got {got} {shown(opening)}",
+        opening.span,
+        f"a {_JOINT_WORD[joint.type]} opens by {article}: use {unit_list(wanted)}{also}",
+    )
+    return False
 
 
 def _check_start_opening(placed: ir.SceneBody, opening: ir.Quantity, body: ir.Body, ctx: CheckContext) -> None:
@@ -127,18 +134,7 @@ def _check_start_opening(placed: ir.SceneBody, opening: ir.Quantity, body: ir.Bo
             "without a joint starts where it is placed",
         )
         return
-    if not opening.unit or math.isnan(opening.value):
-        return  # its unit was already reported
-    wanted = _OPENING_DIMENSION[joint.type]
-    if dimension_of(opening.unit) != wanted:
-        article = "a length" if wanted == "length" else "an angle"
-        got = "an angle" if wanted == "length" else "a length"
-        ctx.error(
-            codes.WRONG_DIMENSION,
-            f"expected {article} for the {joint.type} joint of `{name}`, got {got} {shown(opening)}",
-            opening.span,
-            f"a {_JOINT_WORD[joint.type]} opens by {article}: use {unit_list(wanted)}",
-        )
+    if not _of_the_joints_kind(name, opening, joint, ctx):
         return
     if opening_problem(opening, joint) != "limits":
         return
