@@ -62,8 +62,8 @@ class ArmMoves:
         that the way is clear, so a touch means the scene is not as planned.
         """
         for segment in segments:
-            if segment.phase == "retreat":
-                self._retreat(segment, label)
+            if segment.phase in ("retreat", "lift"):
+                self._move_away(segment, label)
                 continue
             self.join(segment.joints[0], label)
             self.sim.label = f"{label} {segment.phase}"
@@ -73,17 +73,18 @@ class ArmMoves:
             finally:
                 self.sim.guarded = False
 
-    def _retreat(self, segment: ArmSegment, label: str) -> None:
-        """The planned retreat's straight move, from where the hand really is.
+    def _move_away(self, segment: ArmSegment, label: str) -> None:
+        """A planned retreat's or lift's straight move, from where the hand really is.
 
-        In contact the arm's joints are not quite the planned ones (the arm is
-        redundant, and the contact motion is followed by IK from the real
-        joints), so the retreat is carried out as the planned displacement of
-        the effector from its real pose; the next segment joins the plan.
+        Out of a contact or a release the arm's joints are not quite the
+        planned ones (the arm is redundant, and the contact motion is followed
+        by IK from the real joints), so the move is carried out as the planned
+        displacement of the effector from its real pose; the next segment
+        joins the plan from there, clear of what the hand just touched.
         """
         model = self.sim.arm_model
         shift = model.fk(segment.joints[-1])[:3, 3] - model.fk(segment.joints[0])[:3, 3]
-        self.straight("retreat", shift, paths.APPROACH_SPEED, label)
+        self.straight(segment.phase, shift, paths.APPROACH_SPEED, label)
 
     def straight(self, phase: str, shift: np.ndarray, speed: float, label: str, *, track: bool = True) -> bool:
         """Move the hand by `shift` (m, world) in a straight line from where it really is, at `speed` (m/s).
