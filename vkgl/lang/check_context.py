@@ -8,13 +8,17 @@ from __future__ import annotations
 
 import difflib
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from vkgl.lang import codes, ir
 from vkgl.lang.codes import Code
 from vkgl.lang.diagnostics import Diagnostic
 from vkgl.lang.units import SCALE
+
+if TYPE_CHECKING:
+    from vkgl.lang.program import Program
 
 Named = ir.Body | ir.Robot | ir.Scene | ir.Task
 KIND_WORD = {"body": "a body", "robot": "a robot", "scene": "a scene", "task": "a task"}
@@ -75,6 +79,18 @@ def lookup(ref: ir.Ref, kind: str, ctx: CheckContext) -> Any:
         )
         return None
     return decl
+
+
+def goals_with_types(program: Program) -> Iterator[tuple[ir.Goal, str]]:
+    """Every goal of every task whose scene is known, with the type name of the scene body it is on ("" when
+    the scene has no such body)."""
+    for task in program.tasks.values():
+        scene = program.scenes.get(task.scene.name)
+        if scene is None:
+            continue
+        types = {b.name: b.type.name for b in scene.bodies}
+        for goal in task.goals:
+            yield goal, types.get(goal.body.name, "")
 
 
 def did_you_mean(name: str, candidates: list[str]) -> str:

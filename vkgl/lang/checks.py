@@ -17,6 +17,7 @@ from vkgl.lang.check_context import (
     CheckContext,
     did_you_mean,
     duplicates,
+    goals_with_types,
     lookup,
     shown,
     shown_vector,
@@ -236,20 +237,14 @@ def _check_task(task: ir.Task, ctx: CheckContext) -> None:
 
 def _check_tasks_can_move(program: Program, ctx: CheckContext) -> None:
     """Warn about goal bodies of a task that no affordance in the compilation can move."""
-    for task in program.tasks.values():
-        scene = program.scenes.get(task.scene.name)
-        if scene is None:
-            continue
-        types = {b.name: b.type.name for b in scene.bodies}
-        for goal in task.goals:
-            kind = types.get(goal.body.name)
-            if kind is not None and kind in program.bodies and not program.affordances.get(kind):
-                ctx.warn(
-                    codes.NOTHING_CAN_MOVE,
-                    f"no affordance of `{kind}` is imported, so nothing can move `{goal.body.name}`",
-                    goal.body.span,
-                    f"add `use stdlib.affordances.{kind.lower()}` or learn one with `vkgc learn`",
-                )
+    for goal, kind in goals_with_types(program):
+        if kind in program.bodies and not program.affordances.get(kind):
+            ctx.warn(
+                codes.NOTHING_CAN_MOVE,
+                f"no affordance of `{kind}` is imported, so nothing can move `{goal.body.name}`",
+                goal.body.span,
+                f"add `use stdlib.affordances.{kind.lower()}` or learn one with `vkgc learn`",
+            )
 
 
 def _check_tools_have_correspondences(program: Program, ctx: CheckContext) -> None:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 
 from vkgl.lang import codes, ir, limits
-from vkgl.lang.check_context import CheckContext, shown
+from vkgl.lang.check_context import CheckContext, goals_with_types, shown
 from vkgl.lang.limits import Limit
 from vkgl.lang.program import Program
 from vkgl.lang.units import dimension_of, unit_list
@@ -76,15 +76,10 @@ def check_joint_goals(program: Program, ctx: CheckContext) -> None:
             body = program.bodies.get(placed.type.name)
             if placed.opening is not None and body is not None:
                 _check_start_opening(placed, placed.opening, body, ctx)
-    for task in program.tasks.values():
-        scene = program.scenes.get(task.scene.name)
-        if scene is None:
-            continue
-        types = {b.name: b.type.name for b in scene.bodies}
-        for goal in task.goals:
-            body = program.bodies.get(types.get(goal.body.name, ""))
-            if goal.opening is not None and body is not None:
-                _check_joint_goal(goal, goal.opening, body, ctx)
+    for goal, kind in goals_with_types(program):
+        body = program.bodies.get(kind)
+        if goal.opening is not None and body is not None:
+            _check_joint_goal(goal, goal.opening, body, ctx)
 
 
 def _check_joint_goal(goal: ir.Goal, opening: ir.Quantity, body: ir.Body, ctx: CheckContext) -> None:
