@@ -30,7 +30,7 @@ SELECTION = [
     (1, 2),  # SlabN pushed twice (its push was explored over 6.5 cm only), 3 clutter bodies
     (1, 20),  # the Block pushed once, a cube behind it
     (1, 49),  # the stick pushes a cube twice, 4 clutter bodies
-    (2, 0),  # the hook pushes a cube twice, 4 clutter bodies
+    (1, 42),  # the hook pulls a cube
     (2, 20),  # the Block turned, then pushed
     (2, 30),  # SlabN pushed three times
 ]

@@ -1,4 +1,4 @@
-"""`vkg-plan/2` (vkgl.formats.plan): round trips, the example plans' JSON byte for byte, and every bad
+"""`vkg-plan/3` (vkgl.formats.plan): round trips, the example plans' JSON byte for byte, and every bad
 field named by its JSON path."""
 
 from __future__ import annotations
@@ -186,16 +186,20 @@ BAD_FIELDS = [
     (_set("graphs[1].edges[0][2]", "glued"), "graphs[1].edges[0][2]: expected one of fixed, prismatic"),
     (_set("graphs[0].edges[0]", ["arm", "world"]), "graphs[0].edges[0]: expected [parent, child, type]"),
     (_set("status", "done"), "status: expected one of solved, infeasible, timeout"),
-    (_set("format", "vkg-plan/0"), "format: expected 'vkg-plan/2', found 'vkg-plan/0'"),
+    (_set("format", "vkg-plan/0"), "format: expected 'vkg-plan/3', found 'vkg-plan/0'"),
     (
         _set("format", "vkg-plan/1"),
-        "format: found 'vkg-plan/1', expected 'vkg-plan/2': the plan was written by an older",
+        "format: found 'vkg-plan/1', expected 'vkg-plan/3': the plan was written by an older",
     ),
     (_set("steps[0].path[0].phase", "fly"), "steps[0].path[0].phase: expected one of lift, retreat, transit, approach"),
     (_set("steps[0].path[0].times[0]", 0.5), "steps[0].path[0].times: expected seconds from 0, increasing"),
     (_set("steps[0].path[0].joints[0]", [0.0]), "steps[0].path[0].joints[0]: expected 7 joint positions"),
     (_delete("steps[0].path[0].joints[1]"), "steps[0].path[0].joints: expected 2 waypoints (one per time), found 1"),
     (_delete("steps[1].path"), "steps[1].path: missing"),
+    (_delete("steps[1].contact"), "steps[1].contact: missing"),
+    (_set("steps[1].contact", [[0.0] * 7]), "steps[1].contact: expected [] or 2 or more joint configurations"),
+    (_set("steps[1].contact", [[0.0] * 7, [0.0] * 6]), "steps[1].contact[1]: expected 7 joint positions"),
+    (_set("steps[1].contact", [[9.0] * 7, [9.0] * 7]), "steps[1].contact[0]: expected the step's q_start"),
     (_set("depth", 2), "depth: is 2 but the plan has 3 graphs"),
     (_set("stats.graphs_expanded", 1.5), "stats.graphs_expanded: expected a count"),
     (_set("stats.solve_time_s", "fast"), "stats.solve_time_s: expected a finite number"),
@@ -271,11 +275,11 @@ def test_formats_sit_below_the_stages_and_the_executor_never_imports_the_planner
 
 
 def test_the_format_has_one_definition():
-    assert plan_format.PLAN_FORMAT == "vkg-plan/2"
+    assert plan_format.PLAN_FORMAT == "vkg-plan/3"
     for path in [*(REPO / "vkgl").rglob("*.py"), REPO / "tests" / "support" / "plan_script.py"]:
         if path.name == "plan.py" and path.parent.name == "formats":
             continue
-        assert '"vkg-plan/2"' not in path.read_text(encoding="utf-8"), path
+        assert '"vkg-plan/3"' not in path.read_text(encoding="utf-8"), path
 
 
 def test_documents_are_typed(scripted):
@@ -283,3 +287,14 @@ def test_documents_are_typed(scripted):
     assert isinstance(doc, PlanDocument)
     assert doc.robot.joints == tuple(scripted["robot"]["joints"])
     assert doc.graphs[0][0] == ("arm", "world", "free")
+
+
+def test_a_vkg_plan_2_document_is_still_read_without_contact_chains(scripted):
+    older = {**scripted, "format": "vkg-plan/2", "steps": [dict(s) for s in scripted["steps"]]}
+    for step in older["steps"]:
+        del step["contact"]
+    doc = from_json(older)
+    assert all(step.contact is None for step in doc.steps)
+    assert to_json(doc)["format"] == "vkg-plan/3"  # written back as the current version
+    with pytest.raises(PlanFormatError, match=r"steps\[0\]\.contact: unknown key"):
+        from_json({**older, "steps": [{**older["steps"][0], "contact": []}, *older["steps"][1:]]})

@@ -107,10 +107,10 @@ def test_the_replay_check_takes_a_leaned_hand_only_with_its_pad_at_the_contact(p
     assert any("the pad is" in p for p in check_plan(compiled("h_close_door"), plan_json))
 
 
-def test_json_has_exactly_the_vkg_plan_2_keys(plans):
+def test_json_has_exactly_the_vkg_plan_3_keys(plans):
     out = plans["e_rotate_stick_push"].to_json()
     assert list(out) == ["format", "task", "status", "depth", "stats", "robot", "graphs", "steps", "final"]
-    assert out["format"] == "vkg-plan/2" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
+    assert out["format"] == "vkg-plan/3" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
     assert set(out["stats"]) == {"solve_time_s", "graphs_expanded", "task_space_checks", "joint_space_checks"}
     assert set(out["robot"]) == {"name", "urdf", "base", "effector", "effector_link", "effector_offset", "joints"}
     step_keys = [
@@ -125,10 +125,16 @@ def test_json_has_exactly_the_vkg_plan_2_keys(plans):
         "q_start",
         "q_end",
         "path",
+        "contact",
     ]
     assert all(list(s) == step_keys for s in out["steps"])
     phases = [[segment["phase"] for segment in s["path"]] for s in out["steps"]]
     assert phases == [["transit", "approach"], ["retreat"], ["transit", "approach"], ["lift", "transit", "approach"]]
+    # a contact carries its arm chain from q_start to q_end; the removal and the grasp carry none
+    chains = [len(s["contact"]) for s in out["steps"]]
+    assert chains[1] == chains[2] == 0 and chains[0] >= 2 and chains[3] >= 2
+    assert out["steps"][0]["contact"][0] == out["steps"][0]["q_start"]
+    assert out["steps"][0]["contact"][-1] == out["steps"][0]["q_end"]
     assert out["steps"][0]["affordance"] == "Block.turn_px_left" and out["steps"][0]["effector"] == "arm.fingertip"
 
 

@@ -74,14 +74,22 @@ class ArmMoves:
                 self.sim.guarded = False
 
     def _move_away(self, segment: ArmSegment, label: str) -> None:
-        """A planned retreat's or lift's straight move, from where the hand really is.
+        """A planned retreat's or lift's straight move: as planned where the arm is where the plan expects it,
+        else from where the hand really is.
 
-        Out of a contact or a release the arm's joints are not quite the
-        planned ones (the arm is redundant, and the contact motion is followed
-        by IK from the real joints), so the move is carried out as the planned
-        displacement of the effector from its real pose; the next segment
-        joins the plan from there, clear of what the hand just touched.
+        After a contact followed along the plan's chain the arm is where the
+        plan says, and the planned joints are followed. Elsewhere (a release
+        lowers the tool by IK; an older plan without a contact chain) the
+        move is carried out as the planned displacement of the effector from
+        its real pose; the next segment joins the plan from there, clear of
+        what the hand just touched.
         """
+        if float(np.abs(self.sim.arm.q - segment.joints[0]).max()) < JOIN_NEAR:
+            # where the plan expects it (a contact chain followed as planned): the planned joints themselves
+            self.sim.arm.move_joints(segment.joints[0], lambda n, s: self.sim.advance(n))
+            self.sim.label = f"{label} {segment.phase}"
+            self.sim.arm.follow_joints(segment.joints, segment.times, lambda n, s: self.sim.advance(n))
+            return
         model = self.sim.arm_model
         shift = model.fk(segment.joints[-1])[:3, 3] - model.fk(segment.joints[0])[:3, 3]
         self.straight(segment.phase, shift, paths.APPROACH_SPEED, label)

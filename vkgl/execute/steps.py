@@ -1,6 +1,6 @@
 """The kinds of plan step, carried out by the arm in the scene's world (`vkgl.execute.replay`).
 
-Every step first carries out its planned arm path (`step.path`, vkg-plan/2:
+Every step first carries out its planned arm path (`step.path`, vkg-plan/3:
 lift, retreat, transit, approach; `ArmMoves.follow_path`), then its action,
 from the step's `op` and the affordance's motion:
 - push (add, prismatic/revolute): the path ends in contact; move the effector
@@ -124,7 +124,12 @@ class StepKinds:
             self.sim.planned = {**self.sim.planned, **{n: now @ step.poses_start[n] for n in moving}}
 
         push = paths.screw("motion", hand, motion)
-        chain = self.moves.motion_chain(push, [step.q_start, step.q_end])
+        # the plan's own chain (vkg-plan/3): the configuration the planner checked; older plans: solved here
+        chain = (
+            list(step.contact)
+            if step.contact is not None
+            else self.moves.motion_chain(push, [step.q_start, step.q_end])
+        )
         self.push_direction = direction
         self.moves.run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
         end = self.sim.arm.effector_pose()
@@ -160,7 +165,13 @@ class StepKinds:
         self.grasp_planned = self._action_pose(step, label)
 
     def _release(self, step: PlanStepRecord, label: str) -> None:
+        before = self.sim.arm.q
         self._lower_and_release(label)
+        # the plan lets go where the hand is and lifts from there: the open hand goes back up the way it came
+        # down, so that the next step's path starts where the plan expects the arm
+        if float(np.abs(before - self.sim.arm.q).max()) > 1e-9:
+            self.sim.label = f"{label} release"
+            self.sim.arm.move_joints(before, lambda n, s: self.sim.advance(n))
 
     def put_down(self, label: str) -> None:
         """Lower the held tool onto the table and let go of it; then lift the empty hand."""

@@ -212,8 +212,10 @@ class WorldArm:
 
         `q_hint` (e.g. the plan's joints for this pose) seeds the first IK
         solution. `q_path`, joints at evenly spaced phases of the segment
-        (a continuous IK chain solved beforehand), seeds IK wherever warm
-        starting from the current joints fails or would switch configuration.
+        (a continuous IK chain: the plan's contact chain), is followed: each
+        period's IK starts from the chain's joints at that phase, so that the
+        redundant arm keeps the configuration the planner checked instead of
+        drifting in its null space; from the current joints where that fails.
         Raises ArmStuck when the arm cannot follow.
         """
         dt = self.world.getTimeStep()
@@ -224,7 +226,8 @@ class WorldArm:
             hint = q_hint if k == 1 else None
             if hint is None and q_path:
                 hint = q_path[min(len(q_path) - 1, round(k / periods * (len(q_path) - 1)))]
-            q_next = self._solve(target, hint)
+            planned = _along(q_path, k / periods) if q_path else None
+            q_next = self._solve(target, hint, planned)
             self._command(q_next, substeps * dt)
             step(substeps, k / periods)
         self._stop()
@@ -273,8 +276,13 @@ class WorldArm:
                 step(substeps, float(times[i] + (times[i + 1] - times[i]) * k / periods) / total)
         self._stop()
 
-    def _solve(self, target: np.ndarray, q_hint: np.ndarray | None) -> np.ndarray:
+    def _solve(self, target: np.ndarray, q_hint: np.ndarray | None, planned: np.ndarray | None = None) -> np.ndarray:
         q = self.q
+        if planned is not None:
+            # near the plan's joints for this pose: Gauss-Newton from them lands on the planned configuration
+            q_plan = self.arm.ik_near(target, planned)
+            if q_plan is not None and self.link_travel(q, np.asarray(q_plan)) <= MAX_LINK_STEP:
+                return np.asarray(q_plan, dtype=float)
         # one control period's move is small: Gauss-Newton steps from where the arm is move its joints least
         # (no switch of configuration), NLopt from there only when they stall
         q_next = self.arm.ik_near(target, q)
@@ -332,3 +340,13 @@ def drive_body(skeleton: Any, body_node: Any, target: np.ndarray, period: float)
     current = dart.dynamics.FreeJoint.convertToPositions(body_node.getWorldTransform())
     wanted = dart.dynamics.FreeJoint.convertToPositions(isometry(target))
     joint.setCommands(joint.getPositionDifferences(wanted, current) / period)
+
+
+def _along(chain: list[np.ndarray], phase: float) -> np.ndarray:
+    """The joints at `phase` (0 to 1) of `chain` (joints at evenly spaced phases), linearly between entries."""
+    if len(chain) < 2:
+        return np.asarray(chain[0], dtype=float)
+    where = min(max(phase, 0.0), 1.0) * (len(chain) - 1)
+    i = min(int(where), len(chain) - 2)
+    a, b = np.asarray(chain[i], dtype=float), np.asarray(chain[i + 1], dtype=float)
+    return a + (b - a) * (where - i)

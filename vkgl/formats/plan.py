@@ -1,4 +1,4 @@
-"""The `vkg-plan/2` document: the one definition of the plan format, its only reader and writer.
+"""The `vkg-plan/3` document: the one definition of the plan format, its only reader and writer.
 
 ARCHITECTURE.md is the contract. In memory a plan document is a tree of frozen
 dataclasses (`PlanDocument` > `PlanRobot`, `PlanStats`, `PlanStepRecord`) with
@@ -46,7 +46,9 @@ from vkgl.formats.json_checks import (
     show,
 )
 
-PLAN_FORMAT = "vkg-plan/2"
+PLAN_FORMAT = "vkg-plan/3"
+OLDER_READABLE = "vkg-plan/2"
+"""Still read: the same without `steps[k].contact` (its steps get `contact` None)."""
 STATUSES = ("solved", "infeasible", "timeout")
 OPS = ("add", "remove")
 MOTIONS = ("fixed", "prismatic", "revolute", "free")
@@ -71,6 +73,7 @@ _STEP_KEYS = (
     "q_start",
     "q_end",
     "path",
+    "contact",
 )
 _SEGMENT_KEYS = ("phase", "times", "joints")
 PHASES = ("lift", "retreat", "transit", "approach")
@@ -135,7 +138,11 @@ class PlanStepRecord:
     transition and after the motion; `q_start`/`q_end` the arm's joints there;
     `value` is the motion's amount (m or rad, >= 0; 0 for a REMOVE); `path`
     the arm's planned motions before the step's action (vkg-plan/2): from
-    where the previous step left the arm to `q_start`.
+    where the previous step left the arm to `q_start`; `contact` (vkg-plan/3;
+    k x n, k >= 2, or None) the arm's joints at k evenly spaced fractions of a
+    contact's motion, `q_start` first and `q_end` last: the one arm
+    configuration the planner checked carries the whole motion, which
+    execution follows. None for removals and grasps, and in older plans.
     """
 
     op: str
@@ -149,6 +156,7 @@ class PlanStepRecord:
     q_start: np.ndarray
     q_end: np.ndarray
     path: tuple[ArmSegment, ...] = ()
+    contact: np.ndarray | None = None
 
     def title(self) -> str:
         """The step in words: `add Block.push_center_px on block with arm.fingertip: slide 15.0 cm`."""
@@ -162,7 +170,7 @@ class PlanStepRecord:
 
 @dataclass(frozen=True, eq=False)
 class PlanDocument:
-    """A whole `vkg-plan/2` plan.
+    """A whole `vkg-plan/3` plan.
 
     `status` is "solved", "infeasible" or "timeout"; `depth` is the number of
     graphs (G0 included) of a solved plan, None otherwise; `graphs` holds each
@@ -208,7 +216,7 @@ def to_json(doc: PlanDocument) -> dict[str, Any]:
 
 
 def dumps(doc: PlanDocument) -> str:
-    """The text of a `vkg-plan/2` file (what `write` puts in it)."""
+    """The text of a `vkg-plan/3` file (what `write` puts in it)."""
     return json.dumps(to_json(doc), indent=1) + "\n"
 
 
@@ -251,14 +259,19 @@ def _step_json(step: PlanStepRecord) -> dict[str, Any]:
         "q_start": [float(round(v, 12)) for v in step.q_start],
         "q_end": [float(round(v, 12)) for v in step.q_end],
         "path": [_segment_json(segment) for segment in step.path],
+        "contact": [] if step.contact is None else _joints_json(step.contact),
     }
+
+
+def _joints_json(joints: np.ndarray) -> list[list[float]]:
+    return [[float(round(v, 12)) + 0.0 for v in q] for q in joints]
 
 
 def _segment_json(segment: ArmSegment) -> dict[str, Any]:
     return {
         "phase": segment.phase,
         "times": [float(round(t, 12)) + 0.0 for t in segment.times],
-        "joints": [[float(round(v, 12)) + 0.0 for v in q] for q in segment.joints],
+        "joints": _joints_json(segment.joints),
     }
 
 
@@ -266,7 +279,7 @@ def _segment_json(segment: ArmSegment) -> dict[str, Any]:
 
 
 def read(path: str | Path) -> PlanDocument:
-    """Read and check a `vkg-plan/2` file. InputError if it cannot be read or is not JSON;
+    """Read and check a `vkg-plan/3` (or `vkg-plan/2`) file. InputError if it cannot be read or is not JSON;
     PlanFormatError (an InputError) naming the file and the bad field's path if it is not a valid plan."""
     try:
         text = Path(path).read_text(encoding="utf-8")
@@ -297,14 +310,17 @@ def from_json(data: Any) -> PlanDocument:
             f"found 'vkg-plan/1', expected {PLAN_FORMAT!r}: the plan was written by an older vkgc, without the "
             "arm's paths between contacts; solve the task again",
         )
-    if obj["format"] != PLAN_FORMAT:
+    if obj["format"] not in (PLAN_FORMAT, OLDER_READABLE):
         raise PlanFormatError("format", f"expected {PLAN_FORMAT!r}, found {obj['format']!r}: not a {PLAN_FORMAT} plan")
     task = expect_name(obj["task"], "task")
     status = expect_choice(obj["status"], "status", STATUSES)
     robot = _robot(obj["robot"], "robot")
     stats = _stats(obj["stats"], "stats")
     graphs = tuple(_graph(g, f"graphs[{k}]") for k, g in enumerate(expect_list(obj["graphs"], "graphs")))
-    steps = tuple(_step(s, f"steps[{k}]", len(robot.joints)) for k, s in enumerate(expect_list(obj["steps"], "steps")))
+    older = obj["format"] == OLDER_READABLE
+    steps = tuple(
+        _step(s, f"steps[{k}]", len(robot.joints), older) for k, s in enumerate(expect_list(obj["steps"], "steps"))
+    )
     final = expect_poses(obj["final"], "final")
     depth = obj["depth"]
     if status == "solved":
@@ -372,11 +388,13 @@ def _graph(data: Any, path: str) -> tuple[Edge, ...]:
     return tuple(edges)
 
 
-def _step(data: Any, path: str, n_joints: int) -> PlanStepRecord:
-    obj = expect_object(data, path, _STEP_KEYS)
+def _step(data: Any, path: str, n_joints: int, older: bool = False) -> PlanStepRecord:
+    obj = expect_object(data, path, _STEP_KEYS[:-1] if older else _STEP_KEYS)
     value = expect_number(obj["value"], f"{path}.value")
     if value < 0:
         raise PlanFormatError(f"{path}.value", f"expected an amount >= 0 (m or rad), found {value!r}")
+    q_start = expect_joints(obj["q_start"], f"{path}.q_start", n_joints)
+    q_end = expect_joints(obj["q_end"], f"{path}.q_end", n_joints)
     return PlanStepRecord(
         op=expect_choice(obj["op"], f"{path}.op", OPS),
         affordance=expect_dotted(obj["affordance"], f"{path}.affordance", "Type.affordance"),
@@ -386,13 +404,32 @@ def _step(data: Any, path: str, n_joints: int) -> PlanStepRecord:
         value=value,
         poses_start=expect_poses(obj["poses_start"], f"{path}.poses_start"),
         poses_end=expect_poses(obj["poses_end"], f"{path}.poses_end"),
-        q_start=expect_joints(obj["q_start"], f"{path}.q_start", n_joints),
-        q_end=expect_joints(obj["q_end"], f"{path}.q_end", n_joints),
+        q_start=q_start,
+        q_end=q_end,
         path=tuple(
             _segment(seg, f"{path}.path[{k}]", n_joints)
             for k, seg in enumerate(expect_list(obj["path"], f"{path}.path"))
         ),
+        contact=None if older else _contact(obj["contact"], f"{path}.contact", n_joints, (q_start, q_end)),
     )
+
+
+def _contact(data: Any, path: str, n_joints: int, ends: tuple[np.ndarray, np.ndarray]) -> np.ndarray | None:
+    """A step's contact chain: none (`[]`), or 2 or more joint lists from `q_start` to `q_end`."""
+    raw = expect_list(data, path)
+    if not raw:
+        return None
+    if len(raw) < 2:
+        raise PlanFormatError(
+            path, f"expected [] or 2 or more joint configurations (q_start ... q_end), found {len(raw)}"
+        )
+    joints = np.array([expect_joints(q, f"{path}[{k}]", n_joints) for k, q in enumerate(raw)], dtype=float)
+    for k, (q, name) in ((0, (ends[0], "q_start")), (len(raw) - 1, (ends[1], "q_end"))):
+        if np.abs(joints[k] - q).max() > 1e-9:
+            raise PlanFormatError(
+                f"{path}[{k}]", f"expected the step's {name}: a contact chain runs from q_start to q_end"
+            )
+    return frozen(joints)
 
 
 def _segment(data: Any, path: str, n_joints: int) -> ArmSegment:
@@ -413,6 +450,7 @@ def _segment(data: Any, path: str, n_joints: int) -> ArmSegment:
 
 __all__ = [
     "MOTIONS",
+    "OLDER_READABLE",
     "OPS",
     "PHASES",
     "PLAN_FORMAT",

@@ -120,7 +120,8 @@ class ArmPathPlanner:
             state = _ArmState(np.asarray(self.problem.arm.home if q_start is None else q_start, dtype=float))
             out = []
             for k, step in enumerate(steps, start=1):
-                planned = self._planned_step(k, step, state, deadline, last=k == len(steps))
+                following = steps[k] if k < len(steps) else None
+                planned = self._planned_step(k, step, state, deadline, last=following is None, following=following)
                 if isinstance(planned, Rejection):
                     return planned
                 out.append(planned)
@@ -129,20 +130,34 @@ class ArmPathPlanner:
             self.seconds += time.perf_counter() - began
 
     def _planned_step(
-        self, k: int, step: StepT, state: _ArmState, deadline: float | None, *, last: bool = False
+        self,
+        k: int,
+        step: StepT,
+        state: _ArmState,
+        deadline: float | None,
+        *,
+        last: bool = False,
+        following: PlanStepRecord | None = None,
     ) -> StepT | Rejection:
         """The step with its path; a contact tries each arm configuration that carries its motion in turn,
-        until one can be approached (and, for the `last` step, left again)."""
+        until one can be approached (and, for the `last` step, left again). A release happens where the
+        arm is (its `q_start`/`q_end` become those joints)."""
         if step.op != "add" or step.motion == "free":
-            found = self._step(k, step, state, deadline)
-            return found if isinstance(found, Rejection) else replace(step, path=found)
+            q_before = state.q
+            found = self._step(k, step, state, deadline, releases_next=_releases(following, state.held))
+            if isinstance(found, Rejection):
+                return found
+            if step.op == "remove" and step.motion == "free":
+                return replace(step, path=found, q_start=q_before, q_end=q_before)
+            return replace(step, path=found)
         label = f"step {k} ({step.title()})"
         first: Rejection | None = None
         for chain in self._contact_chain(step, state, label):
             if isinstance(chain, Rejection):
                 return first or chain
             attempt = _ArmState(state.q.copy(), state.held, state.lift)
-            moved = replace(step, q_start=chain[0], q_end=chain[-1])
+            # the whole chain goes into the plan: execution follows this configuration, not one of its own
+            moved = replace(step, q_start=chain[0], q_end=chain[-1], contact=chain)
             found = self._step(k, moved, attempt, deadline)
             if not isinstance(found, Rejection) and last:
                 found = self._leave(moved, attempt, label) or found
@@ -215,7 +230,7 @@ class ArmPathPlanner:
     # ------------------------------------------------------------ step kinds
 
     def _step(
-        self, k: int, step: PlanStepRecord, state: _ArmState, deadline: float | None
+        self, k: int, step: PlanStepRecord, state: _ArmState, deadline: float | None, *, releases_next: bool = False
     ) -> tuple[ArmSegment, ...] | Rejection:
         label = f"step {k} ({step.title()})"
         segments: list[ArmSegment] = []
@@ -225,13 +240,17 @@ class ArmPathPlanner:
                 return lift
             segments.append(lift)
             state.lift = False
+        if step.op == "remove" and step.motion != "free" and releases_next:
+            # the tool is let go of where it touched (where the search leaves it), and the hand lifts from there:
+            # backing the tool out first would put it down a stand-off away from where the plan says it lies
+            return tuple(segments)
         if step.op == "remove" and step.motion != "free":
             retreat = self._retreat(step, state, label)
             if isinstance(retreat, Rejection):
                 return retreat
             return (*segments, retreat)
         if step.op == "remove":  # a release: the tool stays where the plan put it; the hand lifts next
-            state.held, state.lift, state.q = None, True, np.asarray(step.q_end, dtype=float)
+            state.held, state.lift = None, True
             return tuple(segments)
         found = self._reach_contact(k, step, state, label, deadline)
         if isinstance(found, Rejection):
@@ -422,6 +441,17 @@ class ArmPathPlanner:
         count = len(joints) - 1
         times = np.linspace(0.0, max(length / CARTESIAN_SPEED, 1e-3), count + 1) if count else np.zeros(1)
         return ArmSegment(phase, times, np.asarray(joints, dtype=float))
+
+
+def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:
+    """Whether `following` lets go of the tool `held` (the step after a contact's removal)."""
+    return (
+        following is not None
+        and held is not None
+        and following.op == "remove"
+        and following.motion == "free"
+        and following.body == held.body
+    )
 
 
 def _pitched_back(angle: float) -> np.ndarray:

@@ -30,7 +30,7 @@ plan's reason and details). Two rules:
   `PLAN_TOLERANCE`. Steps that move nothing (a grasp, a let-go, a push by 0)
   do not make a plan different: padding a tried plan with them is the same plan.
 
-Keys are built from `vkg-plan/2` step records (`StepKey.of`), so what is
+Keys are built from `vkg-plan/3` step records (`StepKey.of`), so what is
 avoided is said in the terms of the plans the executor carried out.
 """
 
@@ -67,7 +67,7 @@ class StepKey:
     """One plan step as a re-solve compares it: the transition, its motion value and the bodies at its start.
 
     `affordance` is qualified by the body type (`Block.push_center_px`), as in
-    `vkg-plan/2`; `start` holds the world pose of every body at the step's
+    `vkg-plan/3`; `start` holds the world pose of every body at the step's
     start.
     """
 
@@ -81,7 +81,7 @@ class StepKey:
 
     @classmethod
     def of(cls, step: PlanStepRecord) -> StepKey:
-        """The key of a `vkg-plan/2` step."""
+        """The key of a `vkg-plan/3` step."""
         return cls(
             step.op,
             step.affordance,
@@ -134,7 +134,7 @@ class Avoid:
 
     @classmethod
     def of(cls, tried: Iterable[PlanDocument] = (), failed: Iterable[PlanStepRecord] = ()) -> Avoid:
-        """From the `vkg-plan/2` plans tried (unsolved ones are skipped) and the step records that failed."""
+        """From the `vkg-plan/3` plans tried (unsolved ones are skipped) and the step records that failed."""
         plans = tuple(tuple(StepKey.of(s) for s in doc.steps) for doc in tried if doc.solved)
         return cls(plans, tuple(StepKey.of(s) for s in failed))
 

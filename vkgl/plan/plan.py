@@ -1,4 +1,4 @@
-"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/2` document, or drawn (`vkgl.plan.picture`).
+"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/3` document, or drawn (`vkgl.plan.picture`).
 
 A plan of depth D has D graphs (G0 included) and D - 1 steps. Step k is the
 transition into G_k followed by the motion G_k allows: `poses_start` are the
@@ -26,14 +26,14 @@ from vkgl.se3 import yaw_of
 
 @dataclass(frozen=True, eq=False)
 class PlanStep(PlanStepRecord):
-    """One step of a plan: the `vkg-plan/2` step record, plus the hand's poses along it (for pictures)."""
+    """One step of a plan: the `vkg-plan/3` step record, plus the hand's poses along it (for pictures)."""
 
     hand: list[np.ndarray] = field(default_factory=list)
 
 
 @dataclass
 class Plan:
-    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/2`.
+    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/3`.
 
     `status` is "solved", "infeasible" or "timeout"; `reason` says why when it
     is not solved. `graphs` holds each graph's edges `(parent, child, type)`.
@@ -51,7 +51,7 @@ class Plan:
     final: dict[str, np.ndarray] = field(default_factory=dict)
     start: dict[str, np.ndarray] = field(default_factory=dict)
     problem: Problem | None = field(default=None, repr=False)
-    details: dict[str, Any] = field(default_factory=dict)  # more counters, not part of vkg-plan/2
+    details: dict[str, Any] = field(default_factory=dict)  # more counters, not part of vkg-plan/3
 
     @property
     def depth(self) -> int | None:
@@ -61,7 +61,7 @@ class Plan:
     # ------------------------------------------------------------ the document
 
     def document(self) -> PlanDocument:
-        """The plan as a `vkg-plan/2` document (`vkgl.formats.plan`), exactly as its JSON reads back.
+        """The plan as a `vkg-plan/3` document (`vkgl.formats.plan`), exactly as its JSON reads back.
 
         Numbers are rounded as the JSON writes them, so that carrying out the
         document in memory and carrying out the file `vkgc solve --json`
@@ -83,7 +83,7 @@ class Plan:
         )
 
     def to_json(self) -> dict[str, Any]:
-        """The plan in the `vkg-plan/2` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
+        """The plan in the `vkg-plan/3` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
         return to_json(self._unrounded_document())
 
     # ------------------------------------------------------------ text
