@@ -75,6 +75,7 @@ def _shape_extent(body: Any) -> float:
     return extent
 
 
+_SKELETON_REACHES: dict[tuple[str, str, bytes], tuple[np.ndarray, np.ndarray]] = {}
 _REACHES: dict[tuple[str, str, bytes, float], np.ndarray] = {}
 
 
@@ -84,22 +85,31 @@ def link_reach(arm: Arm, tool_reach: float = 0.0) -> np.ndarray:
 
     Triangle inequality along the chain: from joint i's origin, the lengths of
     every later joint offset to a link's origin, plus that link's shape extent.
-    Computed once per process for each URDF, effector and tool reach (a read-only array).
+    The walk over the URDF is done once per process for each URDF and effector;
+    each tool reach only extends the effector's term (a read-only array).
     """
-    key = (arm.urdf, arm.effector_link, np.asarray(arm.link_offset, dtype=float).tobytes(), float(tool_reach))
-    found = _REACHES.get(key)
+    key = (arm.urdf, arm.effector_link, np.asarray(arm.link_offset, dtype=float).tobytes())
+    found = _REACHES.get((*key, float(tool_reach)))
     if found is None:
-        found = _REACHES[key] = _link_reach(arm, tool_reach)
+        if key not in _SKELETON_REACHES:
+            _SKELETON_REACHES[key] = _link_reach(arm)
+        links, to_effector = _SKELETON_REACHES[key]
+        effector_extent = float(np.linalg.norm(arm.link_offset[:3, 3])) + tool_reach
+        found = np.maximum(links, to_effector + effector_extent)
         found.flags.writeable = False
+        _REACHES[(*key, float(tool_reach))] = found
     return found
 
 
-def _link_reach(arm: Arm, tool_reach: float) -> np.ndarray:
+def _link_reach(arm: Arm) -> tuple[np.ndarray, np.ndarray]:
+    """Per joint: the bound over the links' shapes, and the chain length to the effector link's origin
+    (-inf where the joint does not move the effector)."""
     skeleton = arm.skeleton
     joints = [skeleton.getJoint(name) for name in arm.joint_names]
     effector_body = skeleton.getBodyNode(arm.effector_link)
-    effector_extent = float(np.linalg.norm(arm.link_offset[:3, 3])) + tool_reach
     reach = np.zeros(len(joints))
+    to_effector = np.full(len(joints), -np.inf)
+    extents: dict[str, float] = {}  # each link's shape extent, measured once
     for i, joint in enumerate(joints):
         # breadth-first over the links below joint i, with the chain length from the joint's origin
         start = joint.getChildBodyNode()
@@ -107,9 +117,12 @@ def _link_reach(arm: Arm, tool_reach: float) -> np.ndarray:
         best = 0.0
         while stack:
             body, length = stack.pop()
-            best = max(best, length + _shape_extent(body))
-            if body.getName() == effector_body.getName():
-                best = max(best, length + effector_extent)
+            name = body.getName()
+            if name not in extents:
+                extents[name] = _shape_extent(body)
+            best = max(best, length + extents[name])
+            if name == effector_body.getName():
+                to_effector[i] = max(to_effector[i], length)
             for k in range(body.getNumChildBodyNodes()):
                 child = body.getChildBodyNode(k)
                 below = child.getParentJoint()
@@ -117,7 +130,7 @@ def _link_reach(arm: Arm, tool_reach: float) -> np.ndarray:
                 offset += float(np.linalg.norm(below.getTransformFromChildBodyNode().translation()))
                 stack.append((child, length + offset))
         reach[i] = best
-    return reach
+    return reach, to_effector
 
 
 def edge_resolution(arm: Arm, tolerance: float = DEFAULT_TOLERANCE, tool_reach: float = 0.0) -> float:
