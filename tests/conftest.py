@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
+import os
+import tempfile
 from pathlib import Path
 
 import pytest
+
+# the arm's reach kept between processes (vkgl.formats.reach_cache): in a folder of this test run, never the
+# user's; subprocesses the tests start inherit it
+os.environ.setdefault("VKGL_CACHE_DIR", tempfile.mkdtemp(prefix="vkgl-test-cache-"))
 
 REPO = Path(__file__).resolve().parent.parent
 EXAMPLES = REPO / "examples"

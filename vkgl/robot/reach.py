@@ -7,11 +7,14 @@ are in the chain's root frame; `Arm.reach` converts from the world.
 
 from __future__ import annotations
 
+import hashlib
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from vkgl.formats import reach_cache
 from vkgl.robot.ik import MAX_EVALUATIONS, HandDownSolver, InverseKinematics
 from vkgl.robot.optimise import slsqp
 from vkgl.robot.pose_error import ANGLE_TOL, POSITION_TOL, angle_error, orientation_residual
@@ -26,14 +29,48 @@ REACH_AZIMUTHS_DEG = (0.0, 45.0, 90.0, 135.0, 180.0, -135.0, -90.0, -45.0)
 """Directions (deg about the base's z axis, from its x axis) at which `reach` checks its interval by IK."""
 
 _REACH_CACHE: dict[tuple[Any, ...], tuple[float, float]] = {}
+_DISK_KEYS: dict[tuple[Any, ...], str] = {}  # per model: its key in the reach cache on disk, once loaded
+
+_REACH_SOURCES = ("reach.py", "ik.py", "optimise.py", "pose_error.py", "kinematics.py", "ready_pose.py")
+"""The modules whose code decides a reach: a change to any of them makes the kept values stale."""
 
 
 def cached_reach(ik: InverseKinematics, model: tuple[Any, ...], height: float) -> tuple[float, float]:
-    """`reach(ik, height)`, computed once per process for each `model` key (URDF, link, offset) and height."""
+    """`reach(ik, height)`, computed once for each `model` key (URDF, link, offset) and height: kept for the
+    process, and between processes in the user's cache folder (`vkgl.formats.reach_cache`)."""
     key = (*model, height)
     if key not in _REACH_CACHE:
-        _REACH_CACHE[key] = reach(ik, height)
+        disk_key = _loaded_disk_key(model)
+        if key not in _REACH_CACHE:
+            _REACH_CACHE[key] = reach(ik, height)
+            reach_cache.store(disk_key, height, _REACH_CACHE[key])
     return _REACH_CACHE[key]
+
+
+def _loaded_disk_key(model: tuple[Any, ...]) -> str:
+    """`model`'s key in the reach cache on disk; the first time, what is kept under it joins the process's."""
+    found = _DISK_KEYS.get(model)
+    if found is None:
+        found = _DISK_KEYS[model] = _disk_key(model)
+        for height, interval in reach_cache.load(found).items():
+            _REACH_CACHE.setdefault((*model, height), interval)
+    return found
+
+
+def _disk_key(model: tuple[Any, ...]) -> str:
+    """A digest of everything a reach depends on: the URDF's bytes, the effector link and offset, the code."""
+    digest = hashlib.sha256()
+    urdf, *rest = model
+    try:
+        digest.update(Path(urdf).read_bytes())
+    except OSError:
+        digest.update(str(urdf).encode())
+    for part in rest:
+        digest.update(part if isinstance(part, bytes) else repr(part).encode())
+    here = Path(__file__).resolve().parent
+    for name in _REACH_SOURCES:
+        digest.update((here / name).read_bytes())
+    return digest.hexdigest()
 
 
 _AT_HEIGHT: dict[tuple[Any, ...], tuple[float, float]] = {}
@@ -52,9 +89,11 @@ def reach_at(ik: InverseKinematics, model: tuple[Any, ...], base_z: float, heigh
 
 
 def clear_reach_cache() -> None:
-    """Forget every reach computed so far (for benchmarks that time the first computation)."""
+    """Forget every reach computed so far in this process (for benchmarks that time the first computation;
+    with the cache on disk off, `VKGL_CACHE_DIR=off`, they are computed again)."""
     _REACH_CACHE.clear()
     _AT_HEIGHT.clear()
+    _DISK_KEYS.clear()
 
 
 def reach(ik: InverseKinematics, height: float) -> tuple[float, float]:
