@@ -21,7 +21,11 @@ plans, from where the previous step left the arm:
   contact is approached from above instead: the fingertip hooked behind a
   handle's bar pushes away from the body it pulls, so backing off along its
   push would put the hand into that body; it comes down into the gap (and so
-  does a held hook's cross-piece, behind a bar it pulls).
+  does a held hook's cross-piece, behind a bar it pulls). When neither way
+  works, it comes in slanted, along its push and `SLANT` down: the fingertip
+  on the far face of a tall crate, the hand leaned outward at the edge of the
+  arm's reach, has no room to back off 3 cm level, and coming straight down
+  along the face would start the transit's goal within its clearance of it.
 
 Every segment is timed: transits within the URDF's joint velocity limits
 (scaled by `TRANSIT_SPEED_SCALE`), the straight moves at `CARTESIAN_SPEED`.
@@ -72,6 +76,10 @@ CHAIN_SPACING = 0.01
 
 CHAIN_LEVER = 0.2
 """m: a turn of the hand counts as this lever arm times its angle, for `CHAIN_SPACING`."""
+
+SLANT = np.radians(30.0)
+"""rad: below the push direction, the last way tried into a contact (after along the push and from above);
+less than 45 deg, so that execution leaves such a contact straight back, as `ArmPathPlanner._leave` checks."""
 
 PITCHES = tuple(np.radians((0.0, 30.0, 45.0, 60.0)))
 """rad: how far the hand may lean back from upright at a contact (tried in turn)."""
@@ -268,16 +276,22 @@ class ArmPathPlanner:
         """Transit to the step's pre-contact configuration, then the straight approach into the contact.
 
         A push is approached along its push direction; when that way is blocked (a hook behind a handle's
-        bar would back into the body it pulls), from above, down into the contact (the gap behind the bar).
+        bar would back into the body it pulls), from above, down into the contact (the gap behind the bar);
+        when that fails too, slanted: along the push and `SLANT` down (the stand-off above and behind).
         """
         grasp = step.motion == "free"
         if grasp:
             return self._approach(k, step, state, label, deadline, DOWN, GRASP_STANDOFF)
-        first = self._approach(k, step, state, label, deadline, self._push_direction(step, step.poses_start), STANDOFF)
+        push = self._push_direction(step, step.poses_start)
+        first = self._approach(k, step, state, label, deadline, push, STANDOFF)
         if not isinstance(first, Rejection) or first.kind != "approach":
             return first
-        above = self._approach(k, step, state, label, deadline, DOWN, STANDOFF)
-        return first if isinstance(above, Rejection) else above
+        slanted = np.cos(SLANT) * push + np.sin(SLANT) * DOWN
+        for way in (DOWN, slanted / np.linalg.norm(slanted)):
+            found = self._approach(k, step, state, label, deadline, way, STANDOFF)
+            if not isinstance(found, Rejection):
+                return found
+        return first
 
     def _approach(
         self,
