@@ -165,13 +165,9 @@ class StepKinds:
         self.grasp_planned = self._action_pose(step, label)
 
     def _release(self, step: PlanStepRecord, label: str) -> None:
-        before = self.sim.arm.q
-        self._lower_and_release(label)
         # the plan lets go where the hand is and lifts from there: the open hand goes back up the way it came
         # down, so that the next step's path starts where the plan expects the arm
-        if float(np.abs(before - self.sim.arm.q).max()) > 1e-9:
-            self.sim.label = f"{label} release"
-            self.sim.arm.move_joints(before, lambda n, s: self.sim.advance(n))
+        self._lower_and_release(label, back_up=True)
 
     def put_down(self, label: str) -> None:
         """Lower the held tool onto the table and let go of it; then lift the empty hand."""
@@ -183,10 +179,12 @@ class StepKinds:
         up = paths.at_height(start, start[2, 3] + LIFT)
         self.moves.run([paths.line("release", start, up), paths.hold("settle", up, SETTLE)], label)
 
-    def _lower_and_release(self, label: str) -> None:
-        """Lower the held tool until it rests on the table, and let go of it (the hand stays where it is)."""
+    def _lower_and_release(self, label: str, *, back_up: bool = False) -> None:
+        """Lower the held tool until it rests on the table, and let go of it; the hand stays where it is, or with
+        `back_up` returns to the joints it had before lowering (the fingers still open around the tool's grip)."""
         if self.sim.arm.held is None:
             return
+        before = self.sim.arm.q
         start = self.sim.arm.effector_pose()
         drop = self.sim.lowest_offset() - 0.002
         low = paths.at_height(start, self.sim.table_z + drop) if start[2, 3] > self.sim.table_z + drop else start
@@ -194,6 +192,9 @@ class StepKinds:
         self.sim.arm.release()
         self.grasp_planned = None
         self.moves.run([paths.hold("settle", low, SETTLE)], label)
+        if back_up and float(np.abs(before - self.sim.arm.q).max()) > 1e-9:
+            self.sim.label = f"{label} release"
+            self.sim.arm.move_joints(before, lambda n, s: self.sim.advance(n))
         self.sim.arm.fingertip_collides(True)
 
     def settle(self, seconds: float, label: str = "settle") -> None:
