@@ -86,7 +86,7 @@ class ArmMoves:
         """
         if float(np.abs(self.sim.arm.q - segment.joints[0]).max()) < JOIN_NEAR:
             # where the plan expects it (a contact chain followed as planned): the planned joints themselves
-            self.sim.arm.move_joints(segment.joints[0], lambda n, s: self.sim.advance(n))
+            self.join(segment.joints[0], label)  # a step from close by, as any path is joined
             self.sim.label = f"{label} {segment.phase}"
             self.sim.arm.follow_joints(segment.joints, segment.times, lambda n, s: self.sim.advance(n))
             return
