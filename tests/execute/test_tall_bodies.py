@@ -16,7 +16,7 @@ from the base's axis): the hand stays upright above the 5 cm one and leans
 stand-off 3 cm straight back from the far face, hand leaned, has no IK, and
 one 3 cm above the contact has the fingertip within the transit's 1 cm
 clearance of the face, so the planner comes in slanted, 30 deg down
-(`arm_paths.SLANT`). The 10, 20 and 30 cm crates are also pulled from 0.38 m,
+(`straight_moves.SLANT`). The 10, 20 and 30 cm crates are also pulled from 0.38 m,
 comfortably inside the reach (near face 0.20 m from the base's axis at the
 goal, 11 cm clear of the base's 9 cm column). A 30 cm crate is about as tall
 as the Panda's shoulder (0.333 m): the forearm passes over its top only while
@@ -39,7 +39,7 @@ from pathlib import Path
 import pytest
 
 import vkgl
-from vkgl.plan.arm_paths import SLANT, STANDOFF
+from vkgl.plan.straight_moves import SLANT, STANDOFF
 
 STDLIB_SCENE = """
 use stdlib.robots.panda

@@ -1,38 +1,33 @@
-"""The arm's paths between contacts: lift, retreat, transit and approach, planned for every step of a plan.
+"""The arm's paths between contacts, planned for every step of a plan: straight moves, then transits.
 
 A plan step's action (make a contact and move with it, grasp a tool, let go,
-put a tool down) needs the arm to get there first. For each step this module
-plans, from where the previous step left the arm:
+put a tool down) needs the arm to get there first. For each step, from where
+the previous step left the arm, the path is:
 
-- **lift**: after a grasp or a release, straight up `LIFT` (the hand or the
-  held tool leaves the table before anything else);
-- **retreat** (a REMOVE of a push): straight back out of the contact by
-  `STANDOFF`, against the direction the contact pushed (straight up when that
-  way is blocked: a hook behind a handle's bar);
-- **transit**: a collision-free joint-space path (`vkgl.plan.transit`: the
-  straight line when it is clear, else OMPL's RRTConnect) to the step's
-  pre-contact configuration; valid means the arm's links and a held tool
-  clear every body and the table (`vkgl.plan.arm_collision`);
-- **approach**: the last `STANDOFF` straight into the contact along its push
-  direction (`vkgl.plan.approach`, chained IK from the contact outward, so the
-  arm arrives in the configuration the search checked). A tall body is thus
-  approached from the side at contact height; a tool is grasped from above
-  (`GRASP_STANDOFF`). When the way back along the push is blocked, the
-  contact is approached from above instead: the fingertip hooked behind a
-  handle's bar pushes away from the body it pulls, so backing off along its
-  push would put the hand into that body; it comes down into the gap (and so
-  does a held hook's cross-piece, behind a bar it pulls). When neither way
-  works, it comes in slanted, along its push and `SLANT` down: the fingertip
-  on the far face of a tall crate, the hand leaned outward at the edge of the
-  arm's reach, has no room to back off 3 cm level, and coming straight down
-  along the face would start the transit's goal within its clearance of it.
+- **lift**: after a grasp or a release, straight up (`vkgl.plan.straight_moves`);
+- **retreat** (a REMOVE of a push): straight back out of the contact; none
+  when the next step lets go of the tool that touched (it is let go of where
+  the search leaves it);
+- **transit**: a collision-free joint-space path (`vkgl.plan.transit_segment`:
+  the straight line when it is clear, up and over, else OMPL's RRTConnect) to
+  the step's pre-contact configuration; valid means the arm's links and a
+  held tool clear every body and the table (`vkgl.plan.arm_collision`);
+- **approach**: straight into the contact (`vkgl.plan.straight_moves`: along
+  its push, from above, or slanted), ending in the configuration the search
+  checked. A contact's configuration must carry its whole motion: the plan
+  stores it as a chain of joints along the motion (`contact`), the first arm
+  configuration of `_contact_chain` that can be approached.
 
-Every segment is timed: transits within the URDF's joint velocity limits
-(scaled by `TRANSIT_SPEED_SCALE`), the straight moves at `CARTESIAN_SPEED`.
-The search calls `ArmPathPlanner.plan` on every candidate that passed the
-other checks, so a plan whose contact cannot be approached is rejected there
-(kinds "approach" and "transit"), not discovered in physics. Deterministic:
-transit `k` of a plan is seeded with `k`.
+Planning runs in two stages. `ArmPathPlanner.straight` plans everything but
+the transits, inside the search, for every candidate that passed the other
+checks: a plan whose contact cannot be approached or left is rejected there
+(kind "approach"). `ArmPathPlanner.transits` then plans the transits between
+the fixed ends the first stage chose (their ends do not depend on one
+another), after the search has a candidate; when one fails, the search goes
+on with the next candidate (kind "transit"). `ArmPathPlanner.plan` runs both.
+Every segment is timed: transits within the URDF's joint velocity limits, the
+straight moves at `straight_moves.CARTESIAN_SPEED`. Deterministic: transit `k` of a plan is
+seeded with `k`.
 """
 
 from __future__ import annotations
@@ -40,36 +35,22 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import TypeVar
+from typing import Generic, TypeVar
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
-from vkgl.plan.approach import APPROACH_STEP, CartesianFailure, approach_poses, follow_poses
-from vkgl.plan.arm_collision import ArmCollision, Held
+from vkgl.plan.approach import CartesianFailure, follow_poses
+from vkgl.plan.arm_collision import Held
 from vkgl.plan.geometry_check import GeometryCheck
 from vkgl.plan.model import Problem
 from vkgl.plan.reach import Rejection
+from vkgl.plan.straight_moves import ArmState, StraightMoves
 from vkgl.plan.transit import TransitFailure
 from vkgl.plan.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
 from vkgl.robot.pad import FINGERTIP_RADIUS
 from vkgl.se3 import screw_motion
-
-STANDOFF = 0.03
-"""m: the pre-contact pose is this far back from the contact, against its push direction."""
-
-GRASP_STANDOFF = 0.05
-"""m: a tool is grasped from this high above its grasp frame, straight down."""
-
-LIFT = 0.04
-"""m: the hand rises this much after a grasp or a release, before it moves on."""
-
-TOOL_DESCENT = 0.03
-"""m: a held tool comes straight down this much to its stand-off before its straight approach."""
-
-CARTESIAN_SPEED = 0.03
-"""m/s of the effector on the straight moves (approach, retreat, lift): slow, as they start or end in contact."""
 
 CHAIN_SPACING = 0.01
 """m of hand travel between two checked configurations of a contact's motion."""
@@ -77,25 +58,32 @@ CHAIN_SPACING = 0.01
 CHAIN_LEVER = 0.2
 """m: a turn of the hand counts as this lever arm times its angle, for `CHAIN_SPACING`."""
 
-SLANT = np.radians(30.0)
-"""rad: below the push direction, the last way tried into a contact (after along the push and from above);
-less than 45 deg, so that execution leaves such a contact straight back, as `ArmPathPlanner._leave` checks."""
-
 PITCHES = tuple(np.radians((0.0, 30.0, 45.0, 60.0)))
 """rad: how far the hand may lean back from upright at a contact (tried in turn)."""
 
 StepT = TypeVar("StepT", bound=PlanStepRecord)
 
-DOWN = np.array([0.0, 0.0, -1.0])
+
+@dataclass(frozen=True)
+class PendingTransit:
+    """A transit the first stage left to plan: into `steps[step].path` at `at`, from `start` to `goal` (joints),
+    with the bodies at `poses` and `held` in the hand; `label` names the step in a rejection."""
+
+    step: int
+    at: int
+    start: np.ndarray
+    goal: np.ndarray
+    poses: Mapping[str, np.ndarray]
+    held: Held | None
+    label: str
 
 
-@dataclass
-class _ArmState:
-    """Where the previous step left the arm: its joints, a tool in the hand, whether it must lift first."""
+@dataclass(frozen=True)
+class StraightPaths(Generic[StepT]):
+    """The first stage's result: the steps with their straight moves, and the transits still to plan."""
 
-    q: np.ndarray
-    held: Held | None = None
-    lift: bool = False
+    steps: list[StepT]
+    pending: list[PendingTransit]
 
 
 class ArmPathPlanner:
@@ -105,18 +93,23 @@ class ArmPathPlanner:
         """Paths for `problem`'s arm, checked with `geometry`'s collision world."""
         self.problem = problem
         self.geometry = geometry
-        self.transits = 0
-        self.seconds = 0.0
-        self.transit_seconds = 0.0  # of `seconds`, in transit planning (the rest: IK of straight moves, checks)
+        self.moves = StraightMoves(problem, geometry)
+        self.transit_count = 0
+        self.seconds = 0.0  # in the first stage (IK of straight moves and contact chains, their checks)
+        self.transit_seconds = 0.0  # in the second (transit planning)
 
     def plan(
-        self,
-        steps: Sequence[StepT],
-        q_start: np.ndarray | None = None,
-        *,
-        deadline: float | None = None,
+        self, steps: Sequence[StepT], q_start: np.ndarray | None = None, *, deadline: float | None = None
     ) -> list[StepT] | Rejection:
-        """The steps with their `path` (the segments before each step's action), or why one cannot be planned.
+        """The steps with their `path` (the segments before each step's action), or why one cannot be planned:
+        both stages, `straight` then `transits`."""
+        first = self.straight(steps, q_start, deadline=deadline)
+        return first if isinstance(first, Rejection) else self.transits(first, deadline=deadline)
+
+    def straight(
+        self, steps: Sequence[StepT], q_start: np.ndarray | None = None, *, deadline: float | None = None
+    ) -> StraightPaths[StepT] | Rejection:
+        """The first stage: every step's straight moves and contact chain, and the transits left to plan.
 
         A contact whose arm configuration cannot carry the whole motion (the
         arm would have to switch configuration in contact) gets one that can:
@@ -125,59 +118,70 @@ class ArmPathPlanner:
         """
         began = time.perf_counter()
         try:
-            state = _ArmState(np.asarray(self.problem.arm.home if q_start is None else q_start, dtype=float))
-            out = []
+            state = ArmState(np.asarray(self.problem.arm.home if q_start is None else q_start, dtype=float))
+            out: list[StepT] = []
+            pending: list[PendingTransit] = []
             for k, step in enumerate(steps, start=1):
                 following = steps[k] if k < len(steps) else None
-                planned = self._planned_step(k, step, state, deadline, last=following is None, following=following)
+                planned = self._planned_step(k, step, state, last=following is None, following=following)
                 if isinstance(planned, Rejection):
                     return planned
-                out.append(planned)
-            return out
+                found, transit = planned
+                out.append(found)
+                if transit is not None:
+                    pending.append(transit)
+            return StraightPaths(out, pending)
         finally:
             self.seconds += time.perf_counter() - began
 
+    def transits(self, paths: StraightPaths[StepT], *, deadline: float | None = None) -> list[StepT] | Rejection:
+        """The second stage: the steps of `paths` with their transits planned in, or why one cannot be."""
+        steps = list(paths.steps)
+        for transit in paths.pending:
+            segment = self._transit(transit, deadline)
+            if isinstance(segment, Rejection):
+                return segment
+            step = steps[transit.step]
+            path = (*step.path[: transit.at], segment, *step.path[transit.at :])
+            steps[transit.step] = replace(step, path=path)
+        return steps
+
     def _planned_step(
-        self,
-        k: int,
-        step: StepT,
-        state: _ArmState,
-        deadline: float | None,
-        *,
-        last: bool = False,
-        following: PlanStepRecord | None = None,
-    ) -> StepT | Rejection:
-        """The step with its path; a contact tries each arm configuration that carries its motion in turn,
-        until one can be approached (and, for the `last` step, left again). A release happens where the
-        arm is (its `q_start`/`q_end` become those joints)."""
+        self, k: int, step: StepT, state: ArmState, *, last: bool = False, following: PlanStepRecord | None = None
+    ) -> tuple[StepT, PendingTransit | None] | Rejection:
+        """The step with its straight moves and the transit it needs; a contact tries each arm configuration
+        that carries its motion in turn, until one can be approached (and, for the `last` step, left again).
+        A release happens where the arm is (its `q_start`/`q_end` become those joints)."""
         if step.op != "add" or step.motion == "free":
             q_before = state.q
-            found = self._step(k, step, state, deadline, releases_next=_releases(following, state.held))
+            found = self._step(k, step, state, releases_next=_releases(following, state.held))
             if isinstance(found, Rejection):
                 return found
+            segments, transit = found
             if step.op == "remove" and step.motion == "free":
-                return replace(step, path=found, q_start=q_before, q_end=q_before)
-            return replace(step, path=found)
+                return replace(step, path=segments, q_start=q_before, q_end=q_before), transit
+            return replace(step, path=segments), transit
         label = f"step {k} ({step.title()})"
         first: Rejection | None = None
         for chain in self._contact_chain(step, state, label):
             if isinstance(chain, Rejection):
                 return first or chain
-            attempt = _ArmState(state.q.copy(), state.held, state.lift)
+            attempt = state.copy()
             # the whole chain goes into the plan: execution follows this configuration, not one of its own
             moved = replace(step, q_start=chain[0], q_end=chain[-1], contact=chain)
-            found = self._step(k, moved, attempt, deadline)
+            found = self._step(k, moved, attempt)
             if not isinstance(found, Rejection) and last:
-                found = self._leave(moved, attempt, label) or found
+                found = self.moves.leave(moved, attempt, label) or found
             if not isinstance(found, Rejection):
                 state.q, state.held, state.lift = attempt.q, attempt.held, attempt.lift
-                return replace(moved, path=found)
+                segments, transit = found
+                return replace(moved, path=segments), transit
             first = first or found
             if found.kind != "approach":
                 return found
         return first or Rejection("ik", f"{label}: no arm configuration carries the whole motion", 1.0)
 
-    def _contact_chain(self, step: PlanStepRecord, state: _ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
+    def _contact_chain(self, step: PlanStepRecord, state: ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
         """Joints every `CHAIN_SPACING` along a contact's motion, in one arm configuration from start to end.
 
         The plan's configuration at the contact first; if the arm would have
@@ -223,14 +227,14 @@ class ArmPathPlanner:
         yield Rejection("ik", f"{label}: no arm configuration carries the whole motion ({first})", 1.0)
 
     def _contact_clash(
-        self, step: PlanStepRecord, state: _ArmState, q_start: np.ndarray, q_end: np.ndarray
+        self, step: PlanStepRecord, state: ArmState, q_start: np.ndarray, q_end: np.ndarray
     ) -> str | None:
         """What the arm hits at the start or end of a contact's motion (only the pad may touch the pushed body)."""
         held = state.held
         if held is not None:
             held = Held(held.body, held.in_hand, frozenset({step.body}))
         for q, poses in ((q_start, step.poses_start), (q_end, step.poses_end)):
-            clash = self._first_clash(np.asarray([q]), poses, held, set(), {step.body})
+            clash = self.moves.first_clash(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
                 return f"at the contact {clash}"
         return None
@@ -238,12 +242,13 @@ class ArmPathPlanner:
     # ------------------------------------------------------------ step kinds
 
     def _step(
-        self, k: int, step: PlanStepRecord, state: _ArmState, deadline: float | None, *, releases_next: bool = False
-    ) -> tuple[ArmSegment, ...] | Rejection:
+        self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False
+    ) -> tuple[tuple[ArmSegment, ...], PendingTransit | None] | Rejection:
+        """The step's straight moves from where `state` has the arm, and the transit before its approach."""
         label = f"step {k} ({step.title()})"
         segments: list[ArmSegment] = []
         if state.lift:
-            lift = self._lift(state, step.poses_start, label)
+            lift = self.moves.lift(state, step.poses_start, label)
             if isinstance(lift, Rejection):
                 return lift
             segments.append(lift)
@@ -251,210 +256,58 @@ class ArmPathPlanner:
         if step.op == "remove" and step.motion != "free" and releases_next:
             # the tool is let go of where it touched (where the search leaves it), and the hand lifts from there:
             # backing the tool out first would put it down a stand-off away from where the plan says it lies
-            return tuple(segments)
+            return tuple(segments), None
         if step.op == "remove" and step.motion != "free":
-            retreat = self._retreat(step, state, label)
+            retreat = self.moves.retreat(step, state, label)
             if isinstance(retreat, Rejection):
                 return retreat
-            return (*segments, retreat)
+            return (*segments, retreat), None
         if step.op == "remove":  # a release: the tool stays where the plan put it; the hand lifts next
             state.held, state.lift = None, True
-            return tuple(segments)
-        found = self._reach_contact(k, step, state, label, deadline)
-        if isinstance(found, Rejection):
-            return found
-        segments.extend(found)
+            return tuple(segments), None
+        approach = self.moves.into_contact(step, state, label)
+        if isinstance(approach, Rejection):
+            return approach
+        transit = PendingTransit(
+            k - 1, len(segments), state.q.copy(), approach.pre_contact, step.poses_start, state.held, label
+        )
+        segments.append(approach.segment)
         if step.motion == "free":  # a grasp: the tool rides in the hand from here on
             in_hand = np.linalg.inv(self.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
             state.held, state.lift = Held(step.body, in_hand), True
         state.q = np.asarray(step.q_end, dtype=float)
-        return tuple(segments)
+        return tuple(segments), transit
 
-    def _reach_contact(
-        self, k: int, step: PlanStepRecord, state: _ArmState, label: str, deadline: float | None
-    ) -> list[ArmSegment] | Rejection:
-        """Transit to the step's pre-contact configuration, then the straight approach into the contact.
-
-        A push is approached along its push direction; when that way is blocked (a hook behind a handle's
-        bar would back into the body it pulls), from above, down into the contact (the gap behind the bar);
-        when that fails too, slanted: along the push and `SLANT` down (the stand-off above and behind).
-        """
-        grasp = step.motion == "free"
-        if grasp:
-            return self._approach(k, step, state, label, deadline, DOWN, GRASP_STANDOFF)
-        push = self._push_direction(step, step.poses_start)
-        first = self._approach(k, step, state, label, deadline, push, STANDOFF)
-        if not isinstance(first, Rejection) or first.kind != "approach":
-            return first
-        slanted = np.cos(SLANT) * push + np.sin(SLANT) * DOWN
-        for way in (DOWN, slanted / np.linalg.norm(slanted)):
-            found = self._approach(k, step, state, label, deadline, way, STANDOFF)
-            if not isinstance(found, Rejection):
-                return found
-        return first
-
-    def _approach(
-        self,
-        k: int,
-        step: PlanStepRecord,
-        state: _ArmState,
-        label: str,
-        deadline: float | None,
-        direction: np.ndarray,
-        standoff: float,
-    ) -> list[ArmSegment] | Rejection:
-        """Transit to `standoff` back from the contact against `direction`, then straight along it into the contact."""
-        grasp = step.motion == "free"
-        contact = self.problem.arm.fk(step.q_start)
-        poses = approach_poses(contact, standoff, APPROACH_STEP, direction)
-        length = standoff
-        if state.held is not None:
-            # a tool works at table height: it comes down to its stand-off first, so that the transit
-            # ends clear of the table (a joint-space line between two poses at table height dips into it)
-            poses = approach_poses(poses[0], TOOL_DESCENT, APPROACH_STEP, DOWN)[:-1] + poses
-            length += TOOL_DESCENT
-        # solved from the contact outward, so the arm arrives in the configuration the search checked
-        outward = follow_poses(self.problem.arm, poses[::-1], step.q_start)
-        if isinstance(outward, CartesianFailure):
-            return Rejection("approach", f"{label}: no straight approach into the contact ({outward.reason})", 1.0)
-        joints = outward.joints[::-1].copy()
-        joints[-1] = step.q_start
-        # the gripper closes around a tool it grasps; a pushing hand must clear the body it pushes until contact
-        ignore = {step.body} if grasp else set()
-        clash = self._first_clash(joints[:-1], step.poses_start, state.held, ignore, {step.body})
-        if clash is not None:
-            return Rejection("approach", f"{label}: the straight approach into the contact is blocked: {clash}", 1.0)
-        transit = self._transit(k, state, joints[0], step.poses_start, label, deadline)
-        if isinstance(transit, Rejection):
-            return transit
-        return [transit, self._straight("approach", joints, length)]
-
-    def _leave(self, step: PlanStepRecord, state: _ArmState, label: str) -> Rejection | None:
-        """Why the arm could not leave the plan's last contact as execution leaves it (straight back out of it,
-        or up where that is blocked, then up), or None. Nothing is added to the plan: a plan ends in its last
-        contact, and execution breaks it with that move (`vkgl.execute.steps`)."""
-        after = _ArmState(np.asarray(state.q, dtype=float).copy(), state.held, False)
-        retreat = self._retreat(replace(step, poses_start=step.poses_end), after, f"{label}, at the end")
-        if isinstance(retreat, Rejection):
-            return retreat
-        lift = self._lift(after, step.poses_end, f"{label}, at the end")
-        return lift if isinstance(lift, Rejection) else None
-
-    def _retreat(self, step: PlanStepRecord, state: _ArmState, label: str) -> ArmSegment | Rejection:
-        """Straight back out of the contact the step removes, against the way it pushed; when that way is
-        blocked (a fingertip or a held hook behind a handle's bar), straight up."""
-        away = -self._push_direction(step, step.poses_start)
-        what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
-        first = self._move_away(state, away, STANDOFF, step.poses_start, {step.body}, label, what)
-        if not isinstance(first, Rejection):
-            return first
-        above = self._move_away(state, -DOWN, STANDOFF, step.poses_start, {step.body}, label, what)
-        return first if isinstance(above, Rejection) else above
-
-    def _lift(self, state: _ArmState, poses: Mapping[str, np.ndarray], label: str) -> ArmSegment | Rejection:
-        """Straight up `LIFT` from where the arm is (after a grasp or a release)."""
-        what = ("lift", "the hand cannot rise straight up", "the way straight up is blocked")
-        return self._move_away(state, -DOWN, LIFT, poses, set(), label, what)
-
-    def _move_away(
-        self,
-        state: _ArmState,
-        way: np.ndarray,
-        length: float,
-        poses: Mapping[str, np.ndarray],
-        pad_may_touch: set[str],
-        label: str,
-        what: tuple[str, str, str],
-    ) -> ArmSegment | Rejection:
-        """A straight move of the hand by `length` along `way` from where the arm is; `what`: the segment's
-        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose."""
-        phase, no_path, blocked = what
-        start = self.problem.arm.fk(state.q)
-        out = approach_poses(start, length, APPROACH_STEP, -way)[::-1]  # from `start` to `length` along `way`
-        path = follow_poses(self.problem.arm, out, state.q)
-        if isinstance(path, CartesianFailure):
-            return Rejection("approach", f"{label}: {no_path} ({path.reason})", 1.0)
-        joints = path.joints.copy()
-        joints[0] = state.q
-        clash = self._first_clash(joints[1:], poses, state.held, set(), pad_may_touch)
-        if clash is not None:
-            return Rejection("approach", f"{label}: {blocked}: {clash}", 1.0)
-        state.q = joints[-1]
-        return self._straight(phase, joints, length)
-
-    def _transit(
-        self,
-        k: int,
-        state: _ArmState,
-        goal: np.ndarray,
-        poses: Mapping[str, np.ndarray],
-        label: str,
-        deadline: float | None,
-    ) -> ArmSegment | Rejection:
+    def _transit(self, transit: PendingTransit, deadline: float | None) -> ArmSegment | Rejection:
+        """`transit` planned, or why it cannot be (naming what blocks one of its ends when one is blocked)."""
         limit = TRANSIT_TIME_LIMIT
         if deadline is not None:
             limit = max(0.05, min(limit, deadline - time.perf_counter()))
-        self.transits += 1
-        # a held tool works close to the body it acts on (a hook's shaft along the block it pulls): its transits
-        # keep no clearance beyond the exact geometry; the bare arm's keep `TRANSIT_CLEARANCE`
-        collision = self.geometry.transit_collision if state.held is None else self.geometry.arm_collision
+        self.transit_count += 1
+        held = transit.held
+        collision = self.geometry.transit_space(held)
         began = time.perf_counter()
-        found = transit_segment(collision, state.q, goal, poses, state.held, seed=k, time_limit=limit)
-        self.transit_seconds += time.perf_counter() - began
+        try:
+            found = transit_segment(
+                collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
+            )
+        finally:
+            self.transit_seconds += time.perf_counter() - began
         if isinstance(found, TransitFailure):
-            blocker = self._blocker(found.reason, state.q, goal, state.held)
-            return Rejection("transit", f"{label}: no collision-free way for the arm to the contact: {blocker}", 1.0)
+            blocker = self._blocker(found.reason, transit)
+            why = f"{transit.label}: no collision-free way for the arm to the contact: {blocker}"
+            return Rejection("transit", why, 1.0)
         return found
 
-    # ------------------------------------------------------------ helpers
-
-    def _push_direction(self, step: PlanStepRecord, poses: Mapping[str, np.ndarray]) -> np.ndarray:
-        """The world direction the step's contact pushes along: the x axis of its action frame on the body."""
-        _, _, name = step.affordance.partition(".")
-        pusher = poses[step.body] @ self.problem.action(step.body, name)
-        return np.asarray(pusher[:3, 0], dtype=float)
-
-    def _first_clash(
-        self,
-        joints: np.ndarray,
-        poses: Mapping[str, np.ndarray],
-        held: Held | None,
-        ignore: set[str],
-        pad_may_touch: set[str] | None = None,
-        collision: ArmCollision | None = None,
-    ) -> str | None:
-        """What the arm (or a held tool) would overlap at the first blocked configuration of `joints`, or None.
-
-        `ignore`: bodies nothing of the arm is checked against; `pad_may_touch`: bodies only the fingertip pad
-        may touch (the one a straight approach or retreat pushes: its yaw about the push direction is free).
-        """
-        collision = collision or self.geometry.arm_collision
-        collision.scene.place(poses)
-        pad = pad_may_touch or set()
-        for q in joints:
-            if collision.free(q, ignore=ignore, held=held, pad_may_touch=pad):
-                continue
-            found = collision.overlap(q, ignore=ignore, held=held, pad_may_touch=pad)
-            if not found:
-                continue
-            deepest = max(found, key=lambda c: c.depth)
-            what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
-            return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm"
-        return None
-
-    def _blocker(self, reason: str, start: np.ndarray, goal: np.ndarray, held: Held | None) -> str:
+    def _blocker(self, reason: str, transit: PendingTransit) -> str:
         """The transit's failure in words, naming what blocks an end configuration when one is blocked."""
-        for name, q in (("start", start), ("goal", goal)):
-            clash = self._first_clash(np.asarray([q]), {}, held, set(), collision=self.geometry.transit_collision)
+        for name, q in (("start", transit.start), ("goal", transit.goal)):
+            clash = self.moves.first_clash(
+                np.asarray([q]), transit.poses, transit.held, set(), collision=self.geometry.transit_collision
+            )
             if clash is not None:
                 return f"at the {name} of the transit {clash}"
         return reason
-
-    def _straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
-        """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`."""
-        count = len(joints) - 1
-        times = np.linspace(0.0, max(length / CARTESIAN_SPEED, 1e-3), count + 1) if count else np.zeros(1)
-        return ArmSegment(phase, times, np.asarray(joints, dtype=float))
 
 
 def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:
@@ -478,10 +331,4 @@ def _pitched_back(angle: float) -> np.ndarray:
     return to_axis @ about @ np.linalg.inv(to_axis)
 
 
-__all__ = [
-    "CARTESIAN_SPEED",
-    "GRASP_STANDOFF",
-    "LIFT",
-    "STANDOFF",
-    "ArmPathPlanner",
-]
+__all__ = ["ArmPathPlanner", "PendingTransit", "StraightPaths"]

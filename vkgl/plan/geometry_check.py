@@ -61,6 +61,12 @@ class GeometryCheck:
             self._transit = ArmCollision(grown, self.problem.arm)
         return self._transit
 
+    def transit_space(self, held: Held | None) -> ArmCollision:
+        """What a transit's configurations must be free in: `transit_collision` for the bare arm; a held tool
+        works close to the body it acts on (a hook's shaft along the block it pulls), so with one the exact
+        geometry (`arm_collision`)."""
+        return self.transit_collision if held is None else self.arm_collision
+
     @property
     def arm_collision(self) -> ArmCollision:
         """The arm's link geometry against the scene."""

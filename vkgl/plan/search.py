@@ -22,11 +22,11 @@ from __future__ import annotations
 import sys
 import time
 from collections import Counter, deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from vkgl.plan.arm_paths import ArmPathPlanner
+from vkgl.plan.arm_paths import ArmPathPlanner, StraightPaths
 from vkgl.plan.avoid import EXCLUDED_WORDS, excluded, repeated_failure
 from vkgl.plan.feasible import (
     Counters,
@@ -58,10 +58,11 @@ class SearchStats:
     task_space_checks: int = 0
     geometry_checks: int = 0
     joint_space_checks: int = 0
-    arm_path_checks: int = 0  # sequences whose arm paths (approach, transit, retreat) were planned
+    arm_path_checks: int = 0  # sequences whose straight moves (approach, retreat, lift) were planned
+    transit_checks: int = 0  # of those, candidates whose transits were then planned (after the search)
     transits: int = 0
-    arm_path_time: float = 0.0  # s spent planning arm paths (part of the search's time)
-    transit_time: float = 0.0  # s of `arm_path_time` spent in transit planning
+    arm_path_time: float = 0.0  # s planning the straight moves and contact chains (part of the search's time)
+    transit_time: float = 0.0  # s planning transits (after the search: not part of `arm_path_time`)
     work: Counters = field(default_factory=Counters)
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
@@ -86,6 +87,7 @@ class SearchResult:
     task: TaskSolution | None = None
     joints: JointSolution | None = None
     steps: tuple[PlanStep, ...] = ()
+    paths: StraightPaths[PlanStep] | None = None  # a candidate's straight moves, its transits still to plan
 
 
 def search(problem: Problem, *, deadline: float, progress: bool = False) -> SearchResult:
@@ -97,6 +99,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     root = start_sequence(problem)
     if goal_holds(problem, root.zero_poses):
         found = _unless_excluded(problem, _check(problem, root, stats, deadline, checks), stats)
+        found = _with_transits(problem, found, stats, deadline, checks.arm_paths)
         return found or SearchResult("infeasible", "", stats)
     queue: deque[Sequence] = deque([root])
     try:
@@ -123,6 +126,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                     continue
                 if _moves_goal_body(problem, child):
                     found = _unless_excluded(problem, _check(problem, child, stats, deadline, checks), stats)
+                    found = _with_transits(problem, found, stats, deadline, checks.arm_paths)
                     if found is not None:
                         return found
                 else:
@@ -202,11 +206,11 @@ def _check(
     if clash is not None:
         stats.reject(clash, label)
         return None
-    steps = _arm_paths(problem, seq, solution, joints, stats, deadline, checks.arm_paths)
-    if isinstance(steps, Rejection):
-        stats.reject(steps, label)
+    paths = _straight_paths(problem, seq, solution, joints, stats, checks.arm_paths)
+    if isinstance(paths, Rejection):
+        stats.reject(paths, label)
         return None
-    return SearchResult("solved", "", stats, seq, solution, joints, steps)
+    return SearchResult("solved", "", stats, seq, solution, joints, tuple(paths.steps), paths)
 
 
 def _clear_of_each_other(
@@ -221,26 +225,41 @@ def _clear_of_each_other(
     return None
 
 
-def _arm_paths(
+def _straight_paths(
     problem: Problem,
     seq: Sequence,
     solution: TaskSolution,
     joints: JointSolution,
     stats: SearchStats,
-    deadline: float,
     planner: ArmPathPlanner,
-) -> tuple[PlanStep, ...] | Rejection:
-    """The sequence's plan steps with the arm's paths between contacts, or why a path cannot be planned."""
+) -> StraightPaths[PlanStep] | Rejection:
+    """The sequence's plan steps with the arm's straight moves around its contacts (the first stage of the
+    arm's paths), or why one cannot be planned."""
     steps = [
         plan_step(problem, action, solution.traces[k], joints.q_start[k], joints.q_end[k])
         for k, action in enumerate(seq.actions, start=1)
     ]
     stats.arm_path_checks += 1
-    planned = planner.plan(steps, problem.arm_start, deadline=deadline)
-    stats.transits, stats.arm_path_time, stats.transit_time = planner.transits, planner.seconds, planner.transit_seconds
+    planned = planner.straight(steps, problem.arm_start)
+    stats.arm_path_time = planner.seconds
+    return planned
+
+
+def _with_transits(
+    problem: Problem, found: SearchResult | None, stats: SearchStats, deadline: float, planner: ArmPathPlanner
+) -> SearchResult | None:
+    """`found` with its transits planned (the arm's paths' second stage, after the search found a candidate),
+    or None when one cannot be: counted as a "transit" rejection, and the search goes on."""
+    if found is None or found.paths is None:
+        return found
+    stats.transit_checks += 1
+    planned = planner.transits(found.paths, deadline=deadline)
+    stats.transits, stats.transit_time = planner.transit_count, planner.transit_seconds
     if isinstance(planned, Rejection):
-        return planned
-    return tuple(planned)
+        assert found.sequence is not None
+        stats.reject(planned, " -> ".join(a.label(problem) for a in found.sequence.actions))
+        return None
+    return replace(found, steps=tuple(planned), paths=None)
 
 
 _KIND_WORDS = {
@@ -293,7 +312,9 @@ def _accounting(stats: SearchStats) -> str:
     if stats.rejections["excluded"] > stats.excluded:
         parts.append(f"{stats.rejections['excluded'] - stats.excluded} feasible but excluded as repeats")
     if stats.arm_path_checks:
-        parts.append(f"{stats.arm_path_checks} of those also for the arm's paths between contacts")
+        parts.append(f"{stats.arm_path_checks} of those also for the arm's straight moves into and out of contacts")
+    if stats.transit_checks:
+        parts.append(f"{stats.transit_checks} of those also for the arm's transits between contacts")
     return (
         f"{stats.sequences} sequences tried: {stats.passed_over} only lead to others (their last step moves "
         f"no goal body), " + ", ".join(parts)

@@ -101,8 +101,9 @@ def _at_goal(problem: Problem, goal: Any) -> bool:
 
 
 def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
+    elapsed = time.perf_counter() - started
     stats = {
-        "solve_time_s": round(time.perf_counter() - started, 4),
+        "solve_time_s": round(elapsed, 4),
         "graphs_expanded": result.stats.graphs_expanded,
         "task_space_checks": result.stats.task_space_checks,
         "joint_space_checks": result.stats.joint_space_checks,
@@ -116,9 +117,11 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
         "ik_calls": result.stats.work.ik_calls,
         "rejections": dict(result.stats.rejections),
         "arm_paths": result.stats.arm_path_checks,
+        "transit_checks": result.stats.transit_checks,
         "transits": result.stats.transits,
         "arm_path_time_s": round(result.stats.arm_path_time, 4),
         "transit_time_s": round(result.stats.transit_time, 4),
+        "search_time_s": round(elapsed - result.stats.transit_time, 4),  # everything but the transits
     }
     plan = Plan(
         problem.task.name,
