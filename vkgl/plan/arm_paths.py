@@ -204,39 +204,42 @@ class ArmPathPlanner:
         end = motion.at(1.0)
         travel = float(np.linalg.norm(end[:3, :3] @ upright[:3, 3] + end[:3, 3] - upright[:3, 3]))
         count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
-        first: str | None = None
+        closest = _ClosestMiss()
         # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
         for pitch in PITCHES if state.held is None else PITCHES[:1]:
             hand = upright @ _pitched_back(pitch)
             poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
+            lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""
             for seed in (step.q_start, arm.home):
                 q0 = arm.ik(hand, q0=seed)
                 if q0 is None:
                     # IK restarts from home and the same fixed seeds after the given one: from home it would
                     # fail again (19 local runs for nothing)
+                    closest.note((0, 0.0), f"{lean}no IK solution at the contact")
                     break
                 chain = follow_poses(arm, poses, q0)
                 if isinstance(chain, CartesianFailure):
-                    first = first or chain.reason
+                    closest.note((1, chain.index / len(poses)), lean + chain.reason)
                     continue
                 clash = self._contact_clash(step, state, chain.joints[0], chain.joints[-1])
                 if clash is not None:
-                    first = first or clash
+                    closest.note((2, -clash[1]), lean + clash[0])
                     continue
                 yield chain.joints.copy()
-        yield Rejection("ik", f"{label}: no arm configuration carries the whole motion ({first})", 1.0)
+        yield Rejection("ik", f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0)
 
     def _contact_clash(
         self, step: PlanStepRecord, state: ArmState, q_start: np.ndarray, q_end: np.ndarray
-    ) -> str | None:
-        """What the arm hits at the start or end of a contact's motion (only the pad may touch the pushed body)."""
+    ) -> tuple[str, float] | None:
+        """What the arm hits at the start or end of a contact's motion, and how deep (only the pad may touch
+        the pushed body)."""
         held = state.held
         if held is not None:
             held = Held(held.body, held.in_hand, frozenset({step.body}))
         for q, poses in ((q_start, step.poses_start), (q_end, step.poses_end)):
-            clash = self.moves.first_clash(np.asarray([q]), poses, held, set(), {step.body})
+            clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
-                return f"at the contact {clash}"
+                return f"at the contact {clash[0]}", clash[1]
         return None
 
     # ------------------------------------------------------------ step kinds
@@ -308,6 +311,20 @@ class ArmPathPlanner:
             if clash is not None:
                 return f"at the {name} of the transit {clash}"
         return reason
+
+
+class _ClosestMiss:
+    """The failure that came closest among a contact's arm configurations: an IK failure at the contact is
+    farthest, then a chain that broke off (the later, the closer), then one whose links overlap the body (the
+    shallower, the closer); the first among equals."""
+
+    def __init__(self) -> None:
+        self.rank: tuple[int, float] | None = None
+        self.words = "no configuration tried"
+
+    def note(self, rank: tuple[int, float], words: str) -> None:
+        if self.rank is None or rank > self.rank:
+            self.rank, self.words = rank, words
 
 
 def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:

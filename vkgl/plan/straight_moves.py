@@ -223,6 +223,19 @@ class StraightMoves:
         `ignore`: bodies nothing of the arm is checked against; `pad_may_touch`: bodies only the fingertip pad
         may touch (the one a straight approach or retreat pushes: its yaw about the push direction is free).
         """
+        found = self.first_overlap(joints, poses, held, ignore, pad_may_touch, collision)
+        return None if found is None else found[0]
+
+    def first_overlap(
+        self,
+        joints: np.ndarray,
+        poses: Mapping[str, np.ndarray],
+        held: Held | None,
+        ignore: set[str],
+        pad_may_touch: set[str] | None = None,
+        collision: ArmCollision | None = None,
+    ) -> tuple[str, float] | None:
+        """`first_clash` in words and its depth (m), or None."""
         collision = collision or self.geometry.arm_collision
         collision.scene.place(poses)
         pad = pad_may_touch or set()
@@ -234,7 +247,7 @@ class StraightMoves:
                 continue
             deepest = max(found, key=lambda c: c.depth)
             what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
-            return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm"
+            return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm", deepest.depth
         return None
 
     def straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
