@@ -74,6 +74,26 @@ def test_a_block_in_the_way_is_pushed_aside_first_and_the_plan_works_in_physics(
     assert report.status == "reached", report.text()  # not "disturbed": block2 ends where the plan put it
 
 
+def test_a_block_in_the_way_is_pushed_three_quarters_of_its_range_when_half_leaves_it_and_all_hits_another() -> None:
+    # block2 across the path, 10 cm left of it: block4 leaves no room on the left, and on the right half of
+    # block2's explored push (24.6 cm) leaves it in the path while all of it (49.1 cm) runs it into block3
+    source = SCENE.replace(
+        "block2 : Block on table at ({x2}, {y2}) m yaw 0deg",
+        "block2 : Block on table at (0.62, 0.1) m yaw 90deg\n"
+        "    block3 : Block on table at (0.62, -0.45) m yaw 0deg\n"
+        "    block4 : Block on table at (0.62, 0.3) m yaw 0deg",
+    ).replace("max_depth 3", "max_depth 4")
+    program = vkgl.compile_source(source.format(gx=0.75), "aside.vkg", base_dir=_EMPTY)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved", plan.reason
+    steps = plan.to_json()["steps"]
+    assert [s["body"] for s in steps] == ["block2", "block2", "block"]
+    assert 0.26 < steps[0]["value"] < 0.45  # more than half of 49.1 cm, less than all of it
+    assert check_plan(program, "through", plan.to_json()) == []
+    report = vkgl.execute(program, "through", plan)
+    assert report.status == "reached", report.text()
+
+
 @pytest.mark.parametrize(("x2", "y2", "gx"), [(0.62, 0.3, 0.75), (0.9, 0.0, 0.6), (0.62, -0.22, 0.72)])
 def test_a_block_beside_the_path_leaves_the_push_alone(x2: float, y2: float, gx: float) -> None:
     program = _program(x2, y2, gx)

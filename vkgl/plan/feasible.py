@@ -45,9 +45,14 @@ RESTARTS = 3
 """Deterministic extra starts of the task-space optimisation when the goal leaves a value free."""
 
 ALTERNATIVE_FRACTIONS = (0.25, 0.5, 1.0)
-"""Where in their ranges the motion values start when the search asks for other solutions of a sequence (a
-body in the way moved a quarter, half, then all of the way it was explored: the shortest move that clears the
-path first)."""
+"""Where in their ranges the motion values start when the search asks the optimiser for other solutions of a
+sequence (a body in the way moved a quarter, half, then all of the way it was explored: the shortest move that
+clears the path first)."""
+
+ASIDE_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
+"""Where in their ranges the motion values of the bodies no goal names are set, without optimising, before the
+optimiser is asked (`task_space_alternatives`): three quarters too, for a body in the way that half its range
+leaves in the path and all of it pushes into another body."""
 
 FD_STEP = 1e-7
 """Step of the forward-difference gradients (m or rad)."""
@@ -260,22 +265,33 @@ def task_space_alternatives(
 
     The search asks for them when `found` makes bodies pass through one
     another: a body in the way pushed or turned farther than the first
-    solution moved it may clear the path. Each starts the optimiser with every
-    value at one of `ALTERNATIVE_FRACTIONS` of its range (the goal then pins
-    the values it needs); solutions equal to one already given are skipped.
-    Deterministic.
+    solution moved it may clear the path. First, no optimisation: `found`'s
+    values for the goal bodies' motions (they reach the goal, and a goal
+    body's pose depends on its own motions only) with every other body's
+    values at one of `ASIDE_FRACTIONS` of their ranges, kept when they
+    break no constraint. Then the optimiser, started with every value at one
+    of those fractions (the goal then pins the values it needs). Solutions
+    equal to one already given are skipped. Deterministic.
     """
     if not found.free:
         return
     evaluator = _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq)
     given = [found.values]
-    for fraction in ALTERNATIVE_FRACTIONS:
+    goal_bodies = {goal.body for goal in problem.goals}
+    aside = np.array([e.body not in goal_bodies for _, e in seq.variables], dtype=bool)
+    starts: list[tuple[np.ndarray, bool]] = []
+    if aside.any():
+        starts += [(np.where(aside, lower + f * (upper - lower), found.values), False) for f in ASIDE_FRACTIONS]
+    starts += [(lower + f * (upper - lower), True) for f in ALTERNATIVE_FRACTIONS]
+    for x0, optimise in starts:
         if time.perf_counter() > deadline:
             return
-        x = _optimise(evaluator, lower + fraction * (upper - lower), lower, upper, deadline)
-        if counters is not None:
-            counters.optimisations += 1
+        x = x0
+        if optimise:
+            x = _optimise(evaluator, x0, lower, upper, deadline)
+            if counters is not None:
+                counters.optimisations += 1
         _, c = evaluator.evaluate(x)
         if float(c.max()) > 1e-6 or any(np.allclose(x, other, atol=1e-3) for other in given):
             continue
