@@ -108,3 +108,31 @@ def test_every_example_plan_passes_the_independent_check(task: str) -> None:
     plan = vkgl.solve(program)
     assert plan.status == "solved"
     assert check_plan(program, task, plan.to_json()) == []
+
+
+def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_are_tried(monkeypatch) -> None:
+    # block2 across the path: half of its push clears it. When the arm's checks refuse those values, the search
+    # tries the next ones that clear the path (three quarters) for the same sequence, not another sequence
+    import vkgl.plan.search as search
+    from vkgl.plan.reach import Rejection
+
+    source = SCENE.replace("at ({x2}, {y2}) m yaw 0deg", "at ({x2}, {y2}) m yaw 90deg").replace(
+        "max_depth 3", "max_depth 5"
+    )
+    program = vkgl.compile_source(source.format(x2=0.62, y2=0.0, gx=0.75), "aside.vkg", base_dir=_EMPTY)
+    real, refused = search._arm_checks, []
+
+    def refusing_the_first_values(problem, seq, solution, *args):  # type: ignore[no-untyped-def]
+        if len(seq.actions) == 3 and seq.actions[0].label(problem).endswith("on block2 with arm.fingertip"):
+            if not refused:
+                refused.append(solution.values.copy())
+                return Rejection("ik", "refused by the test", 1.0)
+        return real(problem, seq, solution, *args)
+
+    monkeypatch.setattr(search, "_arm_checks", refusing_the_first_values)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved", plan.reason
+    steps = plan.to_json()["steps"]
+    assert [s["body"] for s in steps] == ["block2", "block2", "block"]  # the same sequence, other values
+    assert refused and steps[0]["value"] > refused[0][0] + 0.05  # pushed farther aside than the refused values
+    assert check_plan(program, "through", plan.to_json()) == []

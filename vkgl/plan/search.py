@@ -22,6 +22,7 @@ from __future__ import annotations
 import sys
 import time
 from collections import Counter, deque
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -171,8 +172,9 @@ class _Checks:
 def _check(
     problem: Problem, seq: Sequence, stats: SearchStats, deadline: float, checks: _Checks
 ) -> SearchResult | None:
-    """Task space, collision geometry, joint space, the arm's geometry and paths; a SearchResult when all hold."""
-    geometry = checks.geometry
+    """Task space, collision geometry, joint space, the arm's geometry and straight moves; a SearchResult (its
+    transits still to plan) when all hold. Motion values whose bodies pass through one another are replaced by
+    others that pass clear (`_clear_of_each_other`), each tried through the arm's checks in turn."""
     label = " -> ".join(a.label(problem) for a in seq.actions) or "G0"
     if seq.variables or seq.actions:
         stats.task_space_checks += 1
@@ -183,18 +185,46 @@ def _check(
         stats.reject(solution, label)
         return None
     stats.geometry_checks += 1
-    clash = geometry.bodies(seq.graphs, solution.traces)
-    if clash is not None:
-        cleared = _clear_of_each_other(problem, seq, solution, stats, deadline, geometry)
-        if cleared is None:
-            stats.reject(clash, label)
-            return None
-        solution = cleared
-    stats.joint_space_checks += 1
+    clash = checks.geometry.bodies(seq.graphs, solution.traces)
+    candidates = (
+        iter([solution])
+        if clash is None
+        else _clear_of_each_other(problem, seq, solution, stats, deadline, checks.geometry)
+    )
+    first: Rejection | None = None
+    reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
+    try:
+        for candidate in candidates:
+            found = _arm_checks(problem, seq, candidate, stats, deadline, checks, reached)
+            if not isinstance(found, Rejection):
+                return found
+            first = first or found
+    finally:
+        stats.joint_space_checks += int("joint space" in reached)
+        stats.arm_path_checks += int("arm paths" in reached)
+    # one rejection per sequence, so that the counts add up: the arm's, else the bodies'
+    rejection = first or clash
+    assert rejection is not None
+    stats.reject(rejection, label)
+    return None
+
+
+def _arm_checks(
+    problem: Problem,
+    seq: Sequence,
+    solution: TaskSolution,
+    stats: SearchStats,
+    deadline: float,
+    checks: _Checks,
+    reached: set[str],
+) -> SearchResult | Rejection:
+    """Joint space, the arm's geometry and its straight moves for `solution`'s motion values (`reached`: the
+    stages it got to are added)."""
+    geometry = checks.geometry
+    reached.add("joint space")
     joints = joint_space(problem, solution, deadline, stats.work)
     if isinstance(joints, Rejection):
-        stats.reject(joints, label)
-        return None
+        return joints
     clash = geometry.arm(seq.graphs, solution.traces, joints.q_start, joints.q_end)
     if clash is not None and any(trace.yaw_free for trace in solution.traces):
         # the hand at the yaw IK chose may stand across a handle into its cabinet; along the face it may not
@@ -204,25 +234,23 @@ def _check(
             if again is None:
                 joints, clash = pinned, None
     if clash is not None:
-        stats.reject(clash, label)
-        return None
+        return clash
+    reached.add("arm paths")
     paths = _straight_paths(problem, seq, solution, joints, stats, checks.arm_paths)
     if isinstance(paths, Rejection):
-        stats.reject(paths, label)
-        return None
+        return paths
     return SearchResult("solved", "", stats, seq, solution, joints, tuple(paths.steps), paths)
 
 
 def _clear_of_each_other(
     problem: Problem, seq: Sequence, found: TaskSolution, stats: SearchStats, deadline: float, geometry: GeometryCheck
-) -> TaskSolution | None:
+) -> Iterator[TaskSolution]:
     """Other motion values of `seq` whose bodies pass clear of one another (a body in the way moved farther
-    aside first), or None: `found`'s bodies collide."""
+    aside first), in turn: `found`'s bodies collide."""
     for other in task_space_alternatives(problem, seq, found, deadline, stats.work):
         stats.geometry_checks += 1
         if geometry.bodies(seq.graphs, other.traces) is None:
-            return other
-    return None
+            yield other
 
 
 def _straight_paths(
@@ -239,7 +267,6 @@ def _straight_paths(
         plan_step(problem, action, solution.traces[k], joints.q_start[k], joints.q_end[k])
         for k, action in enumerate(seq.actions, start=1)
     ]
-    stats.arm_path_checks += 1
     planned = planner.straight(steps, problem.arm_start)
     stats.arm_path_time = planner.seconds
     return planned
