@@ -2,8 +2,8 @@
 
 A seeded selection of the physical benchmark's tasks (`tests/support/generated_tasks.py`, bench/bench_physical.py)
 that the planner solves in well under a second each, covering what the examples do not: generated body types
-(a slab, a cube), 1 to 4 clutter bodies on the table, a motion repeated past its explored range, a turn before a
-push, the stick and the hook. Each plan is checked by `tests/support/plan_geometry.py`, which builds its own DART
+(slabs, cubes, a crate 25 cm tall), 1 to 4 clutter bodies on the table, a motion repeated past its explored range,
+a turn before a push, the stick and the hook. Each plan is checked by `tests/support/plan_geometry.py`, which builds its own DART
 world from the IR and samples every motion 20 times; it shares no code with the planner's collision checks.
 
 The generated bodies' affordances are fixtures: `learned/` holds what `vkgl.learn` wrote for each generated type,
@@ -27,12 +27,12 @@ LEARNED = Path(__file__).resolve().parent / "learned"
 SUPPORT = Path(__file__).resolve().parents[1] / "support"
 
 SELECTION = [
-    (1, 2),  # SlabN pushed twice (its push was explored over 6.5 cm only), 3 clutter bodies
     (1, 20),  # the Block pushed once, a cube behind it
-    (1, 49),  # the stick pushes a cube twice, 4 clutter bodies
-    (1, 42),  # the hook pulls a cube
-    (2, 20),  # the Block turned, then pushed
-    (2, 30),  # SlabN pushed three times
+    (1, 44),  # SlabN turned, then pushed, 4 clutter bodies
+    (1, 49),  # the stick pushes a cube, 4 clutter bodies
+    (1, 15),  # the hook pulls a cube, 1 clutter body
+    (2, 17),  # SlabW pushed twice (31 cm; its push was explored over 21 cm), the second time with the stick
+    (2, 40),  # a crate 25 cm tall pushed, 4 clutter bodies
 ]
 """(seed, index) of generated tasks: `task_spec(seed, index)` is a pure function of both."""
 
@@ -72,7 +72,7 @@ def test_a_generated_tasks_plan_passes_the_independent_check(
 
 def test_the_selection_has_what_the_examples_lack(library: dict[str, Path | None]) -> None:
     specs = [task_spec(seed, index) for seed, index in SELECTION]
-    assert {s.target.type for s in specs} >= {"SlabN", "CubeS", "Block"}
+    assert {s.target.type for s in specs} >= {"SlabN", "SlabW", "CubeS", "CubeM", "CrateT", "Block"}
     assert max(len(s.clutter) for s in specs) == 4 and min(len(s.clutter) for s in specs) == 1
     assert all(library[t.name] is not None for s in specs for t in s.generated_types() if t.name == s.target.type)
 

@@ -8,7 +8,10 @@ on the tabletop of examples/scenes/tabletop.vkg (1.6 x 1.2 m table at
 turns a spec into `.vkg` files in one folder:
 
 - `bodies.vkg`: the generated body types the scene uses (boxes with a mass from
-  a density, friction 0.5, and the stdlib Block's `explore pushes` block);
+  a density, friction 0.5, explored as a user who wants to slide them far
+  explores them, like the stdlib Block: short pushes at 9 points of each long
+  face, whose pushes near the ends turn it, and a long push at each face's
+  centre, `SLIDE_SECONDS`, which slides it 19 to 32 cm);
 - `affordances.vkg`: their learned affordances (copied from a cache, see
   `learned_affordances`), importing `bodies.vkg`;
 - `scene.vkg` and `task.vkg`.
@@ -40,6 +43,7 @@ GAP = 0.015  # m: the least gap between two bodies at the start
 NEAR_RADIUS = (0.35, 0.72)  # m from the arm's base: inside the fingertip's reach (0.09 to 0.80 m)
 FAR_RADIUS = (0.86, 0.98)  # m: beyond the fingertip's reach
 SOLVE_TIMEOUT_S = 20
+SLIDE_SECONDS = 17  # s of the generated bodies' `explore slides` trials: the stdlib Block's (it slides 49 cm)
 
 
 @dataclass(frozen=True)
@@ -80,6 +84,11 @@ class BodyType:
             f"        contacts on faces +x, -x steps 9\n"
             f"        force normal 1 N\n"
             f"        duration 3 s\n"
+            f"    }}\n"
+            f"    explore slides {{\n"
+            f"        contacts on faces +x, -x steps 1\n"
+            f"        force normal 1 N\n"
+            f"        duration {_num(SLIDE_SECONDS)} s\n"
             f"    }}\n"
             f"}}\n"
         )

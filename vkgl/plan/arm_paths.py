@@ -103,12 +103,10 @@ class ArmPathPlanner:
     ) -> list[StepT] | Rejection:
         """The steps with their `path` (the segments before each step's action), or why one cannot be planned:
         both stages, `straight` then `transits`."""
-        first = self.straight(steps, q_start, deadline=deadline)
+        first = self.straight(steps, q_start)
         return first if isinstance(first, Rejection) else self.transits(first, deadline=deadline)
 
-    def straight(
-        self, steps: Sequence[StepT], q_start: np.ndarray | None = None, *, deadline: float | None = None
-    ) -> StraightPaths[StepT] | Rejection:
+    def straight(self, steps: Sequence[StepT], q_start: np.ndarray | None = None) -> StraightPaths[StepT] | Rejection:
         """The first stage: every step's straight moves and contact chain, and the transits left to plan.
 
         A contact whose arm configuration cannot carry the whole motion (the
