@@ -184,7 +184,7 @@ class ArmPathPlanner:
 
         The plan's configuration at the contact first; if the arm would have
         to switch configuration on the way (a joint jump: IK branch switch) or
-        its links hit the body it pushes (the hand of a vertical gripper
+        its links hit a body on the way (the hand of a vertical gripper
         overhangs the pad by 2.5 cm, so it meets a face more than about 4 cm
         above the contact), IK from the arm's home, then the hand pitched back about the pad's axis by
         `PITCHES` (the pad touches the face the same way, the hand leans away
@@ -219,25 +219,32 @@ class ArmPathPlanner:
                 if isinstance(chain, CartesianFailure):
                     closest.note((1, chain.index / len(poses)), lean + chain.reason)
                     continue
-                clash = self._contact_clash(step, state, chain.joints[0], chain.joints[-1])
+                clash = self._contact_clash(step, state, chain.joints)
                 if clash is not None:
                     closest.note((2, -clash[1]), lean + clash[0])
                     continue
                 yield chain.joints.copy()
         yield Rejection("ik", f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0)
 
-    def _contact_clash(
-        self, step: PlanStepRecord, state: ArmState, q_start: np.ndarray, q_end: np.ndarray
-    ) -> tuple[str, float] | None:
-        """What the arm hits at the start or end of a contact's motion, and how deep (only the pad may touch
-        the pushed body)."""
+    def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
+        """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
+        spaced along the motion) with the moving bodies where the motion has them then. Only the pad may touch
+        the pushed body; the rest of the hand, leaned back or turned, sweeps past the bodies beside it."""
         held = state.held
         if held is not None:
             held = Held(held.body, held.in_hand, frozenset({step.body}))
-        for q, poses in ((q_start, step.poses_start), (q_end, step.poses_end)):
+        moving = {
+            name: screw_motion(pose, step.poses_end[name])
+            for name, pose in step.poses_start.items()
+            if name in step.poses_end and np.abs(pose - step.poses_end[name]).max() > 1e-9
+        }
+        for i, q in enumerate(chain):
+            s = i / (len(chain) - 1)
+            poses = {**step.poses_start, **{n: m.at(s) @ step.poses_start[n] for n, m in moving.items()}}
             clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
-                return f"at the contact {clash[0]}", clash[1]
+                where = "at the contact" if i == 0 else f"{s:.0%} along the contact's motion"
+                return f"{where} {clash[0]}", clash[1]
         return None
 
     # ------------------------------------------------------------ step kinds
