@@ -169,12 +169,15 @@ def report_text(results: list[dict[str, Any]]) -> str:
     arm = [1000 * r["arm_path_s"] for r in results if r["outcome"] == "solved" and r.get("arm_path_s") is not None]
     if arm:
         parts.append(
-            f"Arm paths (approach, retreat, transit) planned in the search: median {statistics.median(arm):.0f} ms "
-            f"per solved task (max {max(arm):.0f} ms; all candidates the search checked, not only the plan's)."
+            f"The arm's straight moves and contact chains, planned in the search: median {statistics.median(arm):.0f} "
+            f"ms per solved task (max {max(arm):.0f} ms; every candidate the search checked, not only the plan's)."
         )
     transit = [1000 * r["transit_s"] for r in results if r["outcome"] == "solved" and r.get("transit_s") is not None]
     if transit:
-        parts.append(f"Of that, transit planning: median {statistics.median(transit):.0f} ms per solved task.")
+        parts.append(
+            f"Transit planning, after the search (the candidates it found): median "
+            f"{statistics.median(transit):.0f} ms per solved task (max {max(transit):.0f} ms)."
+        )
     return "\n\n".join(parts)
 
 
