@@ -3,8 +3,10 @@
 A seeded selection of the physical benchmark's tasks (`tests/support/generated_tasks.py`, bench/bench_physical.py)
 that the planner solves in well under a second each, covering what the examples do not: generated body types
 (slabs, cubes, a crate 25 cm tall), 1 to 4 clutter bodies on the table, a motion repeated past its explored range,
-a turn before a push, the stick and the hook. Each plan is checked by `tests/support/plan_geometry.py`, which builds its own DART
-world from the IR and samples every motion 20 times; it shares no code with the planner's collision checks.
+a turn before a push, the stick and the hook. Each plan is checked by `tests/support/plan_geometry.py`, which builds
+its own DART world from the IR and samples every motion 20 times; it shares no code with the planner's collision
+checks. Its contact chains are checked by `tests/support/contact_chain_check.py` (the hand moves rigidly with the
+body).
 
 The generated bodies' affordances are fixtures: `learned/` holds what `vkgl.learn` wrote for each generated type,
 in the layout of bench_physical's cache (one folder per hash of the body's source). Learning them again takes a
@@ -18,12 +20,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from generated_tasks import GENERATED_TYPES, task_spec, write_task
+from contact_chain_check import check_contact_chains
+from generated_tasks import fixture_library, task_spec, write_task
 from plan_geometry import check_plan
 
 import vkgl
 
-LEARNED = Path(__file__).resolve().parent / "learned"
 SUPPORT = Path(__file__).resolve().parents[1] / "support"
 
 SELECTION = [
@@ -37,25 +39,9 @@ SELECTION = [
 """(seed, index) of generated tasks: `task_spec(seed, index)` is a pure function of both."""
 
 
-def _library() -> dict[str, Path | None]:
-    """Each generated type's learned module from the fixtures (None: learning found no affordance)."""
-    library: dict[str, Path | None] = {}
-    for body in GENERATED_TYPES:
-        folder = LEARNED / body.source_hash()
-        assert folder.is_dir(), (
-            f"no learned affordances of {body.name} for its current source under {LEARNED}: refresh them with "
-            f'`python -c "import generated_tasks as g; from pathlib import Path; '
-            f"g.learned_affordances(list(g.GENERATED_TYPES), Path('{LEARNED}'))\"` (PYTHONPATH=tests/support)"
-        )
-        assert (folder / "body.vkg").read_text(encoding="utf-8") == body.source()
-        module = folder / f"{body.name.lower()}.vkg"
-        library[body.name] = module if module.is_file() else None
-    return library
-
-
 @pytest.fixture(scope="module")
 def library() -> dict[str, Path | None]:
-    return _library()
+    return fixture_library()
 
 
 @pytest.mark.parametrize(("seed", "index"), SELECTION)
@@ -68,6 +54,7 @@ def test_a_generated_tasks_plan_passes_the_independent_check(
     assert plan.status == "solved", f"{spec.name} (selected as one the planner solves): {plan.reason}"
     plan_json: dict[str, Any] = plan.to_json()
     assert check_plan(program, spec.name, plan_json, samples=20) == []
+    assert check_contact_chains(program, plan_json) == []  # the hand holds the body rigidly along each contact
 
 
 def test_the_selection_has_what_the_examples_lack(library: dict[str, Path | None]) -> None:
@@ -77,8 +64,9 @@ def test_the_selection_has_what_the_examples_lack(library: dict[str, Path | None
     assert all(library[t.name] is not None for s in specs for t in s.generated_types() if t.name == s.target.type)
 
 
-def test_the_independent_check_shares_no_code_with_the_planner() -> None:
-    tree = ast.parse((SUPPORT / "plan_geometry.py").read_text(encoding="utf-8"))
+@pytest.mark.parametrize("module", ["plan_geometry.py", "contact_chain_check.py"])
+def test_the_independent_check_shares_no_code_with_the_planner(module: str) -> None:
+    tree = ast.parse((SUPPORT / module).read_text(encoding="utf-8"))
     imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
     imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     assert not {m for m in imported if m.startswith(("vkgl.plan", "vkgl.execute", "vkgl.sim"))}, imported

@@ -5,15 +5,12 @@ The generated bodies' affordances are the fixtures of tests/bench/learned (`test
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
-import vkgl
+from generated_tasks import fixture_library, task_spec, write_task
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-from generated_tasks import task_spec, write_task  # noqa: E402
-from test_generated_plans import _library  # noqa: E402
+import vkgl
 
 
 def test_the_hand_does_not_sweep_a_bystander_while_it_pushes(tmp_path: Path) -> None:
@@ -21,7 +18,7 @@ def test_the_hand_does_not_sweep_a_bystander_while_it_pushes(tmp_path: Path) -> 
     # the fingertip, cleared the target where the push started and ended but swept through it halfway, and shoved
     # it 15 cm: the planner now checks the arm along the whole contact, and the plan takes the stick instead
     spec = task_spec(1, 28)
-    program = vkgl.compile(write_task(spec, tmp_path / spec.name, _library()))
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
     plan = vkgl.solve(program, spec.name)
     assert plan.status == "solved", plan.reason
     report = vkgl.execute(program, spec.name, plan)

@@ -3,7 +3,9 @@
 Nothing here imports the planner. Poses are recomposed from the affordances
 (scipy for the rotations), the arm's forward kinematics comes from DART
 loading the URDF named in the plan, with the base and effector offset the plan
-states. `check_plan` returns a list of problems (empty when the plan is right).
+states (`contact_chain_check.DartFK`). Along every contact chain the hand holds
+the moving body rigidly (`contact_chain_check`). `check_plan` returns a list of
+problems (empty when the plan is right).
 """
 
 from __future__ import annotations
@@ -12,10 +14,11 @@ import json
 from typing import Any
 
 import numpy as np
+from contact_chain_check import DartFK, check_contact_chains, motion
 from scipy.spatial.transform import Rotation
 
 from vkgl.lang.geometry import scene_body_anchor, scene_body_pose
-from vkgl.lang.ir import FixedC, PrismaticC, RevoluteC
+from vkgl.lang.ir import FixedC
 from vkgl.lang.program import Program
 
 POSE_TOL = 1e-6  # m / rad: recomposed poses agree with the plan's to this
@@ -23,45 +26,6 @@ HAND_TOL = 2e-3  # m: FK of the plan's joints puts the hand this close to where 
 AXIS_TOL = np.radians(1.0)  # the hand's z axis is this close to where it must point
 PAD_RADIUS = 0.005  # m: the fingertip pad's radius (its axis runs along the effector's y, this far behind the origin)
 MAX_LEAN = np.radians(60.0)  # a pushing hand may lean back about the pad's axis by up to this much
-
-
-class DartFK:
-    """Forward kinematics of the plan's robot: DART loads the URDF; base and offset as the plan states."""
-
-    def __init__(self, robot: dict[str, Any]) -> None:
-        import dartpy as dart
-
-        loader = dart.utils.DartLoader()
-        options = dart.utils.DartLoaderOptions()
-        options.mDefaultRootJointType = dart.utils.DartLoaderRootJointType.FIXED
-        loader.setOptions(options)
-        self.skeleton = loader.parseSkeleton(robot["urdf"])
-        self.link = self.skeleton.getBodyNode(robot["effector_link"])
-        self.joints = [self.skeleton.getJoint(name) for name in robot["joints"]]
-        self.base = np.array(robot["base"])
-        self.offset = np.array(robot["effector_offset"])
-        self.lower = np.array([j.getPositionLowerLimit(0) for j in self.joints])
-        self.upper = np.array([j.getPositionUpperLimit(0) for j in self.joints])
-
-    def __call__(self, q: list[float]) -> np.ndarray:
-        for joint, value in zip(self.joints, q):
-            joint.setPosition(0, value)
-        return self.base @ self.link.getWorldTransform().matrix() @ self.offset
-
-
-def motion(constraint: Any, value: float) -> np.ndarray:
-    """The affordance's motion by `value`, in the body's frame, composed independently of the planner."""
-    m = np.eye(4)
-    axis = np.asarray(constraint.axis.values, dtype=float)
-    axis /= np.linalg.norm(axis)
-    if isinstance(constraint, PrismaticC):
-        m[:3, 3] = value * axis
-    elif isinstance(constraint, RevoluteC):
-        rotation = Rotation.from_rotvec(value * axis).as_matrix()
-        center = np.asarray(constraint.center.values, dtype=float)
-        m[:3, :3] = rotation
-        m[:3, 3] = center - rotation @ center
-    return m
 
 
 def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
@@ -99,6 +63,7 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
                 held.pop(step["body"], None)
         poses = end
     final = {n: np.array(m) for n, m in plan["final"].items()}
+    problems += check_contact_chains(program, plan, fk)
     problems += _check_goals(task, final)
     problems += _check_joint_goals(task, final, rest, types)
     return problems

@@ -4,7 +4,9 @@ Paper (Table 1): a 2, b 3, c 3, d 4, e 5, f 5; tools in b, c, e, f only. The
 tasks on the stdlib's drawer and door (g, h, i) solve at the depths below,
 their joint goals met in the plan.
 The replay (replay_check.py) recomputes every pose from the affordances and
-the arm's forward kinematics from the URDF with DART, from the JSON alone.
+the arm's forward kinematics from the URDF with DART, from the JSON alone;
+along every contact chain the hand must move rigidly with the body it moves
+(tests/support/contact_chain_check.py).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import math
 
 import numpy as np
 import pytest
+from contact_chain_check import check_contact_chains
 from plan_programs import compiled  # noqa: F401 (fixture)
 from replay_check import check_plan
 
@@ -94,6 +97,33 @@ def test_the_replay_check_catches_a_wrong_plan(plans, compiled):
     plan_json = json.loads(json.dumps(plans["b_stick_push"].to_json()))
     plan_json["steps"][1]["q_end"][0] += 0.2
     assert any("hand" in p for p in check_plan(compiled("b_stick_push"), plan_json))
+
+
+@pytest.mark.parametrize(("name", "k"), [("a_push", 0), ("c_hook_pull", 1), ("d_rotate_push", 0)])
+def test_the_replay_check_catches_a_wrong_contact_chain(plans, compiled, name, k):
+    """A chain along which the hand does not move with the body is caught (a fingertip push, a hook pull, a
+    fingertip turn): the chain reversed, one entry replaced by the arm's home, the entries one place late (the
+    ends kept), a joint jumping; and a contact step without its chain."""
+    program, plan = compiled(name), plans[name]
+    good = json.loads(json.dumps(plan.to_json()))
+    chain = good["steps"][k]["contact"]
+    assert len(chain) >= 8 and check_contact_chains(program, good) == []
+    middle, home = len(chain) // 2, [float(v) for v in plan.problem.arm.home]
+    jumped = [v + (0.3 if j == 0 else 0.0) for j, v in enumerate(chain[middle])]
+
+    def problems(contact: list[list[float]]) -> list[str]:
+        plan_json = json.loads(json.dumps(good))
+        plan_json["steps"][k]["contact"] = contact
+        found = check_plan(program, plan_json)  # the replay runs the chain check
+        assert found == check_contact_chains(program, plan_json)  # ... and finds nothing else wrong
+        assert found and all(p.startswith(f"step {k + 1}: ") for p in found), found
+        return found
+
+    assert any("the hand slides" in p for p in problems(chain[::-1]))
+    assert any("the hand slides" in p for p in problems([*chain[:middle], home, *chain[middle + 1 :]]))
+    assert any("the hand slides" in p for p in problems([chain[0], *chain[:-2], chain[-1]]))
+    assert any("a joint jumps 0.3" in p for p in problems([*chain[:middle], jumped, *chain[middle + 1 :]]))
+    assert problems([]) == [f"step {k + 1}: a contact motion without a contact chain"]
 
 
 def test_the_replay_check_takes_a_leaned_hand_only_with_its_pad_at_the_contact(plans, compiled):

@@ -123,10 +123,10 @@ def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_a
     real, refused = search._arm_checks, []
 
     def refusing_the_first_values(problem, seq, solution, *args):  # type: ignore[no-untyped-def]
-        if len(seq.actions) == 3 and seq.actions[0].label(problem).endswith("on block2 with arm.fingertip"):
-            if not refused:
-                refused.append(solution.values.copy())
-                return Rejection("ik", "refused by the test", 1.0)
+        pushes_block2 = len(seq.actions) == 3 and seq.actions[0].label(problem).endswith("on block2 with arm.fingertip")
+        if pushes_block2 and not refused:
+            refused.append(solution.values.copy())
+            return Rejection("ik", "refused by the test", 1.0)
         return real(problem, seq, solution, *args)
 
     monkeypatch.setattr(search, "_arm_checks", refusing_the_first_values)

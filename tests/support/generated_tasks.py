@@ -500,3 +500,24 @@ def generate_tasks(
         types = sorted({t for s in specs for t in s.generated_types()}, key=lambda t: t.name)
         library = learned_affordances(types, cache, jobs=jobs)
     return [GeneratedTask(s, out_dir / s.name, write_task(s, out_dir / s.name, library)) for s in specs]
+
+
+FIXTURES = Path(__file__).resolve().parents[1] / "bench" / "learned"
+"""The tests' learned modules of the generated types, in the layout of `learned_affordances`'s cache."""
+
+
+def fixture_library() -> dict[str, Path | None]:
+    """Each generated type's learned module from the tests' fixtures (None: learning found no affordance); fails
+    saying how to refresh them when a type's source changed."""
+    library: dict[str, Path | None] = {}
+    for body in GENERATED_TYPES:
+        folder = FIXTURES / body.source_hash()
+        assert folder.is_dir(), (
+            f"no learned affordances of {body.name} for its current source under {FIXTURES}: refresh them with "
+            f'`python -c "import generated_tasks as g; from pathlib import Path; '
+            f"g.learned_affordances(list(g.GENERATED_TYPES), Path('{FIXTURES}'))\"` (PYTHONPATH=tests/support)"
+        )
+        assert (folder / "body.vkg").read_text(encoding="utf-8") == body.source()
+        module = folder / f"{body.name.lower()}.vkg"
+        library[body.name] = module if module.is_file() else None
+    return library
