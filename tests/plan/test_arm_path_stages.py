@@ -1,0 +1,44 @@
+"""The arm's paths in two stages (`vkgl.plan.arm_paths`): straight moves in the search, transits after it.
+
+A candidate whose transits cannot be planned is rejected (kind "transit") and the search goes on with the next
+candidate; the plan reports each stage's count and time.
+"""
+
+from __future__ import annotations
+
+from conftest import EXAMPLES
+
+import vkgl
+from vkgl.plan.arm_paths import ArmPathPlanner
+from vkgl.plan.reach import Rejection
+
+
+def test_a_candidate_whose_transit_fails_is_rejected_and_the_search_goes_on(monkeypatch) -> None:
+    program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
+    first = vkgl.solve(program)
+    assert first.status == "solved" and first.details["transit_checks"] == 1
+    real, refused = ArmPathPlanner.transits, []
+
+    def refusing_the_first(self, paths, *, deadline=None):  # type: ignore[no-untyped-def]
+        if not refused:
+            refused.append([s.title() for s in paths.steps])
+            return Rejection("transit", "refused by the test", 1.0)
+        return real(self, paths, deadline=deadline)
+
+    monkeypatch.setattr(ArmPathPlanner, "transits", refusing_the_first)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved", plan.reason
+    assert refused == [[s.title() for s in first.steps]]  # the first candidate was the first plan
+    assert [s.title() for s in plan.steps] != refused[0]  # another candidate, with its transits planned
+    assert plan.details["transit_checks"] == 2 and plan.details["rejections"].get("transit") == 1
+    assert all(any(seg.phase == "transit" for seg in s.path) for s in plan.steps if s.op == "add")
+
+
+def test_the_plan_reports_both_stages() -> None:
+    plan = vkgl.solve(vkgl.compile(EXAMPLES / "tasks" / "c_hook_pull.vkg"))
+    details = plan.details
+    assert details["arm_paths"] >= details["transit_checks"] >= 1
+    assert details["transits"] == sum(seg.phase == "transit" for s in plan.steps for seg in s.path)
+    assert 0 < details["transit_time_s"] < plan.stats["solve_time_s"]
+    # each rounded to 0.1 ms
+    assert abs(details["search_time_s"] + details["transit_time_s"] - plan.stats["solve_time_s"]) < 2e-4
