@@ -120,6 +120,7 @@ class SceneWorld:
             self.world.step(False)  # keep the arm's velocity commands for the whole control period
             if self.frames is not None and self.time >= self._next_frame - 1e-9:
                 self.record()
+        self.arm.update_letting_go()  # a tool let go of is touched again once the hand has left it
         if self.guarded:  # once per control period is enough to stop in time
             self._check_clear()
         if self.on_advance is not None:
@@ -132,9 +133,7 @@ class SceneWorld:
             robot.add(self.arm.held.skeleton.getName())
         result = self.world.getLastCollisionResult()
         for i in range(result.getNumContacts()):
-            contact = result.getContact(i)
-            if not (_collidable(contact.collisionObject1) and _collidable(contact.collisionObject2)):
-                continue  # DART reports them, but makes no contact force (fingertip switched off)
+            contact = result.getContact(i)  # pairs kept apart (the switched-off pad, a held tool) are not reported
             a = _skeleton_name(contact.collisionObject1)
             b = _skeleton_name(contact.collisionObject2)
             for mine, other in ((a, b), (b, a)):
@@ -200,11 +199,6 @@ def use_coulomb_friction(world: Any) -> None:
     options.law = dart.constraint.NsgsFrictionSolver.Law.Coulomb
     solver.setOptions(options)
     world.getConstraintSolver().setBoxedLcpSolver(solver)
-
-
-def _collidable(collision_object: Any) -> bool:
-    aspect = collision_object.getShapeFrame().asShapeNode().getCollisionAspect()
-    return aspect is None or aspect.isCollidable()
 
 
 def _skeleton_name(collision_object: Any) -> str:

@@ -18,7 +18,8 @@ What touches the world:
   it), the pad of a real gripper is not;
 - a held tool: the tool's own DART body, switched to a kinematic joint that
   follows the effector frame rigidly while held (the grasp does not slip), and
-  switched back to a free, dynamic body when released.
+  switched back to a free, dynamic body when released (the arm passes
+  through it until the open hand has left its grip).
 
 The arm's links (their URDF collision shapes) touch the bodies too, but not
 the table (the base stands on it) or a tool they hold.
@@ -100,8 +101,9 @@ class WorldArm:
             raise SimulationError(f"the robot's URDF has no joint(s) {', '.join(missing)}")
         self.dofs = [j.getIndexInSkeleton(0) for j in self.joints]
         self.held: HeldTool | None = None
-        self.filter = dart.collision.BodyNodeCollisionFilter()
-        world.getConstraintSolver().getCollisionOption().collisionFilter = self.filter
+        self.filter = _world_filter(world)
+        self._letting_go: list[Any] = []  # body nodes of tools let go of that the hand has not yet left
+        self._groups: dict[int, Any] = {}  # collision groups for `_overlaps`, made when first needed
         self._place_base(base)
         self._make_kinematic()
         self.fingertip = self._add_fingertip()
@@ -138,7 +140,6 @@ class WorldArm:
         inertia = dart.dynamics.Inertia()
         inertia.setMass(0.01)
         body.setInertia(inertia)
-        self._fingertip_shape = shape
         return body
 
     def _check_agrees_with_arm(self, q: np.ndarray) -> None:
@@ -169,8 +170,14 @@ class WorldArm:
         return self.link.getWorldTransform().matrix() @ self.link_offset
 
     def fingertip_collides(self, on: bool) -> None:
-        """Let the fingertip sphere touch things (pushing) or not (grasping, holding a tool)."""
-        self._fingertip_shape.getCollisionAspect().setCollidable(on)
+        """Let the fingertip pad touch things (pushing) or not (grasping, holding a tool).
+
+        Switched on its body node, which DART's collision filter reads: a
+        shape's own collision flag does not keep DART's constraint solver
+        from making contact forces (the pad inside a released tool's grip
+        dragged the tool up with the hand).
+        """
+        self.fingertip.setCollidable(on)
 
     # ------------------------------------------------------------ tools
 
@@ -182,21 +189,59 @@ class WorldArm:
         joint.setActuatorType(dart.dynamics.ActuatorType.VELOCITY)
         joint.setCommands(np.zeros(6))
         skeleton.setVelocities(np.zeros(skeleton.getNumDofs()))
-        for i in range(self.skeleton.getNumBodyNodes()):
-            self.filter.addBodyNodePairToBlackList(self.skeleton.getBodyNode(i), body_node)
+        if not any(node is body_node for node in self._letting_go):  # else still excluded since it was let go of
+            self._exclude(body_node, True)
+        self._letting_go = [node for node in self._letting_go if node is not body_node]
         self.held = HeldTool(name, skeleton, body_node, grasp)
 
     def release(self) -> None:
-        """Let go of the held tool: it becomes a free dynamic body again."""
+        """Let go of the held tool: it becomes a free dynamic body again.
+
+        The open hand is still around the tool's grip (the pad and the
+        fingers overlap the grip: the effector frame sits on it), so the arm
+        keeps passing through the tool until it has left it
+        (`update_letting_go`); touching it before would lift the tool with
+        the hand.
+        """
         if self.held is None:
             return
         joint = self.held.skeleton.getRootJoint()
         joint.setActuatorType(dart.dynamics.ActuatorType.FORCE)
         joint.setCommands(np.zeros(6))
         self.held.skeleton.setVelocities(np.zeros(self.held.skeleton.getNumDofs()))
-        for i in range(self.skeleton.getNumBodyNodes()):
-            self.filter.removeBodyNodePairFromBlackList(self.skeleton.getBodyNode(i), self.held.body_node)
+        self._letting_go.append(self.held.body_node)
         self.held = None
+
+    def update_letting_go(self) -> None:
+        """Let the arm touch again the tools it let go of and no longer overlaps (called every control period)."""
+        for node in list(self._letting_go):
+            if not self._overlaps(node):
+                self._exclude(node, False)
+                self._letting_go.remove(node)
+
+    def _exclude(self, body_node: Any, on: bool) -> None:
+        """Keep every body of the arm (links and pad) from touching `body_node`, or let them touch it again."""
+        for i in range(self.skeleton.getNumBodyNodes()):
+            if on:
+                self.filter.addBodyNodePairToBlackList(self.skeleton.getBodyNode(i), body_node)
+            else:
+                self.filter.removeBodyNodePairFromBlackList(self.skeleton.getBodyNode(i), body_node)
+
+    def _overlaps(self, body_node: Any) -> bool:
+        """Whether any shape of the arm (the pad too, switched on or not) intersects `body_node`'s shapes."""
+        detector = self.world.getConstraintSolver().getCollisionDetector()
+        if id(self.skeleton) not in self._groups:
+            group = detector.createCollisionGroup()
+            group.addShapeFramesOf(self.skeleton)
+            self._groups[id(self.skeleton)] = group
+        if id(body_node) not in self._groups:
+            group = detector.createCollisionGroup()
+            group.addShapeFramesOf(body_node)
+            self._groups[id(body_node)] = group
+        option = dart.collision.CollisionOption()
+        option.enableContact = False
+        option.maxNumContacts = 1
+        return bool(self._groups[id(self.skeleton)].collide(self._groups[id(body_node)], option))
 
     # ------------------------------------------------------------ motion
 
@@ -332,6 +377,19 @@ class WorldArm:
             joint.setCommand(0, 0.0)
         if self.held is not None:
             self.held.skeleton.getRootJoint().setCommands(np.zeros(6))
+
+
+def _world_filter(world: Any) -> Any:
+    """The collision filter of `world`'s constraint solver, to which pairs of bodies kept apart are added.
+
+    dartpy hands out the solver's collision option by value: assigning a
+    filter of our own to it changes a copy and leaves DART's default filter
+    (a `BodyNodeCollisionFilter`) in force, so pairs are added to that one.
+    """
+    found = world.getConstraintSolver().getCollisionOption().collisionFilter
+    if not isinstance(found, dart.collision.BodyNodeCollisionFilter):
+        raise SimulationError(f"DART's constraint solver has no body-node collision filter ({type(found).__name__})")
+    return found
 
 
 def drive_body(skeleton: Any, body_node: Any, target: np.ndarray, period: float) -> None:
