@@ -310,11 +310,11 @@ class ArmPathPlanner:
     def _blocker(self, reason: str, transit: PendingTransit) -> str:
         """The transit's failure in words, naming what blocks an end configuration when one is blocked."""
         for name, q in (("start", transit.start), ("goal", transit.goal)):
-            clash = self.moves.first_clash(
+            clash = self.moves.first_overlap(
                 np.asarray([q]), transit.poses, transit.held, set(), collision=self.geometry.transit_collision
             )
             if clash is not None:
-                return f"at the {name} of the transit {clash}"
+                return f"at the {name} of the transit {clash[0]}"
         return reason
 
 

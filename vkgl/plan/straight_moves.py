@@ -135,14 +135,15 @@ class StraightMoves:
         joints[-1] = step.q_start
         # the gripper closes around a tool it grasps; a pushing hand must clear the body it pushes until contact
         ignore = {step.body} if grasp else set()
-        clash = self.first_clash(joints[:-1], step.poses_start, state.held, ignore, {step.body})
+        clash = self.first_overlap(joints[:-1], step.poses_start, state.held, ignore, {step.body})
         if clash is not None:
-            return Rejection("approach", f"{label}: the straight approach into the contact is blocked: {clash}", 1.0)
+            why = f"{label}: the straight approach into the contact is blocked: {clash[0]}"
+            return Rejection("approach", why, 1.0)
         # the transit planned later must end here: with room to spare, or another way in is tried
         space = self.geometry.transit_space(state.held)
-        clash = self.first_clash(joints[:1], step.poses_start, state.held, set(), collision=space)
+        clash = self.first_overlap(joints[:1], step.poses_start, state.held, set(), collision=space)
         if clash is not None:
-            why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash}"
+            why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash[0]}"
             return Rejection("transit", why, 1.0)
         return Approach(joints[0].copy(), self.straight("approach", joints, length))
 
@@ -197,9 +198,9 @@ class StraightMoves:
             return Rejection("approach", f"{label}: {no_path} ({path.reason})", 1.0)
         joints = path.joints.copy()
         joints[0] = state.q
-        clash = self.first_clash(joints[1:], poses, state.held, set(), pad_may_touch)
+        clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
         if clash is not None:
-            return Rejection("approach", f"{label}: {blocked}: {clash}", 1.0)
+            return Rejection("approach", f"{label}: {blocked}: {clash[0]}", 1.0)
         state.q = joints[-1]
         return self.straight(phase, joints, length)
 
@@ -208,23 +209,6 @@ class StraightMoves:
         _, _, name = step.affordance.partition(".")
         pusher = poses[step.body] @ self.problem.action(step.body, name)
         return np.asarray(pusher[:3, 0], dtype=float)
-
-    def first_clash(
-        self,
-        joints: np.ndarray,
-        poses: Mapping[str, np.ndarray],
-        held: Held | None,
-        ignore: set[str],
-        pad_may_touch: set[str] | None = None,
-        collision: ArmCollision | None = None,
-    ) -> str | None:
-        """What the arm (or a held tool) would overlap at the first blocked configuration of `joints`, or None.
-
-        `ignore`: bodies nothing of the arm is checked against; `pad_may_touch`: bodies only the fingertip pad
-        may touch (the one a straight approach or retreat pushes: its yaw about the push direction is free).
-        """
-        found = self.first_overlap(joints, poses, held, ignore, pad_may_touch, collision)
-        return None if found is None else found[0]
 
     def first_overlap(
         self,
@@ -235,7 +219,12 @@ class StraightMoves:
         pad_may_touch: set[str] | None = None,
         collision: ArmCollision | None = None,
     ) -> tuple[str, float] | None:
-        """`first_clash` in words and its depth (m), or None."""
+        """What the arm (or a held tool) would overlap at the first blocked configuration of `joints`, in words,
+        and how deep (m); None when nothing is blocked.
+
+        `ignore`: bodies nothing of the arm is checked against; `pad_may_touch`: bodies only the fingertip pad
+        may touch (the one a straight approach or retreat pushes: its yaw about the push direction is free).
+        """
         collision = collision or self.geometry.arm_collision
         collision.scene.place(poses)
         pad = pad_may_touch or set()
