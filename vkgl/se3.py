@@ -57,6 +57,15 @@ class ScrewMotion:
         motion[:3, 3] = self.point - rotation @ self.point + s * self.slide
         return motion
 
+    def along(self, fractions: np.ndarray) -> np.ndarray:
+        """`at(s)` for each s of `fractions` (k), as k x 4 x 4: one rotation call for all of them."""
+        fractions = np.asarray(fractions, dtype=float)
+        rotations = Rotation.from_rotvec(np.outer(fractions, self.rotvec)).as_matrix()
+        motions = np.tile(np.eye(4), (len(fractions), 1, 1))
+        motions[:, :3, :3] = rotations
+        motions[:, :3, 3] = self.point - rotations @ self.point + np.outer(fractions, self.slide)
+        return motions
+
 
 def screw_motion(body_start: np.ndarray, body_end: np.ndarray) -> ScrewMotion:
     """The screw motion taking the pose `body_start` to `body_end` (world frame).

@@ -233,17 +233,17 @@ class ArmPathPlanner:
         held = state.held
         if held is not None:
             held = Held(held.body, held.in_hand, frozenset({step.body}))
+        fractions = np.linspace(0.0, 1.0, len(chain))
         moving = {
-            name: screw_motion(pose, step.poses_end[name])
+            name: screw_motion(pose, step.poses_end[name]).along(fractions) @ pose
             for name, pose in step.poses_start.items()
             if name in step.poses_end and np.abs(pose - step.poses_end[name]).max() > 1e-9
         }
         for i, q in enumerate(chain):
-            s = i / (len(chain) - 1)
-            poses = {**step.poses_start, **{n: m.at(s) @ step.poses_start[n] for n, m in moving.items()}}
+            poses = {**step.poses_start, **{name: along[i] for name, along in moving.items()}}
             clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
-                where = "at the contact" if i == 0 else f"{s:.0%} along the contact's motion"
+                where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
                 return f"{where} {clash[0]}", clash[1]
         return None
 
