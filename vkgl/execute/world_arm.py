@@ -103,7 +103,7 @@ class WorldArm:
         self.held: HeldTool | None = None
         self.filter = _world_filter(world)
         self._letting_go: list[Any] = []  # body nodes of tools let go of that the hand has not yet left
-        self._groups: dict[int, Any] = {}  # collision groups for `_overlaps`, made when first needed
+        self._groups: dict[tuple[str, str], Any] = {}  # collision groups for `_overlaps`, made when first needed
         self._place_base(base)
         self._make_kinematic()
         self.fingertip = self._add_fingertip()
@@ -230,18 +230,17 @@ class WorldArm:
     def _overlaps(self, body_node: Any) -> bool:
         """Whether any shape of the arm (the pad too, switched on or not) intersects `body_node`'s shapes."""
         detector = self.world.getConstraintSolver().getCollisionDetector()
-        if id(self.skeleton) not in self._groups:
-            group = detector.createCollisionGroup()
-            group.addShapeFramesOf(self.skeleton)
-            self._groups[id(self.skeleton)] = group
-        if id(body_node) not in self._groups:
-            group = detector.createCollisionGroup()
-            group.addShapeFramesOf(body_node)
-            self._groups[id(body_node)] = group
+        # keyed by names, not by the Python wrappers' ids (a wrapper freed may hand its id to another)
+        keys = [(self.skeleton.getName(), ""), (body_node.getSkeleton().getName(), body_node.getName())]
+        for key, owner in zip(keys, (self.skeleton, body_node), strict=True):
+            if key not in self._groups:
+                group = detector.createCollisionGroup()
+                group.addShapeFramesOf(owner)
+                self._groups[key] = group
         option = dart.collision.CollisionOption()
         option.enableContact = False
         option.maxNumContacts = 1
-        return bool(self._groups[id(self.skeleton)].collide(self._groups[id(body_node)], option))
+        return bool(self._groups[keys[0]].collide(self._groups[keys[1]], option))
 
     # ------------------------------------------------------------ motion
 
