@@ -9,7 +9,7 @@ Queries (docs/collision.md says why these):
   (ii)  sweep: a moved block at N = 50 poses against K = 10 still bodies + the table;
   (iii) arm: the Panda's 18 URDF collision shapes at a joint configuration (forward
         kinematics included) against 10 bodies + the table.
-The libraries that are not installed are skipped. The project's checker (vkgl.plan.collision,
+The libraries that are not installed are skipped. The project's checker (vkgl.motion.collision,
 .sweep, .arm_collision: DART's FCL behind a numpy bounding-ball cull) is timed last on the same
 queries (its pair column includes that cull; its sweep column calls `hits` per pose).
 Every time is the best of 5 rounds (the minimum is the cost; a shared machine only adds to it).
@@ -210,7 +210,7 @@ class DartBackend:
         hull = trimesh.convex.convex_hull(np.asarray(data))
         path = Path("/tmp/bench_collision_hull.stl")
         hull.export(path)
-        from vkgl.lang.ir import MeshShape
+        from vkgl.lang.ir.nodes import MeshShape
         from vkgl.shapes import load_mesh_shape
 
         return load_mesh_shape(MeshShape(path=str(path)))
@@ -383,7 +383,7 @@ def time_arm(backend: Any, qs: list[np.ndarray]) -> tuple[float, list[bool]]:
 
 def _ir(parts: BodyParts) -> Any:
     """The IR shape of a bench body (a mesh is written to a temporary STL)."""
-    from vkgl.lang.ir import (
+    from vkgl.lang.ir.nodes import (
         BoxShape,
         CylinderShape,
         MeshShape,
@@ -416,12 +416,12 @@ def _ir(parts: BodyParts) -> Any:
 def vkgl_row(
     repeat: int, qs: list[np.ndarray]
 ) -> tuple[str, dict[str, float], float, float, list[list[bool]], list[bool], str]:
-    """The same queries through vkgl.plan.collision / sweep / arm_collision (DART's FCL + a numpy cull)."""
+    """The same queries through vkgl.motion.collision / sweep / arm_collision (DART's FCL + a numpy cull)."""
     from vkgl.lang.compiler import compile_file
-    from vkgl.lang.ir import PrismaticC, Vector
-    from vkgl.plan.arm_collision import ArmCollision
-    from vkgl.plan.collision import CollisionScene
-    from vkgl.plan.sweep import sample_values, sweep
+    from vkgl.lang.ir.nodes import PrismaticC, Vector
+    from vkgl.motion.arm_collision import ArmCollision
+    from vkgl.motion.collision import CollisionScene
+    from vkgl.plan.geometry.sweep import sample_values, sweep
     from vkgl.robot import Arm
 
     pairs, answers = {}, []
@@ -478,9 +478,9 @@ def _check_plan(problem: Any, result: Any, extra: int) -> tuple[float, float, fl
 
     Returns (ms, ms, ms, contacts).
     """
-    from vkgl.plan.arm_collision import ArmCollision
-    from vkgl.plan.collision import CollisionScene, pair
-    from vkgl.plan.sweep import sweep_mode
+    from vkgl.motion.arm_collision import ArmCollision
+    from vkgl.motion.collision import CollisionScene, pair
+    from vkgl.plan.geometry.sweep import sweep_mode
 
     block = problem.bodies["block"]
     more = {f"extra{i}": _pose(x, y, block.rest[2, 3]) for i, (x, y) in enumerate(EXTRA[:extra])}
@@ -516,8 +516,8 @@ def paper_tasks() -> None:
     import copy
 
     from vkgl.lang.compiler import compile_file
-    from vkgl.plan.model import build_problem
-    from vkgl.plan.search import search
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.search.search import search
 
     print(f"{'task':>22} | build ms | bodies ms | arm ms | +8 blocks: build, bodies, arm ms | overlaps")
     for path in sorted((REPO / "examples" / "tasks").glob("*.vkg")):

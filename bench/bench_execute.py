@@ -54,7 +54,7 @@ def _disturbed(program, task_name: str, dy: float, dyaw_deg: float, joint: tuple
     in a task with a joint goal, its body's joint moved by `joint` (cm for a slide, deg for a hinge)."""
     from scipy.spatial.transform import Rotation
 
-    from vkgl.lang.geometry import joint_pose, scene_body_anchor, scene_body_pose
+    from vkgl.lang.ir.geometry import joint_pose, scene_body_anchor, scene_body_pose
 
     task = program.task(task_name)
     scene = program.scenes[task.scene.name]

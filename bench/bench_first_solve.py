@@ -22,7 +22,7 @@ phase. On a shared machine wall time grows with the load and CPU time much
 less: both are printed, with the load average before and after.
 
 Targets (issue 12): the six first solves together at most 0.5 s; the
-transits, planned after the search (`vkgl.plan.arm_paths`: the search's
+transits, planned after the search (`vkgl.plan.arm.paths`: the search's
 candidate, the search going on when one fails), are reported separately
 (issue 13), and so are the straight moves planned inside the search.
 """

@@ -40,7 +40,7 @@ def best_of(repeat: int, fn: Callable[[], object], before: Callable[[], None] = 
 
 
 def clear_parse_cache() -> None:
-    from vkgl.lang import parser
+    from vkgl.lang.syntax import parser
 
     parser._parse_cached.cache_clear()
 
@@ -111,7 +111,7 @@ def main() -> None:
 
     start = time.perf_counter()
     from vkgl.lang.compiler import check_files
-    from vkgl.lang.parser import _parse_uncached
+    from vkgl.lang.syntax.parser import _parse_uncached
 
     # Start-up: imports, the grammar's LALR tables, DART (the stdlib URDF is checked once).
     check_files([str(REPO / "stdlib" / "tools.vkg")])

@@ -25,7 +25,7 @@ REPO = Path(__file__).resolve().parent.parent
 
 
 def _panda():
-    from vkgl.lang.ir import Effector, Pose, Robot, Vector
+    from vkgl.lang.ir.nodes import Effector, Pose, Robot, Vector
 
     return Robot(
         name="Panda",

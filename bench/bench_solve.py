@@ -130,7 +130,7 @@ def _with_far_goal(program):  # type: ignore[no-untyped-def]
     """Task b with its goal beyond the stick's reach: the search must try every sequence up to max_depth."""
     import dataclasses
 
-    from vkgl.lang.ir import Vector
+    from vkgl.lang.ir.nodes import Vector
 
     task = program.task()
     goal = task.goals[0].model_copy(update={"position": Vector(values=(1.25, 0.0), unit="m")})
@@ -142,7 +142,7 @@ def _with_extra_tools(program, count: int):  # type: ignore[no-untyped-def]
     """A copy of `program` whose task scene has `count` more tools lying on the table."""
     import dataclasses
 
-    from vkgl.lang.ir import Placement, Pose, Quantity, Ref, SceneBody, Vector
+    from vkgl.lang.ir.nodes import Placement, Pose, Quantity, Ref, SceneBody, Vector
 
     scene = program.scenes[program.task().scene.name]
     extra = [

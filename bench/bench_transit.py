@@ -73,8 +73,8 @@ def main() -> None:
     sys.path.insert(0, str(REPO / "tests" / "support"))
     from robot.test_arm import panda_robot
 
-    from vkgl.plan.density import DEFAULT_RESOLUTION
-    from vkgl.plan.transit import TransitPath, plan_transit
+    from vkgl.motion.density import DEFAULT_RESOLUTION
+    from vkgl.motion.transit import TransitPath, plan_transit
     from vkgl.robot import Arm
 
     arm = Arm.load(panda_robot(), "fingertip", np.eye(4))

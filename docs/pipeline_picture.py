@@ -10,8 +10,8 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.patches import FancyBboxPatch  # noqa: E402
+import matplotlib.pyplot as plt
+from matplotlib.patches import FancyBboxPatch
 
 STAGE = "#dbe9f6"
 DATA = "#fdf1d6"
@@ -52,9 +52,7 @@ ARROWS = [
 def _on_edge(centre: tuple[float, float], towards: tuple[float, float], w: float, h: float) -> tuple[float, float]:
     """Where the line from a box's centre towards another point leaves the box (with a small gap)."""
     dx, dy = towards[0] - centre[0], towards[1] - centre[1]
-    scale = min(
-        (w / 2 + 0.008) / abs(dx) if dx else float("inf"), (h / 2 + 0.015) / abs(dy) if dy else float("inf")
-    )
+    scale = min((w / 2 + 0.008) / abs(dx) if dx else float("inf"), (h / 2 + 0.015) / abs(dy) if dy else float("inf"))
     return centre[0] + dx * scale, centre[1] + dy * scale
 
 

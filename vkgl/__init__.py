@@ -16,7 +16,7 @@ from vkgl.api import compile, compile_source, execute, explore, infer, learn, so
 from vkgl.errors import CompileError, InputError, VkgError
 
 if _TYPE_CHECKING:
-    from vkgl.lang.program import Program
+    from vkgl.lang.ir.program import Program
 
 try:
     __version__ = _metadata.version("vkgl")
@@ -42,7 +42,7 @@ __all__ = [
 def __getattr__(name: str) -> object:
     # `vkgl.Program` without importing the front end (pydantic, lark) when only the CLI's help is wanted.
     if name == "Program":
-        from vkgl.lang.program import Program
+        from vkgl.lang.ir.program import Program
 
         return Program
     raise AttributeError(f"module 'vkgl' has no attribute {name!r}")

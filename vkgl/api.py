@@ -30,10 +30,10 @@ if TYPE_CHECKING:
     from vkgl.formats.plan import PlanDocument
     from vkgl.formats.trials import Trials
     from vkgl.infer.library import InferenceResult
-    from vkgl.lang.ir import Body, Task
-    from vkgl.lang.program import Program
-    from vkgl.plan.avoid import Avoid
-    from vkgl.plan.plan import Plan
+    from vkgl.lang.ir.nodes import Body, Task
+    from vkgl.lang.ir.program import Program
+    from vkgl.plan.problem.avoid import Avoid
+    from vkgl.plan.result.plan import Plan
     from vkgl.sim.explore import Runner
 
 ProgramLike = Union["Program", str, os.PathLike[str]]
@@ -73,7 +73,7 @@ def compile_source(text: str, name: str = "<string>", *, base_dir: str | os.Path
 
 
 def _program(program: ProgramLike) -> Program:
-    from vkgl.lang.program import Program
+    from vkgl.lang.ir.program import Program
 
     return program if isinstance(program, Program) else compile(program)
 
@@ -91,7 +91,7 @@ def solve(
     """Plan for `task` of `program` (its only task when None); return a Plan.
 
     `max_depth` and `timeout` override the task's `search` block. `avoid`
-    (`vkgl.plan.avoid.Avoid`) names plans already tried and steps that failed
+    (`vkgl.plan.problem.avoid.Avoid`) names plans already tried and steps that failed
     in execution, which the plan must not repeat. `arm_start` are the arm's
     joints where its first path starts (default: its home configuration,
     where execution starts it). A goal that
@@ -161,10 +161,10 @@ def resolver(program: Program, task: str, attempts: Attempts) -> PlanDocument:
     """How the closed loop re-solves: the planner, on the program it observed, avoiding what was tried.
 
     The plans tried and the steps that failed (`attempts`) become the
-    planner's `vkgl.plan.avoid.Avoid`; the new plan's arm paths start where
+    planner's `vkgl.plan.problem.avoid.Avoid`; the new plan's arm paths start where
     the arm stands (`attempts.arm`).
     """
-    from vkgl.plan.avoid import Avoid
+    from vkgl.plan.problem.avoid import Avoid
 
     avoid = Avoid.of(attempts.plans, attempts.failed_steps)
     return solve(program, task, avoid=avoid, arm_start=attempts.arm).document()
@@ -317,7 +317,7 @@ def _write_text(path: Path, text: str) -> None:
 
 
 def _task(program: Program, task: str | Task | None) -> Task:
-    from vkgl.lang.ir import Task
+    from vkgl.lang.ir.nodes import Task
 
     if isinstance(task, Task):
         return task

@@ -7,10 +7,7 @@ what to change. The CLI turns them into one-line errors and exit codes.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from vkgl.lang.diagnostics import Diagnostic
+from typing import Any
 
 
 class VkgError(Exception):
@@ -26,9 +23,13 @@ class InputError(VkgError):
 
 
 class CompileError(InputError):
-    """A `.vkg` program has errors; `diagnostics` holds all of them, sorted by position."""
+    """A `.vkg` program has errors; `diagnostics` holds all of them, sorted by position.
 
-    def __init__(self, diagnostics: list[Diagnostic]) -> None:
+    They are `vkgl.lang.diagnostics.diagnostic.Diagnostic`s; typed loosely here because this module is the
+    bottom layer, which imports nothing of vkgl (not even for type checking).
+    """
+
+    def __init__(self, diagnostics: list[Any]) -> None:
         self.diagnostics = diagnostics
         first = diagnostics[0].headline() if diagnostics else "compilation failed"
         more = f" (and {len(diagnostics) - 1} more)" if len(diagnostics) > 1 else ""

@@ -1,7 +1,7 @@
 """IR shapes as DART shapes, and numpy poses as DART transforms.
 
 Shared by the simulator (`vkgl.sim.world`: exploration and execution worlds)
-and the planner's collision checks (`vkgl.plan.collision`), so that both see
+and the planner's collision checks (`vkgl.motion.collision`), so that both see
 the same bodies: boxes and cylinders as DART primitives, a mesh as DART loads
 it, a union as one shape per part.
 """
@@ -16,7 +16,7 @@ import dartpy as dart
 import numpy as np
 
 from vkgl.errors import InputError, SimulationError
-from vkgl.lang.ir import BoxShape, CylinderShape, MeshShape, Shape, UnionShape
+from vkgl.lang.ir.nodes import BoxShape, CylinderShape, MeshShape, Shape, UnionShape
 
 
 def isometry(matrix: np.ndarray) -> Any:

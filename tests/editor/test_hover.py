@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from vkgl.editor.hover import body_hover
-from vkgl.lang.parser import parse_module
+from vkgl.lang.syntax.parser import parse_module
 
 
 def test_a_bodys_hover_shows_its_joints_damping_and_friction() -> None:

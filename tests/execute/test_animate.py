@@ -16,7 +16,7 @@ from vkgl.execute.animate import animate, trace_group, trace_lines
 from vkgl.execute.closed_loop import execute
 from vkgl.execute.scene_world import FRAME_PERIOD
 from vkgl.lang.compiler import compile_file
-from vkgl.plan.picture_paths import effector_track
+from vkgl.motion.picture_paths import effector_track
 from vkgl.robot import Arm
 
 TASK = "a_push"

@@ -22,8 +22,8 @@ from vkgl.execute.closed_loop import execute
 from vkgl.execute.resolving import Attempts
 from vkgl.formats.plan import PlanDocument, from_json, to_json
 from vkgl.lang.compiler import compile_file
-from vkgl.lang.geometry import scene_body_pose
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import scene_body_pose
+from vkgl.lang.ir.program import Program
 from vkgl.se3 import yaw_of
 
 TASK = "a_push"

@@ -21,7 +21,7 @@ from vkgl.cli import main
 from vkgl.execute.closed_loop import execute
 from vkgl.execute.resolving import Attempts
 from vkgl.formats.plan import PlanDocument
-from vkgl.lang.program import Program
+from vkgl.lang.ir.program import Program
 
 
 @pytest.fixture(scope="module")

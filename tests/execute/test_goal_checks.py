@@ -9,7 +9,7 @@ import pytest
 
 from vkgl.errors import InputError
 from vkgl.execute.goal_checks import check_goal, miss_reason, replan_limits
-from vkgl.lang.parser import parse_module
+from vkgl.lang.syntax.parser import parse_module
 
 TASK = parse_module(
     "task t { scene s  goal drawer open 20 cm within 1 cm and door open 45deg\n"

@@ -8,11 +8,11 @@ from conftest import EXAMPLES
 from joint_tasks import started_open
 
 import vkgl
-from vkgl.lang.program import Program
+from vkgl.lang.ir.program import Program
 
 
 @pytest.fixture(scope="module")
-def i_task() -> tuple[Program, vkgl.plan.plan.Plan]:
+def i_task() -> tuple[Program, vkgl.plan.result.plan.Plan]:
     program = vkgl.compile(EXAMPLES / "tasks" / "i_hook_drawer.vkg")
     return program, vkgl.solve(program)
 

@@ -23,8 +23,8 @@ from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.execution_report import ExcludedStep
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
 from vkgl.lang.compiler import compile_file
-from vkgl.lang.program import Program
-from vkgl.plan.avoid import StepKey
+from vkgl.lang.ir.program import Program
+from vkgl.plan.problem.avoid import StepKey
 from vkgl.plan.solve import solve
 
 NO_IK = "the arm cannot reach the effector pose at (0.400, 0.066, 0.025) m (no IK solution)"

@@ -39,7 +39,8 @@ from pathlib import Path
 import pytest
 
 import vkgl
-from vkgl.plan.straight_moves import SLANT, STANDOFF
+from vkgl.motion.moves import STANDOFF
+from vkgl.plan.arm.straight_moves import SLANT
 
 STDLIB_SCENE = """
 use stdlib.robots.panda

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from vkgl.api import learn
-from vkgl.lang.ir import FixedC, FreeC, PrismaticC, RevoluteC
+from vkgl.lang.ir.nodes import FixedC, FreeC, PrismaticC, RevoluteC
 
 REPO = Path(__file__).resolve().parents[2]
 BODIES = REPO / "stdlib" / "bodies"
@@ -25,7 +25,7 @@ def learned(tmp_path_factory) -> dict[str, Path]:
 
 
 def _affordances(path: Path) -> dict:
-    from vkgl.lang.parser import parse_module
+    from vkgl.lang.syntax.parser import parse_module
 
     module = parse_module(path.read_text(encoding="utf-8"), str(path))
     (decl,) = module.decls

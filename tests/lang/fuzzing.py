@@ -11,9 +11,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from vkgl.lang.codes import CODES
 from vkgl.lang.compiler import check_files
-from vkgl.lang.diagnostics import Diagnostic, render, source_lines
+from vkgl.lang.diagnostics.codes import CODES
+from vkgl.lang.diagnostics.diagnostic import Diagnostic, render, source_lines
 
 HANG_SECONDS = 10
 """A single check that runs longer than this counts as a hang."""

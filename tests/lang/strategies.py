@@ -13,8 +13,8 @@ import string
 
 from hypothesis import strategies as st
 
-from vkgl.lang import ir
-from vkgl.lang.units import to_si
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.units import to_si
 
 PATH = "generated.vkg"
 

@@ -1,4 +1,4 @@
-"""Scene geometry at `vkgc check` (vkgl/lang/checks_scene.py): impossible starts and goals are errors.
+"""Scene geometry at `vkgc check` (vkgl/lang/checks/scene.py): impossible starts and goals are errors.
 
 Each finding of the issue is reproduced with its own input: a goal inside the
 robot's base, a block floating at z = 0.5 m, two overlapping blocks, a block on
@@ -17,9 +17,9 @@ import pytest
 import trimesh
 from conftest import vkg_files
 
-from vkgl.lang import checks
+from vkgl.lang.checks import checker as checks
 from vkgl.lang.compiler import check_files
-from vkgl.lang.diagnostics import Diagnostic
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
 
 HEADER = """\
 use stdlib.robots.panda

@@ -10,20 +10,20 @@ from conftest import DESIGN, vkg_files
 
 from vkgl.cli import main
 from vkgl.errors import CompileError
-from vkgl.lang.printer import format_source
+from vkgl.lang.syntax.printer import format_source
 
 PATH = "fmt.vkg"
 
 
 def parse(text: str, path: str = PATH):
-    from vkgl.lang.parser import parse_module
+    from vkgl.lang.syntax.parser import parse_module
 
     return parse_module(text, path)
 
 
 def comments_of(text: str) -> list[str]:
     """The comment texts of a source, in order (doc comment included)."""
-    from vkgl.lang.parser import parse_module_with_comments
+    from vkgl.lang.syntax.parser import parse_module_with_comments
 
     _, comments = parse_module_with_comments(text, PATH)
     return [c.text.rstrip() for c in sorted(comments, key=lambda c: (c.line, c.col))]

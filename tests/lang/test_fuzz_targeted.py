@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 from fuzzing import check_data, check_path
 
-from vkgl.lang.diagnostics import Diagnostic
-from vkgl.lang.sources import MAX_SOURCE_BYTES
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.syntax.sources import MAX_SOURCE_BYTES
 
 TARGETED_MINIMUM = 300
 

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import vkgl
-from vkgl.lang.geometry import shape_mesh, shape_vertices
-from vkgl.lang.ir import BoxShape, CylinderShape, Pose, Quantity, ShapePart, UnionShape, Vector
+from vkgl.lang.ir.geometry import shape_mesh, shape_vertices
+from vkgl.lang.ir.nodes import BoxShape, CylinderShape, Pose, Quantity, ShapePart, UnionShape, Vector
 
 REPO = Path(__file__).resolve().parents[2]
 

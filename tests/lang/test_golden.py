@@ -1,7 +1,7 @@
 """Golden tests: the exact output of `vkgc check` for one small bad input per diagnostic code.
 
 Each case is tests/lang/golden/<CODE>_<short_name>.vkg with its expected output
-beside it in <same>.expected: every diagnostic as vkgl.lang.diagnostics.render
+beside it in <same>.expected: every diagnostic as vkgl.lang.diagnostics.diagnostic.render
 shows it (LANGUAGE.md §9) followed by the summary line. Paths in the output are
 relative to the repository root, so the test runs `vkgc check` from there.
 Files in tests/lang/golden/lib/ are helpers the cases `use`, not cases.
@@ -13,7 +13,7 @@ To regenerate the .expected files after an intended change of a message, run
 then review the diff (`git diff tests/lang/golden/`) and regenerate docs/errors.md, which
 quotes every output (a test checks it is exactly the generated text):
 
-    python -m vkgl.lang.errors_doc > docs/errors.md
+    python -m vkgl.lang.diagnostics.errors_doc > docs/errors.md
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ from pathlib import Path
 import pytest
 
 from vkgl.cli import main
-from vkgl.lang.codes import CODES
-from vkgl.lang.errors_doc import errors_doc
+from vkgl.lang.diagnostics.codes import CODES
+from vkgl.lang.diagnostics.errors_doc import errors_doc
 from vkgl.resources import stdlib_dir
 
 REPO = Path(__file__).resolve().parents[2]
@@ -131,5 +131,5 @@ def test_docs_show_the_golden_outputs_verbatim() -> None:
 def test_errors_doc_is_the_generated_text() -> None:
     """docs/errors.md is generated from the code registry and the golden cases: regenerate, never edit by hand."""
     assert ERRORS_DOC.read_text(encoding="utf-8") == errors_doc(REPO), (
-        "docs/errors.md is stale: run `python -m vkgl.lang.errors_doc > docs/errors.md`"
+        "docs/errors.md is stale: run `python -m vkgl.lang.diagnostics.errors_doc > docs/errors.md`"
     )

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from vkgl.lang.compiler import check_files
-from vkgl.lang.parser import parse_collecting, parse_module
-from vkgl.lang.printer import print_module
+from vkgl.lang.syntax.parser import parse_collecting, parse_module
+from vkgl.lang.syntax.printer import print_module
 
 GOLDEN_LIB = Path(__file__).resolve().parent / "golden" / "lib"
 

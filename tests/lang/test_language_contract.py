@@ -22,8 +22,8 @@ from conftest import DESIGN
 
 from vkgl.cli import main
 from vkgl.lang.compiler import check_files, compile_file
-from vkgl.lang.ir import PrismaticC, RevoluteC
-from vkgl.lang.parser import parse_module
+from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
+from vkgl.lang.syntax.parser import parse_module
 from vkgl.resources import stdlib_dir
 
 LANGUAGE = DESIGN / "LANGUAGE.md"

@@ -10,10 +10,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import PATH, UNITS, modules
 
-from vkgl.lang import ir
-from vkgl.lang.printer import print_module
-from vkgl.lang.quantities import format_number, format_scaled
-from vkgl.lang.units import to_si
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.units import to_si
+from vkgl.lang.syntax.printer import print_module
+from vkgl.lang.syntax.quantities import format_number, format_scaled
 
 # Deterministic (derandomize) and quick; the round trip runs a few hundred modules in seconds.
 FAST = settings(derandomize=True, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -21,7 +21,7 @@ ALL_UNITS = [u for group in UNITS.values() for u in group]
 
 
 def parse(text: str, path: str = PATH) -> ir.Module:
-    from vkgl.lang.parser import parse_module
+    from vkgl.lang.syntax.parser import parse_module
 
     return parse_module(text, path)
 

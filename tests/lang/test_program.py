@@ -10,7 +10,7 @@ import pytest
 
 from vkgl.errors import CompileError, InputError
 from vkgl.lang.compiler import compile_file, compile_source
-from vkgl.lang.ir import DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW, Goal, Quantity, Ref
+from vkgl.lang.ir.nodes import DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW, Goal, Quantity, Ref
 
 REPO = Path(__file__).resolve().parents[2]
 A_PUSH = REPO / "examples" / "tasks" / "a_push.vkg"
@@ -241,7 +241,7 @@ def test_a_joint_goal_from_python_is_solved(kitchen) -> None:  # type: ignore[no
 
 
 def test_with_start_poses_keeps_a_jointed_body_on_its_anchor_and_starts_it_open(kitchen) -> None:  # type: ignore[no-untyped-def]
-    from vkgl.lang.geometry import joint_pose, scene_body_anchor, scene_body_pose
+    from vkgl.lang.ir.geometry import joint_pose, scene_body_anchor, scene_body_pose
 
     scene = kitchen.scenes["kitchen"]
     placed = {b.name: b for b in scene.bodies}

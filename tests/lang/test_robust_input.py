@@ -18,11 +18,11 @@ import pytest
 from vkgl.cli import main
 from vkgl.cli.arguments import MAX_DEPTH_LIMIT as CLI_MAX_DEPTH
 from vkgl.errors import CompileError
-from vkgl.lang import limits
 from vkgl.lang.compiler import check_files, compile_source
-from vkgl.lang.diagnostics import Diagnostic, escape_controls, render, source_lines
-from vkgl.lang.printer import format_source
-from vkgl.lang.sources import MAX_SOURCE_BYTES
+from vkgl.lang.diagnostics.diagnostic import Diagnostic, escape_controls, render, source_lines
+from vkgl.lang.ir import limits
+from vkgl.lang.syntax.printer import format_source
+from vkgl.lang.syntax.sources import MAX_SOURCE_BYTES
 
 BODY = (
     "body B {{\n    shape {shape}\n    mass {mass}\n    friction {friction}\n"

@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from vkgl.cli import main
-from vkgl.lang.diagnostics import Diagnostic
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
 
 SOURCES = {p.name + ":" + str(i): p.read_text(encoding="utf-8") for i, p in enumerate(vkg_files())}
 TOKEN = re.compile(r'"[^"\n]*"|#[^\n]*|[+-]?\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|[A-Za-z_]\w*|[+-][xyz]|\S')

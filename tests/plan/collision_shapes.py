@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.ir import BoxShape, CylinderShape, Pose, ShapePart, UnionShape, Vector
+from vkgl.lang.ir.nodes import BoxShape, CylinderShape, Pose, ShapePart, UnionShape, Vector
 
 
 def box(x: float, y: float, z: float) -> BoxShape:
@@ -15,7 +15,7 @@ def box(x: float, y: float, z: float) -> BoxShape:
 
 def cylinder(radius: float, height: float) -> CylinderShape:
     """A cylinder along z."""
-    from vkgl.lang.ir import Quantity
+    from vkgl.lang.ir.nodes import Quantity
 
     return CylinderShape(radius=Quantity(value=radius), height=Quantity(value=height))
 

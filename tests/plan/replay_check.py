@@ -17,9 +17,9 @@ import numpy as np
 from contact_chain_check import DartFK, check_contact_chains, motion
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.geometry import scene_body_anchor, scene_body_pose
-from vkgl.lang.ir import FixedC
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import scene_body_anchor, scene_body_pose
+from vkgl.lang.ir.nodes import FixedC
+from vkgl.lang.ir.program import Program
 
 POSE_TOL = 1e-6  # m / rad: recomposed poses agree with the plan's to this
 HAND_TOL = 2e-3  # m: FK of the plan's joints puts the hand this close to where it must be

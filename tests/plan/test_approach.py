@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from panda_fixtures import panda_robot
 
-from vkgl.plan.approach import (
+from vkgl.motion.approach import (
     CartesianFailure,
     JointPath,
     approach_joints,

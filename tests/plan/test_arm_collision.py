@@ -7,9 +7,9 @@ import pytest
 from collision_shapes import box, pose
 from plan_programs import compiled  # noqa: F401 (fixture)
 
-from vkgl.plan.arm_collision import PAD, ArmCollision, Held
-from vkgl.plan.collision import TABLE, CollisionScene
-from vkgl.plan.model import build_problem
+from vkgl.motion.arm_collision import PAD, ArmCollision, Held
+from vkgl.motion.collision import TABLE, CollisionScene
+from vkgl.plan.problem.problem import build_problem
 from vkgl.robot import Arm
 
 

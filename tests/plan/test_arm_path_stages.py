@@ -1,4 +1,4 @@
-"""The arm's paths in two stages (`vkgl.plan.arm_paths`): straight moves in the search, transits after it.
+"""The arm's paths in two stages (`vkgl.plan.arm.paths`): straight moves in the search, transits after it.
 
 A candidate whose transits cannot be planned is rejected (kind "transit") and the search goes on with the next
 candidate; the plan reports each stage's count and time.
@@ -9,8 +9,8 @@ from __future__ import annotations
 from conftest import EXAMPLES
 
 import vkgl
-from vkgl.plan.arm_paths import ArmPathPlanner
-from vkgl.plan.reach import Rejection
+from vkgl.plan.arm.paths import ArmPathPlanner
+from vkgl.plan.task_space.workspace import Rejection
 
 
 def test_a_candidate_whose_transit_fails_is_rejected_and_the_search_goes_on(monkeypatch) -> None:

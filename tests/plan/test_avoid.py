@@ -11,7 +11,7 @@ from conftest import EXAMPLES
 
 from vkgl.formats.plan import PlanDocument
 from vkgl.lang.compiler import compile_file
-from vkgl.plan.avoid import Avoid, StepKey
+from vkgl.plan.problem.avoid import Avoid, StepKey
 from vkgl.plan.solve import solve
 
 

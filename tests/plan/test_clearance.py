@@ -10,11 +10,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from plan_programs import compiled  # noqa: F401 (fixture)
 
-from vkgl.plan.arm_collision import ArmCollision, Held
-from vkgl.plan.clearance import cover_box, cover_cylinder, spheres_to_boxes
-from vkgl.plan.collision import CollisionScene
-from vkgl.plan.density import DEFAULT_RESOLUTION, link_reach, segment_is_valid
-from vkgl.plan.model import build_problem
+from vkgl.motion.arm_collision import ArmCollision, Held
+from vkgl.motion.clearance import cover_box, cover_cylinder, spheres_to_boxes
+from vkgl.motion.collision import CollisionScene
+from vkgl.motion.density import DEFAULT_RESOLUTION, link_reach, segment_is_valid
+from vkgl.plan.problem.problem import build_problem
 
 sides = st.floats(0.005, 0.4)
 

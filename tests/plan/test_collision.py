@@ -13,8 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.ir import MeshShape
-from vkgl.plan.collision import TABLE, TOUCH_TOL, CollisionScene, pair
+from vkgl.lang.ir.nodes import MeshShape
+from vkgl.motion.collision import TABLE, TOUCH_TOL, CollisionScene, pair
 
 TABLE_KW = {"table_center": np.array([0.5, 0.0]), "table_size": np.array([1.6, 1.2]), "table_z": 0.0}
 
@@ -153,7 +153,7 @@ def test_the_lowest_point_is_exact_for_turned_boxes_cylinders_and_unions() -> No
     poses = np.array([np.eye(4)] * 20)
     poses[:, :3, :3] = Rotation.random(20, random_state=rng).as_matrix()
     poses[:, :3, 3] = rng.uniform(-0.5, 0.5, (20, 3))
-    from vkgl.lang.geometry import shape_mesh
+    from vkgl.lang.ir.geometry import shape_mesh
 
     for name, shape in shapes.items():
         vertices = shape_mesh(shape).vertices

@@ -2,7 +2,7 @@
 
 The independent check (`tests/support/plan_geometry.py`) builds its own DART
 world from the IR and samples every step's motion 20 times; it shares no code
-with the planner's collision checks (`vkgl.plan.geometry_check`).
+with the planner's collision checks (`vkgl.plan.geometry.bodies`).
 """
 
 from __future__ import annotations
@@ -113,8 +113,8 @@ def test_every_example_plan_passes_the_independent_check(task: str) -> None:
 def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_are_tried(monkeypatch) -> None:
     # block2 across the path: half of its push clears it. When the arm's checks refuse those values, the search
     # tries the next ones that clear the path (three quarters) for the same sequence, not another sequence
-    import vkgl.plan.search as search
-    from vkgl.plan.reach import Rejection
+    import vkgl.plan.search.search as search
+    from vkgl.plan.task_space.workspace import Rejection
 
     source = SCENE.replace("at ({x2}, {y2}) m yaw 0deg", "at ({x2}, {y2}) m yaw 90deg").replace(
         "max_depth 3", "max_depth 5"

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from plan_programs import compiled  # noqa: F401 (fixture)
 
-from vkgl.plan.closed_form import Rejection, closed_form
-from vkgl.plan.graph import Action, Engagement, edges, g0, successors
-from vkgl.plan.model import build_problem
-from vkgl.plan.rollout import extend, rollout, start_sequence
+from vkgl.plan.graphs.graph import Action, Engagement, edges, g0, successors
+from vkgl.plan.graphs.rollout import extend, rollout, start_sequence
+from vkgl.plan.problem.problem import build_problem
+from vkgl.plan.task_space.closed_form import Rejection, closed_form
 
 
 @pytest.fixture(scope="module")

@@ -19,11 +19,11 @@ import vkgl
 from vkgl.cli import main
 from vkgl.errors import InputError
 from vkgl.lang.compiler import compile_file
-from vkgl.lang.geometry import joint_pose
-from vkgl.lang.ir import Quantity
-from vkgl.plan.feasible import goal_holds, goal_residuals
-from vkgl.plan.model import build_problem
-from vkgl.plan.picture import _goal_pose, plan_image
+from vkgl.lang.ir.geometry import joint_pose
+from vkgl.lang.ir.nodes import Quantity
+from vkgl.plan.problem.problem import build_problem
+from vkgl.plan.result.picture import _goal_pose, plan_image
+from vkgl.plan.task_space.feasible import goal_holds, goal_residuals
 
 HERE = Path(__file__).resolve().parent
 

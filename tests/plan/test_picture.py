@@ -13,8 +13,8 @@ import pytest
 from plan_programs import compiled  # noqa: F401 (fixture)
 
 from vkgl.api import solve
-from vkgl.plan.picture import plan_figure, plan_image
-from vkgl.plan.picture_paths import GID_PREFIX, MAX_JOINT_STEP, PHASE_STYLES, joint_samples
+from vkgl.motion.picture_paths import GID_PREFIX, MAX_JOINT_STEP, PHASE_STYLES, joint_samples
+from vkgl.plan.result.picture import plan_figure, plan_image
 
 matplotlib.use("Agg")
 

@@ -7,12 +7,12 @@ import pytest
 from collision_shapes import box, hook, pose
 from plan_programs import compiled  # noqa: F401 (fixture)
 
-from vkgl.lang.ir import PrismaticC, RevoluteC, Vector
-from vkgl.plan.collision import TABLE, CollisionScene, pair
-from vkgl.plan.graph import Engagement
-from vkgl.plan.model import build_problem
-from vkgl.plan.rollout import ModeTrace, motion_matrix, tool_pose_on
-from vkgl.plan.sweep import MAX_SLIP, STEP, sample_values, sweep, sweep_mode
+from vkgl.lang.ir.nodes import PrismaticC, RevoluteC, Vector
+from vkgl.motion.collision import TABLE, CollisionScene, pair
+from vkgl.plan.geometry.sweep import MAX_SLIP, STEP, sample_values, sweep, sweep_mode
+from vkgl.plan.graphs.graph import Engagement
+from vkgl.plan.graphs.rollout import ModeTrace, motion_matrix, tool_pose_on
+from vkgl.plan.problem.problem import build_problem, collision_scene
 
 ALONG_X = PrismaticC(axis=Vector(values=(1.0, 0.0, 0.0)))
 
@@ -107,7 +107,7 @@ def problem(compiled):
 
 
 def test_sweep_mode_sweeps_a_rollouts_pushed_block_against_the_other_bodies(problem) -> None:
-    scene = CollisionScene.from_problem(problem)
+    scene = collision_scene(problem)
     poses = {n: b.rest for n, b in problem.bodies.items()}
     push = Engagement(problem.robot_effector.name, "block", "push_center_px")
     motion = problem.affordance("block", "push_center_px").motion
@@ -128,7 +128,7 @@ def test_sweep_mode_sweeps_a_rollouts_pushed_block_against_the_other_bodies(prob
 def test_sweep_mode_sweeps_the_tool_that_turns_a_block_with_it(compiled) -> None:
     program = compiled("e_rotate_stick_push")
     problem = build_problem(program, program.task())
-    scene = CollisionScene.from_problem(problem)
+    scene = collision_scene(problem)
     turn = Engagement("stick.tip", "block", "turn_px_left")
     motion = problem.affordance("block", "turn_px_left").motion
     start = {n: b.rest for n, b in problem.bodies.items()}

@@ -7,7 +7,7 @@ import pytest
 from panda_fixtures import URDF
 
 from vkgl.errors import InputError
-from vkgl.plan.timing import PANDA_ACCELERATION_LIMITS, time_path, velocity_limits
+from vkgl.motion.timing import PANDA_ACCELERATION_LIMITS, time_path, velocity_limits
 
 JOINTS = [f"panda_joint{i}" for i in range(1, 8)]
 PATH = np.array(

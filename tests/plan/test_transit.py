@@ -19,8 +19,8 @@ from box_world import BoxWorld
 from conftest import REPO
 from panda_fixtures import panda_robot
 
-from vkgl.plan.density import DEFAULT_RESOLUTION, densify, edge_resolution, link_reach, segment_is_valid
-from vkgl.plan.transit import TransitFailure, TransitPath, plan_transit
+from vkgl.motion.density import DEFAULT_RESOLUTION, densify, edge_resolution, link_reach, segment_is_valid
+from vkgl.motion.transit import TransitFailure, TransitPath, plan_transit
 from vkgl.robot import Arm
 
 LOWER = -2.0 * np.ones(7)
@@ -155,7 +155,7 @@ def test_ompl_prints_nothing(tmp_path) -> None:
         textwrap.dedent(
             """
             import numpy as np
-            from vkgl.plan.transit import plan_transit, TransitPath, TransitFailure
+            from vkgl.motion.transit import plan_transit, TransitPath, TransitFailure
 
             def wall(q):
                 return not (abs(q[0]) < 0.3 and q[1] < 0.8)

@@ -10,8 +10,8 @@ from conftest import STDLIB
 from panda_fixtures import FINGERTIP, URDF, fingertip_at, panda_robot
 
 from vkgl.errors import InputError
-from vkgl.lang.ir import Module, Placement, Pose, Quantity, Ref, Scene, SceneBody, SceneRobot, Vector
-from vkgl.lang.program import Program
+from vkgl.lang.ir.nodes import Module, Placement, Pose, Quantity, Ref, Scene, SceneBody, SceneRobot, Vector
+from vkgl.lang.ir.program import Program
 from vkgl.robot import Arm, arm_for_scene
 
 

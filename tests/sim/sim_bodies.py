@@ -14,7 +14,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from vkgl.lang.ir import (
+from vkgl.lang.ir.nodes import (
     Body,
     BoxShape,
     ContactSpec,

@@ -8,7 +8,7 @@ from scipy.spatial.transform import Rotation
 from sim_bodies import stdlib_body, with_durations, with_joint_limits, with_policy
 
 from vkgl.formats.trials import Trials
-from vkgl.lang.ir import Body
+from vkgl.lang.ir.nodes import Body
 from vkgl.sim.explore import explore
 
 

@@ -1,6 +1,6 @@
 """Bad exploration input: a clear error that says where (file:line:col) and what to change, never a traceback.
 
-Bad policies are diagnostics of the front end (vkgl/lang/checks_explore.py), reported when the
+Bad policies are diagnostics of the front end (vkgl/lang/checks/explore.py), reported when the
 program compiles; the explorer trusts checked IR.
 """
 
@@ -15,7 +15,7 @@ from sim_bodies import FILE, block, push_policy, q, v
 
 from vkgl.errors import CompileError, InputError, SimulationError
 from vkgl.lang.compiler import compile_source
-from vkgl.lang.ir import Body, MeshShape
+from vkgl.lang.ir.nodes import Body, MeshShape
 from vkgl.sim.explore import explore
 
 SRC = "policy.vkg"
@@ -189,7 +189,7 @@ body Drawer {
 
 
 def test_contacts_at_a_frame_push_at_its_origin_along_its_x_axis() -> None:
-    from vkgl.lang.printer import print_module
+    from vkgl.lang.syntax.printer import print_module
     from vkgl.sim.policy import plan_trials
 
     drawer = compile_source(HANDLE, SRC).body("Drawer")

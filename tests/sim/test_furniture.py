@@ -17,9 +17,9 @@ import pytest
 
 from vkgl.errors import CompileError
 from vkgl.lang.compiler import compile_source
-from vkgl.lang.geometry import scene_body_pose
-from vkgl.lang.ir import FixedC, PrismaticC
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import scene_body_pose
+from vkgl.lang.ir.nodes import FixedC, PrismaticC
+from vkgl.lang.ir.program import Program
 from vkgl.sim import world as sim_world
 from vkgl.sim.explore import push_force_limit
 from vkgl.sim.fingertip import Pusher

@@ -16,7 +16,7 @@ import pytest
 from sim_bodies import q, stdlib_body, v, with_durations, with_joint_limits
 
 from vkgl.errors import InputError
-from vkgl.lang.ir import Body, Joint
+from vkgl.lang.ir.nodes import Body, Joint
 from vkgl.sim import world as sim_world
 from vkgl.sim.explore import explore
 

@@ -7,7 +7,7 @@ import pytest
 from sim_bodies import HANDMADE, q, stdlib_body, v
 
 from vkgl.errors import InputError
-from vkgl.lang.ir import Body, BoxShape, CylinderShape, Joint, Pose, ShapePart, Table, UnionShape
+from vkgl.lang.ir.nodes import Body, BoxShape, CylinderShape, Joint, Pose, ShapePart, Table, UnionShape
 from vkgl.shapes import dart_shapes
 from vkgl.sim import world as sim_world
 

@@ -23,8 +23,8 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.ir import PrismaticC, RevoluteC
-from vkgl.lang.program import Program
+from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
+from vkgl.lang.ir.program import Program
 
 CHAIN_POSITION_TOL = 0.002
 """m: the hand stays this close to where it held the body at the start of the contact, in the body's frame (the

@@ -3,8 +3,8 @@ scene starts a jointed body elsewhere than the plan expects."""
 
 from __future__ import annotations
 
-from vkgl.lang.geometry import joint_pose, scene_body_anchor
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import joint_pose, scene_body_anchor
+from vkgl.lang.ir.program import Program
 
 
 def started_open(program: Program, task: str, body: str, value: float) -> Program:

@@ -12,7 +12,7 @@ import pytest
 from conftest import STDLIB
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.ir import Effector, Pose, Robot, Vector
+from vkgl.lang.ir.nodes import Effector, Pose, Robot, Vector
 from vkgl.robot import Arm
 
 URDF = STDLIB / "robots" / "panda.urdf"

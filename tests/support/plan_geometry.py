@@ -27,9 +27,9 @@ import dartpy as dart
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.lang.geometry import scene_body_pose, shape_mesh, table_top
-from vkgl.lang.ir import Body, BoxShape, CylinderShape, Pose, Scene, Shape, UnionShape
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import scene_body_pose, shape_mesh, table_top
+from vkgl.lang.ir.nodes import Body, BoxShape, CylinderShape, Pose, Scene, Shape, UnionShape
+from vkgl.lang.ir.program import Program
 
 TABLE = "table"
 TABLE_THICKNESS = 0.05  # m, below the table top

@@ -28,9 +28,9 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.errors import InputError
 from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord
-from vkgl.lang.geometry import resting_height, scene_body_pose, table_top
-from vkgl.lang.ir import Affordance, FixedC, FreeC, PrismaticC, RevoluteC, Task
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import resting_height, scene_body_pose, table_top
+from vkgl.lang.ir.nodes import Affordance, FixedC, FreeC, PrismaticC, RevoluteC, Task
+from vkgl.lang.ir.program import Program
 
 _TURN = "0.3490658503988659"  # 20 deg
 
@@ -177,10 +177,10 @@ def scripted_plan(program: Program, task: str | Task | None, script: list[str | 
 
 def _with_arm_paths(program: Program, task: Task, steps: list[PlanStepRecord]) -> list[PlanStepRecord]:
     """The steps with the arm's paths between contacts, planned as the planner plans them (vkg-plan/3)."""
-    from vkgl.plan.arm_paths import ArmPathPlanner
-    from vkgl.plan.geometry_check import GeometryCheck
-    from vkgl.plan.model import build_problem
-    from vkgl.plan.reach import Rejection
+    from vkgl.plan.arm.paths import ArmPathPlanner
+    from vkgl.plan.geometry.bodies import GeometryCheck
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.task_space.workspace import Rejection
 
     problem = build_problem(program, task)
     planned = ArmPathPlanner(problem, GeometryCheck(problem)).plan(steps)

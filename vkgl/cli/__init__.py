@@ -75,7 +75,7 @@ def _run(command: Command, args: argparse.Namespace) -> int:
 
 
 def _sources_of(exc: Any) -> dict[str, str]:
-    from vkgl.lang.sources import read_source
+    from vkgl.lang.syntax.sources import read_source
 
     sources: dict[str, str] = dict(getattr(exc, "sources", {}) or {})
     for diag in exc.diagnostics:

@@ -31,7 +31,7 @@ def _is_terminal(stream: Any) -> bool:
 
 
 def print_diagnostics(diagnostics: Sequence[Any], sources: dict[str, str], stream: Any) -> None:
-    from vkgl.lang.diagnostics import render
+    from vkgl.lang.diagnostics.diagnostic import render
 
     for diag in diagnostics:
         source = sources.get(diag.span.file) if diag.span is not None else None
@@ -70,8 +70,8 @@ def cmd_fmt(args: argparse.Namespace) -> int:
     """Rewrite files in canonical form, or with --check list those that would change."""
     from vkgl.errors import CompileError
     from vkgl.formats.atomic import write_text
-    from vkgl.lang.printer import format_source
-    from vkgl.lang.sources import read_source
+    from vkgl.lang.syntax.printer import format_source
+    from vkgl.lang.syntax.sources import read_source
 
     status = EXIT_OK
     for name in args.files:
@@ -201,7 +201,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
         write_text(args.json, json.dumps(plan.to_json(), indent=1) + "\n")
         print(f"{args.json}: plan as vkg-plan/3")
     if args.plot and plan.status == "solved":
-        from vkgl.plan.picture import plot_plan
+        from vkgl.plan.result.picture import plot_plan
 
         plot_plan(plan, args.plot)
         print(f"{args.plot}: picture of the plan")

@@ -39,7 +39,7 @@ def check_inputs(args: argparse.Namespace) -> None:
     limit, are reported as `path: error[CODE]: message`, exit 1.
     """
     from vkgl.errors import CompileError
-    from vkgl.lang.sources import file_problem
+    from vkgl.lang.syntax.sources import file_problem
 
     problems = []
     for option, value in _values(args, INPUT_FILES):

@@ -21,9 +21,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from vkgl.lang import compiler, resolve
-from vkgl.lang.diagnostics import Diagnostic
-from vkgl.lang.ir import Module, Span, Use
-from vkgl.lang.program import Program
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.ir.nodes import Module, Span, Use
+from vkgl.lang.ir.program import Program
 
 _LOCK = threading.Lock()
 

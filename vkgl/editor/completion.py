@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 from vkgl.editor.symbols import all_instances
 from vkgl.editor.vocabulary import NUMBER_PATTERN, keywords, units
-from vkgl.lang.program import Program
-from vkgl.lang.units import DIMENSION
+from vkgl.lang.ir.program import Program
+from vkgl.lang.ir.units import DIMENSION
 
 _AFTER_NUMBER = re.compile(r"(?<![A-Za-z0-9_.])" + NUMBER_PATTERN + r"[ \t]*[A-Za-z]*$")
 _AFTER_DOT = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\.([A-Za-z_][A-Za-z0-9_]*)?$")

@@ -11,8 +11,9 @@ import re
 
 from vkgl.editor.symbols import Symbol
 from vkgl.editor.vocabulary import NUMBER_PATTERN, units
-from vkgl.lang import ir
-from vkgl.lang.printer import (
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.units import DIMENSION, SI_UNIT, to_si
+from vkgl.lang.syntax.printer import (
     constraint_text,
     format_number,
     joint_text,
@@ -20,7 +21,6 @@ from vkgl.lang.printer import (
     quantity_text,
     vector_text,
 )
-from vkgl.lang.units import DIMENSION, SI_UNIT, to_si
 
 _UNIT = "(?:" + "|".join(units()) + r")(?![A-Za-z0-9_])"
 _QUANTITY = re.compile(r"(?<![A-Za-z0-9_.])(" + NUMBER_PATTERN + r")(?:[ \t]*(" + _UNIT + "))?")

@@ -30,10 +30,10 @@ from vkgl.editor.analysis import Analysis, analyze, span_path
 from vkgl.editor.completion import candidates
 from vkgl.editor.hover import quantity_hover, symbol_hover
 from vkgl.editor.symbols import declaration_span, symbol_at
-from vkgl.lang.diagnostics import Diagnostic
-from vkgl.lang.ir import Span
-from vkgl.lang.printer import format_source
-from vkgl.lang.program import Program
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.ir.nodes import Span
+from vkgl.lang.ir.program import Program
+from vkgl.lang.syntax.printer import format_source
 
 NAME = "vkgc-lsp"
 VERSION = "0.1.0"

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from vkgl.editor.analysis import span_path
-from vkgl.lang import ir
-from vkgl.lang.program import Program
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.program import Program
 
 _WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _USE = re.compile(r"^\s*use\s+(\"[^\"\n]*\"|[A-Za-z_][A-Za-z0-9_.]*)")

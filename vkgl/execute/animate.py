@@ -5,7 +5,7 @@
 
 The arm is drawn as the line through its links' origins, the effector as a
 black dot trailing its path over the last `TRACE_SECONDS` of simulated time,
-in the plan picture's style for each phase (`vkgl.plan.picture_paths`:
+in the plan picture's style for each phase (`vkgl.motion.picture_paths`:
 transit dashed, approach solid, lift and retreat dotted; the contact motion
 black); the title says which phase it is and how high the hand is above the
 table (a transit goes up over the bodies, which a top view does not show).
@@ -26,9 +26,9 @@ from scipy.spatial import ConvexHull
 from vkgl.errors import InputError
 from vkgl.execute.gif import write_gif
 from vkgl.formats.execution_report import ExecutionReport, joint_value_text
-from vkgl.lang.geometry import shape_mesh
-from vkgl.lang.ir import Body, UnionShape
-from vkgl.plan.picture_paths import PHASE_STYLES
+from vkgl.lang.ir.geometry import shape_mesh
+from vkgl.lang.ir.nodes import Body, UnionShape
+from vkgl.motion.picture_paths import PHASE_STYLES
 
 MAX_FRAMES = 240  # longer executions are sped up to keep the file small
 FPS = 20
@@ -234,7 +234,7 @@ def _draw_table(ax: Any, table: Any, rectangle: Any) -> None:
 
 
 def _table_top(table: Any) -> float:
-    """The z of the table's top (its position's z, 0 without one: as `vkgl.lang.geometry.table_top`)."""
+    """The z of the table's top (its position's z, 0 without one: as `vkgl.lang.ir.geometry.table_top`)."""
     if table is None:
         return 0.0
     values = table.position.values

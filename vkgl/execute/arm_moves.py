@@ -97,7 +97,7 @@ class ArmMoves:
     def straight(self, phase: str, shift: np.ndarray, speed: float, label: str, *, track: bool = True) -> bool:
         """Move the hand by `shift` (m, world) in a straight line from where it really is, at `speed` (m/s).
 
-        Solved as the planner solves its straight moves (`vkgl.plan.approach.
+        Solved as the planner solves its straight moves (`vkgl.motion.approach.
         follow_poses`: IK every 5 mm, each from the last, one configuration
         throughout) and followed in joint space, so that a move the planner
         checked is one the arm can make even where it stands at a joint limit
@@ -105,7 +105,7 @@ class ArmMoves:
         configuration there). When no such chain exists: tracked by IK if
         `track`, else nothing is done and False is returned.
         """
-        from vkgl.plan.approach import APPROACH_STEP, CartesianFailure, follow_poses
+        from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, follow_poses
 
         start = self.sim.arm.effector_pose()
         length = float(np.linalg.norm(shift))
@@ -153,10 +153,10 @@ class ArmMoves:
             self.sim.guarded = False
 
     def _joining_transit(self, q_target: np.ndarray) -> ArmSegment:
-        from vkgl.plan.arm_collision import ArmCollision, Held
-        from vkgl.plan.collision import CollisionScene
-        from vkgl.plan.transit import TransitFailure
-        from vkgl.plan.transit_segment import transit_segment
+        from vkgl.motion.arm_collision import ArmCollision, Held
+        from vkgl.motion.collision import CollisionScene
+        from vkgl.motion.transit import TransitFailure
+        from vkgl.motion.transit_segment import transit_segment
 
         if self._collision is None:
             shapes = {name: body.shape for name, body in self.sim.types.items()}

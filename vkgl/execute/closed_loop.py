@@ -52,8 +52,8 @@ from vkgl.formats.execution_report import (
     StepReport,
 )
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
-from vkgl.lang.ir import Goal, Task
-from vkgl.lang.program import Program
+from vkgl.lang.ir.nodes import Goal, Task
+from vkgl.lang.ir.program import Program
 from vkgl.se3 import angle_difference, yaw_of
 
 Step = tuple[int, PlanStepRecord]

@@ -23,12 +23,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
+from vkgl.motion.moves import CARTESIAN_SPEED
 from vkgl.se3 import ScrewMotion, screw_motion
 
 # Speeds of the effector frame. Slow pushes keep the contact quasi-static, as
 # in exploration; transits are faster because they touch nothing.
 PUSH_SPEED = 0.05  # m/s along the contact path
-APPROACH_SPEED = 0.03  # m/s for the last centimetres before contact
+APPROACH_SPEED = CARTESIAN_SPEED  # m/s for the last centimetres before contact, as the planner times them
 TRANSIT_SPEED = 0.15  # m/s through free space
 TURN_SPEED = 0.8  # rad/s for turning the effector about z
 MIN_DURATION = 0.05  # s; even a zero-length segment lasts one control period or so

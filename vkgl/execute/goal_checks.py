@@ -15,7 +15,7 @@ import numpy as np
 
 from vkgl.errors import InputError
 from vkgl.formats.execution_report import GoalResult, Opening, joint_value_text
-from vkgl.lang.ir import Goal, Task
+from vkgl.lang.ir.nodes import Goal, Task
 from vkgl.se3 import angle_difference, yaw_of
 
 

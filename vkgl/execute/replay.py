@@ -24,8 +24,8 @@ from vkgl.execute.steps import StepKinds
 from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.execution_report import Frames
 from vkgl.formats.plan import PlanRobot, PlanStepRecord
-from vkgl.lang.ir import Body, Scene
-from vkgl.lang.program import Program
+from vkgl.lang.ir.nodes import Body, Scene
+from vkgl.lang.ir.program import Program
 
 
 class Replay:

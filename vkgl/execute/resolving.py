@@ -4,7 +4,7 @@ The executor never imports the planner: it re-solves through the `resolve`
 function its caller supplies (`Resolver`), and tells it what not to repeat
 (`Attempts`): every plan carried out so far and the steps that failed in
 physics. The driver (`vkgl.api`) turns that into the planner's
-`vkgl.plan.avoid.Avoid`, so the re-solve excludes the failed transitions
+`vkgl.plan.problem.avoid.Avoid`, so the re-solve excludes the failed transitions
 where they failed and never returns a plan already tried.
 
 `resolve_with_margin` is the execution's policy around the resolver: ask for
@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 from vkgl.formats.execution_report import ExcludedStep
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
-from vkgl.lang.ir import Quantity
-from vkgl.lang.program import Program
+from vkgl.lang.ir.nodes import Quantity
+from vkgl.lang.ir.program import Program
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,8 @@ class Attempts:
 Resolver = Callable[[Program, str, Attempts], PlanDocument]
 """Solves a task (by name) of a program, repeating none of the attempts; returns its `vkg-plan/3` document, of
 any status. Must not return a plan of `attempts.plans` nor repeat a step of `attempts.failed` where it failed
-(`vkgl.plan.avoid` says how the planner decides). May raise VkgError (reported as a re-solve that found no plan)."""
+(`vkgl.plan.problem.avoid` says how the planner decides). May raise VkgError (reported as a re-solve
+that found no plan)."""
 
 
 RESOLVE_MARGIN = 0.5

@@ -18,9 +18,9 @@ from vkgl.errors import InputError, SimulationError
 from vkgl.execute.world_arm import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
 from vkgl.formats.execution_report import Frames
 from vkgl.formats.plan import PlanRobot
-from vkgl.lang.geometry import body_mesh, joint_axis, joint_coordinate, scene_body_anchor, table_top
-from vkgl.lang.ir import Body, Scene
-from vkgl.lang.program import Program
+from vkgl.lang.ir.geometry import body_mesh, joint_axis, joint_coordinate, scene_body_anchor, table_top
+from vkgl.lang.ir.nodes import Body, Scene
+from vkgl.lang.ir.program import Program
 
 TIME_STEP = 0.001  # s, fixed physics step
 CLEARANCE = 0.04  # m above the highest body when travelling

@@ -28,10 +28,9 @@ from vkgl.execute.arm_moves import ArmMoves
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
-from vkgl.lang.ir import Affordance, Body, FixedC
+from vkgl.lang.ir.nodes import Affordance, Body, FixedC
+from vkgl.motion.moves import LIFT, STANDOFF
 
-STANDOFF = 0.01  # m the effector backs off when it lets go outside the plan (at the end, before a re-solve)
-LIFT = 0.04  # m the effector rises after letting go outside the plan
 PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
 
@@ -149,7 +148,7 @@ class StepKinds:
             return
         start = self.sim.arm.effector_pose()
         back = paths.backed_off(start, STANDOFF, self.push_direction)
-        # as the planner checked the last contact could be left (`vkgl.plan.arm_paths`): straight back out of
+        # as the planner checked the last contact could be left (`vkgl.plan.arm.paths`): straight back out of
         # it, or straight up where no arm configuration goes back, then up
         if not self.moves.straight("retreat", back[:3, 3] - start[:3, 3], paths.APPROACH_SPEED, label, track=False):
             self.moves.straight("retreat", STANDOFF * up, paths.APPROACH_SPEED, label)

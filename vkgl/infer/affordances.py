@@ -39,7 +39,7 @@ from vkgl.formats.trials import Trials
 from vkgl.infer.data import EdgeData, edge_data, trial_edges
 from vkgl.infer.select import EdgeInference, infer_edge
 from vkgl.infer.trial import TrialInference
-from vkgl.lang.ir import (
+from vkgl.lang.ir.nodes import (
     Affordance,
     Evidence,
     FixedC,
@@ -51,7 +51,7 @@ from vkgl.lang.ir import (
     RevoluteC,
     Vector,
 )
-from vkgl.lang.units import SCALE, to_si
+from vkgl.lang.ir.units import SCALE, to_si
 
 _SAME_POINT = 1e-3  # m: contacts closer than this are the same grasp
 _SAME_DIRECTION = np.deg2rad(10.0)

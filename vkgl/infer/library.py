@@ -22,8 +22,8 @@ from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference, infer_trials
-from vkgl.lang.ir import AffordanceSet, Module, Ref, Use
-from vkgl.lang.printer import print_module
+from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref, Use
+from vkgl.lang.syntax.printer import print_module
 
 
 @dataclass

@@ -11,10 +11,10 @@ from dataclasses import replace
 from pathlib import Path
 
 from vkgl.errors import CompileError
-from vkgl.lang import codes
-from vkgl.lang.checks import check_program
-from vkgl.lang.diagnostics import Diagnostic
-from vkgl.lang.program import Program
+from vkgl.lang.checks.checker import check_program
+from vkgl.lang.diagnostics import codes
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.ir.program import Program
 from vkgl.lang.resolve import LoadedProgram, load_program, load_source
 
 
@@ -100,6 +100,6 @@ def _maybe_in_unloaded_module(diag: Diagnostic) -> Diagnostic:
 
 
 def _empty(root: str, sources: dict[str, str]) -> Program:
-    from vkgl.lang.ir import Module
+    from vkgl.lang.ir.nodes import Module
 
     return Program(root=Module(path=root), sources=dict(sources))

@@ -14,10 +14,11 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from vkgl.lang import codes, ir
-from vkgl.lang.diagnostics import Diagnostic
-from vkgl.lang.parser import parse_collecting
-from vkgl.lang.sources import read_source
+from vkgl.lang.diagnostics import codes
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.syntax.parser import parse_collecting
+from vkgl.lang.syntax.sources import read_source
 from vkgl.resources import stdlib_dir
 
 

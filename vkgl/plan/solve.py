@@ -11,14 +11,12 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-import numpy as np
-
-from vkgl.lang.ir import Task
-from vkgl.lang.program import Program
-from vkgl.plan.avoid import Avoid
-from vkgl.plan.model import Problem, build_problem
-from vkgl.plan.plan import Plan, graph_edges, robot_entry
-from vkgl.plan.search import SearchResult, SearchStats, search
+from vkgl.lang.ir.nodes import Task
+from vkgl.lang.ir.program import Program
+from vkgl.plan.problem.avoid import Avoid
+from vkgl.plan.problem.problem import Problem, build_problem
+from vkgl.plan.result.plan import Plan, graph_edges, robot_entry
+from vkgl.plan.search.search import SearchResult, SearchStats, search
 
 
 def solve(
@@ -33,20 +31,17 @@ def solve(
 ) -> Plan:
     """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
 
-    Breadth-first search over graph sequences (`vkgl.plan.search`) with
-    task-space and joint-space feasibility checks (`vkgl.plan.feasible`).
+    Breadth-first search over graph sequences (`vkgl.plan.search.search`) with
+    task-space and joint-space feasibility checks (`vkgl.plan.task_space.feasible`).
     `progress` shows the search on stderr; `arm_start` are the arm's joints
     where its first path starts (its home configuration by default: where
     execution puts it). `avoid` names the plans already tried and the steps
-    that failed in execution (`vkgl.plan.avoid`): a re-solve returns none of
+    that failed in execution (`vkgl.plan.problem.avoid`): a re-solve returns none of
     them (rejections of kind "excluded").
     Deterministic: the same input gives the same plan.
     """
     started = time.perf_counter()
-    problem = build_problem(program, task, max_depth=max_depth, timeout=timeout)
-    problem.avoid = avoid or None
-    if arm_start is not None:
-        problem.arm_start = np.asarray(arm_start, dtype=float)
+    problem = build_problem(program, task, max_depth=max_depth, timeout=timeout, avoid=avoid, arm_start=arm_start)
     deadline = started + problem.timeout
     why = _hopeless(problem)
     if why is not None:
@@ -60,7 +55,7 @@ def _hopeless(problem: Problem) -> str | None:
     A goal past the body's joint limits (a joint goal's opening, or where a
     position goal puts a slide), a goal off the table, or nothing to move the body.
     """
-    from vkgl.plan.feasible import goal_joint_state, limit_words
+    from vkgl.plan.task_space.feasible import goal_joint_state, limit_words
 
     for goal in problem.goals:
         body = problem.bodies[goal.body]
@@ -95,7 +90,7 @@ def _hopeless(problem: Problem) -> str | None:
 
 
 def _at_goal(problem: Problem, goal: Any) -> bool:
-    from vkgl.plan.feasible import goal_holds
+    from vkgl.plan.task_space.feasible import goal_holds
 
     return goal_holds(problem, {n: b.rest for n, b in problem.bodies.items()}, [goal])
 

@@ -40,8 +40,8 @@ from vkgl.robot.ready_pose import ready_pose
 from vkgl.robot.urdf import link_names, load_skeleton
 
 if TYPE_CHECKING:
-    from vkgl.lang.ir import Robot, Scene, SceneRobot
-    from vkgl.lang.program import Program
+    from vkgl.lang.ir.nodes import Robot, Scene, SceneRobot
+    from vkgl.lang.ir.program import Program
 
 # per URDF, link and offset: the base does not matter, and the optimisation takes a while
 _READY_POSES: dict[tuple[Any, ...], np.ndarray] = {}

@@ -5,7 +5,7 @@ Exploration pushes with a fingertip of radius `FINGERTIP_RADIUS`
 `FINGER_PAD_WIDTH` wide across the push direction (a capsule along the effector
 frame's y, its front point on the effector frame's origin:
 `vkgl.execute.world_arm`); the planner checks the same capsule against the
-bodies (`vkgl.plan.arm_collision`), so that a transit clear in the plan is
+bodies (`vkgl.motion.arm_collision`), so that a transit clear in the plan is
 clear in physics.
 """
 

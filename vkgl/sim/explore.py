@@ -42,8 +42,8 @@ import numpy as np
 
 from vkgl.errors import SimulationError
 from vkgl.formats.trials import Trials
-from vkgl.lang.geometry import body_mesh, resting_height
-from vkgl.lang.ir import Body
+from vkgl.lang.ir.geometry import body_mesh, resting_height
+from vkgl.lang.ir.nodes import Body
 from vkgl.sim import world as sim_world
 from vkgl.sim.fingertip import Hand, Pusher, frame_facing
 from vkgl.sim.policy import TrialSpec, plan_trials

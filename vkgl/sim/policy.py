@@ -21,7 +21,7 @@ drawer and a pull that opens it both find something to move.
 
 The policy is taken as checked: every rule about an `explore` block (a push
 or a grasp, positive force and duration, reachable faces, contact points on the
-surface) is a diagnostic of vkgl/lang/checks_explore.py, reported when the
+surface) is a diagnostic of vkgl/lang/checks/explore.py, reported when the
 program compiles. Only a body with no `explore` block at all is an InputError
 here: it is a legal body, but there is nothing to explore.
 """
@@ -35,9 +35,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.errors import InputError
-from vkgl.lang.geometry import FACES, body_mesh, face_line, surface_point
-from vkgl.lang.ir import Body, Explore
-from vkgl.lang.units import SCALE
+from vkgl.lang.ir.geometry import FACES, body_mesh, face_line, surface_point
+from vkgl.lang.ir.nodes import Body, Explore
+from vkgl.lang.ir.units import SCALE
 
 
 @dataclass(frozen=True)

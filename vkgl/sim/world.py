@@ -30,8 +30,8 @@ import numpy as np
 import trimesh
 
 from vkgl.errors import InputError
-from vkgl.lang.geometry import shape_mesh
-from vkgl.lang.ir import Body, Quantity, Table
+from vkgl.lang.ir.geometry import shape_mesh
+from vkgl.lang.ir.nodes import Body, Quantity, Table
 from vkgl.shapes import dart_shapes, isometry, translation
 
 TIME_STEP = 0.001  # s

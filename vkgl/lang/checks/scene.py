@@ -1,0 +1,460 @@
+"""Checks of scene geometry: where bodies start and where goals put them (E420–E425).
+
+A scene must be physically possible at the start and a goal reachable in
+principle, with every body's real shape (vkgl/lang/checks/solids.py):
+
+- E420 no two bodies (or a body and a robot's base) interpenetrate by more than
+  `TOUCH` (touching is fine);
+- E421 a body without a physical joint lies on the table: its shadow on the
+  table passes the table's rectangle by at most `EDGE`; a position farther
+  than `FAR` from the table is reported without any geometry;
+- E422 a body placed `at (x, y, z)` without a physical joint rests: its lowest
+  point within `REST` of the table top, or of the top of another body whose
+  shadow overlaps its own;
+- E423–E425 at its goal (the goal's yaw, or the best heading if the yaw is
+  free; the goal's tolerances count in its favour) a body stays on the table,
+  out of the robots' bases and out of the bodies nothing can move (no
+  affordance in the compilation and no physical joint).
+
+Checks skip what other checks report: a missing table, an unknown type, an
+invalid shape or a value that is not a finite number.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.lang.checks.context import CheckContext
+from vkgl.lang.checks.joints import opening_problem
+from vkgl.lang.checks.solids import (
+    Piece,
+    bounds,
+    footprint_overlap,
+    pieces_depth,
+    pose_matrix,
+    robot_base,
+    shape_pieces,
+    yawed,
+)
+from vkgl.lang.diagnostics import codes
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.geometry import joint_pose
+from vkgl.lang.ir.program import Program
+
+TOUCH = 0.001
+"""m: bodies may interpenetrate this much at the start (contact, rounding of written positions)."""
+EDGE = 0.001
+"""m: a body may pass the table's edge this much."""
+REST = 0.001
+"""m: a body `at` a pose rests when its lowest point is this close to the table top or a body's top."""
+FAR = 1000.0
+"""m: a body farther than this from the table's centre is off the table, whatever its shape."""
+FREE_YAWS = 72
+"""Headings tried (every 5 deg) for a goal that leaves the yaw free."""
+
+
+@dataclass(frozen=True)
+class Table:
+    """The table's rectangle (x and y from `low` to `high`) and the height of its top."""
+
+    low: np.ndarray
+    high: np.ndarray
+    top: float
+
+
+@dataclass(frozen=True)
+class Placed:
+    """A scene body where it starts: its world pose, convex pieces and axis-aligned bounds."""
+
+    scene_body: ir.SceneBody
+    body: ir.Body
+    pose: np.ndarray
+    pieces: list[Piece]
+    low: np.ndarray
+    high: np.ndarray
+
+    @property
+    def name(self) -> str:
+        """The scene body's name."""
+        return self.scene_body.name
+
+
+@dataclass(frozen=True)
+class Base:
+    """A robot's base in a scene."""
+
+    name: str
+    pieces: list[Piece]
+
+
+def check_scenes(program: Program, ctx: CheckContext) -> None:
+    """Report impossible starts of every scene and impossible goals of every task (E420–E425)."""
+    shapes: dict[str, list[Piece] | None] = {}
+    placed: dict[str, tuple[Table | None, list[Placed], list[Base]]] = {}
+    with np.errstate(all="ignore"):
+        for scene in program.scenes.values():
+            placed[scene.name] = _check_scene(scene, program, shapes, ctx)
+        for task in program.tasks.values():
+            if task.scene.name in placed:
+                _check_goals(task, program, *placed[task.scene.name], ctx)
+
+
+# ---------------------------------------------------------------- scenes
+
+
+def _check_scene(
+    scene: ir.Scene, program: Program, shapes: dict[str, list[Piece] | None], ctx: CheckContext
+) -> tuple[Table | None, list[Placed], list[Base]]:
+    table = _table(scene)
+    bases = _bases(scene, program)
+    bodies: list[Placed] = []
+    seen: set[str] = set()
+    for scene_body in scene.bodies:
+        body = program.bodies.get(scene_body.type.name)
+        if body is None or scene_body.name in seen:
+            continue
+        seen.add(scene_body.name)
+        if scene_body.type.name not in shapes:
+            shapes[scene_body.type.name] = shape_pieces(body.shape)
+        local = shapes[scene_body.type.name]
+        pose = _start_pose(scene_body, local, table)
+        if local is None or pose is None:
+            continue
+        pose = _opened(scene_body, body, pose)
+        if table is not None and _far(pose, table):
+            _report_far(scene_body, pose, table, ctx)
+            continue
+        pieces = [p.moved(pose) for p in local]
+        low, high = bounds(pieces)
+        bodies.append(Placed(scene_body, body, pose, pieces, low, high))
+    if table is not None and bodies:
+        lows, highs = np.array([b.low[:2] for b in bodies]), np.array([b.high[:2] for b in bodies])
+        overhangs = np.max(np.c_[table.low - lows, highs - table.high], axis=1)
+        for k in np.flatnonzero(overhangs > EDGE):
+            if bodies[k].body.joint is None:
+                _report_off_table(bodies[k], float(overhangs[k]), table, ctx)
+    _check_overlaps(bodies, bases, ctx)
+    if table is not None:
+        for item in bodies:
+            if item.body.joint is None and not item.scene_body.placement.on_table:
+                _check_rests(item, bodies, table, ctx)
+    return table, bodies, bases
+
+
+def _table(scene: ir.Scene) -> Table | None:
+    if scene.table is None:
+        return None
+    size = np.asarray(scene.table.size.values, dtype=float)
+    position = np.asarray(scene.table.position.values, dtype=float)
+    if len(size) != 2 or len(position) < 2 or not np.all(np.isfinite(size)) or not np.all(size > 0):
+        return None
+    if not np.all(np.isfinite(position)) or np.any(np.abs(position) > FAR):
+        return None
+    top = float(position[2]) if len(position) > 2 else 0.0
+    return Table(position[:2] - size / 2, position[:2] + size / 2, top)
+
+
+def _bases(scene: ir.Scene, program: Program) -> list[Base]:
+    bases = []
+    for placed in scene.robots:
+        robot, pose = program.robots.get(placed.type.name), pose_matrix(placed.pose)
+        if robot is not None and pose is not None and np.all(np.abs(pose[:3, 3]) < FAR):
+            bases.append(Base(placed.name, robot_base(robot, pose)))
+    return bases
+
+
+def _opened(scene_body: ir.SceneBody, body: ir.Body, placed: np.ndarray) -> np.ndarray:
+    """Where a body placed at `placed` starts: there, or, when it starts `open Q` on its joint, with the joint
+    at Q (an opening of the wrong kind or past the joint's limits is reported by `checks_joints`: placed as 0)."""
+    joint, opening = body.joint, scene_body.opening
+    if joint is None or opening is None or opening_problem(opening, joint) is not None:
+        return placed
+    axis = np.asarray(joint.axis.values, dtype=float)
+    if len(axis) != 3 or not np.all(np.isfinite(axis)) or not np.linalg.norm(axis) > 0:
+        return placed
+    return joint_pose(joint, placed, opening.value)
+
+
+def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Table | None) -> np.ndarray | None:
+    """The world pose where the body starts (as `geometry.scene_body_pose` puts it), or None if not finite."""
+    placement = scene_body.placement
+    if not placement.on_table:
+        return pose_matrix(placement.pose)
+    values = placement.pose.position.values
+    yaw = placement.pose.yaw.value if placement.pose.yaw is not None else 0.0
+    if len(values) < 2 or local is None:
+        return None
+    if not (math.isfinite(values[0]) and math.isfinite(values[1]) and math.isfinite(yaw)):
+        return None
+    c, s = math.cos(yaw), math.sin(yaw)
+    lowest = min(float(p.low[2]) for p in local)  # a turn about z keeps heights
+    top = table.top if table is not None else 0.0
+    return np.array([[c, -s, 0, values[0]], [s, c, 0, values[1]], [0, 0, 1, top - lowest], [0, 0, 0, 1]])
+
+
+def _far(pose: np.ndarray, table: Table) -> bool:
+    x, y = float(pose[0, 3]), float(pose[1, 3])
+    cx, cy = (float(table.low[0]) + float(table.high[0])) / 2, (float(table.low[1]) + float(table.high[1])) / 2
+    return abs(x - cx) > FAR or abs(y - cy) > FAR
+
+
+def _report_far(scene_body: ir.SceneBody, pose: np.ndarray, table: Table, ctx: CheckContext) -> None:
+    x, y = pose[0, 3], pose[1, 3]
+    ctx.error(
+        codes.OFF_TABLE,
+        f"`{scene_body.name}` is far off the table: it is at (x, y) = ({_m(x)}, {_m(y)}) m, and the table spans "
+        f"{_span_xy(table.low, table.high)}",
+        _where(scene_body),
+        "move it onto the table",
+    )
+
+
+def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckContext) -> None:
+    """E421: the body's shadow passes the table's rectangle by `overhang` (> EDGE)."""
+    lo, hi = item.low[:2], item.high[:2]
+    centre = item.pose[:2, 3]
+    inside = bool(np.all(centre >= table.low) and np.all(centre <= table.high))
+    what = f"overhangs the table's edge by {_cm(overhang)}" if inside else "is off the table"
+    ctx.error(
+        codes.OFF_TABLE,
+        f"`{item.name}` {what}: it spans {_span_xy(lo, hi)}, the table {_span_xy(table.low, table.high)}",
+        _where(item.scene_body),
+        "move it onto the table" if not inside else "move it inward, or turn it along the edge",
+    )
+
+
+def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext) -> None:
+    """E420: pairs of bodies, and bodies and robot bases, that interpenetrate by more than TOUCH.
+
+    Only pairs whose bounds overlap by more than TOUCH are compared piece by piece (a sort-and-sweep
+    along x finds them), so a scene of thousands of bodies stays fast.
+    """
+    if not bodies:
+        return
+    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
+    for i, j in _close_pairs(lows, highs):
+        depth = pieces_depth(bodies[i].pieces, bodies[j].pieces)
+        if depth > TOUCH:
+            ctx.error(
+                codes.BODIES_OVERLAP,
+                f"`{bodies[i].name}` and `{bodies[j].name}` overlap by {_cm(depth)} at the start: move one of them",
+                _where(bodies[j].scene_body),
+                f"bodies may touch, but not interpenetrate by more than {TOUCH * 1000:g} mm",
+            )
+    for base in bases:
+        low, high = bounds(base.pieces)
+        near = np.all(np.minimum(highs, high) - np.maximum(lows, low) > TOUCH, axis=1)
+        for k in np.flatnonzero(near):
+            depth = pieces_depth(bodies[k].pieces, base.pieces)
+            if depth > TOUCH:
+                ctx.error(
+                    codes.BODIES_OVERLAP,
+                    f"`{bodies[k].name}` overlaps the base of robot `{base.name}` by {_cm(depth)} at the start: "
+                    f"move it",
+                    _where(bodies[k].scene_body),
+                )
+
+
+def _close_pairs(lows: np.ndarray, highs: np.ndarray, chunk: int = 512) -> list[tuple[int, int]]:
+    """The pairs (i < j) of boxes that overlap by more than TOUCH along every axis, in order."""
+    order = np.argsort(lows[:, 0], kind="stable")
+    ends = np.searchsorted(lows[order, 0], highs[order, 0] - TOUCH, side="left")
+    pairs: list[tuple[int, int]] = []
+    for first in range(0, len(order), chunk):
+        ks = np.arange(first, min(first + chunk, len(order)))
+        counts = np.maximum(ends[ks] - ks - 1, 0)
+        if not counts.any():
+            continue
+        left = np.repeat(ks, counts)
+        right = left + 1 + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        i, j = order[left], order[right]
+        close = np.all(np.minimum(highs[i], highs[j]) - np.maximum(lows[i], lows[j]) > TOUCH, axis=1)
+        pairs += zip(np.minimum(i, j)[close].tolist(), np.maximum(i, j)[close].tolist())
+    return sorted(pairs)
+
+
+def _check_rests(item: Placed, bodies: list[Placed], table: Table, ctx: CheckContext) -> None:
+    """E422: a body `at` a pose whose lowest point is neither on the table top nor on a body's top under it."""
+    lowest = float(item.low[2])
+    if abs(lowest - table.top) <= REST:
+        return
+    tops = []
+    for other in bodies:
+        if other is item or np.any(other.low[:2] >= item.high[:2]) or np.any(other.high[:2] <= item.low[:2]):
+            continue
+        under = [p for p in other.pieces if footprint_overlap([p], item.pieces) > 0]
+        if under:
+            top = max(float(p.vertices[:, 2].max()) for p in under)
+            if abs(top - lowest) <= REST:
+                return
+            if top < lowest:
+                tops.append((top, other.name))
+    z = float(item.pose[2, 3])
+    if lowest < table.top:
+        message = f"`{item.name}` sinks {_cm(table.top - lowest)} into the table (its lowest point is at z = "
+        message += f"{_m(lowest)} m, the table top at {_m(table.top)} m)"
+        fix = f"raise it to z = {_m(z + table.top - lowest)} m, or place it `on table at (x, y) m`"
+    else:
+        top, below = max(tops) if tops else (table.top, "the table top")
+        under_it = f"`{below}`" if tops else below
+        message = f"`{item.name}` floats {_cm(lowest - top)} above {under_it} (its lowest point is at z = "
+        message += f"{_m(lowest)} m): nothing holds it"
+        fix = f"lower it to z = {_m(z - (lowest - top))} m, or place it `on table at (x, y) m`"
+    ctx.error(codes.FLOATING_BODY, message, _position_span(item.scene_body), fix)
+
+
+# ---------------------------------------------------------------- goals
+
+
+def _check_goals(
+    task: ir.Task, program: Program, table: Table | None, bodies: list[Placed], bases: list[Base], ctx: CheckContext
+) -> None:
+    by_name = {b.name: b for b in bodies}
+    for goal in task.goals:
+        item = by_name.get(goal.body.name)
+        if item is None or goal.position is None or len(goal.position.values) < 2:
+            continue
+        values = np.asarray(goal.position.values, dtype=float)
+        yaws, tolerance = _goal_yaws(goal), goal.tolerance()[0]
+        if not np.all(np.isfinite(values)) or yaws is None or not (math.isfinite(tolerance) and tolerance > 0):
+            continue  # E208 or E411 says why
+        if table is not None and np.any(np.abs(values[:2] - (table.low + table.high) / 2) > FAR):
+            if item.body.joint is None:
+                _report_goal_off(goal, item, None, table, ctx)
+            continue
+        local, position = _goal_frame(item, values, table)
+        poses = [yawed(local, yaw, position) for yaw in yaws]
+        allowance = EDGE + tolerance
+        if table is not None and item.body.joint is None:
+            overhangs = [(_overhang(bounds(p), table), k) for k, p in enumerate(poses)]
+            least, k = min(overhangs)
+            if least > allowance:
+                _report_goal_off(goal, item, bounds(poses[k]), table, ctx)
+        reach = float(np.linalg.norm(np.r_[item.low - item.pose[:3, 3], item.high - item.pose[:3, 3]]))
+        for base in bases:
+            depth = min(pieces_depth(p, base.pieces) for p in poses)
+            if depth > allowance:
+                ctx.error(
+                    codes.GOAL_IN_ROBOT_BASE,
+                    f"the goal puts `{item.name}` {_cm(depth)} deep into the base of robot `{base.name}`: move the "
+                    f"goal away from the robot",
+                    _goal_span(goal),
+                    _free_yaw_note(goal),
+                )
+        for other in bodies:
+            if other is item or not _immovable(other, program) or _apart(other, position, reach):
+                continue
+            depth = min(pieces_depth(p, other.pieces) for p in poses)
+            if depth > allowance:
+                ctx.error(
+                    codes.GOAL_IN_FIXED_BODY,
+                    f"the goal puts `{item.name}` {_cm(depth)} deep into `{other.name}`, which nothing can move: "
+                    f"move the goal",
+                    _goal_span(goal),
+                    f"`{other.body.name}` has no affordance in this compilation and no joint",
+                )
+
+
+def _goal_yaws(goal: ir.Goal) -> list[float] | None:
+    """The headings to try: every 5 deg when the yaw is free, else the goal's yaw and, at most 5 deg apart, the
+    headings within its tolerance (both ends included); None when a value is not a finite number."""
+    if goal.yaw is None:
+        return [2 * math.pi * k / FREE_YAWS for k in range(FREE_YAWS)]
+    yaw, tol = goal.yaw.value, goal.tolerance()[1]
+    if not (math.isfinite(yaw) and math.isfinite(tol)):
+        return None
+    tol = min(abs(tol), math.pi)
+    steps = max(1, math.ceil(tol / (2 * math.pi / FREE_YAWS)))
+    return [yaw + tol * k / steps for k in range(-steps, steps + 1)]
+
+
+def _goal_frame(item: Placed, values: np.ndarray, table: Table | None) -> tuple[list[Piece], np.ndarray]:
+    """The body's pieces about its origin with its start orientation less its yaw, and its position at the goal.
+
+    The height: the goal's z if it gives one, else resting on the table (a body `on table`), else the start's.
+    """
+    rotation = item.pose[:3, :3]
+    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
+    level = np.eye(4)
+    level[:3, :3] = Rotation.from_euler("z", -yaw).as_matrix() @ rotation
+    start = [p.moved(level @ np.linalg.inv(item.pose)) for p in item.pieces]
+    if len(values) > 2:
+        z = float(values[2])
+    elif item.scene_body.placement.on_table:
+        z = (table.top if table is not None else 0.0) - min(float(p.vertices[:, 2].min()) for p in start)
+    else:
+        z = float(item.pose[2, 3])
+    return start, np.array([values[0], values[1], z])
+
+
+def _overhang(box: tuple[np.ndarray, np.ndarray], table: Table) -> float:
+    return float(np.max(np.r_[table.low - box[0][:2], box[1][:2] - table.high]))
+
+
+def _report_goal_off(
+    goal: ir.Goal, item: Placed, box: tuple[np.ndarray, np.ndarray] | None, table: Table, ctx: CheckContext
+) -> None:
+    x, y = goal.position.values[:2] if goal.position is not None else (math.nan, math.nan)
+    inside = bool(table.low[0] <= x <= table.high[0] and table.low[1] <= y <= table.high[1])
+    if box is None:
+        extent = f"(x, y) = ({_m(x)}, {_m(y)}) m"
+    else:
+        extent = _span_xy(box[0][:2], box[1][:2])
+    if inside and box is not None:
+        what = f"makes `{item.name}` overhang the table's edge by {_cm(_overhang(box, table))}"
+    else:
+        what = f"puts `{item.name}` off the table"
+    ctx.error(
+        codes.GOAL_OFF_TABLE,
+        f"the goal {what}: there it spans {extent}, the table {_span_xy(table.low, table.high)}",
+        _goal_span(goal),
+        _free_yaw_note(goal) or "move the goal onto the table",
+    )
+
+
+def _immovable(item: Placed, program: Program) -> bool:
+    return item.body.joint is None and not program.affordances.get(item.body.name)
+
+
+def _apart(other: Placed, position: np.ndarray, reach: float) -> bool:
+    """True when `other`'s bounds are farther than `reach` from `position` along some axis."""
+    return bool(np.any(other.low > position + reach) or np.any(other.high < position - reach))
+
+
+def _free_yaw_note(goal: ir.Goal) -> str:
+    return "the goal leaves the yaw free: no heading helps" if goal.yaw is None else ""
+
+
+# ---------------------------------------------------------------- messages
+
+
+def _cm(metres: float) -> str:
+    return f"{metres * 100:.1f} cm"
+
+
+def _m(metres: float) -> str:
+    """A coordinate in metres to the millimetre, without trailing zeros: `1.35`, `-0.3`, `2`."""
+    if abs(metres) >= 1e6:
+        return f"{metres:.4g}"
+    text = f"{metres:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0") else text
+
+
+def _span_xy(low: np.ndarray, high: np.ndarray) -> str:
+    return f"x from {_m(low[0])} to {_m(high[0])} m and y from {_m(low[1])} to {_m(high[1])} m"
+
+
+def _where(scene_body: ir.SceneBody) -> ir.Span | None:
+    return scene_body.span or scene_body.placement.span
+
+
+def _position_span(scene_body: ir.SceneBody) -> ir.Span | None:
+    return scene_body.placement.pose.position.span or _where(scene_body)
+
+
+def _goal_span(goal: ir.Goal) -> ir.Span | None:
+    return (goal.position.span if goal.position is not None else None) or goal.span

@@ -1,0 +1,1 @@
+"""Diagnostics: the `Diagnostic` type, the registry of codes, and docs/errors.md generated from it."""

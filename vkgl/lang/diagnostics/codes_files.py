@@ -1,0 +1,123 @@
+"""Diagnostic codes of modules and files (E5xx) and the warnings (W6xx), re-exported by `codes`."""
+
+from __future__ import annotations
+
+from vkgl.lang.diagnostics.registry import register as _code
+
+# modules and files (resolve.py, checks.py)
+MISSING_MODULE = _code(
+    "E501",
+    "missing module",
+    (
+        "A `use` names a module that does not exist. For `use a.b.c` the message lists every directory "
+        "searched, in order (the importing file's directory, each `VKG_PATH` entry, the installed stdlib's "
+        'parent); a note suggests the closest module name. For `use "path.vkg"` the path is relative to the '
+        "importing file, not the working directory."
+    ),
+)
+IMPORT_CYCLE = _code(
+    "E502",
+    "import cycle",
+    (
+        "Modules import each other in a circle. The message prints the cycle; the error is reported at the "
+        "`use` that closes it. Remove one of the `use` lines (move the shared declarations to a third module "
+        "that both use)."
+    ),
+)
+MESH_UNREADABLE = _code(
+    "E503",
+    "mesh file missing or unreadable",
+    (
+        "A mesh file is missing, or trimesh cannot read triangles from it (the message says what trimesh "
+        "said). Mesh paths are relative to the module's file."
+    ),
+)
+URDF_UNREADABLE = _code(
+    "E504",
+    "URDF file missing or unreadable",
+    (
+        "A robot's URDF file is missing, is not XML with a `<robot>` root and `<link>`s, or DART cannot load "
+        "it. URDF paths are relative to the module's file."
+    ),
+)
+SOURCE_UNREADABLE = _code(
+    "E505",
+    "source file missing or unreadable",
+    (
+        "A source file (given on the command line or by `use`) cannot be read: missing, a directory, not "
+        "readable, or not UTF-8 text. Name `.vkg` files (`vkgc check examples/tasks/*.vkg`); save sources as "
+        "UTF-8."
+    ),
+)
+NOT_REGULAR_FILE = _code(
+    "E506",
+    "not a regular file",
+    (
+        "A source file (given on the command line or by `use`) is a directory, a named pipe (FIFO), a device, a"
+        " socket or a symbolic-link loop. VKG reads regular files only, and looks before it opens (a FIFO would"
+        " wait forever, `/dev/zero` never ends). Name the `.vkg` file itself."
+    ),
+)
+SOURCE_TOO_LARGE = _code(
+    "E507",
+    "source file too large",
+    (
+        "A source file is larger than 10 MiB (`vkgl.lang.syntax.sources.MAX_SOURCE_BYTES`); no hand-written or "
+        "generated module comes near it. Split it into modules joined by `use`."
+    ),
+)
+NOT_UTF8 = _code(
+    "E508",
+    "source file not UTF-8",
+    (
+        "A source file holds bytes that are not UTF-8 text. The message gives the first bad byte and its line "
+        "and column (counted in characters); the file's text is not shown. Save the file as UTF-8."
+    ),
+)
+USE_NOT_VKG = _code(
+    "E509",
+    "`use` path that does not name a .vkg file",
+    (
+        '`use "PATH"` names a file whose name does not end in `.vkg` (`use "/etc/passwd"`). Only `.vkg` '
+        "modules can be used; the file is not read, and its text is never shown. Name a `.vkg` module."
+    ),
+)
+
+# warnings (checks.py)
+NOTHING_CAN_MOVE = _code(
+    "W601",
+    "a goal body that no imported affordance can move",
+    (
+        "A warning (exit 0): a task's goal body has no affordance in the compilation, so no plan can move it."
+        " `use` its affordance module (`use stdlib.affordances.block`) or learn one with `vkgc learn`."
+    ),
+)
+TOOL_WITHOUT_CORRESPONDENCE = _code(
+    "W602",
+    "a tool frame with no correspondence in a task's scene",
+    (
+        "A warning (exit 0): a task's scene holds a tool (a body explored while grasped) but no "
+        "correspondence names any of its frames, so the planner can never use it. `use stdlib.tools`, or "
+        "declare `correspondences { Tool.tip ~ fingertip }`."
+    ),
+)
+SHADOWED_STDLIB = _code(
+    "W603",
+    "a local stdlib module shadows the installed one",
+    (
+        "A warning (exit 0): `use stdlib.X` found `stdlib/X.vkg` in a folder searched before the installed "
+        "stdlib (the importing file's folder or a `VKG_PATH` entry), so the installed module of that name is "
+        "not used. The message names both files. Rename the local folder, or remove it, unless the override "
+        "is intended."
+    ),
+)
+JOINT_GOAL_PAST_LIMIT = _code(
+    "W604",
+    "a joint goal past its joint's limits",
+    (
+        "A warning (exit 0): `goal B open Q` asks for a joint coordinate outside the limits of B's joint, by "
+        'more than the goal\'s tolerance, so no plan can reach it (`vkgc solve` answers "no plan", exit 2, '
+        "with the same numbers). The message gives the goal and the limit it passes, in the goal's unit. Open "
+        "it within the joint's `limits`, or widen them if the real joint goes further."
+    ),
+)

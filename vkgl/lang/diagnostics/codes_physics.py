@@ -1,0 +1,122 @@
+"""Diagnostic codes of what is physically possible: scene geometry (E42x), motion ranges (E43x), joints (E44x).
+
+`vkgl.lang.diagnostics.codes` re-exports them; they are registered after its own codes, in this order.
+"""
+
+from __future__ import annotations
+
+from vkgl.lang.diagnostics.registry import register as _code
+
+# scene geometry (checks_scene.py): tolerances TOUCH, EDGE and REST there, definitions in docs/language.md
+BODIES_OVERLAP = _code(
+    "E420",
+    "bodies overlap at the start",
+    (
+        "Two bodies of a scene, or a body and a robot's base, interpenetrate at the start by more than 1 mm "
+        "(touching is fine). Shapes are exact: boxes, cylinders, the parts of unions, the convex hulls of "
+        "meshes. Move one of them; the message says by how much they overlap."
+    ),
+)
+OFF_TABLE = _code(
+    "E421",
+    "body off the table or overhanging its edge",
+    (
+        "A body without a physical `joint` must lie on the table: the shadow of its shape on the table may "
+        "pass the table's rectangle by at most 1 mm. The message gives the body's extent and the table's. Any "
+        "body farther than 1 km from the table's centre (`-1e308`) is far off the table. Move the body onto "
+        "the table, or make the table larger."
+    ),
+)
+FLOATING_BODY = _code(
+    "E422",
+    "body neither resting on the table nor on another body",
+    (
+        "A body placed `at (x, y, z)` without a physical `joint` must rest: its lowest point within 1 mm of "
+        "the table top, or of the top of another body under it (whose shadow on the table overlaps its own). "
+        "It floats, or sinks into the table. Place it `on table at (x, y) m`, or give the height the message "
+        "suggests."
+    ),
+)
+GOAL_OFF_TABLE = _code(
+    "E423",
+    "goal off the table",
+    (
+        "At its goal (at the goal's yaw, or at the best heading when the yaw is free, within the goal's "
+        "tolerances) the body would pass the table's edge by more than 1 mm plus the position tolerance. Move "
+        "the goal onto the table."
+    ),
+)
+GOAL_IN_ROBOT_BASE = _code(
+    "E424",
+    "goal inside a robot's base",
+    (
+        "At its goal the body would overlap a robot's base by more than 1 mm plus the position tolerance. The"
+        " base is the collision geometry of the first link of the robot's URDF (else a cylinder of radius 10 "
+        "cm around the robot's position). Move the goal away from the robot."
+    ),
+)
+GOAL_IN_FIXED_BODY = _code(
+    "E425",
+    "goal inside a body that nothing can move",
+    (
+        "At its goal the body would overlap, by more than 1 mm plus the position tolerance, a body of the "
+        "scene that no affordance of the compilation moves and that has no physical joint: it stays where it"
+        " is. Move the goal, or `use` an affordance module for that body."
+    ),
+)
+
+# motion ranges (builder.py, checks.py)
+RANGE_WITHOUT_STATE = _code(
+    "E430",
+    "a range on a motion that has no state",
+    (
+        "`range LO to HI UNIT` bounds the displacement of a `prismatic` motion or the angle of a `revolute` "
+        "one; a `fixed` or `free` motion has no single value to bound. Remove the range, or give the motion "
+        "its type."
+    ),
+)
+REVERSED_RANGE = _code(
+    "E431",
+    "a motion range with lower > upper",
+    ("A motion's range is written `range LOWER to UPPER UNIT`, lower first: swap them."),
+)
+NEGATIVE_RANGE = _code(
+    "E432",
+    "a motion range below zero",
+    (
+        "Motion values are never negative: the positive sense of a motion is the one the exploring force "
+        "produced, and plans use only that sense (no pulling). A range that starts below zero is an error, "
+        "not clipped: write `range 0 to HI UNIT` (and, for the other sense, an affordance whose axis points "
+        "the other way)."
+    ),
+)
+
+# physical joints and joint goals (builder.py, checks_joints.py)
+NEGATIVE_JOINT_DYNAMICS = _code(
+    "E440",
+    "negative joint damping or friction",
+    (
+        "A joint's `damping` and `friction` resist its motion; they are zero or positive (0 means none, as "
+        "leaving them out does). A negative value would push the joint along, which no real slide or hinge "
+        "does."
+    ),
+)
+NO_JOINT_TO_OPEN = _code(
+    "E441",
+    "an opening for a body without a physical joint",
+    (
+        "`goal B open Q` sets the coordinate of B's physical joint (its slide or hinge), and `B : T at POSE "
+        "open Q` in a scene starts it there, so B's type must declare a `joint prismatic|revolute ...`. A body "
+        "without one has no opening: give it a pose goal (`goal B at (x, y) m`) or leave out the scene's "
+        "`open Q`, or name the body that has the joint."
+    ),
+)
+START_PAST_JOINT_LIMIT = _code(
+    "E442",
+    "a body that starts open past its joint's limits",
+    (
+        "`B : T at POSE open Q` starts B's physical joint at Q, measured from where B is placed (0) as the "
+        "joint's `limits` are. A joint cannot start past its stops: give a Q within the limits, or widen them "
+        "if the real joint goes further."
+    ),
+)

@@ -1,0 +1,177 @@
+"""The parser: VKG source text -> IR `Module`, with units checked and converted to SI.
+
+Lark's LALR parser (grammar/vkg.lark, built once per process) makes a tree;
+`Builder` (vkgl/lang/syntax/builder.py) turns it into IR nodes that keep their source
+spans; syntax errors become diagnostics in vkgl/lang/syntax/syntax_errors.py. Problems
+that need no other module (syntax, units, missing or repeated statements) are
+found here; everything that needs names from other modules is the checker's job
+(vkgl/lang/checks/checker.py).
+"""
+
+from __future__ import annotations
+
+import gc
+import threading
+from dataclasses import dataclass
+from functools import lru_cache
+
+from lark import Lark, Token
+from lark.exceptions import UnexpectedInput
+
+from vkgl.errors import CompileError
+from vkgl.lang.diagnostics import codes
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.syntax.builder import MAX_UNION_DEPTH, Builder
+from vkgl.lang.syntax.syntax_errors import syntax_diagnostics
+from vkgl.lang.syntax.values import new_node
+from vkgl.resources import grammar_path
+
+
+@dataclass(frozen=True)
+class Comment:
+    """A `#` comment as lexed: where it starts and its text (including the `#`)."""
+
+    line: int
+    col: int
+    text: str
+
+
+def parse_module(text: str, path: str) -> ir.Module:
+    """Parse one module. Raises CompileError with every diagnostic found in the file."""
+    return parse_module_with_comments(text, path)[0]
+
+
+def parse_module_with_comments(text: str, path: str) -> tuple[ir.Module, list[Comment]]:
+    """Parse one module and return the comments the lexer skipped (for `vkgc fmt`)."""
+    module, comments, diagnostics = parse_collecting(text, path)
+    errors = [d for d in diagnostics if d.is_error]
+    if errors or module is None:
+        raise CompileError(sorted(diagnostics, key=Diagnostic.sort_key))
+    return module, comments
+
+
+def parse_collecting(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
+    """Parse one module without raising: the module (None after a syntax error), comments, diagnostics."""
+    module, comments, diagnostics = _parse_cached(text, path)
+    return module, list(comments), list(diagnostics)
+
+
+@lru_cache(maxsize=512)
+def _parse_cached(text: str, path: str) -> tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]:
+    # A compilation parses each imported module once; checking many files that share
+    # imports (vkgc check examples/ stdlib/) parses each shared module once per process.
+    module, comments, diagnostics = _parse_uncached(text, path)
+    return module, tuple(comments), tuple(diagnostics)
+
+
+def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
+    builder = Builder(path, text)
+    # The parse allocates a few objects per character and frees none of them until
+    # the end; pausing the cyclic garbage collector meanwhile halves the time.
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        with _comments.collect() as comments:
+            tree = lark_parser().parse(text)
+        module = builder.build(tree)
+    except UnexpectedInput as exc:
+        return None, [], syntax_diagnostics(lark_parser(), exc, text, path)
+    except RecursionError:
+        span = new_node(ir.Span, file=path, line=1, col=1, end_line=1, end_col=2)
+        message = f"shapes nest too deeply to read; unions may nest at most {MAX_UNION_DEPTH} levels"
+        return None, [], [codes.NESTING_TOO_DEEP.diagnostic(message, span)]
+    finally:
+        if collecting:
+            gc.enable()
+    lexed = [Comment(t.line or 0, t.column or 0, str(t)) for t in comments]
+    module = module.model_copy(update={"doc": _doc_comment(text, lexed)})
+    return module, lexed, builder.diagnostics
+
+
+# ---------------------------------------------------------------- the Lark parser
+
+
+class _CommentCollector:
+    """The lexer callback of the one Lark parser: appends each comment to the list of the parse in progress.
+
+    Lark fixes lexer callbacks when it builds the parser, so the list of the
+    current parse lives here, one per thread.
+    """
+
+    def __init__(self) -> None:
+        self._local = threading.local()
+
+    def __call__(self, token: Token) -> None:
+        sink = getattr(self._local, "sink", None)
+        if sink is not None:
+            sink.append(token)
+
+    def collect(self) -> _Collecting:
+        """A context in which the comments lexed go to a fresh list (the context's value)."""
+        return _Collecting(self._local)
+
+
+class _Collecting:
+    def __init__(self, local: threading.local) -> None:
+        self._local = local
+        self.tokens: list[Token] = []
+
+    def __enter__(self) -> list[Token]:
+        self._local.sink = self.tokens
+        return self.tokens
+
+    def __exit__(self, *exc: object) -> None:
+        self._local.sink = None
+
+
+_comments = _CommentCollector()
+
+
+@lru_cache(maxsize=1)
+def lark_parser() -> Lark:
+    """The LALR parser of grammar/vkg.lark, built once per process."""
+    return Lark(
+        grammar_path().read_text(encoding="utf-8"),
+        parser="lalr",
+        lexer="contextual",
+        propagate_positions=True,
+        maybe_placeholders=False,
+        lexer_callbacks={"COMMENT": _comments},
+    )
+
+
+def _doc_comment(text: str, comments: list[Comment]) -> str | None:
+    """The file's doc comment: its first block of full-line comments, when a blank line ends it.
+
+    A comment block directly above a statement belongs to that statement instead.
+    """
+    lines: list[str] = []
+    by_line = {c.line: c for c in comments}
+    for number, line in enumerate(text.split("\n"), start=1):
+        stripped = line.strip()
+        if not stripped:
+            if lines:
+                return "\n".join(lines)
+            continue
+        comment = by_line.get(number)
+        if comment is None or not stripped.startswith("#"):
+            return None
+        body = comment.text[1:]
+        lines.append((body[1:] if body.startswith(" ") else body).rstrip())
+    return "\n".join(lines) if lines else None
+
+
+def doc_line_count(text: str) -> int:
+    """How many lines at the top of `text` the doc comment spans (0 if none); for `vkgc fmt`."""
+    last = 0
+    for number, line in enumerate(text.split("\n"), start=1):
+        stripped = line.strip()
+        if not stripped:
+            if last:
+                return last
+            continue
+        if not stripped.startswith("#"):
+            return 0
+        last = number
+    return last

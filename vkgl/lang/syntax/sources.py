@@ -1,0 +1,118 @@
+"""Reading source files safely: only regular files, at most MAX_SOURCE_BYTES, UTF-8.
+
+Every `.vkg` file the front end reads (given on the command line, or named by a
+`use`) goes through `read_source`. It stats the path before opening it, so a
+FIFO, a device, a directory or a symbolic-link loop is reported (E506) instead
+of hanging or exhausting memory; a file larger than the limit is refused
+(E507); bytes that are not UTF-8 are reported at the line and column where the
+first bad byte is (E508), without showing the file's text.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import stat
+from dataclasses import replace
+from pathlib import Path
+
+from vkgl.lang.diagnostics import codes
+from vkgl.lang.diagnostics.diagnostic import Diagnostic
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.syntax.values import new_node
+
+MAX_SOURCE_BYTES = 10 * 1024 * 1024
+"""10 MiB: the largest source file read (the stdlib's largest module is a few KiB)."""
+
+
+def read_source(path: Path, shown: str, span: ir.Span | None = None) -> str | Diagnostic:
+    """The text of the source file `path` (shown as `shown`), or a diagnostic saying why it cannot be used.
+
+    `span` is where the file was named (a `use`); None for a file given on the
+    command line, whose diagnostics then name the file without a position.
+    """
+    problem = file_problem(path, shown, span)
+    if problem is not None:
+        return problem
+    try:
+        with open(path, "rb") as stream:
+            data = stream.read(MAX_SOURCE_BYTES + 1)
+    except OSError as exc:
+        return _unreadable(shown, exc.strerror or str(exc), span)
+    if len(data) > MAX_SOURCE_BYTES:  # a file that grew, or one of /proc whose size stat does not know
+        return _too_large(shown, span)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return not_utf8(shown, data, exc, span)
+
+
+def file_problem(path: Path, shown: str, span: ir.Span | None = None, *, limit: bool = True) -> Diagnostic | None:
+    """Why `path` cannot be read as a source file, found by `stat` alone (nothing is opened); None if it can.
+
+    `limit=False` skips the size limit (for inputs that are not `.vkg` sources, e.g. trials datasets).
+    """
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        dangling = os.path.islink(path)
+        return _unreadable(shown, "no such file (a symbolic link points there)" if dangling else "no such file", span)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            return _not_regular(shown, "a symbolic link loop", span)
+        return _unreadable(shown, exc.strerror or str(exc), span)
+    if stat.S_ISDIR(info.st_mode):
+        note = f"name the .vkg files in it, e.g. `{Path(shown) / '*.vkg'}`"
+        return _not_regular(shown, "a directory", span, note)
+    if not stat.S_ISREG(info.st_mode):
+        return _not_regular(shown, _kind(info.st_mode), span)
+    if limit and info.st_size > MAX_SOURCE_BYTES:
+        return _too_large(shown, span)
+    if not os.access(path, os.R_OK):
+        return _unreadable(shown, "permission denied", span)
+    return None
+
+
+def _kind(mode: int) -> str:
+    if stat.S_ISFIFO(mode):
+        return "a named pipe (FIFO)"
+    if stat.S_ISCHR(mode):
+        return "a character device"
+    if stat.S_ISBLK(mode):
+        return "a block device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "a special file"
+
+
+def _unreadable(shown: str, reason: str, span: ir.Span | None) -> Diagnostic:
+    return _at(codes.SOURCE_UNREADABLE.diagnostic(f"cannot read `{shown}`: {reason}", span), shown)
+
+
+def _not_regular(shown: str, what: str, span: ir.Span | None, note: str = "") -> Diagnostic:
+    message = f"`{shown}` is not a regular file: it is {what}"
+    notes = (note or "sources are regular .vkg files; name the file itself",)
+    return _at(codes.NOT_REGULAR_FILE.diagnostic(message, span, *notes), shown)
+
+
+def _too_large(shown: str, span: ir.Span | None) -> Diagnostic:
+    message = f"`{shown}` is larger than {MAX_SOURCE_BYTES // (1024 * 1024)} MiB, the limit for a source file"
+    return _at(codes.SOURCE_TOO_LARGE.diagnostic(message, span, "split it into modules joined by `use`"), shown)
+
+
+def not_utf8(shown: str, data: bytes, exc: UnicodeDecodeError, span: ir.Span | None = None) -> Diagnostic:
+    """E508 for `data` read from `shown`: where (line:col of the first bad byte) and what, never the text."""
+    start = exc.start
+    line = data.count(b"\n", 0, start) + 1
+    line_start = data.rfind(b"\n", 0, start) + 1
+    col = len(data[line_start:start].decode("utf-8", errors="replace")) + 1
+    message = f"`{shown}` is not UTF-8 text: byte 0x{data[start]:02x} at line {line}, column {col} ({exc.reason})"
+    note = "a .vkg file is UTF-8 text; save it as UTF-8"
+    if span is None:
+        span = new_node(ir.Span, file=shown, line=line, col=col, end_line=line, end_col=col + 1)
+    return codes.NOT_UTF8.diagnostic(message, span, note)
+
+
+def _at(diag: Diagnostic, shown: str) -> Diagnostic:
+    """The diagnostic naming the file it is about when it has no position."""
+    return diag if diag.span is not None else replace(diag, file=shown)

@@ -1,0 +1,111 @@
+"""One timed, collision-free transit of an arm among a scene's bodies: what the planner and the executor share.
+
+`transit_segment(collision, start, goal, poses, held, seed=...)` tries, in
+turn, the straight joint-space line, going up over what stands between the
+ends (`over`: the configurations `VIA_HEIGHTS` above both ends), and OMPL's
+RRTConnect (`vkgl.motion.transit.plan_transit`). Valid configurations keep the
+arm's links (and a held tool) clear of every body and the table
+(`vkgl.motion.arm_collision`). The path is timed within the URDF's joint velocity
+limits scaled by `TRANSIT_SPEED_SCALE` (`vkgl.motion.timing`).
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Iterator, Mapping
+
+import numpy as np
+
+from vkgl.formats.plan import ArmSegment
+from vkgl.motion.arm_collision import ArmCollision, Held
+from vkgl.motion.density import edge_resolution, link_reach
+from vkgl.motion.timing import time_path, velocity_limits
+from vkgl.motion.transit import TransitFailure, plan_transit
+from vkgl.robot import Arm
+
+TRANSIT_SPEED_SCALE = 0.35
+"""Transits run at this fraction of the URDF's joint velocity limits (0.76 rad/s for the Panda's joints 1-4)."""
+
+TRANSIT_TIME_LIMIT = 5.0
+"""s: the clock's bound on OMPL's search for one transit (less when the search's deadline is nearer); its budget
+of validity checks (`vkgl.motion.transit.SEARCH_CHECKS`) normally ends a failing search first, deterministically."""
+
+VIA_HEIGHTS = (0.1, 0.2)
+"""m: before OMPL is asked, a transit tries going this high over what lies between its ends."""
+
+
+def transit_segment(
+    collision: ArmCollision,
+    start: np.ndarray,
+    goal: np.ndarray,
+    poses: Mapping[str, np.ndarray],
+    held: Held | None = None,
+    *,
+    seed: int,
+    time_limit: float = TRANSIT_TIME_LIMIT,
+) -> ArmSegment | TransitFailure:
+    """A timed, collision-free transit from `start` to `goal` with the bodies at `poses`, or why there is none."""
+    arm = collision.arm
+    collision.scene.place(poses)
+
+    def valid(q: np.ndarray) -> bool:
+        return collision.free(q, held=held)
+
+    reach = 0.0 if held is None else tool_reach(collision, held)
+    advance = (collision.clearance(held), link_reach(arm, reach))
+    found = plan_transit(
+        start, goal, valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
+        resolution=edge_resolution(arm, tool_reach=reach), via=_over_when_asked(arm, start, goal), advance=advance,
+    )  # fmt: skip
+    if isinstance(found, TransitFailure):
+        return found
+    timed = time_path(found.waypoints, _velocity(arm), velocity_scale=TRANSIT_SPEED_SCALE)
+    return ArmSegment("transit", np.asarray(timed.times, dtype=float), found.waypoints)
+
+
+def over(arm: Arm, start: np.ndarray, goal: np.ndarray) -> list[np.ndarray]:
+    """Up, across and down: the configurations `VIA_HEIGHTS` above both ends, for each height IK finds.
+
+    Most transits whose straight joint-space line is blocked are blocked by
+    what stands on the table between the ends (the body a hook must reach
+    behind); going over it is the obvious way, and checking it costs far
+    less than a sampling-based search.
+    """
+    return list(_over_when_asked(arm, start, goal))
+
+
+def _over_when_asked(arm: Arm, start: np.ndarray, goal: np.ndarray) -> Iterator[np.ndarray]:
+    """`over`'s polylines, each solved only when the transit gets to it (most transits take the straight line,
+    and each height costs two IK solves)."""
+    for height in VIA_HEIGHTS:
+        yield from _over_at(arm, start, goal, height)
+
+
+def _over_at(arm: Arm, start: np.ndarray, goal: np.ndarray, height: float) -> list[np.ndarray]:
+    ends = []
+    for q in (start, goal):
+        pose = arm.fk(q)
+        pose[2, 3] += height
+        found = arm.ik(pose, q0=q)
+        if found is not None:
+            ends.append(np.asarray(found, dtype=float))
+    return [np.vstack(ends)] if len(ends) == 2 else []
+
+
+def tool_reach(collision: ArmCollision, held: Held) -> float:
+    """How far a held tool reaches beyond the effector (m): for the check density of transits."""
+    radius = collision.scene.radius.get(held.body, 0.0)
+    return float(np.linalg.norm(held.in_hand[:3, 3]) + radius)
+
+
+@functools.cache
+def _velocity_of(urdf: str, joints: tuple[str, ...]) -> np.ndarray:
+    return velocity_limits(urdf, list(joints))
+
+
+def _velocity(arm: Arm) -> np.ndarray:
+    """The arm's joint velocity limits from its URDF (rad/s), read once per URDF."""
+    return _velocity_of(str(arm.urdf), tuple(arm.joint_names))
+
+
+__all__ = ["TRANSIT_SPEED_SCALE", "TRANSIT_TIME_LIMIT", "VIA_HEIGHTS", "over", "tool_reach", "transit_segment"]

@@ -1,0 +1,358 @@
+"""The arm's paths between contacts, planned for every step of a plan: straight moves, then transits.
+
+A plan step's action (make a contact and move with it, grasp a tool, let go,
+put a tool down) needs the arm to get there first. For each step, from where
+the previous step left the arm, the path is:
+
+- **lift**: after a grasp or a release, straight up (`vkgl.plan.arm.straight_moves`);
+- **retreat** (a REMOVE of a push): straight back out of the contact; none
+  when the next step lets go of the tool that touched (it is let go of where
+  the search leaves it);
+- **transit**: a collision-free joint-space path (`vkgl.motion.transit_segment`:
+  the straight line when it is clear, up and over, else OMPL's RRTConnect) to
+  the step's pre-contact configuration; valid means the arm's links and a
+  held tool clear every body and the table (`vkgl.motion.arm_collision`);
+- **approach**: straight into the contact (`vkgl.plan.arm.straight_moves`: along
+  its push, from above, or slanted), ending in the configuration the search
+  checked. A contact's configuration must carry its whole motion: the plan
+  stores it as a chain of joints along the motion (`contact`), the first arm
+  configuration of `_contact_chain` that can be approached.
+
+Planning runs in two stages. `ArmPathPlanner.straight` plans everything but
+the transits, inside the search, for every candidate that passed the other
+checks: a plan whose contact cannot be approached or left is rejected there
+(kind "approach"). `ArmPathPlanner.transits` then plans the transits between
+the fixed ends the first stage chose (their ends do not depend on one
+another), after the search has a candidate; when one fails, the search goes
+on with the next candidate (kind "transit"). `ArmPathPlanner.plan` runs both.
+Every segment is timed: transits within the URDF's joint velocity limits, the
+straight moves at `straight_moves.CARTESIAN_SPEED`. Deterministic: transit `k` of a plan is
+seeded with `k`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Generic, TypeVar
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.formats.plan import ArmSegment, PlanStepRecord
+from vkgl.motion.approach import CartesianFailure, follow_poses
+from vkgl.motion.arm_collision import Held
+from vkgl.motion.transit import TransitFailure
+from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
+from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
+from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.problem.problem import Problem
+from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.robot.pad import FINGERTIP_RADIUS
+from vkgl.se3 import screw_motion
+
+CHAIN_SPACING = 0.01
+"""m of hand travel between two checked configurations of a contact's motion."""
+
+CHAIN_LEVER = 0.2
+"""m: a turn of the hand counts as this lever arm times its angle, for `CHAIN_SPACING`."""
+
+PITCHES = tuple(np.radians((0.0, 30.0, 45.0, 60.0)))
+"""rad: how far the hand may lean back from upright at a contact (tried in turn)."""
+
+StepT = TypeVar("StepT", bound=PlanStepRecord)
+
+
+@dataclass(frozen=True)
+class PendingTransit:
+    """A transit the first stage left to plan: into `steps[step].path` at `at`, from `start` to `goal` (joints),
+    with the bodies at `poses` and `held` in the hand; `label` names the step in a rejection."""
+
+    step: int
+    at: int
+    start: np.ndarray
+    goal: np.ndarray
+    poses: Mapping[str, np.ndarray]
+    held: Held | None
+    label: str
+
+
+@dataclass(frozen=True)
+class StraightPaths(Generic[StepT]):
+    """The first stage's result: the steps with their straight moves, and the transits still to plan."""
+
+    steps: list[StepT]
+    pending: list[PendingTransit]
+
+
+class ArmPathPlanner:
+    """Plans the arm's segments for the steps of one problem's plans (built once per search)."""
+
+    def __init__(self, problem: Problem, geometry: GeometryCheck) -> None:
+        """Paths for `problem`'s arm, checked with `geometry`'s collision world."""
+        self.problem = problem
+        self.geometry = geometry
+        self.moves = StraightMoves(problem, geometry)
+        self.transit_count = 0
+        self.seconds = 0.0  # in the first stage (IK of straight moves and contact chains, their checks)
+        self.transit_seconds = 0.0  # in the second (transit planning)
+
+    def plan(
+        self, steps: Sequence[StepT], q_start: np.ndarray | None = None, *, deadline: float | None = None
+    ) -> list[StepT] | Rejection:
+        """The steps with their `path` (the segments before each step's action), or why one cannot be planned:
+        both stages, `straight` then `transits`."""
+        first = self.straight(steps, q_start)
+        return first if isinstance(first, Rejection) else self.transits(first, deadline=deadline)
+
+    def straight(self, steps: Sequence[StepT], q_start: np.ndarray | None = None) -> StraightPaths[StepT] | Rejection:
+        """The first stage: every step's straight moves and contact chain, and the transits left to plan.
+
+        A contact whose arm configuration cannot carry the whole motion (the
+        arm would have to switch configuration in contact) gets one that can:
+        the returned steps' `q_start`/`q_end` may differ from the given ones.
+        `q_start`: the arm's joints before the first step (the arm's home by default).
+        """
+        began = time.perf_counter()
+        try:
+            state = ArmState(np.asarray(self.problem.arm.home if q_start is None else q_start, dtype=float))
+            out: list[StepT] = []
+            pending: list[PendingTransit] = []
+            for k, step in enumerate(steps, start=1):
+                following = steps[k] if k < len(steps) else None
+                planned = self._planned_step(k, step, state, last=following is None, following=following)
+                if isinstance(planned, Rejection):
+                    return planned
+                found, transit = planned
+                out.append(found)
+                if transit is not None:
+                    pending.append(transit)
+            return StraightPaths(out, pending)
+        finally:
+            self.seconds += time.perf_counter() - began
+
+    def transits(self, paths: StraightPaths[StepT], *, deadline: float | None = None) -> list[StepT] | Rejection:
+        """The second stage: the steps of `paths` with their transits planned in, or why one cannot be."""
+        steps = list(paths.steps)
+        for transit in paths.pending:
+            segment = self._transit(transit, deadline)
+            if isinstance(segment, Rejection):
+                return segment
+            step = steps[transit.step]
+            path = (*step.path[: transit.at], segment, *step.path[transit.at :])
+            steps[transit.step] = replace(step, path=path)
+        return steps
+
+    def _planned_step(
+        self, k: int, step: StepT, state: ArmState, *, last: bool = False, following: PlanStepRecord | None = None
+    ) -> tuple[StepT, PendingTransit | None] | Rejection:
+        """The step with its straight moves and the transit it needs; a contact tries each arm configuration
+        that carries its motion in turn, until one can be approached (and, for the `last` step, left again).
+        A release happens where the arm is (its `q_start`/`q_end` become those joints)."""
+        if step.op != "add" or step.motion == "free":
+            q_before = state.q
+            found = self._step(k, step, state, releases_next=_releases(following, state.held))
+            if isinstance(found, Rejection):
+                return found
+            segments, transit = found
+            if step.op == "remove" and step.motion == "free":
+                return replace(step, path=segments, q_start=q_before, q_end=q_before), transit
+            return replace(step, path=segments), transit
+        label = f"step {k} ({step.title()})"
+        first: Rejection | None = None
+        for chain in self._contact_chain(step, state, label):
+            if isinstance(chain, Rejection):
+                return first or chain
+            attempt = state.copy()
+            # the whole chain goes into the plan: execution follows this configuration, not one of its own
+            moved = replace(step, q_start=chain[0], q_end=chain[-1], contact=chain)
+            found = self._step(k, moved, attempt)
+            if not isinstance(found, Rejection) and last:
+                found = self.moves.leave(moved, attempt, label) or found
+            if not isinstance(found, Rejection):
+                state.q, state.held, state.lift = attempt.q, attempt.held, attempt.lift
+                segments, transit = found
+                return replace(moved, path=segments), transit
+            first = first or found
+            if found.kind != Kind.APPROACH:
+                return found
+        return first or Rejection(Kind.IK, f"{label}: no arm configuration carries the whole motion", 1.0)
+
+    def _contact_chain(self, step: PlanStepRecord, state: ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
+        """Joints every `CHAIN_SPACING` along a contact's motion, in one arm configuration from start to end.
+
+        The plan's configuration at the contact first; if the arm would have
+        to switch configuration on the way (a joint jump: IK branch switch) or
+        its links hit a body on the way (the hand of a vertical gripper
+        overhangs the pad by 2.5 cm, so it meets a face more than about 4 cm
+        above the contact), IK from the arm's home, then the hand pitched back about the pad's axis by
+        `PITCHES` (the pad touches the face the same way, the hand leans away
+        from it).
+        """
+        arm = self.problem.arm
+        motion = screw_motion(step.poses_start[step.body], step.poses_end[step.body])
+        upright = arm.fk(step.q_start)
+        if step.effector == self.problem.robot_effector.name:
+            # the pad pushes flat on the face only when it lies along it: the action frame's yaw, not whatever
+            # yaw IK chose where the search let the hand's yaw free
+            _, _, name = step.affordance.partition(".")
+            upright = step.poses_start[step.body] @ self.problem.action(step.body, name)
+        turn = float(np.linalg.norm(motion.rotvec))
+        end = motion.at(1.0)
+        travel = float(np.linalg.norm(end[:3, :3] @ upright[:3, 3] + end[:3, 3] - upright[:3, 3]))
+        count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
+        closest = _ClosestMiss()
+        # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
+        for pitch in PITCHES if state.held is None else PITCHES[:1]:
+            hand = upright @ _pitched_back(pitch)
+            poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
+            lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""
+            for seed in (step.q_start, arm.home):
+                q0 = arm.ik(hand, q0=seed)
+                if q0 is None:
+                    # IK restarts from home and the same fixed seeds after the given one: from home it would
+                    # fail again (19 local runs for nothing)
+                    closest.note((0, 0.0), f"{lean}no IK solution at the contact")
+                    break
+                chain = follow_poses(arm, poses, q0)
+                if isinstance(chain, CartesianFailure):
+                    closest.note((1, chain.index / len(poses)), lean + chain.reason)
+                    continue
+                clash = self._contact_clash(step, state, chain.joints)
+                if clash is not None:
+                    closest.note((2, -clash[1]), lean + clash[0])
+                    continue
+                yield chain.joints.copy()
+        yield Rejection(
+            Kind.IK, f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0
+        )
+
+    def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
+        """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
+        spaced along the motion) with the moving bodies where the motion has them then. Only the pad may touch
+        the pushed body; the rest of the hand, leaned back or turned, sweeps past the bodies beside it."""
+        held = state.held
+        if held is not None:
+            held = Held(held.body, held.in_hand, frozenset({step.body}))
+        fractions = np.linspace(0.0, 1.0, len(chain))
+        moving = {
+            name: screw_motion(pose, step.poses_end[name]).along(fractions) @ pose
+            for name, pose in step.poses_start.items()
+            if name in step.poses_end and np.abs(pose - step.poses_end[name]).max() > 1e-9
+        }
+        for i, q in enumerate(chain):
+            poses = {**step.poses_start, **{name: along[i] for name, along in moving.items()}}
+            clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
+            if clash is not None:
+                where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
+                return f"{where} {clash[0]}", clash[1]
+        return None
+
+    # ------------------------------------------------------------ step kinds
+
+    def _step(
+        self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False
+    ) -> tuple[tuple[ArmSegment, ...], PendingTransit | None] | Rejection:
+        """The step's straight moves from where `state` has the arm, and the transit before its approach."""
+        label = f"step {k} ({step.title()})"
+        segments: list[ArmSegment] = []
+        if state.lift:
+            lift = self.moves.lift(state, step.poses_start, label)
+            if isinstance(lift, Rejection):
+                return lift
+            segments.append(lift)
+            state.lift = False
+        if step.op == "remove" and step.motion != "free" and releases_next:
+            # the tool is let go of where it touched (where the search leaves it), and the hand lifts from there:
+            # backing the tool out first would put it down a stand-off away from where the plan says it lies
+            return tuple(segments), None
+        if step.op == "remove" and step.motion != "free":
+            retreat = self.moves.retreat(step, state, label)
+            if isinstance(retreat, Rejection):
+                return retreat
+            return (*segments, retreat), None
+        if step.op == "remove":  # a release: the tool stays where the plan put it; the hand lifts next
+            state.held, state.lift = None, True
+            return tuple(segments), None
+        approach = self.moves.into_contact(step, state, label)
+        if isinstance(approach, Rejection):
+            return approach
+        transit = PendingTransit(
+            k - 1, len(segments), state.q.copy(), approach.pre_contact, step.poses_start, state.held, label
+        )
+        segments.append(approach.segment)
+        if step.motion == "free":  # a grasp: the tool rides in the hand from here on
+            in_hand = np.linalg.inv(self.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
+            state.held, state.lift = Held(step.body, in_hand), True
+        state.q = np.asarray(step.q_end, dtype=float)
+        return tuple(segments), transit
+
+    def _transit(self, transit: PendingTransit, deadline: float | None) -> ArmSegment | Rejection:
+        """`transit` planned, or why it cannot be (naming what blocks one of its ends when one is blocked)."""
+        limit = TRANSIT_TIME_LIMIT
+        if deadline is not None:
+            limit = max(0.05, min(limit, deadline - time.perf_counter()))
+        self.transit_count += 1
+        held = transit.held
+        collision = self.geometry.transit_space(held)
+        began = time.perf_counter()
+        try:
+            found = transit_segment(
+                collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
+            )
+        finally:
+            self.transit_seconds += time.perf_counter() - began
+        if isinstance(found, TransitFailure):
+            blocker = self._blocker(found.reason, transit)
+            why = f"{transit.label}: no collision-free way for the arm to the contact: {blocker}"
+            return Rejection(Kind.TRANSIT, why, 1.0)
+        return found
+
+    def _blocker(self, reason: str, transit: PendingTransit) -> str:
+        """The transit's failure in words, naming what blocks an end configuration when one is blocked."""
+        for name, q in (("start", transit.start), ("goal", transit.goal)):
+            clash = self.moves.first_overlap(
+                np.asarray([q]), transit.poses, transit.held, set(), collision=self.geometry.transit_collision
+            )
+            if clash is not None:
+                return f"at the {name} of the transit {clash[0]}"
+        return reason
+
+
+class _ClosestMiss:
+    """The failure that came closest among a contact's arm configurations: an IK failure at the contact is
+    farthest, then a chain that broke off (the later, the closer), then one whose links overlap the body (the
+    shallower, the closer); the first among equals."""
+
+    def __init__(self) -> None:
+        self.rank: tuple[int, float] | None = None
+        self.words = "no configuration tried"
+
+    def note(self, rank: tuple[int, float], words: str) -> None:
+        if self.rank is None or rank > self.rank:
+            self.rank, self.words = rank, words
+
+
+def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:
+    """Whether `following` lets go of the tool `held` (the step after a contact's removal)."""
+    return (
+        following is not None
+        and held is not None
+        and following.op == "remove"
+        and following.motion == "free"
+        and following.body == held.body
+    )
+
+
+def _pitched_back(angle: float) -> np.ndarray:
+    """The effector frame turned by `angle` about the pad's axis (the frame's y through the pad's centre),
+    leaning the hand away from the face it pushes (the frame's z toward -x)."""
+    about = np.eye(4)
+    about[:3, :3] = Rotation.from_euler("y", -angle).as_matrix()
+    to_axis = np.eye(4)
+    to_axis[0, 3] = -FINGERTIP_RADIUS
+    return to_axis @ about @ np.linalg.inv(to_axis)
+
+
+__all__ = ["ArmPathPlanner", "PendingTransit", "StraightPaths"]

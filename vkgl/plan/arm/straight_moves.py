@@ -1,0 +1,246 @@
+"""The arm's straight moves around contacts: into a contact, back out of it, up after a grasp or a release.
+
+Each move is a straight Cartesian path of the hand (`vkgl.motion.approach`:
+chained IK, no joint jumps), checked against the bodies and the table where
+the step has them (`vkgl.motion.arm_collision`), and timed at `CARTESIAN_SPEED`:
+
+- **approach**: the last `STANDOFF` straight into the contact along its push
+  direction, solved from the contact outward so that the arm arrives in the
+  configuration the search checked. A tall body is thus approached from the
+  side at contact height; a tool is grasped from above (`GRASP_STANDOFF`).
+  When the way back along the push is blocked, the contact is approached from
+  above instead: the fingertip hooked behind a handle's bar pushes away from
+  the body it pulls, so backing off along its push would put the hand into
+  that body; it comes down into the gap (and so does a held hook's
+  cross-piece, behind a bar it pulls). When neither way works, it comes in
+  slanted, along its push and `SLANT` down: the fingertip on the far face of
+  a tall crate, the hand leaned outward at the edge of the arm's reach, has
+  no room to back off 3 cm level, and coming straight down along the face
+  would start the transit's goal within its clearance of it. A held tool
+  comes down `TOOL_DESCENT` to its stand-off first.
+- **retreat**: straight back out of a contact by `STANDOFF`, against the way
+  it pushed (straight up when that way is blocked: a hook behind a handle's bar);
+- **lift**: straight up `LIFT` after a grasp or a release.
+
+The joint-space transit that brings the arm to an approach's first
+configuration is planned by `vkgl.plan.arm.paths`, after the search; that
+configuration is checked here, with the transit's clearance
+(`GeometryCheck.transit_space`): an approach the transit could not end in
+is rejected at once (kind "transit"), and the next way in is tried.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from vkgl.formats.plan import ArmSegment, PlanStepRecord
+from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, approach_poses, follow_poses
+from vkgl.motion.arm_collision import ArmCollision, Held
+from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT
+from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.problem.problem import Problem
+from vkgl.plan.problem.rejection import Kind, Rejection
+
+SLANT = np.radians(30.0)
+"""rad: below the push direction, the last way tried into a contact (after along the push and from above);
+less than 45 deg, so that execution leaves such a contact straight back, as `StraightMoves.leave` checks."""
+
+DOWN = np.array([0.0, 0.0, -1.0])
+
+
+@dataclass
+class ArmState:
+    """Where the previous step left the arm: its joints, a tool in the hand, whether it must lift first."""
+
+    q: np.ndarray
+    held: Held | None = None
+    lift: bool = False
+
+    def copy(self) -> ArmState:
+        """The same state with joints of its own (a trial that may be dropped)."""
+        return ArmState(np.asarray(self.q, dtype=float).copy(), self.held, self.lift)
+
+
+@dataclass(frozen=True)
+class Approach:
+    """A way into a contact: the straight move's segment, from `pre_contact` (the joints a transit must reach)."""
+
+    pre_contact: np.ndarray
+    segment: ArmSegment
+
+
+class StraightMoves:
+    """The straight moves of one problem's arm, checked with `geometry`'s collision world."""
+
+    def __init__(self, problem: Problem, geometry: GeometryCheck) -> None:
+        """Moves for `problem`'s arm among its bodies."""
+        self.problem = problem
+        self.geometry = geometry
+
+    def into_contact(self, step: PlanStepRecord, state: ArmState, label: str) -> Approach | Rejection:
+        """The straight approach into the step's contact.
+
+        A push is approached along its push direction; when that way is blocked (a hook behind a handle's
+        bar would back into the body it pulls), from above, down into the contact (the gap behind the bar);
+        when that fails too, slanted: along the push and `SLANT` down (the stand-off above and behind).
+        """
+        if step.motion == "free":  # a grasp
+            return self.approach(step, state, label, DOWN, GRASP_STANDOFF)
+        push = self.push_direction(step, step.poses_start)
+        first = self.approach(step, state, label, push, STANDOFF)
+        if not isinstance(first, Rejection) or first.kind != Kind.APPROACH:
+            return first
+        slanted = np.cos(SLANT) * push + np.sin(SLANT) * DOWN
+        for way in (DOWN, slanted / np.linalg.norm(slanted)):
+            found = self.approach(step, state, label, way, STANDOFF)
+            if not isinstance(found, Rejection):
+                return found
+        return first
+
+    def approach(
+        self, step: PlanStepRecord, state: ArmState, label: str, direction: np.ndarray, standoff: float
+    ) -> Approach | Rejection:
+        """Straight along `direction` into the contact from `standoff` back (a held tool first comes down)."""
+        grasp = step.motion == "free"
+        contact = self.problem.arm.fk(step.q_start)
+        poses = approach_poses(contact, standoff, APPROACH_STEP, direction)
+        length = standoff
+        if state.held is not None:
+            # a tool works at table height: it comes down to its stand-off first, so that the transit
+            # ends clear of the table (a joint-space line between two poses at table height dips into it)
+            poses = approach_poses(poses[0], TOOL_DESCENT, APPROACH_STEP, DOWN)[:-1] + poses
+            length += TOOL_DESCENT
+        # solved from the contact outward, so the arm arrives in the configuration the search checked
+        outward = follow_poses(self.problem.arm, poses[::-1], step.q_start)
+        if isinstance(outward, CartesianFailure):
+            return Rejection(Kind.APPROACH, f"{label}: no straight approach into the contact ({outward.reason})", 1.0)
+        joints = outward.joints[::-1].copy()
+        joints[-1] = step.q_start
+        # the gripper closes around a tool it grasps; a pushing hand must clear the body it pushes until contact
+        ignore = {step.body} if grasp else set()
+        clash = self.first_overlap(joints[:-1], step.poses_start, state.held, ignore, {step.body})
+        if clash is not None:
+            why = f"{label}: the straight approach into the contact is blocked: {clash[0]}"
+            return Rejection(Kind.APPROACH, why, 1.0)
+        # the transit planned later must end here: with room to spare, or another way in is tried
+        space = self.geometry.transit_space(state.held)
+        clash = self.first_overlap(joints[:1], step.poses_start, state.held, set(), collision=space)
+        if clash is not None:
+            why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash[0]}"
+            return Rejection(Kind.TRANSIT, why, 1.0)
+        return Approach(joints[0].copy(), self.straight("approach", joints, length))
+
+    def leave(self, step: PlanStepRecord, state: ArmState, label: str) -> Rejection | None:
+        """Why the arm could not leave the plan's last contact as execution leaves it (straight back out of it,
+        or up where that is blocked, then up), or None. Nothing is added to the plan: a plan ends in its last
+        contact, and execution breaks it with that move (`vkgl.execute.steps`)."""
+        after = ArmState(np.asarray(state.q, dtype=float).copy(), state.held, False)
+        retreat = self.retreat(step, after, f"{label}, at the end", step.poses_end)
+        if isinstance(retreat, Rejection):
+            return retreat
+        lift = self.lift(after, step.poses_end, f"{label}, at the end")
+        return lift if isinstance(lift, Rejection) else None
+
+    def retreat(
+        self, step: PlanStepRecord, state: ArmState, label: str, poses: Mapping[str, np.ndarray] | None = None
+    ) -> ArmSegment | Rejection:
+        """Straight back out of the contact the step removes, against the way it pushed, with the bodies at
+        `poses` (the step's start by default); when that way is blocked (a fingertip or a held hook behind a
+        handle's bar), straight up."""
+        poses = step.poses_start if poses is None else poses
+        away = -self.push_direction(step, poses)
+        what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        first = self.move_away(state, away, STANDOFF, poses, {step.body}, label, what)
+        if not isinstance(first, Rejection):
+            return first
+        above = self.move_away(state, -DOWN, STANDOFF, poses, {step.body}, label, what)
+        return first if isinstance(above, Rejection) else above
+
+    def lift(self, state: ArmState, poses: Mapping[str, np.ndarray], label: str) -> ArmSegment | Rejection:
+        """Straight up `LIFT` from where the arm is (after a grasp or a release)."""
+        what = ("lift", "the hand cannot rise straight up", "the way straight up is blocked")
+        return self.move_away(state, -DOWN, LIFT, poses, set(), label, what)
+
+    def move_away(
+        self,
+        state: ArmState,
+        way: np.ndarray,
+        length: float,
+        poses: Mapping[str, np.ndarray],
+        pad_may_touch: set[str],
+        label: str,
+        what: tuple[str, str, str],
+    ) -> ArmSegment | Rejection:
+        """A straight move of the hand by `length` along `way` from where the arm is; `what`: the segment's
+        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose."""
+        phase, no_path, blocked = what
+        start = self.problem.arm.fk(state.q)
+        out = approach_poses(start, length, APPROACH_STEP, -way)[::-1]  # from `start` to `length` along `way`
+        path = follow_poses(self.problem.arm, out, state.q)
+        if isinstance(path, CartesianFailure):
+            return Rejection(Kind.APPROACH, f"{label}: {no_path} ({path.reason})", 1.0)
+        joints = path.joints.copy()
+        joints[0] = state.q
+        clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
+        if clash is not None:
+            return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0)
+        state.q = joints[-1]
+        return self.straight(phase, joints, length)
+
+    def push_direction(self, step: PlanStepRecord, poses: Mapping[str, np.ndarray]) -> np.ndarray:
+        """The world direction the step's contact pushes along: the x axis of its action frame on the body."""
+        _, _, name = step.affordance.partition(".")
+        pusher = poses[step.body] @ self.problem.action(step.body, name)
+        return np.asarray(pusher[:3, 0], dtype=float)
+
+    def first_overlap(
+        self,
+        joints: np.ndarray,
+        poses: Mapping[str, np.ndarray],
+        held: Held | None,
+        ignore: set[str],
+        pad_may_touch: set[str] | None = None,
+        collision: ArmCollision | None = None,
+    ) -> tuple[str, float] | None:
+        """What the arm (or a held tool) would overlap at the first blocked configuration of `joints`, in words,
+        and how deep (m); None when nothing is blocked.
+
+        `ignore`: bodies nothing of the arm is checked against; `pad_may_touch`: bodies only the fingertip pad
+        may touch (the one a straight approach or retreat pushes: its yaw about the push direction is free).
+        """
+        collision = collision or self.geometry.arm_collision
+        collision.scene.place(poses)
+        pad = pad_may_touch or set()
+        for q in joints:
+            if collision.free(q, ignore=ignore, held=held, pad_may_touch=pad):
+                continue
+            found = collision.overlap(q, ignore=ignore, held=held, pad_may_touch=pad)
+            if not found:
+                continue
+            deepest = max(found, key=lambda c: c.depth)
+            what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
+            return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm", deepest.depth
+        return None
+
+    def straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
+        """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`."""
+        count = len(joints) - 1
+        times = np.linspace(0.0, max(length / CARTESIAN_SPEED, 1e-3), count + 1) if count else np.zeros(1)
+        return ArmSegment(phase, times, np.asarray(joints, dtype=float))
+
+
+__all__ = [
+    "CARTESIAN_SPEED",
+    "DOWN",
+    "GRASP_STANDOFF",
+    "LIFT",
+    "SLANT",
+    "STANDOFF",
+    "TOOL_DESCENT",
+    "Approach",
+    "ArmState",
+    "StraightMoves",
+]

@@ -1,0 +1,161 @@
+"""Collision geometry in feasibility: a candidate sequence is a plan only if no body passes through another.
+
+Checked for every sequence that task space accepted (`bodies`), and again
+for the arm once joint space found its configurations (`arm`):
+
+- every moved body swept along its motion against every body the mode keeps
+  still (`vkgl.plan.geometry.sweep`: no 5 mm overlap slips between samples), a tool
+  pushing or pulling a body moving with it, its whole shape checked;
+- every mode's start and end poses free of overlap (a tool and the body it
+  acts on may touch; a released tool must land clear of the others);
+- the arm's links at the configurations inverse kinematics returned, and a
+  held tool in its hand, against the bodies and the table (the body the hand
+  touches excepted).
+
+The collision world (`vkgl.motion.collision`, DART's FCL) is built once per
+problem, on first use.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import numpy as np
+
+from vkgl.motion.arm_collision import ArmCollision, Held
+from vkgl.motion.collision import CollisionScene, Contact, pair
+from vkgl.plan.geometry.sweep import sweep_mode
+from vkgl.plan.graphs.graph import Engagement, KGraph
+from vkgl.plan.graphs.rollout import ModeTrace
+from vkgl.plan.problem.problem import Problem, collision_scene
+from vkgl.plan.problem.rejection import Kind, Rejection
+
+TRANSIT_CLEARANCE = 0.01
+"""m: a transit keeps the arm and a held tool at least this far from every body (the physics' contacts have
+margins, and the bodies are not exactly where the plan has them)."""
+
+
+class GeometryCheck:
+    """The collision checks of one planning problem (built lazily: most sequences never get this far)."""
+
+    def __init__(self, problem: Problem) -> None:
+        """Checks for `problem`'s bodies, table and arm."""
+        self.problem = problem
+        self._scene: CollisionScene | None = None
+        self._arm: ArmCollision | None = None
+        self._transit: ArmCollision | None = None
+        self.queries = 0
+
+    @property
+    def scene(self) -> CollisionScene:
+        """The bodies and the table as FCL objects."""
+        if self._scene is None:
+            self._scene = collision_scene(self.problem)
+        return self._scene
+
+    @property
+    def transit_collision(self) -> ArmCollision:
+        """The arm against the bodies grown by `TRANSIT_CLEARANCE`: free space for transits, with room to spare."""
+        if self._transit is None:
+            grown = collision_scene(self.problem, margin=TRANSIT_CLEARANCE)
+            self._transit = ArmCollision(grown, self.problem.arm)
+        return self._transit
+
+    def transit_space(self, held: Held | None) -> ArmCollision:
+        """What a transit's configurations must be free in: `transit_collision` for the bare arm; a held tool
+        works close to the body it acts on (a hook's shaft along the block it pulls), so with one the exact
+        geometry (`arm_collision`)."""
+        return self.transit_collision if held is None else self.arm_collision
+
+    @property
+    def arm_collision(self) -> ArmCollision:
+        """The arm's link geometry against the scene."""
+        if self._arm is None:
+            self._arm = ArmCollision(self.scene, self.problem.arm)
+        return self._arm
+
+    def bodies(self, graphs: Iterable[KGraph], traces: list[ModeTrace]) -> Rejection | None:
+        """Why the bodies of a rollout would pass through one another, or None when they do not."""
+        for k, (graph, trace) in enumerate(zip(graphs, traces, strict=True)):
+            allowed = self._tool_pairs(graph)
+            self.queries += 1
+            found = sweep_mode(self.scene, self.problem, trace, allowed)
+            if found:
+                return _rejection(found, f"in mode {k}, {_moving(self.problem, graph, trace)}")
+            for when, poses in (("start", trace.start), ("end", trace.end)):
+                self.queries += 1
+                found = self.scene.overlap(poses, ignore=allowed)
+                if found:
+                    return _rejection(found, f"at the {when} of mode {k}")
+        return None
+
+    def arm(self, graphs: Iterable[KGraph], traces: list[ModeTrace], q_start: list, q_end: list) -> Rejection | None:
+        """Why the arm (or a tool in its hand) would hit a body or the table at its configurations, or None."""
+        robot = self.problem.robot_effector.name
+        before: set[str] = set()
+        for k, (graph, trace) in enumerate(zip(graphs, traces, strict=True)):
+            touched = {e.body for e in graph.engaged if e.effector == robot}
+            if not trace.hand:
+                # the hand rests where the previous mode left it, still at the contact it has just removed
+                # (the retreat out of it is checked with the arm's paths)
+                touched |= before
+            before = touched
+            held = self._held(graph, touched)
+            for q, poses, when in ((q_start[k], trace.start, "start"), (q_end[k], trace.end, "end")):
+                if q is None:
+                    continue
+                q = np.asarray(q, dtype=float)
+                hold = None
+                if held is not None:
+                    tool, acts_on = held
+                    in_hand = np.linalg.inv(self.problem.arm.fk(q)) @ poses[tool]
+                    hold = Held(tool, in_hand, frozenset(acts_on))
+                self.queries += 1
+                found = self.arm_collision.overlap(q, poses, ignore=touched, held=hold)
+                if found:
+                    return _rejection(found, f"with the arm at the {when} of mode {k}", bodies=self.scene.names)
+        return None
+
+    def _tool_pairs(self, graph: KGraph) -> set[frozenset[str]]:
+        """Pairs that may touch in a mode: a tool and the body it acts on."""
+        out = set()
+        for e in graph.engaged:
+            tool = self.problem.effector(e.effector).tool
+            if tool is not None:
+                out.add(pair(tool, e.body))
+        return out
+
+    def _held(self, graph: KGraph, touched: set[str]) -> tuple[str, set[str]] | None:
+        """The tool the hand holds in a mode (the touched body whose affordance lets it move freely)."""
+        for e in graph.engaged:
+            if e.body in touched and self.problem.affordance(e.body, e.affordance).motion.type == "free":
+                acts_on = {f.body for f in graph.engaged if self.problem.effector(f.effector).tool == e.body}
+                return e.body, acts_on
+        return None
+
+
+def _moving(problem: Problem, graph: KGraph, trace: ModeTrace) -> str:
+    moved = [e for e in graph.engaged if trace.values.get(e, 0.0) > 0.0]
+    if not moved:
+        return "while nothing is pushed"
+    return "while " + ", ".join(_engagement_words(problem, e, trace.values[e]) for e in moved)
+
+
+def _engagement_words(problem: Problem, e: Engagement, value: float) -> str:
+    motion = problem.affordance(e.body, e.affordance).motion.type
+    amount = f"{value * 100:.1f} cm" if motion == "prismatic" else f"{np.degrees(value):.1f} deg"
+    return f"{e.effector} moves {e.body} by {amount} ({problem.bodies[e.body].type.name}.{e.affordance})"
+
+
+def _rejection(found: list[Contact], where: str, *, bodies: Iterable[str] | None = None) -> Rejection:
+    """A collision rejection naming the deepest overlap; `bodies`: the scene's (other names are arm links)."""
+    deepest = max(found, key=lambda c: c.depth)
+    a, b = deepest.body_a, deepest.body_b
+    what = f"the arm's {a}" if bodies is not None and a not in set(bodies) else a
+    at = deepest.point
+    return Rejection(
+        Kind.COLLISION,
+        f"{what} would pass through {b} by {deepest.depth * 100:.1f} cm at ({at[0]:.2f}, {at[1]:.2f}, "
+        f"{at[2]:.2f}) m {where}: {b} is in the way",
+        float(deepest.depth),
+    )

@@ -1,0 +1,1 @@
+"""Kinematic graphs, graph sequences and their rollout in task space."""

@@ -1,0 +1,311 @@
+"""Graph sequences and their rollout: body and hand poses from the motion values (task space).
+
+A sequence G0 .. G_{D-1} has one mode per graph. The transition into mode k
+(the sequence's k-th action) happens at a configuration where the constraints
+of both graphs hold; during mode k every engaged prismatic or revolute
+affordance moves its body by a value >= 0 (one variable each), and whatever is
+fixed to it follows. `rollout(problem, seq, values)` composes those
+constraints as matrix products (paper §2.3: task space ignores the arm) and
+returns per mode the poses at its start and end and the hand's poses along it.
+
+Motions are object-centric: the affordance's parameters are in the body's
+frame, so a body at `P` moved by value `v` ends at `P @ motion_matrix(c, v)`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
+from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, motion_type
+from vkgl.plan.problem.problem import Problem
+
+PRISMATIC_MAX = 2.0
+"""m: the longest slide of one mode (beyond any table the examples use)."""
+
+REVOLUTE_MAX = math.pi
+"""rad: the largest turn of one mode (a turn about a fixed contact beyond half a revolution is not a push)."""
+
+
+@dataclass(frozen=True)
+class Sequence:
+    """A graph sequence as the search builds it, with what its prefix already knows.
+
+    `variables[i] = (mode, engagement)`: the motion value i moves the
+    engagement's body during that mode. `dependent`: bodies whose current pose
+    depends on some motion value (the others are where the rollout with all
+    values 0 puts them, exactly). `zero_poses`: the poses after the last mode
+    with every value 0.
+    """
+
+    actions: tuple[Action, ...] = ()
+    graphs: tuple[KGraph, ...] = (g0(),)
+    variables: tuple[tuple[int, Engagement], ...] = ()
+    dependent: frozenset[str] = frozenset()
+    zero_poses: dict[str, np.ndarray] = field(default_factory=dict, compare=False)
+
+    @property
+    def depth(self) -> int:
+        """Graphs in the sequence, G0 included."""
+        return len(self.graphs)
+
+    @property
+    def last(self) -> Action | None:
+        """The last action, or None for G0 alone."""
+        return self.actions[-1] if self.actions else None
+
+
+def start_sequence(problem: Problem) -> Sequence:
+    """The sequence made of G0 alone."""
+    return Sequence(zero_poses={n: b.rest.copy() for n, b in problem.bodies.items()})
+
+
+def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, np.ndarray | None]:
+    """`seq` followed by `action`, and the hand's pose at the new transition when no motion value affects it.
+
+    The second result is None when the hand is not attached at the transition
+    or its pose depends on motion values (then only the optimisation knows it).
+    """
+    graph = seq.graphs[-1].apply(action)
+    mode = len(seq.graphs)
+    poses = dict(seq.zero_poses)
+    _transition(problem, poses, action)
+    dependent = set(seq.dependent)
+    e = action.engagement
+    effector = problem.effector(e.effector)
+    if action.op == "add" and effector.tool is not None:
+        dependent.discard(effector.tool)
+        if e.body in dependent:
+            dependent.add(effector.tool)
+    hand = None
+    if action.op == "add" and e.body not in dependent:
+        hand = hand_pose_at(problem, graph, poses, action.engagement)
+    variables = list(seq.variables)
+    for engaged in graph.engaged:
+        if motion_type(problem, engaged) in ("prismatic", "revolute"):
+            variables.append((mode, engaged))
+            dependent.add(engaged.body)
+            for other in graph.engaged:  # a tool acting on a moving body moves with it
+                tool = problem.effector(other.effector).tool
+                if tool is not None and other.body == engaged.body:
+                    dependent.add(tool)
+    child = Sequence(seq.actions + (action,), seq.graphs + (graph,), tuple(variables), frozenset(dependent), poses)
+    return child, hand
+
+
+def _transition(problem: Problem, poses: dict[str, np.ndarray], action: Action) -> None:
+    """Apply what happens at a transition: a tool jumps to its contact; a released tool is put down."""
+    e = action.engagement
+    tool = problem.effector(e.effector).tool
+    if action.op == "add" and tool is not None:
+        poses[tool] = tool_pose_on(problem, e, poses[e.body])
+    elif action.op == "remove" and motion_type(problem, e) == "free":
+        poses[e.body] = put_down(poses[e.body], problem.bodies[e.body].rest_z)
+
+
+def tool_pose_on(problem: Problem, engagement: Engagement, target_pose: np.ndarray) -> np.ndarray:
+    """Where a tool is when its frame enacts `engagement` on a target at `target_pose`."""
+    effector = problem.effector(engagement.effector)
+    return target_pose @ problem.action(engagement.body, engagement.affordance) @ effector.frame_inverse
+
+
+def put_down(pose: np.ndarray, rest_z: float) -> np.ndarray:
+    """`pose` lowered onto the table: same x, y and heading, level, its frame at `rest_z`."""
+    out = np.eye(4)
+    yaw = math.atan2(pose[1, 0], pose[0, 0])
+    out[:3, :3] = Rotation.from_euler("z", yaw).as_matrix()
+    out[:3, 3] = (pose[0, 3], pose[1, 3], rest_z)
+    return out
+
+
+def hand_chain(problem: Problem, graph: KGraph, engagement: Engagement) -> tuple[np.ndarray, bool] | None:
+    """The robot effector's pose in the target body's frame while `engagement` holds, and whether its yaw is free.
+
+    The robot's own effector: the action pose (a round fingertip pushes the
+    same at any yaw, so yaw is free unless it grasps). A tool frame: the
+    action, back to the tool's frame, then the grasp by which the hand holds
+    the tool (exact pose). None when the tool is not held.
+    """
+    effector = problem.effector(engagement.effector)
+    action = problem.action(engagement.body, engagement.affordance)
+    if effector.tool is None:
+        return action, motion_type(problem, engagement) != "free"
+    held = graph.engaging(effector.tool)
+    if held is None:
+        return None
+    return action @ effector.frame_inverse @ problem.action(held.body, held.affordance), False
+
+
+def hand_pose_at(problem: Problem, graph: KGraph, poses: dict[str, np.ndarray], e: Engagement) -> np.ndarray | None:
+    """The hand's world pose when engagement `e` holds with the bodies at `poses` (None if not attached)."""
+    chain = hand_chain(problem, graph, e)
+    return None if chain is None else poses[e.body] @ chain[0]
+
+
+def motion_matrix(constraint: object, value: float) -> np.ndarray:
+    """The motion of a body by `value` (m or rad) under a prismatic or revolute constraint, in its own frame."""
+    return motion_matrices(constraint, np.array([value]))[0]
+
+
+_MOTIONS: dict[tuple[int, bytes], tuple[object, np.ndarray]] = {}
+_MOTIONS_KEPT = 4096
+"""Motion matrices remembered (the optimiser's finite differences move one value at a time: the other modes'
+motions repeat, and a SciPy rotation costs tens of microseconds)."""
+_MOTION_PATH = 16
+"""Paths up to this many values are remembered (a rollout's have 5 or 6): at most about 8 MB."""
+
+
+def motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
+    """`motion_matrix` for each of `values` at once (n x 4 x 4, read-only): one scipy call for a whole path."""
+    if len(values) > _MOTION_PATH:  # long scans (closed_form's 181 angles) are not kept
+        m = _motion_matrices(constraint, values)
+        m.flags.writeable = False
+        return m
+    key = (id(constraint), np.asarray(values, dtype=float).tobytes())
+    cached = _MOTIONS.get(key)
+    if cached is not None and cached[0] is constraint:  # the constraint is kept, so that its id stays its own
+        return cached[1]
+    if len(_MOTIONS) >= _MOTIONS_KEPT:
+        _MOTIONS.clear()
+    m = _motion_matrices(constraint, values)
+    m.flags.writeable = False
+    _MOTIONS[key] = (constraint, m)
+    return m
+
+
+def _motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
+    axis, center = unit_axis_and_center(constraint)
+    m = np.zeros((len(values), 4, 4))
+    m[:, 3, 3] = 1.0
+    if center is None:  # prismatic (or anything that does not move: axis zero)
+        m[:, 0, 0] = m[:, 1, 1] = m[:, 2, 2] = 1.0
+        m[:, :3, 3] = np.outer(values, axis)
+        return m
+    rotations = Rotation.from_rotvec(np.outer(values, axis)).as_matrix()
+    m[:, :3, :3] = rotations
+    m[:, :3, 3] = center - rotations @ center
+    return m
+
+
+_AXES: dict[int, tuple[object, np.ndarray, np.ndarray | None]] = {}
+
+
+def unit_axis_and_center(constraint: object) -> tuple[np.ndarray, np.ndarray | None]:
+    """(unit axis, centre) of a revolute constraint, (unit axis, None) of a prismatic one, zero axis otherwise."""
+    cached = _AXES.get(id(constraint))
+    if cached is not None and cached[0] is constraint:
+        return cached[1], cached[2]
+    if isinstance(constraint, (PrismaticC, RevoluteC)):
+        axis = constraint.axis.array()
+        axis = axis / np.linalg.norm(axis)
+    else:
+        axis = np.zeros(3)
+    center = constraint.center.array() if isinstance(constraint, RevoluteC) else None
+    _AXES[id(constraint)] = (constraint, axis, center)  # the constraint is kept so that its id stays unique
+    return axis, center
+
+
+RANGE_MARGIN = 0.0
+"""m or rad: how far past its `range` upper bound one mode may move a motion (none: learned bounds are rounded down)."""
+
+
+def value_bounds(constraint: object) -> tuple[float, float]:
+    """The values one mode may give a motion: [0, cap] (`PRISMATIC_MAX` / `REVOLUTE_MAX`) within its `range`."""
+    cap = REVOLUTE_MAX if isinstance(constraint, RevoluteC) else PRISMATIC_MAX
+    bounds = constraint.range if isinstance(constraint, (PrismaticC, RevoluteC)) else None
+    if bounds is None:
+        return 0.0, cap
+    upper = min(cap, bounds.upper.value + RANGE_MARGIN)
+    return min(max(0.0, bounds.lower.value), upper), upper
+
+
+def bounds(problem: Problem, seq: Sequence) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of the sequence's motion values (`value_bounds` of each one's motion)."""
+    pairs = [value_bounds(problem.affordance(e.body, e.affordance).motion) for _, e in seq.variables]
+    lower = np.asarray([p[0] for p in pairs], dtype=float)
+    upper = np.asarray([p[1] for p in pairs], dtype=float)
+    return lower, upper
+
+
+class _Fractions(dict):
+    """`_FRACTIONS[n]`: n evenly spaced fractions from 0 to 1 (cached)."""
+
+    def __missing__(self, n: int) -> np.ndarray:
+        self[n] = np.linspace(0.0, 1.0, n)
+        return self[n]
+
+
+_FRACTIONS = _Fractions()
+
+
+@dataclass
+class ModeTrace:
+    """One mode of a rollout: poses at its start and end, and the hand along it.
+
+    `hand`: the hand's world poses at evenly spaced fractions of the mode's
+    motion (one pose when it only touches at the start, e.g. a grasp; empty
+    when the hand is free); `yaw_free`: whether only its position and z axis
+    matter; `values`: the motion value of each engagement of the mode.
+    """
+
+    start: dict[str, np.ndarray]
+    end: dict[str, np.ndarray]
+    hand: list[np.ndarray]
+    yaw_free: bool
+    values: dict[Engagement, float]
+
+
+def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 5) -> list[ModeTrace]:
+    """Every mode of `seq` with motion values `values` (`samples` hand poses along each moving mode)."""
+    poses = {n: b.rest.copy() for n, b in problem.bodies.items()}
+    by_mode: dict[int, list[tuple[Engagement, float]]] = {}
+    for (mode, e), v in zip(seq.variables, values):
+        by_mode.setdefault(mode, []).append((e, float(v)))
+    traces = []
+    for k, graph in enumerate(seq.graphs):
+        if k > 0:
+            _transition(problem, poses, seq.actions[k - 1])
+        start = dict(poses)
+        moves = by_mode.get(k, [])
+        paths = {}  # the body's motion at `samples` fractions of its value, for the hand path
+        for e, v in moves:
+            paths[e] = motion_matrices(problem.affordance(e.body, e.affordance).motion, _FRACTIONS[samples] * v)
+            poses[e.body] = start[e.body] @ paths[e][-1]
+        for e in graph.engaged:
+            tool = problem.effector(e.effector).tool
+            if tool is not None:
+                poses[tool] = tool_pose_on(problem, e, poses[e.body])
+        hand, yaw_free = _hand_path(problem, seq, k, start, paths)
+        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}))
+    return traces
+
+
+def acting_engagement(problem: Problem, graph: KGraph) -> Engagement | None:
+    """The engagement through which the hand touches a body it moves: its own push, or its tool's; else None."""
+    holding = graph.using(problem.robot_effector.name)
+    if holding is None or motion_type(problem, holding) != "free":
+        return holding
+    return next((e for e in graph.engaged if problem.effector(e.effector).tool == holding.body), None)
+
+
+def _hand_path(
+    problem: Problem, seq: Sequence, k: int, start: dict[str, np.ndarray], paths: dict[Engagement, np.ndarray]
+) -> tuple[list[np.ndarray], bool]:
+    """The hand's poses during mode k: along the motion of what it pushes, at a grasp, or none (free)."""
+    graph = seq.graphs[k]
+    holding = graph.using(problem.robot_effector.name)
+    if holding is None:
+        return [], True
+    acting = acting_engagement(problem, graph)
+    if acting is None:  # a tool free in the hand: only a grasp made at this transition pins the hand
+        just_grasped = k > 0 and seq.actions[k - 1].op == "add" and seq.actions[k - 1].engagement == holding
+        grasp = problem.action(holding.body, holding.affordance)
+        return ([start[holding.body] @ grasp] if just_grasped else []), False
+    chain, yaw_free = hand_chain(problem, graph, acting)  # type: ignore[misc]
+    if acting not in paths:
+        return [start[acting.body] @ chain], yaw_free
+    return list(start[acting.body] @ paths[acting] @ chain), yaw_free

@@ -1,0 +1,412 @@
+"""Is a graph sequence feasible? Task space first (NLopt over the motion values), then joint space (IK).
+
+Task space (paper §2.3, step 1): the variables are the motion values of the
+sequence (>= 0, one per engaged prismatic/revolute affordance and mode); the
+body poses are the graph edges composed as matrix products
+(`vkgl.plan.graphs.rollout`); the goal must hold within its tolerance; the hand must
+stay inside the arm's reachable workspace (the radial interval at its height,
+computed once from the URDF by `Arm.reach`) at every sample along every
+motion; bodies that lie on the table stay over it; bodies with a physical joint
+stay within its limits. Before any optimisation, exact geometric reasoning
+rejects what cannot work (`closed_form`) and gives the optimiser its start.
+The optimiser is NLopt's SLSQP (gradient-based, finite-difference gradients)
+from that start and, when some value is not pinned by the goal, from
+deterministic restarts.
+
+Joint space (step 2): inverse kinematics of the arm (NLopt over the URDF's
+joints, DART forward kinematics, `Arm.ik`) at the start and end of every mode
+and at `JOINT_SAMPLES` points along each motion, each run warm-started from the
+previous solution so that the arm moves continuously.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import nlopt
+import numpy as np
+
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
+from vkgl.plan.problem.problem import GoalSpec, Problem
+from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.closed_form import closed_form
+from vkgl.plan.task_space.workspace import reach_violations, unreachable
+from vkgl.se3 import wrap_angle, yaw_of
+
+TASK_SAMPLES = 5
+"""Hand poses checked against the reach along each motion in task space (ends included)."""
+
+JOINT_SAMPLES = 6
+"""Hand poses solved by IK along each motion in joint space (ends included; >= 5 as required)."""
+
+RESTARTS = 3
+"""Deterministic extra starts of the task-space optimisation when the goal leaves a value free."""
+
+ALTERNATIVE_FRACTIONS = (0.25, 0.5, 1.0)
+"""Where in their ranges the motion values start when the search asks the optimiser for other solutions of a
+sequence (a body in the way moved a quarter, half, then all of the way it was explored: the shortest move that
+clears the path first)."""
+
+ASIDE_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
+"""Where in their ranges the motion values of the bodies no goal names are set, without optimising, before the
+optimiser is asked (`task_space_alternatives`): three quarters too, for a body in the way that half its range
+leaves in the path and all of it pushes into another body."""
+
+FD_STEP = 1e-7
+"""Step of the forward-difference gradients (m or rad)."""
+
+
+@dataclass
+class Counters:
+    """Work done by the checks of one search: NLopt task-space runs and IK calls."""
+
+    optimisations: int = 0
+    ik_calls: int = 0
+
+
+@dataclass
+class TaskSolution:
+    """A sequence's motion values that satisfy every task-space constraint, and the rollout they give."""
+
+    values: np.ndarray
+    traces: list[ModeTrace]
+    free: bool = False  # the goal leaves some value free: other solutions may exist (`task_space_alternatives`)
+
+
+# ---------------------------------------------------------------- task space
+
+
+class _Evaluator:
+    """Rollouts of one sequence by motion values, memoised.
+
+    The objective, the constraints and their gradients share them.
+    """
+
+    def __init__(self, problem: Problem, seq: Sequence) -> None:
+        self.problem, self.seq = problem, seq
+        self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+        self.last_x = np.zeros(len(seq.variables))
+
+    def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(goal residuals scaled by their tolerances, constraint values <= 0 when satisfied)."""
+        key = x.tobytes()
+        if not np.isfinite(x).all():  # SLSQP can step to NaN on a degenerate problem: make that point bad
+            ok = self.evaluate(np.zeros_like(x))
+            return np.full_like(ok[0], 1e6), np.full_like(ok[1], 1.0)
+        if key not in self._memo:
+            if len(self._memo) > 64:
+                self._memo.clear()
+            self._memo[key] = self._compute(x)
+        return self._memo[key]
+
+    def _compute(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        traces = rollout(self.problem, self.seq, x, TASK_SAMPLES)
+        return goal_residuals(self.problem, traces[-1].end), constraint_values(self.problem, traces)
+
+    def objective(self, x: np.ndarray, grad: np.ndarray) -> float:
+        residual, _ = self.evaluate(x)
+        self.last_x = x.copy()
+        value = float(residual @ residual)
+        if grad.size:
+            for i in range(len(x)):
+                step = x.copy()
+                step[i] += FD_STEP
+                r, _ = self.evaluate(step)
+                grad[i] = (float(r @ r) - value) / FD_STEP
+        return value
+
+    def constraints(self, result: np.ndarray, x: np.ndarray, grad: np.ndarray) -> None:
+        _, c = self.evaluate(x)
+        result[:] = c
+        if grad.size:
+            for i in range(len(x)):
+                step = x.copy()
+                step[i] += FD_STEP
+                grad[:, i] = (self.evaluate(step)[1] - c) / FD_STEP
+
+
+def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray:
+    """Each goal's position error (per component), yaw error and joint coordinate error, divided by its tolerance."""
+    out: list[float] = []
+    for goal in problem.goals:
+        pose = final[goal.body]
+        if goal.position is not None:
+            out.extend((pose[: len(goal.position), 3] - goal.position) / goal.tol_position)
+        if goal.yaw is not None:
+            out.append(wrap_angle(yaw_of(pose) - goal.yaw) / goal.tol_yaw)
+        if goal.opening is not None:
+            out.append((problem.bodies[goal.body].joint_state(pose) - goal.opening) / goal.tol_opening)
+    return np.asarray(out, dtype=float)
+
+
+def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalSpec] | None = None) -> bool:
+    """Whether every goal (of the problem, or `goals`) holds at `final` within its tolerance."""
+    for goal in problem.goals if goals is None else goals:
+        pose = final[goal.body]
+        if (
+            goal.position is not None
+            and np.linalg.norm(pose[: len(goal.position), 3] - goal.position) > goal.tol_position
+        ):
+            return False
+        if goal.yaw is not None and abs(wrap_angle(yaw_of(pose) - goal.yaw)) > goal.tol_yaw:
+            return False
+        if (
+            goal.opening is not None
+            and abs(problem.bodies[goal.body].joint_state(pose) - goal.opening) > goal.tol_opening
+        ):
+            return False
+    return True
+
+
+def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
+    """Inequality constraints (<= 0 when satisfied, metres): reach of every hand sample, table, joint limits."""
+    hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
+    out = list(reach_violations(problem, np.array(hands))) if hands else []
+    for trace in traces:
+        for name in {e.body for e in trace.values}:
+            out.extend(_stay_constraints(problem, name, trace.end[name]))
+    return np.asarray(out if out else [-1.0], dtype=float)
+
+
+def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
+    """A moved body stays over the table (if it lies on it) and within its physical joint's limits."""
+    body = problem.bodies[name]
+    out: list[float] = []
+    if body.on_table and problem.table_center is not None:
+        offset = np.abs(pose[:2, 3] - problem.table_center) - problem.table_size / 2  # type: ignore[operator]
+        out.extend(float(v) for v in offset)
+    if body.joint_limits is not None and body.joint_axis is not None:
+        lower, upper = body.joint_limits
+        state = body.joint_state(pose)
+        out.extend((lower - state, state - upper))
+    return out
+
+
+def limit_words(problem: Problem, name: str, pose: np.ndarray, goal: GoalSpec | None = None) -> str:
+    """Which limit a body would pass, with the numbers: its joint's range, or the table's edge.
+
+    The joint's coordinate is where `goal` (else the body's first goal that says) puts it, if one does.
+    """
+    body = problem.bodies[name]
+    if body.joint_limits is not None and body.joint_axis is not None:
+        lower, upper = body.joint_limits
+        state = body.joint_state(pose)
+        scale, unit = (100.0, "cm") if body.joint == "prismatic" else (math.degrees(1.0), "deg")
+        needed = goal_joint_state(problem, name, goal)
+        if needed is not None and lower <= needed <= upper:
+            needed = None  # the goal is within the limits: it is the motion's way there that passes one
+        what = "the goal needs it at" if needed is not None else "it would have to move to"
+        state = needed if needed is not None else state
+        edge, side = (upper, "upper") if state > (lower + upper) / 2 else (lower, "lower")
+        return (
+            f"{name}: {what} {state * scale:.1f} {unit} on its {body.joint} joint, past its {side} limit of "
+            f"{edge * scale:.1f} {unit} (range {lower * scale:.1f} to {upper * scale:.1f} {unit})"
+        )
+    overhang = max(_stay_constraints(problem, name, pose) or [0.0])
+    return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (its frame leaves the table)"
+
+
+def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) -> float | None:
+    """Where a goal puts a body's physical joint (m or rad); None without such a goal.
+
+    A joint goal says it (`opening`); a position goal says it for a prismatic
+    joint. `goal` picks the goal; by default, the body's first that says.
+    """
+    body = problem.bodies[name]
+    if body.joint_axis is None:
+        return None
+    for chosen in problem.goals if goal is None else [goal]:
+        if chosen.body != name:
+            continue
+        if chosen.opening is not None:
+            return chosen.opening
+        if body.joint == "prismatic" and chosen.position is not None:
+            offset = np.zeros(3)
+            offset[: len(chosen.position)] = chosen.position[:3] - body.rest[: len(chosen.position), 3]
+            return body.start_state + float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
+    return None
+
+
+def task_space(
+    problem: Problem, seq: Sequence, deadline: float, counters: Counters | None = None
+) -> TaskSolution | Rejection:
+    """Motion values for `seq` that reach the goal inside every constraint (NLopt SLSQP), or why not."""
+    start = closed_form(problem, seq)
+    if isinstance(start, Rejection):
+        return start
+    guess, pinned = start
+    evaluator = _Evaluator(problem, seq)
+    lower, upper = bounds(problem, seq)
+    guess = np.clip(guess, lower, upper)
+    best: tuple[float, np.ndarray] | None = None
+    for x0 in [guess, *([] if pinned else _restarts(lower, upper))]:
+        if time.perf_counter() > deadline:
+            break
+        x = _optimise(evaluator, x0, lower, upper, deadline)
+        if counters is not None:
+            counters.optimisations += 1
+        residual, c = evaluator.evaluate(x)
+        violation = float(c.max())
+        traces = rollout(problem, seq, x, TASK_SAMPLES)
+        if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
+            return TaskSolution(x, rollout(problem, seq, x, JOINT_SAMPLES), free=not pinned)
+        score = violation + float(residual @ residual)
+        if best is None or score < best[0]:
+            best = (score, x)
+    return _why_not(problem, seq, best[1] if best is not None else guess)
+
+
+def task_space_alternatives(
+    problem: Problem, seq: Sequence, found: TaskSolution, deadline: float, counters: Counters | None = None
+) -> Iterator[TaskSolution]:
+    """Other motion values for `seq` that reach the goal too, when the goal leaves some of them free.
+
+    The search asks for them when `found` makes bodies pass through one
+    another: a body in the way pushed or turned farther than the first
+    solution moved it may clear the path. First, no optimisation: `found`'s
+    values for the goal bodies' motions (they reach the goal, and a goal
+    body's pose depends on its own motions only) with every other body's
+    values at one of `ASIDE_FRACTIONS` of their ranges, kept when they
+    break no constraint. Then the optimiser, started with every value at one
+    of those fractions (the goal then pins the values it needs). Solutions
+    equal to one already given are skipped. Deterministic.
+    """
+    if not found.free:
+        return
+    evaluator = _Evaluator(problem, seq)
+    lower, upper = bounds(problem, seq)
+    given = [found.values]
+    goal_bodies = {goal.body for goal in problem.goals}
+    aside = np.array([e.body not in goal_bodies for _, e in seq.variables], dtype=bool)
+    starts: list[tuple[np.ndarray, bool]] = []
+    if aside.any():
+        starts += [(np.where(aside, lower + f * (upper - lower), found.values), False) for f in ASIDE_FRACTIONS]
+    starts += [(lower + f * (upper - lower), True) for f in ALTERNATIVE_FRACTIONS]
+    for x0, optimise in starts:
+        if time.perf_counter() > deadline:
+            return
+        x = x0
+        if optimise:
+            x = _optimise(evaluator, x0, lower, upper, deadline)
+            if counters is not None:
+                counters.optimisations += 1
+        _, c = evaluator.evaluate(x)
+        if float(c.max()) > 1e-6 or any(np.allclose(x, other, atol=1e-3) for other in given):
+            continue
+        traces = rollout(problem, seq, x, JOINT_SAMPLES)
+        if goal_holds(problem, traces[-1].end):
+            given.append(x)
+            yield TaskSolution(x, traces, free=True)
+
+
+def _optimise(
+    evaluator: _Evaluator, x0: np.ndarray, lower: np.ndarray, upper: np.ndarray, deadline: float
+) -> np.ndarray:
+    """One SLSQP run from `x0`: minimise the goal error subject to the constraints, within the deadline."""
+    if len(x0) == 0:
+        return x0
+    n_constraints = len(evaluator.evaluate(x0)[1])
+    opt = nlopt.opt(nlopt.LD_SLSQP, len(x0))
+    opt.set_lower_bounds(lower)
+    opt.set_upper_bounds(upper)
+    opt.set_min_objective(evaluator.objective)
+    opt.add_inequality_mconstraint(evaluator.constraints, np.full(n_constraints, 1e-7))
+    opt.set_xtol_abs(1e-7)
+    opt.set_ftol_abs(1e-10)
+    opt.set_stopval(1e-8)
+    opt.set_maxeval(60)
+    opt.set_maxtime(max(1e-3, deadline - time.perf_counter()))
+    evaluator.last_x = x0.copy()
+    try:
+        return np.asarray(opt.optimize(x0.copy()))
+    except (nlopt.RoundoffLimited, nlopt.ForcedStop, nlopt.runtime_error, RuntimeError, ValueError):
+        return evaluator.last_x  # where SLSQP had got to: still worth judging
+
+
+def _restarts(lower: np.ndarray, upper: np.ndarray) -> list[np.ndarray]:
+    """Fixed, spread-out starts: a quarter, a half and a tenth of each range."""
+    return [lower + f * (upper - lower) for f in (0.25, 0.5, 0.1)][:RESTARTS]
+
+
+def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
+    """The reason the best values found still fail: out of reach, off the table, or the goal missed."""
+    traces = rollout(problem, seq, x, TASK_SAMPLES)
+    for trace in traces:
+        for pose in trace.hand:
+            found = unreachable(problem, pose)
+            if found is not None:
+                return found
+    for trace in traces:  # a limit the optimiser ran into (or past) is what stopped it
+        for name in sorted({e.body for e in trace.values}):
+            excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
+            if excess > -1e-4:
+                return Rejection(Kind.TABLE, limit_words(problem, name, trace.end[name]), max(excess, 0.0))
+    why = "the optimiser found no motion values that reach the goal"
+    return Rejection(Kind.GOAL, why + _at_range_ends(problem, seq, x))
+
+
+def _at_range_ends(problem: Problem, seq: Sequence, x: np.ndarray) -> str:
+    """` (at the end of the range it was explored over: Block.turn_px_left 25.0 deg)` for values stopped there."""
+    _, upper = bounds(problem, seq)
+    ended = {}
+    for (_, e), value, top in zip(seq.variables, x, upper):
+        motion = problem.affordance(e.body, e.affordance).motion
+        if getattr(motion, "range", None) is not None and value >= top - 1e-6:
+            name = f"{problem.bodies[e.body].type.name}.{e.affordance}"
+            ended[name] = f"{math.degrees(top):.1f} deg" if motion.type == "revolute" else f"{top * 100:.1f} cm"
+    parts = [f"{name} {limit}" for name, limit in ended.items()]
+    return f" (at the end of the range it was explored over: {', '.join(parts)})" if parts else ""
+
+
+# ---------------------------------------------------------------- joint space
+
+
+@dataclass
+class JointSolution:
+    """Joint configurations of the arm at the start and end of every mode (None while nothing pins the hand)."""
+
+    q_start: list[np.ndarray]
+    q_end: list[np.ndarray]
+    ik_calls: int
+
+
+def joint_space(
+    problem: Problem,
+    solution: TaskSolution,
+    deadline: float,
+    counters: Counters | None = None,
+    *,
+    pin_yaw: bool = False,
+) -> JointSolution | Rejection:
+    """IK for every hand pose of the rollout, in order, each warm-started from the one before.
+
+    A fingertip's yaw about its push direction is free (the round fingertip pushes the same at any yaw);
+    with `pin_yaw` it is the action frame's, as the arm's paths pin it (`vkgl.plan.arm.paths`): the
+    hand then lies along the face it pushes, not across it (the search asks for that when the hand at
+    a free yaw hits something, such as the cabinet around a drawer's handle).
+    """
+    arm = problem.arm
+    q = arm.home.copy()
+    q_start: list[np.ndarray] = []
+    q_end: list[np.ndarray] = []
+    calls = 0
+    for k, trace in enumerate(solution.traces):
+        path = []
+        for pose in trace.hand:
+            if time.perf_counter() > deadline:
+                return Rejection(Kind.TIMEOUT, "ran out of time in inverse kinematics")
+            calls += 1
+            if counters is not None:
+                counters.ik_calls += 1
+            found = arm.ik(pose, q0=q, yaw_free=trace.yaw_free and not pin_yaw)
+            if found is None:
+                where = f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}, {pose[2, 3]:.3f}) m"
+                return Rejection(Kind.IK, f"no joint configuration puts the hand at {where} in mode {k}")
+            q = found
+            path.append(q)
+        q_start.append(path[0] if path else q)
+        q_end.append(q)
+    return JointSolution(q_start, q_end, calls)
