@@ -298,3 +298,36 @@ def test_a_vkg_plan_2_document_is_still_read_without_contact_chains(scripted):
     assert to_json(doc)["format"] == "vkg-plan/3"  # written back as the current version
     with pytest.raises(PlanFormatError, match=r"steps\[0\]\.contact: unknown key"):
         from_json({**older, "steps": [{**older["steps"][0], "contact": []}, *older["steps"][1:]]})
+
+
+def _same(a: Any, b: Any, where: str = "") -> list[str]:
+    """Where two documents' fields differ: arrays element for element (bit for bit) with their shapes and write
+    flags, everything else by equality."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        a_, b_ = np.asarray(a), np.asarray(b)
+        same = a_.shape == b_.shape and a_.tobytes() == b_.tobytes() and a_.flags.writeable == b_.flags.writeable
+        return [] if same else [where]
+    if hasattr(a, "__dataclass_fields__"):
+        if type(a) is not type(b):
+            return [f"{where}: {type(a).__name__} vs {type(b).__name__}"]
+        return [
+            d for name in a.__dataclass_fields__ for d in _same(getattr(a, name), getattr(b, name), f"{where}.{name}")
+        ]
+    if isinstance(a, dict):
+        if list(a) != list(b):
+            return [where]
+        return [d for key in a for d in _same(a[key], b[key], f"{where}.{key}")]
+    if isinstance(a, (list, tuple)):
+        if type(a) is not type(b) or len(a) != len(b):
+            return [where]
+        return [d for k, (x, y) in enumerate(zip(a, b)) for d in _same(x, y, f"{where}[{k}]")]
+    return [] if a == b and type(a) is type(b) else [f"{where}: {a!r} vs {b!r}"]
+
+
+@pytest.mark.parametrize("name", [p.stem for p in example_tasks()])
+def test_a_plans_document_is_what_its_json_reads_back(solved, name):
+    """`Plan.document()` holds its document (no JSON in memory): every field as `from_json(to_json(...))` gives,
+    so that executing from memory and from the file is the same."""
+    plan = solved[name]
+    assert not _same(plan.document(), from_json(plan.to_json()))
+    assert plan.document() is plan.document()

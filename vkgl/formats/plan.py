@@ -22,7 +22,7 @@ import itertools
 import json
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -213,6 +213,64 @@ def to_json(doc: PlanDocument) -> dict[str, Any]:
     if doc.status != "solved":
         out["reason"] = doc.reason
     return out
+
+
+def rounded(doc: PlanDocument) -> PlanDocument:
+    """`doc` with every number as its JSON writes it (rounded to 1e-12, poses without negative zeros) and its
+    arrays read-only: what `from_json(to_json(doc))` reads back, built without writing or checking JSON. A plan
+    carried out from memory and one read back from its file then give bit for bit the same result."""
+    return PlanDocument(
+        task=doc.task,
+        status=doc.status,
+        depth=doc.depth,
+        stats=PlanStats(**{key: getattr(doc.stats, key) for key in _STATS_KEYS}),
+        robot=replace(
+            doc.robot,
+            base=_rounded_matrix(doc.robot.base),
+            effector_offset=_rounded_matrix(doc.robot.effector_offset),
+            joints=tuple(doc.robot.joints),
+        ),
+        graphs=tuple(tuple((a, b, c) for a, b, c in graph) for graph in doc.graphs),
+        steps=tuple(_rounded_step(step) for step in doc.steps),
+        final=_rounded_poses(doc.final),
+        reason="" if doc.status == "solved" else doc.reason,
+    )
+
+
+def _rounded_matrix(pose: np.ndarray) -> np.ndarray:
+    return frozen(np.array(matrix_json(pose), dtype=float))
+
+
+def _rounded_poses(poses: Poses) -> dict[str, np.ndarray]:
+    return {name: _rounded_matrix(pose) for name, pose in poses.items()}
+
+
+def _rounded_joints(joints: np.ndarray) -> np.ndarray:
+    return frozen(np.array(_joints_json(joints), dtype=float))
+
+
+def _rounded_step(step: PlanStepRecord) -> PlanStepRecord:
+    return PlanStepRecord(
+        op=step.op,
+        affordance=step.affordance,
+        body=step.body,
+        effector=step.effector,
+        motion=step.motion,
+        value=float(round(step.value, 12)),
+        poses_start=_rounded_poses(step.poses_start),
+        poses_end=_rounded_poses(step.poses_end),
+        q_start=frozen(np.array([float(round(v, 12)) for v in step.q_start], dtype=float)),
+        q_end=frozen(np.array([float(round(v, 12)) for v in step.q_end], dtype=float)),
+        path=tuple(
+            ArmSegment(
+                s.phase,
+                frozen(np.array([float(round(v, 12)) + 0.0 for v in s.times], dtype=float)),
+                _rounded_joints(s.joints),
+            )
+            for s in step.path
+        ),
+        contact=None if step.contact is None or len(step.contact) == 0 else _rounded_joints(step.contact),
+    )
 
 
 def dumps(doc: PlanDocument) -> str:
@@ -467,6 +525,7 @@ __all__ = [
     "from_json",
     "matrix_json",
     "read",
+    "rounded",
     "to_json",
     "write",
 ]

@@ -11,11 +11,13 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
 from vkgl.lang.ir.nodes import Task
 from vkgl.lang.ir.program import Program
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
-from vkgl.plan.result.plan import Plan, graph_edges, robot_entry
+from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
 from vkgl.plan.search.search import SearchResult, SearchStats, search
 
 
@@ -110,7 +112,7 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
         "geometry_checks": result.stats.geometry_checks,
         "optimisations": result.stats.work.optimisations,
         "ik_calls": result.stats.work.ik_calls,
-        "rejections": dict(result.stats.rejections),
+        "rejections": {str(kind): n for kind, n in result.stats.rejections.items()},
         "arm_paths": result.stats.arm_path_checks,
         "transit_checks": result.stats.transit_checks,
         "transits": result.stats.transits,
@@ -118,24 +120,26 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
         "transit_time_s": round(result.stats.transit_time, 4),
         "search_time_s": round(elapsed - result.stats.transit_time, 4),  # everything but the transits
     }
-    plan = Plan(
+    graphs: list[list[tuple[str, str, str]]] = []
+    steps: list[PlanStep] = []
+    final: dict[str, np.ndarray] = {}
+    if result.status == "solved":
+        seq, task = result.sequence, result.task
+        assert seq is not None and task is not None
+        graphs, steps, final = graph_edges(problem, list(seq.graphs)), list(result.steps), dict(task.traces[-1].end)
+    return Plan(
         problem.task.name,
         result.status,
         result.reason,
         stats,
         robot_entry(problem),
+        graphs=graphs,
+        steps=steps,
+        final=final,
         start=rest,
         problem=problem,
         details=details,
     )
-    if result.status != "solved":
-        return plan
-    seq, task = result.sequence, result.task
-    assert seq is not None and task is not None
-    plan.graphs = graph_edges(problem, list(seq.graphs))
-    plan.steps = list(result.steps)
-    plan.final = dict(task.traces[-1].end)
-    return plan
 
 
 __all__ = ["Avoid", "Plan", "solve"]

@@ -1,8 +1,10 @@
-"""The one NLopt set-up of the robot code: SLSQP over joint angles within their limits.
+"""The one NLopt set-up of vkgl: SLSQP over bounded variables, with constraints and a stopping rule.
 
-IK, the ready pose and the extreme radii of the reach all minimise a smooth
-function of the joints with analytic gradients (from DART's Jacobian), some
-under constraints; they differ only in their functions and stopping rules.
+IK, the ready pose and the extreme radii of the reach minimise a smooth
+function of the joints with analytic gradients (from DART's Jacobian), and the
+planner's task space (`vkgl.plan.task_space.feasible`) minimises the goal error
+over a sequence's motion values under vector constraints; they differ only in
+their functions and stopping rules.
 """
 
 from __future__ import annotations
@@ -17,6 +19,12 @@ Objective = Callable[[np.ndarray, np.ndarray], float]
 Constraint = tuple[Objective, float]
 """A constraint function and its tolerance."""
 
+VectorFunction = Callable[[np.ndarray, np.ndarray, np.ndarray], None]
+"""NLopt's vector-constraint convention: `f(result, x, grad)` fills `result` (m) and, when not empty, `grad` (m x n)."""
+
+VectorConstraint = tuple[VectorFunction, np.ndarray]
+"""A vector constraint function (all components <= 0) and its per-component tolerances."""
+
 
 def slsqp(
     objective: Objective,
@@ -30,14 +38,17 @@ def slsqp(
     stop: float | None = None,
     equalities: Sequence[Constraint] = (),
     inequalities: Sequence[Constraint] = (),
+    vector_inequalities: Sequence[VectorConstraint] = (),
+    max_time: float | None = None,
 ) -> np.ndarray | None:
     """Minimise `objective` with NLopt's LD_SLSQP from `seed` within [lower, upper]: the optimum, or None.
 
     `equalities` hold at 0 and `inequalities` at <= 0, each within its
-    tolerance; `xtol` and `ftol` are absolute tolerances and `stop` a value at
-    which to stop at once. None means NLopt gave up with an error (round-off,
-    a failed line search, a non-finite value); callers that want the best point
-    seen so far track it in their objective.
+    tolerance (`vector_inequalities`: every component <= 0); `xtol` and `ftol`
+    are absolute tolerances, `stop` a value at which to stop at once and
+    `max_time` a limit in seconds. None means NLopt gave up with an error
+    (round-off, a failed line search, a non-finite value, a forced stop);
+    callers that want the best point seen so far track it in their objective.
     """
     import nlopt
 
@@ -49,6 +60,8 @@ def slsqp(
         optimiser.add_equality_constraint(function, tolerance)
     for function, tolerance in inequalities:
         optimiser.add_inequality_constraint(function, tolerance)
+    for vector, tolerances in vector_inequalities:
+        optimiser.add_inequality_mconstraint(vector, tolerances)
     # NLopt's defaults are left alone unless asked: each caller keeps its own stopping rule.
     if stop is not None:
         optimiser.set_stopval(stop)
@@ -56,10 +69,12 @@ def slsqp(
     if ftol is not None:
         optimiser.set_ftol_abs(ftol)
     optimiser.set_xtol_abs(xtol)
+    if max_time is not None:
+        optimiser.set_maxtime(max_time)
     try:
-        return np.asarray(optimiser.optimize(seed))
-    except (nlopt.RoundoffLimited, nlopt.runtime_error, ValueError, RuntimeError):
+        return np.asarray(optimiser.optimize(np.array(seed, dtype=float)))
+    except (nlopt.RoundoffLimited, nlopt.ForcedStop, nlopt.runtime_error, ValueError, RuntimeError):
         return None
 
 
-__all__ = ["Constraint", "Objective", "slsqp"]
+__all__ = ["Constraint", "Objective", "VectorConstraint", "VectorFunction", "slsqp"]

@@ -13,11 +13,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
-from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord, from_json, to_json
+from vkgl.formats.plan import PlanDocument, PlanRobot, PlanStats, PlanStepRecord, rounded, to_json
 from vkgl.plan.graphs.graph import edges
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem
@@ -31,7 +32,7 @@ class PlanStep(PlanStepRecord):
     hand: list[np.ndarray] = field(default_factory=list)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Plan:
     """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/3`.
 
@@ -63,11 +64,16 @@ class Plan:
     def document(self) -> PlanDocument:
         """The plan as a `vkg-plan/3` document (`vkgl.formats.plan`), exactly as its JSON reads back.
 
-        Numbers are rounded as the JSON writes them, so that carrying out the
-        document in memory and carrying out the file `vkgc solve --json`
-        wrote give bit for bit the same result.
+        Numbers are rounded as the JSON writes them (`formats.plan.rounded`),
+        so that carrying out the document in memory and carrying out the file
+        `vkgc solve --json` wrote give bit for bit the same result. Built once:
+        a Plan never changes.
         """
-        return from_json(to_json(self._unrounded_document()))
+        return self._document
+
+    @cached_property
+    def _document(self) -> PlanDocument:
+        return rounded(self._unrounded_document())
 
     def _unrounded_document(self) -> PlanDocument:
         return PlanDocument(

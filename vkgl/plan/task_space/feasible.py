@@ -26,7 +26,6 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-import nlopt
 import numpy as np
 
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
@@ -34,6 +33,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.closed_form import closed_form
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
+from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
 
 TASK_SAMPLES = 5
@@ -309,21 +309,20 @@ def _optimise(
     if len(x0) == 0:
         return x0
     n_constraints = len(evaluator.evaluate(x0)[1])
-    opt = nlopt.opt(nlopt.LD_SLSQP, len(x0))
-    opt.set_lower_bounds(lower)
-    opt.set_upper_bounds(upper)
-    opt.set_min_objective(evaluator.objective)
-    opt.add_inequality_mconstraint(evaluator.constraints, np.full(n_constraints, 1e-7))
-    opt.set_xtol_abs(1e-7)
-    opt.set_ftol_abs(1e-10)
-    opt.set_stopval(1e-8)
-    opt.set_maxeval(60)
-    opt.set_maxtime(max(1e-3, deadline - time.perf_counter()))
     evaluator.last_x = x0.copy()
-    try:
-        return np.asarray(opt.optimize(x0.copy()))
-    except (nlopt.RoundoffLimited, nlopt.ForcedStop, nlopt.runtime_error, RuntimeError, ValueError):
-        return evaluator.last_x  # where SLSQP had got to: still worth judging
+    found = slsqp(
+        evaluator.objective,
+        x0,
+        lower,
+        upper,
+        max_evaluations=60,
+        xtol=1e-7,
+        ftol=1e-10,
+        stop=1e-8,
+        vector_inequalities=[(evaluator.constraints, np.full(n_constraints, 1e-7))],
+        max_time=max(1e-3, deadline - time.perf_counter()),
+    )
+    return evaluator.last_x if found is None else found  # on an error: where SLSQP had got to, still worth judging
 
 
 def _restarts(lower: np.ndarray, upper: np.ndarray) -> list[np.ndarray]:
