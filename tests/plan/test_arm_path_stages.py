@@ -10,7 +10,7 @@ from conftest import EXAMPLES
 
 import vkgl
 from vkgl.plan.arm.paths import ArmPathPlanner
-from vkgl.plan.task_space.workspace import Rejection
+from vkgl.plan.problem.rejection import Kind, Rejection
 
 
 def test_a_candidate_whose_transit_fails_is_rejected_and_the_search_goes_on(monkeypatch) -> None:
@@ -22,7 +22,7 @@ def test_a_candidate_whose_transit_fails_is_rejected_and_the_search_goes_on(monk
     def refusing_the_first(self, paths, *, deadline=None):  # type: ignore[no-untyped-def]
         if not refused:
             refused.append([s.title() for s in paths.steps])
-            return Rejection("transit", "refused by the test", 1.0)
+            return Rejection(Kind.TRANSIT, "refused by the test", 1.0)
         return real(self, paths, deadline=deadline)
 
     monkeypatch.setattr(ArmPathPlanner, "transits", refusing_the_first)

@@ -114,7 +114,7 @@ def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_a
     # block2 across the path: half of its push clears it. When the arm's checks refuse those values, the search
     # tries the next ones that clear the path (three quarters) for the same sequence, not another sequence
     import vkgl.plan.search.search as search
-    from vkgl.plan.task_space.workspace import Rejection
+    from vkgl.plan.problem.rejection import Kind, Rejection
 
     source = SCENE.replace("at ({x2}, {y2}) m yaw 0deg", "at ({x2}, {y2}) m yaw 90deg").replace(
         "max_depth 3", "max_depth 5"
@@ -126,7 +126,7 @@ def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_a
         pushes_block2 = len(seq.actions) == 3 and seq.actions[0].label(problem).endswith("on block2 with arm.fingertip")
         if pushes_block2 and not refused:
             refused.append(solution.values.copy())
-            return Rejection("ik", "refused by the test", 1.0)
+            return Rejection(Kind.IK, "refused by the test", 1.0)
         return real(problem, seq, solution, *args)
 
     monkeypatch.setattr(search, "_arm_checks", refusing_the_first_values)

@@ -12,7 +12,8 @@ from plan_programs import compiled  # noqa: F401 (fixture)
 from vkgl.plan.graphs.graph import Action, Engagement, edges, g0, successors
 from vkgl.plan.graphs.rollout import extend, rollout, start_sequence
 from vkgl.plan.problem.problem import build_problem
-from vkgl.plan.task_space.closed_form import Rejection, closed_form
+from vkgl.plan.problem.rejection import Rejection
+from vkgl.plan.task_space.closed_form import closed_form
 
 
 @pytest.fixture(scope="module")

@@ -180,7 +180,7 @@ def _with_arm_paths(program: Program, task: Task, steps: list[PlanStepRecord]) -
     from vkgl.plan.arm.paths import ArmPathPlanner
     from vkgl.plan.geometry.bodies import GeometryCheck
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.task_space.workspace import Rejection
+    from vkgl.plan.problem.rejection import Rejection
 
     problem = build_problem(program, task)
     planned = ArmPathPlanner(problem, GeometryCheck(problem)).plan(steps)
