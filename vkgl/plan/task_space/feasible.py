@@ -31,6 +31,7 @@ import numpy as np
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import closed_form
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
@@ -50,10 +51,10 @@ ALTERNATIVE_FRACTIONS = (0.25, 0.5, 1.0)
 sequence (a body in the way moved a quarter, half, then all of the way it was explored: the shortest move that
 clears the path first)."""
 
-ASIDE_FRACTIONS = (0.25, 0.5, 0.75, 1.0)
-"""Where in their ranges the motion values of the bodies no goal names are set, without optimising, before the
-optimiser is asked (`task_space_alternatives`): three quarters too, for a body in the way that half its range
-leaves in the path and all of it pushes into another body."""
+ASIDE_BEYOND = (0.0, 0.5, 1.0)
+"""A body in the way is moved by the smallest value that clears the later motions' corridors
+(`clearing.cleared_values`), then that value plus these fractions of what is left of its range: farther aside,
+for when the arm cannot carry the first (`task_space_alternatives`)."""
 
 FD_STEP = 1e-7
 """Step of the forward-difference gradients (m or rad)."""
@@ -265,25 +266,27 @@ def task_space_alternatives(
     """Other motion values for `seq` that reach the goal too, when the goal leaves some of them free.
 
     The search asks for them when `found` makes bodies pass through one
-    another: a body in the way pushed or turned farther than the first
-    solution moved it may clear the path. First, no optimisation: `found`'s
-    values for the goal bodies' motions (they reach the goal, and a goal
-    body's pose depends on its own motions only) with every other body's
-    values at one of `ASIDE_FRACTIONS` of their ranges, kept when they
-    break no constraint. Then the optimiser, started with every value at one
-    of those fractions (the goal then pins the values it needs). Solutions
-    equal to one already given are skipped. Deterministic.
+    another: a body in the way moved out of the path may clear it. First, no
+    optimisation: `found`'s values for the goal bodies' motions (they reach
+    the goal, and a goal body's pose depends on its own motions only) with
+    every body in the way moved by the smallest value that takes it out of
+    the corridors the later motions sweep, with a margin
+    (`clearing.cleared_values`, computed from the footprints), then farther
+    (`ASIDE_BEYOND`); kept when they break no constraint. Then the optimiser,
+    started with every value at one of `ALTERNATIVE_FRACTIONS` of its range
+    (the goal then pins the values it needs). Solutions equal to one already
+    given are skipped. Deterministic.
     """
     if not found.free:
         return
     evaluator = _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq)
     given = [found.values]
-    goal_bodies = {goal.body for goal in problem.goals}
-    aside = np.array([e.body not in goal_bodies for _, e in seq.variables], dtype=bool)
     starts: list[tuple[np.ndarray, bool]] = []
-    if aside.any():
-        starts += [(np.where(aside, lower + f * (upper - lower), found.values), False) for f in ASIDE_FRACTIONS]
+    cleared = cleared_values(problem, seq, found.values, found.traces, lower, upper)
+    if cleared is not None:
+        aside = np.array([i in {b.index for b in blockers(problem, seq)} for i in range(len(cleared))], dtype=bool)
+        starts += [(np.where(aside, cleared + f * (upper - cleared), cleared), False) for f in ASIDE_BEYOND]
     starts += [(lower + f * (upper - lower), True) for f in ALTERNATIVE_FRACTIONS]
     for x0, optimise in starts:
         if time.perf_counter() > deadline:

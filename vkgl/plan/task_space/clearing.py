@@ -1,0 +1,218 @@
+"""Clutter cleared on purpose: how far to move a body in the way so that it leaves the path of the bodies after it.
+
+When a sequence's motions sweep a body through another (a cube pushed through a Block lying across its path),
+the search asks task space for other motion values (`feasible.task_space_alternatives`). A body that no goal
+names and that the sequence moves before the blocked motion (a "blocker") is moved by the smallest value of its
+own motion that takes its footprint out of the corridor every later motion sweeps, with a margin:
+
+- a corridor is the convex hull of a moving body's footprint (and of the tool that moves it) at evenly spaced
+  fractions of its motion in one mode, on the table's plane;
+- the blocker's footprint along its own motion is tested against every later corridor (convex polygons:
+  separating axes, then the distance between their edges), from 0 up its range; the first clear value found on
+  a grid is refined by bisection against the last blocked one, so that the answer is the boundary within
+  `RESOLUTION`, never a value inside the corridor.
+
+For a slide the set of values that leave the blocker inside a convex corridor is one interval (the footprint and
+the corridor are convex, and the footprint moves along a line), so the smallest clear value past it is the
+boundary the bisection finds. For a turn the same search is done along the angle (the grid is fine enough for
+the footprints the stdlib's bodies have; the sweep check in the search has the last word either way). Several
+blockers are cleared in turn, each against the corridors of the motions after its own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from vkgl.lang.ir.geometry import shape_vertices
+from vkgl.plan.graphs.graph import Engagement
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, motion_matrices, rollout, tool_pose_on
+from vkgl.plan.problem.problem import Problem
+
+MARGIN = 0.01
+"""m: a cleared blocker stays this far from every later corridor (the sweep check allows 1 mm of touching)."""
+
+RESOLUTION = 0.002
+"""m or rad: the bisection stops when the clear value is known this closely."""
+
+GRID = 48
+"""Values tried along a blocker's range before the bisection (the first clear one bounds the search)."""
+
+CORRIDOR_SAMPLES = 9
+"""Fractions of a mode's motion at which a moving body's footprint is taken for its corridor."""
+
+
+@dataclass(frozen=True)
+class Blocker:
+    """A motion variable of the sequence that moves a body no goal names: variable `index`, in mode `mode`."""
+
+    index: int
+    mode: int
+    engagement: Engagement
+
+
+def footprint(problem: Problem, body: str, pose: np.ndarray) -> np.ndarray:
+    """The convex footprint (k x 2, counter-clockwise) of `body` at world `pose`, on the table's plane."""
+    vertices = np.asarray(shape_vertices(problem.bodies[body].type.shape), dtype=float)
+    world = vertices @ pose[:3, :3].T + pose[:3, 3]
+    return convex_hull(world[:, :2])
+
+
+def convex_hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull of 2-D points, counter-clockwise, without repeated or collinear points (monotone chain)."""
+    unique = np.unique(np.round(np.asarray(points, dtype=float), 12), axis=0)
+    if len(unique) < 3:
+        return unique
+
+    def half(rows: np.ndarray) -> list[np.ndarray]:
+        chain: list[np.ndarray] = []
+        for p in rows:
+            while len(chain) >= 2 and _cross(chain[-2], chain[-1], p) <= 0:
+                chain.pop()
+            chain.append(p)
+        return chain
+
+    lower, upper = half(unique), half(unique[::-1])
+    return np.array(lower[:-1] + upper[:-1])
+
+
+def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+
+
+def polygon_distance(a: np.ndarray, b: np.ndarray) -> float:
+    """The distance between two convex polygons (0 when they overlap or touch)."""
+    if _overlap(a, b):
+        return 0.0
+    return min(
+        min(_point_segment(p, q0, q1) for p in a for q0, q1 in _edges(b)),
+        min(_point_segment(p, q0, q1) for p in b for q0, q1 in _edges(a)),
+    )
+
+
+def _edges(polygon: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    return [(polygon[i], polygon[(i + 1) % len(polygon)]) for i in range(len(polygon))]
+
+
+def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
+    """Separating-axis test of two convex polygons."""
+    for polygon in (a, b):
+        for p, q in _edges(polygon):
+            normal = np.array([q[1] - p[1], p[0] - q[0]])
+            if not normal.any():
+                continue
+            pa, pb = a @ normal, b @ normal
+            if pa.max() < pb.min() or pb.max() < pa.min():
+                return False
+    return True
+
+
+def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    ab = b - a
+    length = float(ab @ ab)
+    t = 0.0 if length == 0 else min(1.0, max(0.0, float((p - a) @ ab) / length))
+    return float(np.linalg.norm(p - (a + t * ab)))
+
+
+def corridors(problem: Problem, seq: Sequence, traces: list[ModeTrace], after: int, skip: str) -> list[np.ndarray]:
+    """The corridors of every body (and moving tool) that a motion of a mode after `after` sweeps, `skip` aside."""
+    out = []
+    fractions = np.linspace(0.0, 1.0, CORRIDOR_SAMPLES)
+    for mode, trace in enumerate(traces):
+        if mode <= after:
+            continue
+        for e, value in trace.values.items():
+            if e.body == skip or value == 0.0:
+                continue
+            paths = motion_matrices(problem.affordance(e.body, e.affordance).motion, fractions * value)
+            poses = [trace.start[e.body] @ m for m in paths]
+            points = [footprint(problem, e.body, pose) for pose in poses]
+            tool = problem.effector(e.effector).tool
+            if tool is not None and tool != skip:
+                points += [footprint(problem, tool, tool_pose_on(problem, e, pose)) for pose in poses]
+            out.append(convex_hull(np.vstack(points)))
+    return out
+
+
+def clearing_value(
+    problem: Problem, blocker: Blocker, start: np.ndarray, ways: list[np.ndarray], low: float, high: float
+) -> float | None:
+    """The smallest value in [low, high] of the blocker's motion (its body at world `start` before it) that keeps
+    its footprint `MARGIN` away from every corridor of `ways`; `low` when it is clear already; None when no value
+    of its range clears them."""
+    e = blocker.engagement
+    motion = problem.affordance(e.body, e.affordance).motion
+
+    def clear(value: float) -> bool:
+        pose = start @ motion_matrices(motion, np.array([value]))[0]
+        shape = footprint(problem, e.body, pose)
+        return all(polygon_distance(shape, way) >= MARGIN for way in ways)
+
+    if clear(low):
+        return low
+    grid = np.linspace(low, high, GRID + 1)[1:]
+    blocked = low
+    for value in grid.tolist():
+        if clear(value):
+            return _bisect(clear, blocked, value)
+        blocked = value
+    return None
+
+
+def _bisect(clear: object, blocked: float, free: float) -> float:
+    """The boundary between a blocked and a clear value, within `RESOLUTION`, on the clear side."""
+    assert callable(clear)
+    while free - blocked > RESOLUTION:
+        middle = 0.5 * (blocked + free)
+        if clear(middle):
+            free = middle
+        else:
+            blocked = middle
+    return free
+
+
+def blockers(problem: Problem, seq: Sequence) -> list[Blocker]:
+    """The sequence's motion variables that move a body no goal names."""
+    goal_bodies = {goal.body for goal in problem.goals}
+    return [Blocker(i, mode, e) for i, (mode, e) in enumerate(seq.variables) if e.body not in goal_bodies]
+
+
+def cleared_values(
+    problem: Problem, seq: Sequence, values: np.ndarray, traces: list[ModeTrace], lower: np.ndarray, upper: np.ndarray
+) -> np.ndarray | None:
+    """`values` with every blocker's value replaced by the smallest that clears the later motions' corridors
+    (`traces`: the rollout of `values`); None when some blocker cannot clear them or there is none."""
+    found = blockers(problem, seq)
+    if not found:
+        return None
+    out = np.array(values, dtype=float)
+    for k, blocker in enumerate(found):
+        if k > 0:  # a blocker moved before changes where the next one starts when it is the same body
+            traces = rollout(problem, seq, out)
+        body = blocker.engagement.body
+        ways = corridors(problem, seq, traces, blocker.mode, body)
+        if not ways:
+            continue
+        start = traces[blocker.mode].start[body]
+        value = clearing_value(problem, blocker, start, ways, float(lower[blocker.index]), float(upper[blocker.index]))
+        if value is None:
+            return None
+        out[blocker.index] = value
+    return out
+
+
+__all__ = [
+    "CORRIDOR_SAMPLES",
+    "GRID",
+    "MARGIN",
+    "RESOLUTION",
+    "Blocker",
+    "blockers",
+    "cleared_values",
+    "clearing_value",
+    "convex_hull",
+    "corridors",
+    "footprint",
+    "polygon_distance",
+]
