@@ -245,31 +245,25 @@ def _rounded_poses(poses: Poses) -> dict[str, np.ndarray]:
     return {name: _rounded_matrix(pose) for name, pose in poses.items()}
 
 
-def _rounded_joints(joints: np.ndarray) -> np.ndarray:
-    return frozen(np.array(_joints_json(joints), dtype=float))
-
-
 def _rounded_step(step: PlanStepRecord) -> PlanStepRecord:
-    return PlanStepRecord(
+    data = _step_json(step)  # the numbers exactly as written; arrays made of them directly
+
+    def array(values: Any) -> np.ndarray:
+        return frozen(np.array(values, dtype=float))
+
+    return PlanStepRecord(  # a record, not the planner's subclass with its extra fields
         op=step.op,
         affordance=step.affordance,
         body=step.body,
         effector=step.effector,
         motion=step.motion,
-        value=float(round(step.value, 12)),
+        value=data["value"],
         poses_start=_rounded_poses(step.poses_start),
         poses_end=_rounded_poses(step.poses_end),
-        q_start=frozen(np.array([float(round(v, 12)) for v in step.q_start], dtype=float)),
-        q_end=frozen(np.array([float(round(v, 12)) for v in step.q_end], dtype=float)),
-        path=tuple(
-            ArmSegment(
-                s.phase,
-                frozen(np.array([float(round(v, 12)) + 0.0 for v in s.times], dtype=float)),
-                _rounded_joints(s.joints),
-            )
-            for s in step.path
-        ),
-        contact=None if step.contact is None or len(step.contact) == 0 else _rounded_joints(step.contact),
+        q_start=array(data["q_start"]),
+        q_end=array(data["q_end"]),
+        path=tuple(ArmSegment(s["phase"], array(s["times"]), array(s["joints"])) for s in data["path"]),
+        contact=array(data["contact"]) if data["contact"] else None,
     )
 
 
