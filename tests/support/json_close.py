@@ -2,19 +2,21 @@
 
 Golden files of computed results (plans, reports) cannot be compared byte for byte: the same code gives
 results that differ in the last bits on another CPU. numpy picks SIMD kernels (AVX2, AVX-512) and OpenBLAS
-picks matrix kernels by the CPU it runs on, and each sums and rounds in its own order; an iterative solver
-(the arm's IK, SLSQP with `xtol` 1e-10) then stops a few of its own steps apart. On an AMD EPYC the example
-plans' joint values differ from the golden files' in the 9th significant digit (0.021268390736 against
-0.021268389623: 5e-8 relative, 1.1e-9 absolute).
+picks matrix kernels by the CPU it runs on, and each sums and rounds in its own order.
 
 `REL` and `ABS` say how far apart two floats may be: `|a - b| <= max(REL * max(|a|, |b|), ABS)`.
 
-- `REL = 1e-7`: twice the largest relative difference seen between CPUs, and four orders of magnitude
-  below anything a plan promises (IK stops at 1e-4 m; goal tolerances are millimetres and degrees).
+- `REL = 1e-7`: for values computed in closed form (products of transforms, sums), another summation
+  order or a vectorised sine moves a result by a few units in the last place per operation, 1e-13 after
+  hundreds of them; 1e-7 leaves a million times that, and is still far below anything physical (0.1 um
+  on a metre). The example plans' task-space numbers agree to the bit between two CPUs.
 - `ABS = 1e-8`, the floor for values near zero, where a relative bound means nothing: a pose's
-  off-diagonal rotation entries and a joint near its zero are sums whose terms cancel, and keep the
-  absolute error of their terms (about 1e-9 between CPUs). The values are SI (metres, radians,
-  seconds), so 1e-8 is 10 nm or 10 nanoradians: no physical change is that small.
+  off-diagonal rotation entries are sums whose terms cancel and keep the absolute error of their terms.
+  The values are SI (metres, radians, seconds), so 1e-8 is 10 nm or 10 nanoradians.
+
+Values that come out of an iterative solver stopped at a tolerance (IK, optimisers) differ between CPUs
+by up to that tolerance, not by rounding: give them a comparison of their own with `by_path` (the plan's
+joint values do: tests/support/plan_close.py).
 
 Everything that is not a float is compared exactly: strings, integers (counts are not floats), booleans,
 null, the keys of objects in their order (the order is part of the file), the length of lists. An integer
