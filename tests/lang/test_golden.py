@@ -2,7 +2,7 @@
 
 Each case is tests/lang/golden/<CODE>_<short_name>.vkg with its expected output
 beside it in <same>.expected: every diagnostic as vkgl.lang.diagnostics.diagnostic.render
-shows it (LANGUAGE.md §9) followed by the summary line. Paths in the output are
+shows it (docs/language.md, "The language in one example") followed by the summary line. Paths in the output are
 relative to the repository root, so the test runs `vkgc check` from there.
 Files in tests/lang/golden/lib/ are helpers the cases `use`, not cases.
 
