@@ -10,7 +10,7 @@ Some messages print computed numbers (`overlap by 3.0 cm`, `spans x from 1.95 to
 compared as text on purpose: they are the source's round numbers after a few additions and products
 (exactly rounded IEEE arithmetic, the same on every x86-64 CPU) or a contact query between boxes, printed
 to 0.1 cm or 0.01 m by Python's own formatting. Each printed value lies in the middle of its rounding
-interval, half a last digit (0.5 mm or more) from a boundary, where CPU differences are below 1e-12 m.
+interval, half a last digit (0.5 mm or more) from a boundary: orders of magnitude beyond last-bit differences.
 
 To regenerate the .expected files after an intended change of a message, run
 
