@@ -85,7 +85,7 @@ def _golden(name: str) -> dict[str, Any]:
     return json.loads((GOLDEN / f"{name}.json").read_text(encoding="utf-8"))
 
 
-@pytest.mark.parametrize("name", ["b_stick_push", "i_hook_drawer"])
+@pytest.mark.parametrize("name", [p.stem for p in example_tasks()])
 def test_every_float_perturbed_by_1e_9_still_matches_the_golden_plan(name):
     golden = _golden(name)
     moved = _perturbed(golden, 1e-9)
