@@ -79,7 +79,7 @@ def test_every_key_of_a_plan_is_documented() -> None:
     keys.add("reason")  # written only for plans that are not solved
     assert "contact" in keys and "phase" in keys
     assert _undocumented(PLAN_FORMAT, keys - NAMES) == []
-    assert _undocumented(PLAN_FORMAT, {"colour", "q"}) == ["colour", "q"]  # the check sees a missing key
+    assert _undocumented(PLAN_FORMAT, {"colour", "speed_limit"}) == ["colour", "speed_limit"]  # sees a missing key
 
 
 def test_every_key_of_an_infer_report_is_documented() -> None:
