@@ -9,8 +9,11 @@
    the true axis line), CPU time per 100-sample trial. Targets: accuracy >=
    95 % up to 5 mm / 2 deg, median axis error < 2 deg, centre error < 1 cm,
    < 10 ms per trial.
-2. Real tracks (../shared/data/articulation/, read in place, skipped when
-   absent): the confusion table by mechanism; target >= 95 % correct.
+2. Real tracks (Sturm et al.'s, not in the repository: `sturm_tracks.npz` and
+   `labels.json` read in place from `$VKGL_ARTICULATION_DATA`, by default
+   `shared/data/articulation` beside the checkout's folder; skipped, saying
+   where it looked, when absent): the confusion table by mechanism; target >=
+   95 % correct.
 
 `--trials F.npz` (repeatable) also times inference on recorded datasets.
 Prints Markdown tables.
@@ -20,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import time
 from collections import Counter, defaultdict
@@ -35,7 +39,7 @@ from synthetic import score, synthetic_trials  # noqa: E402
 from vkgl.formats.trials import Trials  # noqa: E402
 from vkgl.infer.trial import infer_trial, infer_trials  # noqa: E402
 
-REAL = REPO.parent / "shared" / "data" / "articulation"
+REAL = Path(os.environ.get("VKGL_ARTICULATION_DATA") or REPO.parent / "shared" / "data" / "articulation")
 NOISE_LEVELS = [(0.0, 0.0), (0.001, 0.5), (0.002, 1.0), (0.005, 2.0), (0.01, 3.0)]
 
 
@@ -74,7 +78,7 @@ def confusion_rows(per_type: int, seed: int) -> list[str]:
 
 def real_table() -> list[str]:
     if not (REAL / "sturm_tracks.npz").is_file():
-        return ["(real tracks not present: skipped)"]
+        return [f"(real tracks not found: no sturm_tracks.npz in {REAL}; set VKGL_ARTICULATION_DATA: skipped)"]
     trials = Trials.load(REAL / "sturm_tracks.npz")
     labels = json.loads((REAL / "labels.json").read_text())
     started = time.process_time()

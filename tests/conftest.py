@@ -15,7 +15,6 @@ os.environ.setdefault("VKGL_CACHE_DIR", tempfile.mkdtemp(prefix="vkgl-test-cache
 REPO = Path(__file__).resolve().parent.parent
 EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
-DESIGN = REPO.parent / "shared" / "design"
 
 SLOWEST_FIRST = [
     "tests/execute/test_closed_loop.py",

@@ -22,6 +22,7 @@ def _files(folder: Path) -> dict[str, bytes]:
 
 
 def test_the_generator_is_a_pure_function_of_the_seed(tmp_path: Path) -> None:
+    """Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter."""
     first = generate_tasks(7, 8, tmp_path / "a")
     second = generate_tasks(7, 8, tmp_path / "b")
     assert [t.metadata()["name"] for t in first] == [t.metadata()["name"] for t in second]

@@ -76,6 +76,7 @@ def test_the_animation_has_a_frame_per_kept_recording(recorded, tmp_path) -> Non
 
 
 def test_the_animation_is_the_same_bytes_every_time(recorded, tmp_path) -> None:
+    """Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter."""
     _, report, _ = recorded
     first = animate(report, tmp_path / "1.gif", max_frames=12).read_bytes()
     assert animate(report, tmp_path / "2.gif", max_frames=12).read_bytes() == first

@@ -74,6 +74,7 @@ def test_every_frame_is_what_a_full_redraw_draws(tmp_path) -> None:
 
 
 def test_the_same_frames_give_the_same_bytes(tmp_path) -> None:
+    """Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter."""
     import matplotlib.pyplot as plt
 
     for name in ("a.gif", "b.gif"):

@@ -74,6 +74,7 @@ def test_numbers_are_rounded_for_reading(block) -> None:
 
 
 def test_same_trials_same_bytes() -> None:
+    """Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter."""
     a = infer_library(block_pushes(), body_use="stdlib.bodies.block", header=HEADER)
     b = infer_library(block_pushes(), body_use="stdlib.bodies.block", header=HEADER)
     assert a.source == b.source

@@ -1,11 +1,15 @@
 """Real recorded tracks (Sturm et al.): doors, drawers, a dishwasher, a sliding cabinet; positions only.
 
-Read in place from ../shared/data/articulation/ (never copied); skipped when absent.
+The data is not in the repository (its licence is its own): `sturm_tracks.npz` (`vkg-trials/1`) and
+`labels.json` are read in place, never copied, from the folder `$VKGL_ARTICULATION_DATA` names, by default
+`shared/data/articulation` beside the folder that holds the checkout. Without them these tests skip, and
+the skip says which files were looked for where; every other inference test runs on synthetic data.
 """
 
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -13,9 +17,16 @@ import pytest
 from vkgl.formats.trials import Trials
 from vkgl.infer.library import infer_library
 
-DATA = Path(__file__).resolve().parents[3] / "shared" / "data" / "articulation"
+ENV = "VKGL_ARTICULATION_DATA"
+DATA = Path(os.environ.get(ENV) or Path(__file__).resolve().parents[3] / "shared" / "data" / "articulation")
+FILES = ("sturm_tracks.npz", "labels.json")
+MISSING = [name for name in FILES if not (DATA / name).is_file()]
 
-pytestmark = pytest.mark.skipif(not (DATA / "sturm_tracks.npz").is_file(), reason="articulation data not present")
+pytestmark = pytest.mark.skipif(
+    bool(MISSING),
+    reason=f"optional real articulation tracks not found: {', '.join(MISSING)} not in {DATA} "
+    f"(set {ENV} to the folder that holds {' and '.join(FILES)})",
+)
 
 
 @pytest.fixture(scope="module")

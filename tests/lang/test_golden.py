@@ -2,9 +2,15 @@
 
 Each case is tests/lang/golden/<CODE>_<short_name>.vkg with its expected output
 beside it in <same>.expected: every diagnostic as vkgl.lang.diagnostics.diagnostic.render
-shows it (LANGUAGE.md §9) followed by the summary line. Paths in the output are
-relative to the repository root, so the test runs `vkgc check` from there.
+shows it (docs/language.md, "The language in one example") followed by the summary line. Paths in the
+output are relative to the repository root, so the test runs `vkgc check` from there.
 Files in tests/lang/golden/lib/ are helpers the cases `use`, not cases.
+
+Some messages print computed numbers (`overlap by 3.0 cm`, `spans x from 1.95 to 2.05 m`), and they are
+compared as text on purpose: they are the source's round numbers after a few additions and products
+(exactly rounded IEEE arithmetic, the same on every x86-64 CPU) or a contact query between boxes, printed
+to 0.1 cm or 0.01 m by Python's own formatting. Each printed value lies in the middle of its rounding
+interval, half a last digit (0.5 mm or more) from a boundary: orders of magnitude beyond last-bit differences.
 
 To regenerate the .expected files after an intended change of a message, run
 

@@ -1,11 +1,11 @@
-"""LANGUAGE.md is a contract: every snippet on it parses, checks and means what it says.
+"""docs/language.md is the language's contract: the snippets of "The language in one example" parse, check and
+mean what they say.
 
-The snippets are read at test time from ../shared/design/LANGUAGE.md (beside the
-checkout); the tests skip when it is absent. Each snippet is compiled in the
+The snippets are read at test time from that section. Each is compiled in the
 module it would live in: bodies alone, the robot beside a copy of the stdlib's
 URDF, the affordances and correspondences with the stdlib modules they name, the
 scene as examples/scenes/tabletop.vkg and the task as a goal file beside it. The
-§9 block is an expected rendering: our rendering of the same bad line matches it.
+`text` block is an expected rendering: our rendering of the same bad line matches it.
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import DESIGN
 
 from vkgl.cli import main
 from vkgl.lang.compiler import check_files, compile_file
@@ -26,25 +25,31 @@ from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.lang.syntax.parser import parse_module
 from vkgl.resources import stdlib_dir
 
-LANGUAGE = DESIGN / "LANGUAGE.md"
-needs_contract = pytest.mark.skipif(
-    not LANGUAGE.is_file(), reason="../shared/design/LANGUAGE.md is not beside this checkout"
-)
+DOCS_LANGUAGE = Path(__file__).resolve().parents[2] / "docs" / "language.md"
+SECTION = "## The language in one example"
 
 USE_ROBOT_AND_BODIES = (
     "use stdlib.robots.panda\nuse stdlib.bodies.block\nuse stdlib.bodies.stick\nuse stdlib.bodies.hook\n\n"
 )
 
 
+def _section() -> str:
+    """The text of docs/language.md's "The language in one example", up to the next section."""
+    text = DOCS_LANGUAGE.read_text(encoding="utf-8")
+    assert text.count(SECTION + "\n") == 1, f"docs/language.md has no single `{SECTION}` section"
+    after = text.split(SECTION + "\n", 1)[1]
+    return re.split(r"^## ", after, maxsplit=1, flags=re.MULTILINE)[0]
+
+
 def _blocks() -> list[str]:
-    """Every fenced code block of LANGUAGE.md, in order."""
-    return re.findall(r"^```[^\n]*\n(.*?)^```", LANGUAGE.read_text(encoding="utf-8"), re.MULTILINE | re.DOTALL)
+    """Every fenced code block of the section, in order."""
+    return re.findall(r"^```[^\n]*\n(.*?)^```", _section(), re.MULTILINE | re.DOTALL)
 
 
 def _block(starting: str) -> str:
     """The one VKG block whose first statement (comments and `use` lines skipped) starts with `starting`."""
     found = [b for b in _blocks() if _first_statement(b).startswith(starting)]
-    assert len(found) == 1, f"LANGUAGE.md has {len(found)} blocks starting with `{starting}`"
+    assert len(found) == 1, f"the section has {len(found)} blocks starting with `{starting}`"
     return found[0]
 
 
@@ -75,16 +80,14 @@ def project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return tmp_path
 
 
-@needs_contract
 def test_every_vkg_block_is_covered_by_a_test() -> None:
-    """A new snippet on LANGUAGE.md must be added here: the known kinds cover every block."""
+    """A new snippet in the section must be added here: the known kinds cover every block."""
     kinds = ("body ", "robot ", "affordances ", "correspondences", "scene ", "task ")
     for block in _blocks():
         first = _first_statement(block)
         assert first.startswith(kinds) or "error[" in block, f"unclassified snippet: {first!r}"
 
 
-@needs_contract
 def test_body_snippets_check_alone_and_mean_what_they_say(project: Path) -> None:
     text = _block("body Block")
     _assert_clean(_write(project / "bodies.vkg", text))
@@ -105,18 +108,17 @@ def test_body_snippets_check_alone_and_mean_what_they_say(project: Path) -> None
     assert drawer_joint.type == "prismatic" and drawer_joint.upper.value == pytest.approx(0.30)
 
 
-@needs_contract
 def test_body_snippets_match_the_stdlib_bodies() -> None:
-    """The stdlib ships the bodies of §3 as written (the stdlib may add comments).
+    """The stdlib ships the section's bodies as written (the stdlib may add comments).
 
     Hook is the exception: stdlib/bodies/hook.vkg lengthens the cross-piece on
     purpose (its header says why), so only its frames and exploration must match.
-    The stdlib Block explores the §3 `pushes` and, after it, a longer `slides`
+    The stdlib Block explores the section's `pushes` and, after it, a longer `slides`
     block (stdlib/bodies/block.vkg says why: the slides' explored range); the
-    Block of §3 is the stdlib's without that addition.
-    The stdlib Drawer is the §3 drawer with a handle (its shape is a union whose
-    first part is the §3 box, in place), a real drawer's mass, and explorations
-    of both directions (stdlib/bodies/drawer.vkg says why); its joint is §3's,
+    Block of the section is the stdlib's without that addition.
+    The stdlib Drawer is the section's drawer with a handle (its shape is a union whose
+    first part is the section's box, in place), a real drawer's mass, and explorations
+    of both directions (stdlib/bodies/drawer.vkg says why); its joint is the section's,
     with the damping and friction of a real drawer's runners (docs/stdlib.md).
     """
     snippet = parse_module(_block("body Block"), "snippet.vkg")
@@ -137,7 +139,6 @@ def test_body_snippets_match_the_stdlib_bodies() -> None:
         assert body == by_name[name]
 
 
-@needs_contract
 def test_robot_snippet_checks_beside_its_urdf(project: Path) -> None:
     shutil.copy(stdlib_dir() / "robots" / "panda.urdf", project / "panda.urdf")
     path = _write(project / "panda.vkg", _block("robot Panda"))
@@ -147,7 +148,6 @@ def test_robot_snippet_checks_beside_its_urdf(project: Path) -> None:
     assert robot.effectors[0].offset.position.values == pytest.approx((0.0, 0.0, 0.103))
 
 
-@needs_contract
 def test_affordance_snippet_checks_with_its_body(project: Path) -> None:
     path = _write(project / "block_affordances.vkg", _block("affordances Block"))
     _assert_clean(path)
@@ -159,7 +159,6 @@ def test_affordance_snippet_checks_with_its_body(project: Path) -> None:
     assert push.evidence.trials == 3 and push.evidence.posterior == pytest.approx(0.998)
 
 
-@needs_contract
 def test_correspondence_snippet_checks_with_the_tools_and_robot(project: Path) -> None:
     path = _write(project / "tools.vkg", USE_ROBOT_AND_BODIES + _block("correspondences"))
     _assert_clean(path)
@@ -170,7 +169,6 @@ def test_correspondence_snippet_checks_with_the_tools_and_robot(project: Path) -
     ]
 
 
-@needs_contract
 def test_scene_and_task_snippets_check_as_a_goal_file_beside_its_scene(project: Path) -> None:
     _write(project / "scenes" / "tabletop.vkg", USE_ROBOT_AND_BODIES + _block("scene tabletop"))
     task = _write(project / "tasks" / "a_push.vkg", _block("task a_push"))
@@ -187,9 +185,8 @@ def test_scene_and_task_snippets_check_as_a_goal_file_beside_its_scene(project: 
     assert search.max_depth == 6 and search.timeout.value == pytest.approx(30.0)
 
 
-@needs_contract
 def test_section_9_rendering_matches_ours(project: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The §9 example, reproduced: same path:line:col, code and message; carets under the same text."""
+    """The section's diagnostic, reproduced: same path:line:col, code and message; carets under the same text."""
     block = next(b for b in _blocks() if "error[" in b)
     headline, shown, carets = block.rstrip("\n").split("\n")[:3]
     match = re.fullmatch(r"(.+?):(\d+):(\d+): error\[(E\d+)\]: (.+)", headline)
@@ -216,9 +213,6 @@ def test_section_9_rendering_matches_ours(project: Path, capsys: pytest.CaptureF
     assert textwrap.dedent("\n".join(out[1:3])) == textwrap.dedent("\n".join([shown, carets]))
     assert out[3].startswith("    note: ")  # the unit hint follows the contract's three lines
     assert out[-2] == "1 error in 1 file"
-
-
-DOCS_LANGUAGE = Path(__file__).resolve().parents[2] / "docs" / "language.md"
 
 
 def test_every_vkg_example_of_the_language_reference_parses() -> None:

@@ -1,4 +1,4 @@
-"""Import resolution (LANGUAGE.md §1): where `use` finds modules, cycles, one namespace."""
+"""Import resolution (docs/language.md, "Modules and imports"): where `use` finds modules, cycles, one namespace."""
 
 from __future__ import annotations
 

@@ -169,6 +169,10 @@ def test_json_has_exactly_the_vkg_plan_3_keys(plans):
 
 
 def test_two_runs_give_identical_json_apart_from_timings(compiled):
+    """Two solves in one process give the same JSON, byte for byte.
+
+    Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter.
+    """
     first, second = (solve(compiled("f_rotate_hook_pull")).to_json() for _ in range(2))
     for out in (first, second):
         out["stats"].pop("solve_time_s")

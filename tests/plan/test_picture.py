@@ -115,6 +115,7 @@ def test_the_side_view_shows_a_transit_going_up_over_what_lies_between(plans) ->
 
 
 def test_the_picture_is_the_same_bytes_every_time(plans) -> None:
+    """Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter."""
     plan = plans["b_stick_push"]
     assert plan_image(plan, "png") == plan_image(plan, "png")
 

@@ -149,7 +149,8 @@ def test_exception_of_the_validity_function_propagates() -> None:
 
 def test_ompl_prints_nothing(tmp_path) -> None:
     """No OMPL log and no nanobind leak warning at exit, after a found path, a failure and an exception;
-    and the path found in a fresh process is the one found here."""
+    and the path found in a fresh process is the one found here (bit for bit: both on this machine, so
+    CPU differences cannot enter)."""
     script = tmp_path / "quiet.py"
     script.write_text(
         textwrap.dedent(

@@ -146,6 +146,10 @@ def test_trials_round_trip_through_a_file(tmp_path) -> None:
 
 
 def test_output_bytes_do_not_depend_on_the_number_of_jobs(tmp_path) -> None:
+    """The trials' bytes depend on the seed, not on the worker processes.
+
+    Both runs on one machine: determinism, not a golden value, so CPU differences cannot enter.
+    """
     block = with_policy(stdlib_body("Block"), steps=3, duration=0.3)
     data = []
     for jobs, seed in ((1, 0), (2, 0), (2, 1)):

@@ -73,7 +73,7 @@ class WorldArm:
 
     `arm` follows the `vkgl.robot.Arm` contract (`fk`, `ik`, `joint_names`);
     `link_offset` is the effector frame in the effector link's frame
-    (offset * Rx(180 deg), the LANGUAGE.md convention).
+    (offset * Rx(180 deg), the effector frame convention of docs/language.md).
     """
 
     def __init__(

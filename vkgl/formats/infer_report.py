@@ -1,7 +1,7 @@
 """`vkg-infer-report/1`: per trial, the posterior over constraint types and the MAP parameters of both edges.
 
 `vkgl.infer.library.build_report` fills it; this module is its only writer
-(ARCHITECTURE.md documents the fields).
+(docs/formats.md documents the fields).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The `vkg-plan/3` document: the one definition of the plan format, its only reader and writer.
 
-ARCHITECTURE.md is the contract. In memory a plan document is a tree of frozen
+docs/formats.md is the contract. In memory a plan document is a tree of frozen
 dataclasses (`PlanDocument` > `PlanRobot`, `PlanStats`, `PlanStepRecord`) with
 poses as 4x4 numpy arrays; `to_json` gives the plain data that `vkgc solve
 --json` writes, `from_json` checks every field of such data and builds the

@@ -1,6 +1,6 @@
 """The `vkg-trials/1` dataset: what exploration recorded, what inference reads.
 
-One `.npz` file per explored body (ARCHITECTURE.md is the contract):
+One `.npz` file per explored body (docs/formats.md is the contract):
 
     format () str "vkg-trials/1" | body () str | t (N, T) | T_ro (N, T, 4, 4)
     T_ow (N, T, 4, 4) | contact (N, 3) | force (N, 3) | ok (N,) bool | reason (N,) str

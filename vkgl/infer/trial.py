@@ -1,6 +1,6 @@
 """Per trial: the MAP kinematic graph = MAP action edge x MAP motion edge.
 
-The edges are independent (PAPER.md, "Inference"), so each is selected on its
+The edges are independent (docs/method.md, "Inference"), so each is selected on its
 own: the action on `T_ro` (effector in the body frame), the motion on the
 body's pose relative to its first sample. A trial that cannot be used keeps
 its reason (`skipped`) instead of raising.

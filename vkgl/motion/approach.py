@@ -1,7 +1,7 @@
 """Approach and retreat: the straight Cartesian move between a contact and its pre-contact pose, in joints.
 
 A contact is an effector frame (4x4, world) in the project's convention
-(LANGUAGE.md §3): its x axis is the direction of the applied force, into the
+(docs/language.md, "The effector frame convention"): its x axis is the direction of the applied force, into the
 touched body, its z axis points up. Its pre-contact pose is the same frame
 backed off by a stand-off along -x: clear of the body, at the contact's own
 height. A tall body is therefore approached from the side at contact height;

@@ -1,11 +1,11 @@
 """The arm: a robot's URDF loaded by DART and placed at a base pose, with its kinematics and reach.
 
-`Arm.load(robot, effector, base)` turns a `robot` declaration (LANGUAGE.md §4)
+`Arm.load(robot, effector, base)` turns a `robot` declaration (docs/language.md, "Robots")
 and the pose of its base in a scene into a model of the chain from the URDF's
 root to the effector's link:
 
 - `fk(q)`: the world pose of the effector frame, `base * link(q) * offset *
-  Rx(180 deg)` (LANGUAGE.md's effector frame convention: the hand's approach
+  Rx(180 deg)` (docs/language.md, "The effector frame convention": the hand's approach
   axis points down at the table, so the effector frame's z axis points up);
 - `ik(target)`: joint angles within the URDF's limits that put the effector
   frame at `target`, found by NLopt (gradient-based, analytic gradients from

@@ -1,4 +1,4 @@
-"""The effector frame convention of LANGUAGE.md: one definition of Rx(180 deg).
+"""The effector frame convention (docs/language.md): one definition of Rx(180 deg).
 
 A hand's approach axis (its link's z) points down at the table, while an
 effector frame's z axis points up, so that "hand-down" poses are plain yaw

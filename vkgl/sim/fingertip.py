@@ -14,7 +14,7 @@ inertia the contact solver sees, which swallows part of the push at a contact
 
 Pusher (policies `contacts on faces ... force normal F`): a sphere on a
 translational joint, without gravity (the robot carries it). Its frame is the
-effector frame (LANGUAGE.md §3): origin on the sphere's surface along x, x the
+effector frame (docs/language.md, "The effector frame convention"): origin on the sphere's surface along x, x the
 direction it pushes, z up. Every control period the robot looks at the body
 and aims the fingertip along the current inward normal of the pushed face
 ("force normal"); across the push the fingertip is compliant sideways (light

@@ -1,6 +1,6 @@
 """Exploration policies: a body's `explore` blocks checked and unrolled into trials.
 
-A policy is a grid search (PAPER.md, "Exploration"):
+A policy is a grid search (docs/method.md, "Exploration"):
 
 - `contacts on faces F... steps K` with `force normal Q`: K contact points
   along the centre line of each named face (the horizontal line at mid height

@@ -1,6 +1,6 @@
 """Diagnostics: errors and warnings with a stable code and a source span.
 
-Rendering follows LANGUAGE.md §9:
+Rendering follows docs/language.md ("The language in one example", its last block):
 
     path:line:col: error[E201]: message
         <source line>

@@ -306,7 +306,7 @@ def goal_text(g: Goal) -> str:
 
 
 def search_text(s: SearchSpec) -> str:
-    """`search { max_depth 6  timeout 30 s }` on one line, as LANGUAGE.md writes it."""
+    """`search { max_depth 6  timeout 30 s }` on one line, as docs/language.md writes it."""
     items = []
     if s.max_depth is not None:
         items.append(f"max_depth {s.max_depth}")

@@ -152,7 +152,7 @@ def _number_in(value: float, unit: str) -> tuple[str, str]:
 
 
 def _with_unit(text: str, unit: str) -> str:
-    # A scalar angle in degrees reads like `90deg` (as LANGUAGE.md writes yaws);
+    # A scalar angle in degrees reads like `90deg` (as docs/language.md writes yaws);
     # everything else is spaced: `10 cm`, `(0, 0, 90) deg`.
     if not unit:
         return text

@@ -89,7 +89,7 @@ class Plan:
         )
 
     def to_json(self) -> dict[str, Any]:
-        """The plan in the `vkg-plan/3` format (ARCHITECTURE.md); unsolved plans add a `reason`."""
+        """The plan in the `vkg-plan/3` format (docs/formats.md); unsolved plans add a `reason`."""
         return to_json(self._unrounded_document())
 
     # ------------------------------------------------------------ text
@@ -129,7 +129,7 @@ def robot_entry(problem: Problem) -> PlanRobot:
     """The `robot` entry of a plan: what an external tool needs to recompute FK from the URDF.
 
     `effector_offset` is the effector frame in the link's frame (the declared
-    offset times Rx(180 deg), LANGUAGE.md's effector convention), so that
+    offset times Rx(180 deg), the effector frame convention of docs/language.md), so that
     FK(q) = base @ link(q) @ effector_offset.
     """
     arm = problem.arm
