@@ -185,7 +185,13 @@ def cmd_solve(args: argparse.Namespace) -> int:
     from vkgl import api
     from vkgl.formats.atomic import write_text
 
+    if args.animate:  # refuse a file it cannot write before seconds of planning and minutes of simulation
+        from vkgl.execute.animate import check_animation_path
+
+        check_animation_path(args.animate)
     program = api.compile(args.taskfile)
+    # the warnings `vkgc check` prints: a tool no correspondence names is why a far goal is "infeasible"
+    print_diagnostics(program.warnings, program.sources, sys.stderr)
     plan = api.solve(
         program,
         args.task,
@@ -244,11 +250,6 @@ def _execute(args: argparse.Namespace, program: Any, plan: Any) -> bool:
 
     from vkgl import api
     from vkgl.formats.atomic import write_text
-
-    if args.animate:
-        from vkgl.execute.animate import check_animation_path
-
-        check_animation_path(args.animate)  # refuse a bad file name before minutes of simulation
 
     from vkgl.cli.progress import ExecutionProgress
 

@@ -8,6 +8,7 @@ a search that runs out of time are results, not errors: `plan.status` is
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from collections.abc import Sequence
 from typing import Any
 
@@ -46,7 +47,34 @@ def solve(
     why = _hopeless(problem)
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
-    return _plan(problem, search(problem, deadline=deadline, progress=progress), started)
+    result = search(problem, deadline=deadline, progress=progress)
+    if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
+        result = replace(result, reason=f"{result.reason}\n{hint}")
+    return _plan(problem, result, started)
+
+
+def _unusable_tools_hint(problem: Problem) -> str:
+    """A line naming the scene's tools that no correspondence names (warning W602), or "".
+
+    Such a tool can be picked up but never act as the fingertip, so a goal out of the hand's reach is
+    infeasible although a tool would reach it: the reason must say so, not only the hand's distance.
+    """
+    program = problem.program
+    named = {c.frame.body for c in program.correspondences}
+    tools = []
+    for placed in problem.scene.bodies:
+        body = program.bodies.get(placed.type.name)
+        if body is not None and body.name not in named and any(e.grasp is not None for e in body.explores):
+            tools.append((placed.name, body.name))
+    if not tools:
+        return ""
+    names = " and ".join(f"`{name}`" for name, _ in tools)
+    kind = tools[0][1]
+    return (
+        f"{names} {'is a tool' if len(tools) == 1 else 'are tools'} that no correspondence names (warning W602), "
+        f"so no plan could use {'it' if len(tools) == 1 else 'them'}: add `use stdlib.tools` "
+        f"(or `correspondences {{ {kind}.tip ~ fingertip }}`) to let a tool reach further"
+    )
 
 
 def _hopeless(problem: Problem) -> str | None:
