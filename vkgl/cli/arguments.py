@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from collections.abc import Callable
 from typing import Any, NoReturn
@@ -30,7 +31,36 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.print_usage(sys.stderr)
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n")
+        hints = _suggestions(self, message)
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n" + "".join(f"{self.prog}: {h}\n" for h in hints))
+
+
+def _suggestions(parser: argparse.ArgumentParser, message: str) -> list[str]:
+    """ "did you mean" for each misspelled option (`--exectue`) or sub-command (`slove`) a usage error names."""
+    from vkgl.errors import did_you_mean
+
+    hints = []
+    if message.startswith("unrecognized arguments: "):
+        options = _option_strings(parser)
+        for word in message.removeprefix("unrecognized arguments: ").split():
+            if word.startswith("-") and (hint := did_you_mean(word.split("=", 1)[0], options)):
+                hints.append(f"{word}: {hint}")
+    elif (choice := re.match(r"argument (\S+): invalid choice: '([^']*)' \(choose from (.*)\)$", message)) is not None:
+        choices = re.findall(r"'([^']*)'", choice.group(3))
+        if hint := did_you_mean(choice.group(2), choices):
+            hints.append(f"{choice.group(2)}: {hint}")
+    return hints
+
+
+def _option_strings(parser: argparse.ArgumentParser) -> list[str]:
+    """Every option of `parser` and of its sub-commands (an unknown option is reported by the top parser)."""
+    options = []
+    for action in parser._actions:
+        options += [o for o in action.option_strings if o.startswith("--")]
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                options += _option_strings(sub)
+    return options
 
 
 def _bounded_int(low: int, high: int) -> Callable[[str], int]:

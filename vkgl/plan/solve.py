@@ -8,8 +8,8 @@ a search that runs out of time are results, not errors: `plan.status` is
 from __future__ import annotations
 
 import time
-from dataclasses import replace
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 from vkgl.lang.ir.nodes import Task

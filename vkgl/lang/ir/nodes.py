@@ -58,6 +58,12 @@ class Quantity(Node):
     value: float
     unit: str = ""
 
+    def __repr__(self) -> str:
+        # `value` is SI and `unit` only how it was written: `Quantity(value=0.01, unit='cm')` read as 0.01 cm.
+        return f"Quantity({_si_and_written((self.value,), self.unit)})"
+
+    __str__ = __repr__
+
 
 class Vector(Node):
     """2 or 3 components in SI, one unit for all (`unit == ""` for dimensionless)."""
@@ -65,9 +71,31 @@ class Vector(Node):
     values: tuple[float, ...]
     unit: str = ""
 
+    def __repr__(self) -> str:
+        return f"Vector({_si_and_written(self.values, self.unit)})"
+
+    __str__ = __repr__
+
     def array(self) -> np.ndarray:
         """The components as a float numpy array."""
         return np.asarray(self.values, dtype=float)
+
+
+def _si_and_written(values: tuple[float, ...], unit: str) -> str:
+    """`0.01 m, written 1 cm`: the SI value with its unit, then the value as the source wrote it."""
+    from vkgl.lang.ir.units import DIMENSION, SCALE, SI_UNIT
+
+    def show(numbers: tuple[float, ...]) -> str:
+        text = ", ".join(f"{v:.10g}" for v in numbers)
+        return text if len(numbers) == 1 else f"({text})"
+
+    dimension = DIMENSION.get(unit)
+    si = SI_UNIT.get(dimension, "") if dimension is not None else unit
+    shown = f"{show(values)} {si}".rstrip()
+    if dimension is None or unit == si:
+        return shown
+    scale = float(SCALE[unit])
+    return f"{shown}, written {show(tuple(v / scale for v in values))} {unit}"
 
 
 class Pose(Node):
