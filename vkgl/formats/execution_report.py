@@ -246,7 +246,8 @@ class Resolve:
         if self.outcome == "new plan":
             steps = ", ".join(f"`{title}`" for title in self.new_plan) or "nothing to do"
             return f"{head}; re-solved from the observed scene: new plan of {_count(len(self.new_plan))}: {steps}"
-        found = f"{self.found}: {self.reason}" if self.reason else self.found
+        summary = self.reason.splitlines()[0] if self.reason else ""  # a no-plan reason's summary line
+        found = f"{self.found}: {summary}" if summary else self.found
         tail = "; carrying on with the current plan" if self.outcome == "carry on" else ""
         return f"{head}; re-solving found no plan ({found}){tail}"
 
