@@ -112,7 +112,8 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
     if compound is not None:
         return compound
     if token.type == "NAME" and _looks_like_unit(str(token), before):
-        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span)
+        hint = _unit_hint(str(token))
+        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span, *hint)
     got = "`" + str(token).replace("\n", " ") + "`"
     keyword = _keyword_read_as_name(parser, exc)
     notes: tuple[str, ...] = ()
@@ -138,6 +139,14 @@ def _expected_keywords(parser: Lark, expected: set[str]) -> list[str]:
         if isinstance(pattern, PatternStr) and pattern.value.isalpha():
             words.append(pattern.value)
     return words
+
+
+def _unit_hint(word: str) -> tuple[str, ...]:
+    """ "did you mean `cm`?" for `CM`, `degrees`, `mmm`: a unit in another case, or one typo away."""
+    units = [u for u in DIMENSION if u]
+    same = [u for u in units if u.lower() == word.lower()]
+    hint = f"did you mean `{same[0]}`?" if same else did_you_mean(word, units)
+    return (hint,) if hint else ()
 
 
 def _keyword_read_as_name(parser: Lark, exc: UnexpectedToken) -> str | None:
