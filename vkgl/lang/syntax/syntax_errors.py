@@ -112,8 +112,8 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
     if compound is not None:
         return compound
     if token.type == "NAME" and _looks_like_unit(str(token), before):
-        hint = _unit_hint(str(token))
-        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span, *hint)
+        unit_notes = _unit_hint(str(token))
+        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span, *unit_notes)
     got = "`" + str(token).replace("\n", " ") + "`"
     keyword = _keyword_read_as_name(parser, exc)
     notes: tuple[str, ...] = ()
@@ -121,8 +121,8 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
         notes = (f"`{keyword}` before it was read as a name; is something missing before `{keyword}`?",)
     elif token.column == 1 and DECLARATION_START.match(str(token)) and (opened := _unclosed_brace(before)):
         notes = (f"the `{{` at {path}:{opened[0]}:{opened[1]} is never closed: add `}}` before this declaration",)
-    elif token.type == "NAME" and (hint := did_you_mean(str(token), _expected_keywords(parser, _expected(exc)))):
-        notes = (hint,)  # `mas 0.8 kg`: a misspelled keyword
+    elif token.type == "NAME" and (close := did_you_mean(str(token), _expected_keywords(parser, _expected(exc)))):
+        notes = (close,)  # `mas 0.8 kg`: a misspelled keyword
     return codes.UNEXPECTED_TOKEN.diagnostic(
         f"unexpected {got}; expected {_words(parser, _expected(exc))}", span, *notes
     )
