@@ -16,6 +16,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 from scipy.spatial.transform import Rotation
 
+from vkgl.lang.ir.units import measured_repr
+
 
 class Span(BaseModel):
     """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
@@ -57,12 +59,7 @@ class Quantity(Node):
 
     value: float
     unit: str = ""
-
-    def __repr__(self) -> str:
-        # `value` is SI and `unit` only how it was written: `Quantity(value=0.01, unit='cm')` read as 0.01 cm.
-        return f"Quantity({_si_and_written((self.value,), self.unit)})"
-
-    __str__ = __repr__
+    __repr__ = __str__ = measured_repr("value")  # not `Quantity(value=0.01, unit='cm')`: 0.01 is metres
 
 
 class Vector(Node):
@@ -70,32 +67,11 @@ class Vector(Node):
 
     values: tuple[float, ...]
     unit: str = ""
-
-    def __repr__(self) -> str:
-        return f"Vector({_si_and_written(self.values, self.unit)})"
-
-    __str__ = __repr__
+    __repr__ = __str__ = measured_repr("values")
 
     def array(self) -> np.ndarray:
         """The components as a float numpy array."""
         return np.asarray(self.values, dtype=float)
-
-
-def _si_and_written(values: tuple[float, ...], unit: str) -> str:
-    """`0.01 m, written 1 cm`: the SI value with its unit, then the value as the source wrote it."""
-    from vkgl.lang.ir.units import DIMENSION, SCALE, SI_UNIT
-
-    def show(numbers: tuple[float, ...]) -> str:
-        text = ", ".join(f"{v:.10g}" for v in numbers)
-        return text if len(numbers) == 1 else f"({text})"
-
-    dimension = DIMENSION.get(unit)
-    si = SI_UNIT.get(dimension, "") if dimension is not None else unit
-    shown = f"{show(values)} {si}".rstrip()
-    if dimension is None or unit == si:
-        return shown
-    scale = float(SCALE[unit])
-    return f"{shown}, written {show(tuple(v / scale for v in values))} {unit}"
 
 
 class Pose(Node):
