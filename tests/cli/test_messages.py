@@ -150,6 +150,7 @@ def test_an_animation_it_cannot_write_is_refused_before_solving(capsys: pytest.C
         (["solve", "x.vkg", "--exectue"], "vkgc: --exectue: did you mean `--execute`?"),
         (["solve", "x.vkg", "--plto", "p.png"], "vkgc: --plto: did you mean `--plot`?"),
         (["slove", "x.vkg"], "vkgc: slove: did you mean `solve`?"),
+        (["check", "x.vkg", "--exectue"], "vkgc: error: unrecognized arguments: --exectue"),  # not check's
     ],
 )
 def test_a_misspelled_option_or_command_gets_a_did_you_mean(
