@@ -103,7 +103,9 @@ def cmd_explore(args: argparse.Namespace) -> int:
     """Run a body's exploration grid in DART and write a `vkg-trials/1` dataset."""
     from vkgl import api
 
-    body = api.compile(args.bodyfile).body(args.body)
+    program = api.compile(args.bodyfile)
+    print_diagnostics(program.warnings, program.sources, sys.stderr)  # what `vkgc check` would warn about
+    body = program.body(args.body)
     trials = api.explore(body, seed=args.seed, jobs=args.jobs, progress=_is_terminal(sys.stderr))
     trials.save(args.output)
     failed = int((~trials.ok).sum())
