@@ -54,27 +54,45 @@ def solve(
 
 
 def _unusable_tools_hint(problem: Problem) -> str:
-    """A line naming the scene's tools that no correspondence names (warning W602), or "".
+    """Lines naming the scene's tools that no plan could use, or "": tools that no correspondence names
+    (warning W602), and tools with no affordance in the compilation (nothing lets the arm grasp them).
 
-    Such a tool can be picked up but never act as the fingertip, so a goal out of the hand's reach is
-    infeasible although a tool would reach it: the reason must say so, not only the hand's distance.
+    A goal out of the hand's reach is then infeasible although a tool would reach it: the reason must say
+    so, not only the hand's distance.
     """
     program = problem.program
     named = {c.frame.body for c in program.correspondences}
-    tools = []
+    unnamed, ungraspable = [], []
     for placed in problem.scene.bodies:
         body = program.bodies.get(placed.type.name)
-        if body is not None and body.name not in named and any(e.grasp is not None for e in body.explores):
-            tools.append((placed.name, body.name))
-    if not tools:
-        return ""
-    names = " and ".join(f"`{name}`" for name, _ in tools)
-    kind = tools[0][1]
-    return (
-        f"{names} {'is a tool' if len(tools) == 1 else 'are tools'} that no correspondence names (warning W602), "
-        f"so no plan could use {'it' if len(tools) == 1 else 'them'}: add `use stdlib.tools` "
-        f"(or `correspondences {{ {kind}.tip ~ fingertip }}`) to let a tool reach further"
-    )
+        if body is None or not any(e.grasp is not None for e in body.explores):
+            continue  # not a tool
+        if body.name not in named:
+            unnamed.append((placed.name, body.name))
+        elif not program.affordances.get(body.name):
+            ungraspable.append((placed.name, body.name))
+    lines = []
+    if unnamed:
+        lines.append(
+            f"{_names(unnamed)} {_are(unnamed)} that no correspondence names (warning W602), so no plan could "
+            f"use {'it' if len(unnamed) == 1 else 'them'}: add `use stdlib.tools` (or `correspondences "
+            f"{{ {unnamed[0][1]}.tip ~ fingertip }}`) to let a tool reach further"
+        )
+    if ungraspable:
+        uses = ", ".join(f"`use stdlib.affordances.{kind.lower()}`" for _, kind in ungraspable)
+        lines.append(
+            f"{_names(ungraspable)} {_are(ungraspable)} with no affordance in the program, so no plan could "
+            f"grasp {'it' if len(ungraspable) == 1 else 'them'}: add {uses} (or learn one with `vkgc learn`)"
+        )
+    return "\n".join(lines)
+
+
+def _names(tools: list[tuple[str, str]]) -> str:
+    return " and ".join(f"`{name}`" for name, _ in tools)
+
+
+def _are(tools: list[tuple[str, str]]) -> str:
+    return "is a tool" if len(tools) == 1 else "are tools"
 
 
 def _hopeless(problem: Problem) -> str | None:
