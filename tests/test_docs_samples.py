@@ -3,8 +3,9 @@
 A sample is a fenced block right after a `<!-- sample: NAME ... -->` line in docs/*.md. `SAMPLES` says how
 each output sample is produced (the command, and the folder it runs in); a `...-task` sample is a `.vkg`
 file another sample runs. The comparison is exact for the words; numbers may differ by two units of their
-last printed digit (floating point differs between CPUs), timings (a number before ` s`) are not compared,
-and the search's counters may differ by a quarter (they follow the floating point too).
+last printed digit (floating point differs between CPUs), or by a sample's `noise` (what a simulation makes
+of that rounding), timings (a number before ` s`) are not compared, the search's counters may differ by a
+quarter (they follow the floating point too), and runs of spaces count as one.
 
 To update a sample after an intended change of a message, run the command the sample names and paste its
 output (`VKG_SHOW_SAMPLES=1` prints every sample's output as it is now).
@@ -44,6 +45,8 @@ class Sample:
 
     argv: list[str]
     setup: Callable[[Path], None] | None = None  # writes the files the command reads into the folder
+    start: str = ""  # the sample shows the output from the first line that starts with this
+    noise: float = 0.0  # how far a number may differ at least (what physics makes of a CPU's rounding)
 
 
 def _user_folder(file_name: str, text: Callable[[], str]) -> Callable[[Path], None]:
@@ -73,6 +76,9 @@ SAMPLES: dict[str, Sample] = {
     ),
     "quickstart-check-error": Sample(["check", "my_task.vkg"], _user_folder("my_task.vkg", _with_bad_goal)),
     "planning-read": Sample(["solve", "examples/tasks/d_rotate_push.vkg"]),
+    "execution-report": Sample(
+        ["solve", "examples/tasks/a_push.vkg", "--execute"], start="execution of a_push", noise=0.05
+    ),
     "planning-no-plan": Sample(
         ["solve", "no_tools.vkg"], _user_folder("no_tools.vkg", lambda: _task("planning-no-plan-task"))
     ),
@@ -93,7 +99,11 @@ def _run(sample: Sample, tmp: Path, capsys: pytest.CaptureFixture[str], monkeypa
     out_dir.mkdir()
     main([arg.replace("{tmp}", str(out_dir)) for arg in sample.argv])
     captured = capsys.readouterr()
-    return (captured.err + captured.out).replace(f"{out_dir}/", "")
+    shown = (captured.err + captured.out).replace(f"{out_dir}/", "")
+    if sample.start:
+        lines = shown.splitlines(keepends=True)
+        shown = "".join(lines[next(k for k, line in enumerate(lines) if line.startswith(sample.start)) :])
+    return shown
 
 
 _NUMBER = re.compile(r"-?\d+(?:\.\d+)?")
@@ -101,10 +111,11 @@ _TIMING = re.compile(r"^ s(?![a-z])")
 _COUNTER = re.compile(r"^ (graphs? expanded|task-space checks?|joint-space checks?|sequences)")
 
 
-def differences(shown: str, real: str) -> list[str]:
-    """Where `real` differs from the doc's `shown` beyond the tolerances of the module docstring."""
+def differences(shown: str, real: str, noise: float = 0.0) -> list[str]:
+    """Where `real` differs from the doc's `shown` beyond the tolerances of the module docstring (numbers at
+    least `noise` apart); runs of spaces count as one (columns move with a number's sign)."""
     words_shown, words_real = _NUMBER.split(shown), _NUMBER.split(real)
-    if words_shown != words_real:
+    if [_spaced(w) for w in words_shown] != [_spaced(w) for w in words_real]:
         return [f"the words differ:\n--- doc\n{shown}\n--- real\n{real}"]
     problems = []
     numbers = zip(_NUMBER.findall(shown), _NUMBER.findall(real), words_shown[1:], strict=True)
@@ -118,10 +129,14 @@ def differences(shown: str, real: str) -> list[str]:
         elif decimals == 0:
             ok = a == b  # a count of steps, a line number
         else:
-            ok = abs(a - b) <= 2 * 10.0**-decimals + 1e-12
+            ok = abs(a - b) <= max(2 * 10.0**-decimals, noise) + 1e-12
         if not ok:
             problems.append(f"{doc_number} in the doc, {real_number} now (before `{after[:30]}`)")
     return problems
+
+
+def _spaced(words: str) -> str:
+    return re.sub(" +", " ", words)
 
 
 def test_every_sample_of_the_docs_is_produced_here() -> None:
@@ -137,7 +152,7 @@ def test_a_docs_sample_is_what_the_command_prints(
     real = _run(SAMPLES[name], tmp_path, capsys, monkeypatch)
     if os.environ.get("VKG_SHOW_SAMPLES"):
         print(f"--- {name}\n{real}")
-    problems = differences(shown, real)
+    problems = differences(shown, real, SAMPLES[name].noise)
     assert not problems, f"{doc.relative_to(REPO)}, sample {name}:\n" + "\n".join(problems)
 
 
