@@ -11,8 +11,9 @@ MISSING_MODULE = _code(
     (
         "A `use` names a module that does not exist. For `use a.b.c` the message lists every directory "
         "searched, in order (the importing file's directory, each `VKG_PATH` entry, the installed stdlib's "
-        'parent); a note suggests the closest module name. For `use "path.vkg"` the path is relative to the '
-        "importing file, not the working directory."
+        "parent; for `use stdlib.x` only the installed stdlib, one stdlib per compilation); a note suggests "
+        'the closest module name. For `use "path.vkg"` the path is relative to the importing file, not the '
+        "working directory."
     ),
 )
 IMPORT_CYCLE = _code(
