@@ -40,6 +40,7 @@ SLOWEST_FIRST = [
     "tests/plan/test_picture.py",
     "tests/cli/test_execution_progress.py",
     "tests/execute/test_resolving.py",
+    "tests/test_docs_samples.py",
 ]
 """The test files that take longest (all their tests together, measured with `--durations=0`), slowest first.
 

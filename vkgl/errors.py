@@ -7,6 +7,7 @@ what to change. The CLI turns them into one-line errors and exit codes.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 
@@ -49,3 +50,15 @@ class SimulationError(VkgError):
     """The simulator could not run what was asked (e.g. DART rejected a mesh)."""
 
     exit_code = 1
+
+
+def did_you_mean(name: str, candidates: Iterable[str]) -> str:
+    """` (did you mean `X`?)`-style help for a misspelled name: "did you mean `X`?", or "" when none is close.
+
+    Every message that names something a user typed (a keyword, an option, a task, a module) suggests the
+    closest known name with this one rule, so a typo is always answered the same way.
+    """
+    import difflib
+
+    match = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
+    return f"did you mean `{match[0]}`?" if match else ""

@@ -69,7 +69,10 @@ def test_a_joint_goal_is_reported_by_the_joints_coordinate():
     assert near.goals[0].ok and not far.goals[0].ok
     assert not near.steps[0].deviations[0].exceeded and far.steps[0].deviations[0].exceeded  # half of 1 cm
     text = far.text()
-    assert "drawer   planned open 20.0 cm   real open 18.7 cm   off 1.30 cm  > half tolerance" in text
+    assert (
+        "drawer   planned open 20.0 cm   real open 18.7 cm   off 1.30 cm  > replan limit 0.50 cm "
+        "(half the goal's tolerance)"
+    ) in text
     assert "goal drawer open 20.0 cm within 1.0 cm: drawer is open 18.7 cm, off 1.30 cm  NOT MET" in text
     assert far.goals[0].miss() == "drawer is open 18.7 cm, goal 20.0 cm within 1.00 cm"
     data = json.loads(json.dumps(far.to_json()))

@@ -120,7 +120,10 @@ def test_with_goal_keeps_the_tolerances_when_not_given(program) -> None:  # type
 
 
 def test_with_goal_rejects_what_cannot_be_a_goal(program) -> None:  # type: ignore[no-untyped-def]
-    with pytest.raises(InputError, match=r"scene `tabletop` has no body `blok` \(its bodies: block, stick, hook\)"):
+    with pytest.raises(
+        InputError,
+        match=r"scene `tabletop` has no body `blok` \(did you mean `block`\? its bodies: block, stick, hook\)",
+    ):
         program.with_goal("a_push", "blok", at=(0.6, 0))
     with pytest.raises(InputError, match="needs a position"):
         program.with_goal("a_push", "block")

@@ -52,14 +52,24 @@ def test_vkg_path_is_searched_in_order_after_the_files_directory(tmp: Path, monk
     assert _mass(main, "Crate") == 3.0
 
 
-def test_the_installed_stdlib_comes_last_and_can_be_shadowed(tmp: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    main = _write(tmp / "project" / "main.vkg", "use stdlib.bodies.block\n")
-    assert _mass(main, "Block") == 0.5  # the installed stdlib's Block
+def test_the_installed_stdlib_comes_last_and_is_the_only_stdlib(tmp: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    main = _write(tmp / "project" / "main.vkg", "use stdlib.bodies.block\nuse parts.crate\n")
+    _write(tmp / "mine" / "parts" / "crate.vkg", _body("Crate", 1))
     _write(tmp / "mine" / "stdlib" / "bodies" / "block.vkg", _body("Block", 7))
+    _write(tmp / "project" / "stdlib" / "bodies" / "block.vkg", _body("Block", 8))
     monkeypatch.setenv("VKG_PATH", str(tmp / "mine"))
-    assert _mass(main, "Block") == 7.0
-    roots = import_roots(str(main))
-    assert roots == [main.parent.resolve(), (tmp / "mine").resolve(), stdlib_dir().resolve().parent]
+    assert _mass(main, "Block") == 0.5  # the installed stdlib's Block: no local stdlib/ is read
+    assert import_roots(str(main)) == [main.parent.resolve(), (tmp / "mine").resolve(), stdlib_dir().resolve().parent]
+    assert import_roots(str(main), "stdlib.bodies.block") == [stdlib_dir().resolve().parent]
+
+
+def test_a_copy_of_the_installed_stdlib_beside_a_file_is_no_warning(tmp: Path) -> None:
+    """A source checkout after `pip install .`: its `stdlib/` is a byte-for-byte copy of the installed one."""
+    installed = stdlib_dir() / "tools.vkg"
+    _write(tmp / "stdlib" / "tools.vkg", installed.read_text(encoding="utf-8"))
+    main = _write(tmp / "my_task.vkg", "use stdlib.tools\n")
+    diagnostics, _ = check_files([str(main)])
+    assert [d.code for d in diagnostics] == []
 
 
 def test_string_use_is_relative_to_the_importing_file_not_the_working_directory(

@@ -299,7 +299,7 @@ def check_files_text_in(folder: Path, text: str) -> tuple[list[Diagnostic], dict
     return check_files([str(path)])
 
 
-def test_a_local_stdlib_that_shadows_the_installed_one_is_a_warning(tmp_path: Path) -> None:
+def test_a_local_stdlib_that_differs_from_the_installed_one_is_a_warning(tmp_path: Path) -> None:
     (tmp_path / "stdlib" / "bodies").mkdir(parents=True)
     (tmp_path / "stdlib" / "bodies" / "block.vkg").write_text(body(), encoding="utf-8")
     diagnostics, _ = check_files_text_in(tmp_path, "use stdlib.bodies.block\n")

@@ -67,6 +67,6 @@ def test_when_every_plan_repeats_a_failure_the_reason_says_so():
     grasp = solve(program, task).document().steps[0]
     plan = solve(program, task, avoid=Avoid.of(failed=[grasp]))
     assert plan.status == "infeasible"
-    assert "repeated a plan already tried or a step that failed in execution (closest: " in plan.reason
+    assert "repeated a plan already tried or a step that failed in execution; the closest:\n" in plan.reason
     assert "`add Stick.wield on stick with arm.fingertip` failed in execution with stick where it is" in plan.reason
     assert " repeating a step that failed in execution, " in plan.reason  # the accounting counts them

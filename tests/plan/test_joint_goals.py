@@ -105,7 +105,7 @@ def test_vkgc_solve_opens_the_stdlib_drawer_5_cm(tmp_path: Path, capsys: pytest.
     task = write(tmp_path, STDLIB_KITCHEN + "task open { scene kitchen  goal drawer open 5 cm within 1 cm }\n")
     out = tmp_path / "plan.json"
     assert main(["solve", str(task), "--json", str(out)]) == 0
-    assert "solved, depth 2" in capsys.readouterr().out
+    assert "solved in 1 step (depth 2: graphs G0 to G1" in capsys.readouterr().out
     plan = json.loads(out.read_text(encoding="utf-8"))
     (step,) = plan["steps"]
     assert step["affordance"] == "Drawer.pull_center_px" and step["value"] == pytest.approx(0.05, abs=1e-6)

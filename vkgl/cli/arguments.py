@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from collections.abc import Callable
 from typing import Any, NoReturn
@@ -26,11 +27,50 @@ MAX_JOBS = 256
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse, but usage errors exit with 1 (input error), not 2."""
+    """argparse, but usage errors exit with 1 (input error), not 2, and suggest the name meant."""
+
+    argv: list[str] | None = None  # what `main` parses (sys.argv[1:] when None), to know the sub-command
 
     def error(self, message: str) -> NoReturn:
         self.print_usage(sys.stderr)
-        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n")
+        hints = _suggestions(self, message)
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {message}\n" + "".join(f"{self.prog}: {h}\n" for h in hints))
+
+
+def _suggestions(parser: _Parser, message: str) -> list[str]:
+    """ "did you mean" for each misspelled option (`--exectue`) or sub-command (`slove`) a usage error names."""
+    from vkgl.errors import did_you_mean
+
+    hints = []
+    if message.startswith("unrecognized arguments: "):
+        options = _option_strings(parser, _command_in(parser, sys.argv[1:] if parser.argv is None else parser.argv))
+        for word in message.removeprefix("unrecognized arguments: ").split():
+            if word.startswith("-") and (hint := did_you_mean(word.split("=", 1)[0], options)):
+                hints.append(f"{word}: {hint}")
+    elif (choice := re.match(r"argument (\S+): invalid choice: '([^']*)' \(choose from (.*)\)$", message)) is not None:
+        choices = re.findall(r"'([^']*)'", choice.group(3))
+        if hint := did_you_mean(choice.group(2), choices):
+            hints.append(f"{choice.group(2)}: {hint}")
+    return hints
+
+
+def _option_strings(parser: argparse.ArgumentParser, command: str | None) -> list[str]:
+    """The options of `parser` and of its sub-command `command` (all of them when None): an unknown option
+    is reported by the top parser, and only the command's own options are worth suggesting."""
+    options = []
+    for action in parser._actions:
+        options += [o for o in action.option_strings if o.startswith("--")]
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                if command is None or name == command:
+                    options += _option_strings(sub, None)
+    return options
+
+
+def _command_in(parser: argparse.ArgumentParser, argv: list[str]) -> str | None:
+    """The sub-command named in `argv`, if any."""
+    names = {n for a in parser._actions if isinstance(a, argparse._SubParsersAction) for n in a.choices}
+    return next((word for word in argv if word in names), None)
 
 
 def _bounded_int(low: int, high: int) -> Callable[[str], int]:

@@ -409,7 +409,8 @@ class _Loop:
                 self.plan_no -= 1  # still the same plan
                 self.watching = False
                 return remaining or []
-            return status, f"replan {self.replans} found no plan ({found}{': ' + reason if reason else ''})"
+            summary = reason.splitlines()[0] if reason else ""  # the whole reason is in the report's resolves
+            return status, f"replan {self.replans} found no plan ({found}{': ' + summary if summary else ''})"
         self.expect(plan)
         self.watching = True
         return _numbered(plan)

@@ -60,7 +60,10 @@ def check_goal(goal: Goal, pose: np.ndarray, joint: str | None = None, opening: 
     if goal.yaw is not None:
         yaw_error = angle_difference(yaw_of(pose), goal.yaw.value)
         parts.append(f"yaw {np.degrees(goal.yaw.value):.1f} deg")
-    parts.append(f"within {tol_p * 100:.1f} cm, {np.degrees(tol_y):.1f} deg")
+    within = [f"{tol_p * 100:.1f} cm"] if goal.position is not None else []
+    within += [f"{np.degrees(tol_y):.1f} deg"] if goal.yaw is not None else []  # only what the goal asks for
+    if within:
+        parts.append(f"within {', '.join(within)}")
     return GoalResult(name, " ".join(parts), position_error, yaw_error, tol_p, tol_y)
 
 

@@ -98,6 +98,14 @@ class Deviation:
             return self.opening.exceeded
         return self.position > self.limit_position or self.angle > self.limit_angle
 
+    def limit_text(self) -> str:
+        """What an exceeded deviation went past: the replanning limit, half the goal's tolerance, in numbers."""
+        if self.opening is not None:
+            limit = _joint_error_text(self.opening.joint, self.opening.limit)
+        else:
+            limit = f"{self.limit_position * 100:.2f} cm, {np.degrees(self.limit_angle):.2f} deg"
+        return f"replan limit {limit} (half the goal's tolerance)"
+
     def text(self) -> str:
         """One line: where the body was planned and where it is, and how far apart (the coordinate for a joint)."""
         if self.opening is not None:
@@ -238,7 +246,8 @@ class Resolve:
         if self.outcome == "new plan":
             steps = ", ".join(f"`{title}`" for title in self.new_plan) or "nothing to do"
             return f"{head}; re-solved from the observed scene: new plan of {_count(len(self.new_plan))}: {steps}"
-        found = f"{self.found}: {self.reason}" if self.reason else self.found
+        summary = self.reason.splitlines()[0] if self.reason else ""  # a no-plan reason's summary line
+        found = f"{self.found}: {summary}" if summary else self.found
         tail = "; carrying on with the current plan" if self.outcome == "carry on" else ""
         return f"{head}; re-solving found no plan ({found}){tail}"
 
@@ -308,7 +317,7 @@ class ExecutionReport:
             origin = "" if step.plan == 0 else f" [replan {step.plan}]"
             lines.append(f"  step {step.index}{origin}: {step.title}  (t = {step.end_time:.2f} s)")
             for dev in step.deviations:
-                flag = "  > half tolerance" if dev.exceeded else ""
+                flag = f"  > {dev.limit_text()}" if dev.exceeded else ""
                 lines.append(f"      {dev.text()}{flag}")
             if step.replan:
                 lines.append(f"    replan: {step.replan}")

@@ -1,10 +1,14 @@
 """Import resolution: load a root module and everything it `use`s, once each.
 
-Dotted names (`use stdlib.bodies.block`) are looked up under, in order: the
+Dotted names (`use mylib.bodies.crate`) are looked up under, in order: the
 importing file's directory, each directory of `VKG_PATH`, and the directory
-that holds the installed `stdlib/`. String paths are relative to the importing
-file. Modules are identified by their resolved absolute path; a cycle is an
-error that prints the cycle.
+that holds the installed `stdlib/`. `stdlib.*` names are the exception: one
+stdlib per compilation, the installed one (the `stdlib/` of the vkgl that
+runs), so that no module of a compilation reads another copy of it. A local
+`stdlib/` folder is never read for them; when it holds a module that differs
+from the installed one, W603 says so. String paths are relative to the
+importing file. Modules are identified by their resolved absolute path; a
+cycle is an error that prints the cycle.
 """
 
 from __future__ import annotations
@@ -34,14 +38,28 @@ class LoadedProgram:
     folders: dict[str, Path] = field(default_factory=dict)
 
 
-def import_roots(importing_file: str) -> list[Path]:
-    """Where a dotted `use` from `importing_file` is looked up, in order."""
+def import_roots(importing_file: str, dotted: str = "") -> list[Path]:
+    """Where the dotted `use` of `dotted` from `importing_file` is looked up, in order.
+
+    `stdlib.*` names are looked up in the installed stdlib only (one stdlib per compilation).
+    """
+    installed = stdlib_dir().resolve().parent
+    if _is_stdlib(dotted):
+        return [installed]
+    return [*_local_roots(importing_file), installed]
+
+
+def _local_roots(importing_file: str) -> list[Path]:
+    """The importing file's directory and each `VKG_PATH` directory, in order."""
     roots = [_real(Path(importing_file)).parent]
     for entry in os.environ.get("VKG_PATH", "").split(os.pathsep):
         if entry.strip():
             roots.append(_real(Path(entry).expanduser()))
-    roots.append(stdlib_dir().resolve().parent)
     return roots
+
+
+def _is_stdlib(dotted: str) -> bool:
+    return dotted == "stdlib" or dotted.startswith("stdlib.")
 
 
 def _real(path: Path) -> Path:
@@ -132,9 +150,9 @@ class _Loader:
         if target is None:
             self.out.diagnostics.append(_missing_module(use, importer))
             return use
-        shadowed = _shadowed_stdlib(use, target)
-        if shadowed is not None:
-            self.out.diagnostics.append(shadowed)
+        unread = _unread_local_stdlib(use, importer, target)
+        if unread is not None:
+            self.out.diagnostics.append(unread)
         self.load(target, use, stack)
         return use.model_copy(update={"resolved": str(_real(target))})
 
@@ -153,26 +171,38 @@ def _find_module(use: ir.Use, importer: Path) -> Path | None:
         candidate = importer.parent / use.target
         return candidate if os.path.lexists(candidate) else None
     relative = Path(*use.target.split(".")).with_suffix(".vkg")
-    for root in import_roots(str(importer)):
+    for root in import_roots(str(importer), use.target):
         candidate = root / relative
         if os.path.lexists(candidate):
             return candidate
     return None
 
 
-def _shadowed_stdlib(use: ir.Use, found: Path) -> Diagnostic | None:
-    """W603 when `use stdlib.X` found a local `stdlib/X.vkg` instead of the installed module of that name."""
-    if use.by_path or not use.target.startswith("stdlib."):
+def _unread_local_stdlib(use: ir.Use, importer: Path, installed: Path) -> Diagnostic | None:
+    """W603 when `use stdlib.X` has a local `stdlib/X.vkg` (beside the file or in `VKG_PATH`) that differs from the
+    installed module it reads: the user may believe their copy is used. An identical copy (a source checkout's
+    `stdlib/` after `pip install .`) is no news."""
+    if use.by_path or not _is_stdlib(use.target):
         return None
-    installed = stdlib_dir().resolve().joinpath(*use.target.split(".")[1:]).with_suffix(".vkg")
-    if not installed.is_file() or _real(found) == installed:
-        return None
-    return codes.SHADOWED_STDLIB.diagnostic(
-        f"`use {use.target}` reads `{_display_path(found)}`, which shadows the installed stdlib module "
-        f"`{_display_path(installed)}`",
-        use.span,
-        "rename or remove the local `stdlib/` folder unless the override is intended",
-    )
+    relative = Path(*use.target.split(".")).with_suffix(".vkg")
+    for root in _local_roots(str(importer)):
+        local = root / relative
+        if local.is_file() and _real(local) != _real(installed) and not _same_bytes(local, installed):
+            return codes.SHADOWED_STDLIB.diagnostic(
+                f"`use {use.target}` reads the installed stdlib's `{_display_path(installed)}`, not "
+                f"`{_display_path(local)}`, which differs from it",
+                use.span,
+                "a compilation uses one stdlib, the installed one; to use your module, give it a name outside "
+                "`stdlib` (e.g. move it to `mylib/`) or install your changed stdlib (`pip install -e .`)",
+            )
+    return None
+
+
+def _same_bytes(a: Path, b: Path) -> bool:
+    try:
+        return a.stat().st_size == b.stat().st_size and a.read_bytes() == b.read_bytes()
+    except OSError:
+        return False
 
 
 def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
@@ -180,16 +210,18 @@ def _missing_module(use: ir.Use, importer: Path) -> Diagnostic:
         message = f"no file `{use.target}` (relative to {_display_path(importer.parent)})"
         suggestion = _close_file(importer.parent / use.target)
     else:
-        roots = import_roots(str(importer))
-        message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_described_roots(importer))
+        roots = import_roots(str(importer), use.target)
+        message = f"cannot find module `{use.target}`; looked in: " + ", ".join(_described_roots(importer, use.target))
         suggestion = _close_module(use.target, roots)
     notes = (f"did you mean `{suggestion}`?",) if suggestion else ()
     return codes.MISSING_MODULE.diagnostic(message, use.span, *notes)
 
 
-def _described_roots(importer: Path) -> list[str]:
-    """The import roots of `importer`, each with why it is searched (for E501)."""
-    roots = import_roots(str(importer))
+def _described_roots(importer: Path, dotted: str) -> list[str]:
+    """The import roots of `dotted` from `importer`, each with why it is searched (for E501)."""
+    roots = import_roots(str(importer), dotted)
+    if _is_stdlib(dotted):
+        return [f"{_display_folder(roots[0])} (the installed stdlib's parent: one stdlib per compilation)"]
     why = ["this file's directory"] + ["VKG_PATH"] * (len(roots) - 2) + ["the installed stdlib's parent"]
     return [f"{_display_folder(root)} ({reason})" for root, reason in zip(roots, why)]
 

@@ -79,8 +79,13 @@ class CollisionScene:
         table_z: float = 0.0,
         tol: float = TOUCH_TOL,
         margin: float = 0.0,
+        lifts: Mapping[str, float] | None = None,
     ) -> None:
         """Bodies named by `shapes` (IR shapes, body frame).
+
+        `lifts` (m, by body) raises bodies above the poses they are given: the planner's bodies on physical
+        joints, which the simulator hangs `vkgl.lang.ir.geometry.JOINT_LIFT` above where they are placed
+        (poses read back from the simulator need none).
 
         A table too, when `table_center` and `table_size` (x, y) are given.
         `margin` (m) grows every box and cylinder of the bodies (not the table)
@@ -100,13 +105,14 @@ class CollisionScene:
         self._owner: dict[str, str] = {}  # shape frame name -> body
         self.radius: dict[str, float] = {}  # body -> radius of a ball about its frame origin that holds it
         self._placed: dict[str, bytes] = {}
+        self.lifts = {name: float(lift) for name, lift in (lifts or {}).items() if lift}
         self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
         for name, shape in shapes.items():
             parts = (
                 [(_grown(part, margin), local) for part, local in dart_shapes(shape)] if margin else dart_shapes(shape)
             )
             # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
-            self._add(name, parts, _extent(shape) * 1.005 + tol)
+            self._add(name, parts, _extent(shape) * 1.005 + tol + self.lifts.get(name, 0.0))
             self._support[name] = [_support(part, local, shape) for part, local in parts]
         self.table_box: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) corners of the slab
         self.table_top = float(table_z)
@@ -179,6 +185,9 @@ class CollisionScene:
         if self._placed.get(name) == key:
             return
         self._placed[name] = key
+        lift = self.lifts.get(name)
+        if lift:
+            pose = _translation(np.array([0.0, 0.0, lift])) @ pose
         for frame, local in self._frames[name]:
             frame.setTransform(_isometry(pose @ local))
 
@@ -317,6 +326,9 @@ class CollisionScene:
     def lowest(self, name: str, poses: np.ndarray) -> np.ndarray:
         """The world z of the lowest point of body `name` at each of `poses` (n x 4 x 4)."""
         out = np.full(len(poses), np.inf)
+        if self.lifts.get(name):
+            poses = poses.copy()
+            poses[:, 2, 3] += self.lifts[name]
         for kind, size, local in self._support[name]:
             world = poses @ local
             z_row, z = world[:, 2, :3], world[:, 2, 3]

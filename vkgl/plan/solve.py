@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -48,7 +49,52 @@ def solve(
     why = _hopeless(problem)
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
-    return _plan(problem, search(problem, deadline=deadline, progress=progress), started)
+    result = search(problem, deadline=deadline, progress=progress)
+    if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
+        result = replace(result, reason=f"{result.reason}\n{hint}")
+    return _plan(problem, result, started)
+
+
+def _unusable_tools_hint(problem: Problem) -> str:
+    """Lines naming the scene's tools that no plan could use, or "": tools that no correspondence names
+    (warning W602), and tools with no affordance in the compilation (nothing lets the arm grasp them).
+
+    A goal out of the hand's reach is then infeasible although a tool would reach it: the reason must say
+    so, not only the hand's distance.
+    """
+    program = problem.program
+    named = {c.frame.body for c in program.correspondences}
+    unnamed, ungraspable = [], []
+    for placed in problem.scene.bodies:
+        body = program.bodies.get(placed.type.name)
+        if body is None or not any(e.grasp is not None for e in body.explores):
+            continue  # not a tool
+        if body.name not in named:
+            unnamed.append((placed.name, body.name))
+        elif not program.affordances.get(body.name):
+            ungraspable.append((placed.name, body.name))
+    lines = []
+    if unnamed:
+        lines.append(
+            f"{_names(unnamed)} {_are(unnamed)} that no correspondence names (warning W602), so no plan could "
+            f"use {'it' if len(unnamed) == 1 else 'them'}: add `use stdlib.tools` (or `correspondences "
+            f"{{ {unnamed[0][1]}.tip ~ fingertip }}`) to let a tool reach further"
+        )
+    if ungraspable:
+        uses = ", ".join(f"`use stdlib.affordances.{kind.lower()}`" for _, kind in ungraspable)
+        lines.append(
+            f"{_names(ungraspable)} {_are(ungraspable)} with no affordance in the program, so no plan could "
+            f"grasp {'it' if len(ungraspable) == 1 else 'them'}: add {uses} (or learn one with `vkgc learn`)"
+        )
+    return "\n".join(lines)
+
+
+def _names(tools: list[tuple[str, str]]) -> str:
+    return " and ".join(f"`{name}`" for name, _ in tools)
+
+
+def _are(tools: list[tuple[str, str]]) -> str:
+    return "is a tool" if len(tools) == 1 else "are tools"
 
 
 def _hopeless(problem: Problem) -> str | None:

@@ -30,7 +30,7 @@ import numpy as np
 import trimesh
 
 from vkgl.errors import InputError
-from vkgl.lang.ir.geometry import shape_mesh
+from vkgl.lang.ir.geometry import JOINT_LIFT, shape_mesh
 from vkgl.lang.ir.nodes import Body, Quantity, Table
 from vkgl.shapes import dart_shapes, isometry, translation
 
@@ -40,7 +40,7 @@ DEFAULT_FRICTION = 0.5  # for bodies that declare none
 TABLE_FRICTION = 1.0  # >= any sensible body coefficient: the body's own coefficient governs
 TABLE_THICKNESS = 0.05  # m
 EXPLORATION_TABLE_SIZE = (2.0, 2.0)  # m, centred under the explored body
-JOINT_CLEARANCE = 0.001  # m a jointed body is lifted so that it hangs on its joint, not on the table
+JOINT_CLEARANCE = JOINT_LIFT  # m a jointed body is lifted so that it hangs on its joint (the planner's lift too)
 
 
 def new_world(time_step: float = TIME_STEP) -> Any:

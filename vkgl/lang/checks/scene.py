@@ -11,6 +11,9 @@ principle, with every body's real shape (vkgl/lang/checks/solids.py):
 - E422 a body placed `at (x, y, z)` without a physical joint rests: its lowest
   point within `REST` of the table top, or of the top of another body whose
   shadow overlaps its own;
+- E426 a body on a physical joint, where the simulator hangs it (`JOINT_LIFT` above
+  where it is placed), stays at least `JOINT_GAP` clear of every other body:
+  touching one, it rubs on it when it moves on its joint and drags it along;
 - E423–E425 at its goal (the goal's yaw, or the best heading if the yaw is
   free; the goal's tolerances count in its favour) a body stays on the table,
   out of the robots' bases and out of the bodies nothing can move (no
@@ -42,7 +45,7 @@ from vkgl.lang.checks.solids import (
 )
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.geometry import joint_pose
+from vkgl.lang.ir.geometry import JOINT_LIFT, joint_pose, lifted
 from vkgl.lang.ir.program import Program
 
 TOUCH = 0.001
@@ -51,6 +54,9 @@ EDGE = 0.001
 """m: a body may pass the table's edge this much."""
 REST = 0.001
 """m: a body `at` a pose rests when its lowest point is this close to the table top or a body's top."""
+JOINT_GAP = 0.0005
+"""m: a body on a joint stays this clear of other bodies where it hangs (in DART a drawer touching its
+cabinet's top dragged the cabinet 20 cm; 1 mm under it, the cabinet stayed put)."""
 FAR = 1000.0
 """m: a body farther than this from the table's centre is off the table, whatever its shape."""
 FREE_YAWS = 72
@@ -125,6 +131,8 @@ def _check_scene(
         if local is None or pose is None:
             continue
         pose = _opened(scene_body, body, pose)
+        if body.joint is not None:
+            pose = lifted(pose)  # where the simulator hangs it on its joint
         if table is not None and _far(pose, table):
             _report_far(scene_body, pose, table, ctx)
             continue
@@ -138,6 +146,7 @@ def _check_scene(
             if bodies[k].body.joint is None:
                 _report_off_table(bodies[k], float(overhangs[k]), table, ctx)
     _check_overlaps(bodies, bases, ctx)
+    _check_joint_clearance(bodies, ctx)
     if table is not None:
         for item in bodies:
             if item.body.joint is None and not item.scene_body.placement.on_table:
@@ -256,6 +265,31 @@ def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext) 
                     f"`{bodies[k].name}` overlaps the base of robot `{base.name}` by {_cm(depth)} at the start: "
                     f"move it",
                     _where(bodies[k].scene_body),
+                )
+
+
+def _check_joint_clearance(bodies: list[Placed], ctx: CheckContext) -> None:
+    """E426: a body on a joint less than JOINT_GAP from another body where it hangs (not already E420)."""
+    jointed = [k for k, b in enumerate(bodies) if b.body.joint is not None]
+    if not jointed:
+        return
+    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
+    for k in jointed:
+        item = bodies[k]
+        near = np.all(np.minimum(highs, item.high) - np.maximum(lows, item.low) > -JOINT_GAP, axis=1)
+        for j in np.flatnonzero(near):
+            if j == k or (j in jointed and j < k):  # each pair of jointed bodies once
+                continue
+            depth = pieces_depth(item.pieces, bodies[j].pieces)
+            if -JOINT_GAP < depth <= TOUCH:
+                gap = max(0.0, -depth)
+                ctx.error(
+                    codes.JOINT_BODY_TOUCHES,
+                    f"`{item.name}` hangs on its joint {JOINT_LIFT * 1000:g} mm above where it is placed, as in "
+                    f"simulation, and is {gap * 1000:.1f} mm from `{bodies[j].name}`: moving on its joint it "
+                    f"would rub on `{bodies[j].name}` and drag it",
+                    _where(item.scene_body),
+                    f"leave at least {JOINT_GAP * 1000:g} mm between them where `{item.name}` hangs",
                 )
 
 

@@ -11,8 +11,9 @@ MISSING_MODULE = _code(
     (
         "A `use` names a module that does not exist. For `use a.b.c` the message lists every directory "
         "searched, in order (the importing file's directory, each `VKG_PATH` entry, the installed stdlib's "
-        'parent); a note suggests the closest module name. For `use "path.vkg"` the path is relative to the '
-        "importing file, not the working directory."
+        "parent; for `use stdlib.x` only the installed stdlib, one stdlib per compilation); a note suggests "
+        'the closest module name. For `use "path.vkg"` the path is relative to the importing file, not the '
+        "working directory."
     ),
 )
 IMPORT_CYCLE = _code(
@@ -103,12 +104,14 @@ TOOL_WITHOUT_CORRESPONDENCE = _code(
 )
 SHADOWED_STDLIB = _code(
     "W603",
-    "a local stdlib module shadows the installed one",
+    "a local stdlib module that differs from the installed one, which is used",
     (
-        "A warning (exit 0): `use stdlib.X` found `stdlib/X.vkg` in a folder searched before the installed "
-        "stdlib (the importing file's folder or a `VKG_PATH` entry), so the installed module of that name is "
-        "not used. The message names both files. Rename the local folder, or remove it, unless the override "
-        "is intended."
+        "A warning (exit 0): a compilation uses one stdlib, the installed one, so `use stdlib.X` reads the "
+        "installed `stdlib/X.vkg`, never a `stdlib/X.vkg` beside the importing file or in a `VKG_PATH` entry. "
+        "When such a local file exists and differs from the installed one, the message names both: give your "
+        "module a name outside `stdlib` (`use mylib.tools`), or install your changed stdlib "
+        "(`pip install -e .` in your checkout). An identical copy (a source checkout's `stdlib/` after "
+        "`pip install .`) is not reported."
     ),
 )
 JOINT_GOAL_PAST_LIMIT = _code(

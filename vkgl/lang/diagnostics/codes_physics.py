@@ -64,6 +64,18 @@ GOAL_IN_FIXED_BODY = _code(
         " is. Move the goal, or `use` an affordance module for that body."
     ),
 )
+JOINT_BODY_TOUCHES = _code(
+    "E426",
+    "a body on a joint touches another body",
+    (
+        "A body on a physical joint hangs 1 mm above where the scene places it (so that it does not rub on "
+        "the table: the simulator anchors its joint there, and the planner's geometry knows it). There it is "
+        "less than 0.5 mm from another body (or overlaps it by at most 1 mm, E420 reports more): when it "
+        "moves on its joint it rubs on that body and drags it along (a drawer touching its cabinet's top "
+        "dragged the cabinet 20 cm in DART). Move it so that it has room on every side, e.g. a drawer "
+        "placed lower in its cabinet."
+    ),
+)
 
 # motion ranges (builder.py, checks.py)
 RANGE_WITHOUT_STATE = _code(

@@ -33,6 +33,19 @@ from vkgl.lang.ir.nodes import (
 if TYPE_CHECKING:
     import trimesh
 
+JOINT_LIFT = 0.001
+"""m: a body on a physical joint hangs this far above where the scene places it, so that it hangs on its
+joint and does not rub on the table it stands on. The simulator anchors the joint there (`vkgl.sim.world`);
+the planner's collision geometry and the scene checks put the body there too, so that all three agree on
+how much room it has (a drawer 1 mm under its cabinet's top touches it once lifted, and drags it)."""
+
+
+def lifted(pose: np.ndarray, lift: float = JOINT_LIFT) -> np.ndarray:
+    """`pose` raised by `lift` along the world's z: where a body on a joint placed at `pose` really is."""
+    out = np.array(pose, dtype=float)
+    out[2, 3] += lift
+    return out
+
 
 def shape_mesh(shape: Shape) -> trimesh.Trimesh:
     """The shape as one triangle mesh in the body frame (SI units)."""

@@ -16,6 +16,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
 from scipy.spatial.transform import Rotation
 
+from vkgl.lang.ir.units import measured_repr
+
 
 class Span(BaseModel):
     """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
@@ -57,6 +59,7 @@ class Quantity(Node):
 
     value: float
     unit: str = ""
+    __repr__ = __str__ = measured_repr("value")  # not `Quantity(value=0.01, unit='cm')`: 0.01 is metres
 
 
 class Vector(Node):
@@ -64,6 +67,7 @@ class Vector(Node):
 
     values: tuple[float, ...]
     unit: str = ""
+    __repr__ = __str__ = measured_repr("values")
 
     def array(self) -> np.ndarray:
         """The components as a float numpy array."""

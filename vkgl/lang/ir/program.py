@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from vkgl.errors import InputError
+from vkgl.errors import InputError, did_you_mean
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir.nodes import (
     Affordance,
@@ -76,7 +76,10 @@ class Program:
         if name is not None:
             if name not in self.bodies:
                 known = ", ".join(sorted(self.bodies)) or "none"
-                raise InputError(f"{where}: no body named `{name}` (bodies in scope: {known})")
+                hint = did_you_mean(name, self.bodies)
+                raise InputError(
+                    f"{where}: no body named `{name}` ({hint + ' ' if hint else ''}bodies in scope: {known})"
+                )
             return self.bodies[name]
         own = [d for d in self.root.decls if isinstance(d, Body)]
         if not own:
@@ -96,7 +99,8 @@ class Program:
         known = ", ".join(sorted(self.tasks)) or "none"
         if name is not None:
             if name not in self.tasks:
-                raise InputError(f"{where}: no task `{name}` (tasks: {known})")
+                hint = did_you_mean(name, self.tasks)
+                raise InputError(f"{where}: no task `{name}` ({hint + ' ' if hint else ''}tasks: {known})")
             return self.tasks[name]
         own = [d.name for d in self.root.decls if isinstance(d, Task) and d.name in self.tasks]
         candidates = own or sorted(self.tasks)
@@ -275,7 +279,8 @@ class Program:
         if scene_or_task in self.tasks:
             return self._scene_of(self.tasks[scene_or_task])
         known = ", ".join(sorted(self.scenes) + sorted(self.tasks)) or "none"
-        raise InputError(f"no scene or task `{scene_or_task}` (scenes and tasks: {known})")
+        hint = did_you_mean(scene_or_task, [*self.scenes, *self.tasks])
+        raise InputError(f"no scene or task `{scene_or_task}` ({hint + ' ' if hint else ''}scenes and tasks: {known})")
 
     @staticmethod
     def _scene_body(scene: Scene, name: str) -> SceneBody:
@@ -283,7 +288,8 @@ class Program:
             if placed.name == name:
                 return placed
         known = ", ".join(b.name for b in scene.bodies) or "none"
-        raise InputError(f"scene `{scene.name}` has no body `{name}` (its bodies: {known})")
+        hint = did_you_mean(name, [b.name for b in scene.bodies])
+        raise InputError(f"scene `{scene.name}` has no body `{name}` ({hint + ' ' if hint else ''}its bodies: {known})")
 
     def _with_scene_body(self, scene: Scene, moved: SceneBody) -> Program:
         bodies = [moved if b.name == moved.name else b for b in scene.bodies]

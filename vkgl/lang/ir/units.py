@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Callable
 from fractions import Fraction
+from typing import Any
 
 DIMENSION: dict[str, str] = {
     "m": "length",
@@ -110,3 +112,31 @@ def unit_list(dimension: str) -> str:
     if len(units) <= 1:
         return "".join(units)
     return ", ".join(units[:-1]) + " or " + units[-1]
+
+
+def measured_repr(field: str) -> Callable[[Any], str]:
+    """The `__repr__` of a node holding SI `field` and the `unit` it was written in: `Quantity(0.01 m, written 1
+    cm)`, not pydantic's `Quantity(value=0.01, unit='cm')`, which reads as 0.01 cm."""
+
+    def show(node: Any) -> str:
+        value = getattr(node, field)
+        values = tuple(value) if isinstance(value, tuple) else (value,)
+        return f"{type(node).__name__}({si_and_written(values, node.unit)})"
+
+    return show
+
+
+def si_and_written(values: tuple[float, ...], unit: str) -> str:
+    """`0.01 m, written 1 cm`: SI values with their unit, then as the source wrote them (IR nodes' repr)."""
+
+    def show(numbers: tuple[float, ...]) -> str:
+        text = ", ".join(f"{v:.10g}" for v in numbers)
+        return text if len(numbers) == 1 else f"({text})"
+
+    dimension = DIMENSION.get(unit)
+    si = SI_UNIT.get(dimension, "") if dimension is not None else unit
+    shown = f"{show(values)} {si}".rstrip()
+    if dimension is None or unit == si:
+        return shown
+    scale = float(SCALE[unit])
+    return f"{shown}, written {show(tuple(v / scale for v in values))} {unit}"

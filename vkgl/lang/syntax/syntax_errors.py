@@ -14,6 +14,7 @@ from lark import Lark, Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 from lark.lexer import PatternStr
 
+from vkgl.errors import did_you_mean
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
@@ -111,7 +112,8 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
     if compound is not None:
         return compound
     if token.type == "NAME" and _looks_like_unit(str(token), before):
-        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span)
+        unit_notes = _unit_hint(str(token))
+        return codes.UNKNOWN_UNIT.diagnostic(f"unknown unit `{token}`; units are {_ALL_UNITS}", span, *unit_notes)
     got = "`" + str(token).replace("\n", " ") + "`"
     keyword = _keyword_read_as_name(parser, exc)
     notes: tuple[str, ...] = ()
@@ -119,9 +121,32 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
         notes = (f"`{keyword}` before it was read as a name; is something missing before `{keyword}`?",)
     elif token.column == 1 and DECLARATION_START.match(str(token)) and (opened := _unclosed_brace(before)):
         notes = (f"the `{{` at {path}:{opened[0]}:{opened[1]} is never closed: add `}}` before this declaration",)
+    elif token.type == "NAME" and (close := did_you_mean(str(token), _expected_keywords(parser, _expected(exc)))):
+        notes = (close,)  # `mas 0.8 kg`: a misspelled keyword
     return codes.UNEXPECTED_TOKEN.diagnostic(
         f"unexpected {got}; expected {_words(parser, _expected(exc))}", span, *notes
     )
+
+
+def _expected_keywords(parser: Lark, expected: set[str]) -> list[str]:
+    """The keywords among the expected terminals (`mass`, `friction`, ...)."""
+    words = []
+    for name in expected:
+        try:
+            pattern = parser.get_terminal(name).pattern
+        except KeyError:
+            continue
+        if isinstance(pattern, PatternStr) and pattern.value.isalpha():
+            words.append(pattern.value)
+    return words
+
+
+def _unit_hint(word: str) -> tuple[str, ...]:
+    """ "did you mean `cm`?" for `CM`, `degrees`, `mmm`: a unit in another case, or one typo away."""
+    units = [u for u in DIMENSION if u]
+    same = [u for u in units if u.lower() == word.lower()]
+    hint = f"did you mean `{same[0]}`?" if same else did_you_mean(word, units)
+    return (hint,) if hint else ()
 
 
 def _keyword_read_as_name(parser: Lark, exc: UnexpectedToken) -> str | None:

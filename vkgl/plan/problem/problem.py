@@ -17,6 +17,7 @@ import numpy as np
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.geometry import (
+    JOINT_LIFT,
     joint_axis,
     joint_coordinate,
     resting_height,
@@ -343,8 +344,12 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
 
 
 def collision_scene(problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0) -> CollisionScene:
-    """The collision scene of `problem`: its bodies' shapes and its table (if the scene has one)."""
+    """The collision scene of `problem`: its bodies' shapes and its table (if the scene has one).
+
+    A body on a physical joint is where the simulator hangs it: `JOINT_LIFT` above its planned pose.
+    """
     shapes = {name: body.type.shape for name, body in problem.bodies.items()}
+    lifts = {name: JOINT_LIFT for name, body in problem.bodies.items() if body.joint_limits is not None}
     return CollisionScene(
         shapes,
         table_center=problem.table_center,
@@ -352,4 +357,5 @@ def collision_scene(problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.
         table_z=problem.table_z,
         tol=tol,
         margin=margin,
+        lifts=lifts,
     )

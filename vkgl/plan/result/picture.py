@@ -69,7 +69,8 @@ def plan_figure(plan: Any) -> Any:
     from matplotlib.lines import Line2D
 
     if plan.status != "solved":
-        raise InputError(f"task {plan.task} has no plan to draw ({plan.status}: {plan.reason})")
+        summary = plan.reason.splitlines()[0] if plan.reason else ""
+        raise InputError(f"task {plan.task} has no plan to draw ({plan.status}: {summary})")
     modes = _modes(plan)
     tracks = _tracks(plan)
     solids = _solids(plan)

@@ -106,12 +106,15 @@ class Plan:
         """The graph sequence as in the paper's Figure 2: each graph's edges, and each step with its value."""
         stats = self.stats
         counts = (
-            f"{stats['solve_time_s']:.3f} s; {stats['graphs_expanded']} graphs expanded, "
-            f"{stats['task_space_checks']} task-space checks, {stats['joint_space_checks']} joint-space checks"
+            f"{stats['solve_time_s']:.3f} s; {_count(stats['graphs_expanded'], 'graph')} expanded, "
+            f"{_count(stats['task_space_checks'], 'task-space check')}, "
+            f"{_count(stats['joint_space_checks'], 'joint-space check')}"
         )
         if self.status != "solved":
-            return f"task {self.task}: {self.status} ({counts})\n  {self.reason}"
-        lines = [f"task {self.task}: solved, depth {self.depth} ({counts})"]
+            reason = "\n".join(f"  {line}" for line in self.reason.splitlines())
+            return f"task {self.task}: {self.status} ({counts})\n{reason}"
+        depth = f"depth {self.depth}: graphs G0 to G{len(self.graphs) - 1}" if self.steps else "depth 1: G0 only"
+        lines = [f"task {self.task}: solved in {_count(len(self.steps), 'step')} ({depth}; {counts})"]
         for k, graph in enumerate(self.graphs):
             lines.append(f"G{k}: " + ", ".join(f"{a}-{b} {t}" for a, b, t in graph))
             if k < len(self.steps):
@@ -123,6 +126,11 @@ class Plan:
                     f"yaw {math.degrees(yaw_of(pose)):.1f} deg"
                 )
         return "\n".join(lines)
+
+
+def _count(n: int, noun: str) -> str:
+    """`1 graph`, `3 graphs`."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def robot_entry(problem: Problem) -> PlanRobot:

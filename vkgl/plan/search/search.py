@@ -68,14 +68,14 @@ class SearchStats:
     work: Counters = field(default_factory=Counters)
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
-    examples: dict[str, tuple[float, str]] = field(default_factory=dict)
+    examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
 
     def reject(self, rejection: Rejection, label: str) -> None:
         """Count a rejection; keep the closest miss of each kind (the first among equals) as its example."""
         self.rejections[rejection.kind] += 1
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
-            self.examples[rejection.kind] = (rejection.excess, f"{label}: {rejection.why}")
+            self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
 
 
 @dataclass
@@ -290,10 +290,24 @@ def _with_transits(
     return replace(found, steps=tuple(planned), paths=None)
 
 
+def _kinds(stats: SearchStats) -> list[str]:
+    """The kinds of rejection met, the furthest stage first (the decisive cause), then the most frequent."""
+    return sorted(stats.rejections, key=lambda k: (-Kind(k).stage, -stats.rejections[k], k))
+
+
 def _summary(stats: SearchStats) -> str:
-    kinds = sorted(stats.rejections, key=lambda k: (-Kind(k).stage, -stats.rejections[k], k))
-    parts = [f"{stats.rejections[kind]} {Kind(kind).words} (closest: {stats.examples[kind][1]})" for kind in kinds]
-    return "; ".join(parts)
+    """One line: how many sequences each kind of rejection took."""
+    return ", ".join(f"{stats.rejections[kind]} {Kind(kind).words}" for kind in _kinds(stats))
+
+
+def _closest(stats: SearchStats, kind: str) -> list[str]:
+    """The closest miss of one kind, as indented lines: the steps of its sequence, one a line, then why."""
+    _, label, why = stats.examples[kind]
+    steps = label.split(" -> ")
+    lines = [f"  {stats.rejections[kind]} {Kind(kind).words}; the closest:"]
+    lines += [f"    {'-> ' if k else ''}{step}" for k, step in enumerate(steps)]
+    lines.append(f"    why: {why}")
+    return lines
 
 
 def _accounting(stats: SearchStats) -> str:
@@ -317,17 +331,23 @@ def _accounting(stats: SearchStats) -> str:
 
 
 def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
+    """A one-line summary (what scripts print), then an indented line per kind with its closest miss.
+
+    The `--max-depth` hint, when there is one, is a line of its own after the list.
+    """
     head = f"no sequence of at most {problem.max_depth} graphs reaches the goal"
     detail = _summary(stats)
-    reason = f"{head}: {detail}" if detail else head
-    reason += f" [{_accounting(stats)}]"
+    lines = [f"{head}: {detail}" if detail else head]
+    for kind in _kinds(stats):
+        lines += _closest(stats, kind)
+    lines.append(f"  ({_accounting(stats)})")
     # A joint's limit or the table's edge stays where it is however long the sequence: no hint then.
     if stats.cut_by_depth and problem.max_depth < MAX_DEPTH_HINT and set(stats.rejections) - {"table"}:
-        reason += (
-            f"; {stats.cut_by_depth} sequences were cut at max_depth {problem.max_depth}: a longer one may "
+        lines.append(
+            f"{stats.cut_by_depth} sequences were cut at max_depth {problem.max_depth}: a longer one may "
             f"work (try --max-depth {problem.max_depth + 1})"
         )
-    return reason
+    return "\n".join(lines)
 
 
 MAX_DEPTH_HINT = 12

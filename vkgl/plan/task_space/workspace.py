@@ -29,7 +29,8 @@ def unreachable(problem: Problem, hand: np.ndarray) -> Rejection | None:
     return Rejection(
         Kind.REACH,
         f"the hand would be {radius:.3f} m from the arm's base at height {hand[2, 3]:.3f} m "
-        f"(reach there: {r_min:.3f} to {r_max:.3f} m)",
+        f"(usable reach there: {r_min + REACH_MARGIN:.3f} to {r_max - REACH_MARGIN:.3f} m, the arm's "
+        f"{r_min:.3f} to {r_max:.3f} m less {REACH_MARGIN * 1000:g} mm kept for inverse kinematics)",
         distance,
     )
 
