@@ -102,8 +102,11 @@ def cmd_fmt(args: argparse.Namespace) -> int:
 def cmd_explore(args: argparse.Namespace) -> int:
     """Run a body's exploration grid in DART and write a `vkg-trials/1` dataset."""
     from vkgl import api
+    from vkgl.cli.paths import check_outputs_against
 
-    body = api.compile(args.bodyfile).body(args.body)
+    program = api.compile(args.bodyfile)
+    check_outputs_against(args, program.files(), f"read by the compilation of {args.bodyfile}")
+    body = program.body(args.body)
     trials = api.explore(body, seed=args.seed, jobs=args.jobs, progress=_is_terminal(sys.stderr))
     trials.save(args.output)
     failed = int((~trials.ok).sum())
@@ -183,9 +186,11 @@ def cmd_solve(args: argparse.Namespace) -> int:
     import json
 
     from vkgl import api
+    from vkgl.cli.paths import check_outputs_against
     from vkgl.formats.atomic import write_text
 
     program = api.compile(args.taskfile)
+    check_outputs_against(args, program.files(), f"read by the compilation of {args.taskfile}")
     plan = api.solve(
         program,
         args.task,
