@@ -286,6 +286,33 @@ def test_use_of_a_vkg_link_to_a_file_that_is_not_a_module(tmp_path: Path) -> Non
     assert [d.code for d in diagnostics] == ["E509"] and "secret" not in str(sources)
 
 
+@pytest.mark.parametrize(
+    "command",
+    [["check"], ["fmt"], ["fmt", "--check"], ["solve"], ["explore", "-o", "{out}"], ["learn", "-o", "{out}"]],
+)
+def test_a_command_line_link_to_a_file_that_is_not_a_module_is_never_echoed(
+    tmp_path: Path, command: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`vkgc check pw.vkg`, pw.vkg a link to /etc/passwd, printed the file's first line (E509 covered only `use`)."""
+    from vkgl.cli import main
+
+    secret = tmp_path / "elsewhere" / "passwd"
+    secret.parent.mkdir()
+    secret.write_text("root:x:0:0:SECRET:/root:/bin/bash\n", encoding="utf-8")
+    link = tmp_path / "work" / "pw.vkg"
+    link.parent.mkdir()
+    link.symlink_to(secret)
+    (tmp_path / "work" / "inside").symlink_to(secret.parent, target_is_directory=True)
+    for name in (link, tmp_path / "work" / "inside" / "passwd"):
+        args = [a.replace("{out}", str(tmp_path / "out")) for a in command]
+        assert main([args[0], str(name), *args[1:]]) == 1
+        captured = capsys.readouterr()
+        assert "error[E509]" in captured.out + captured.err
+        assert "SECRET" not in captured.out + captured.err
+    assert link.is_symlink() and secret.read_text(encoding="utf-8").startswith("root:x")
+    assert not (tmp_path / "out").exists()
+
+
 def test_use_of_a_fifo_module_does_not_hang(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "pipe.vkg")
     diagnostics, _ = check_files_text_in(tmp_path, 'use "pipe.vkg"\n')
