@@ -371,3 +371,23 @@ def test_commands_report_missing_and_not_utf8_inputs_as_diagnostics(
     latin.write_bytes(b"# \xe9\n")
     assert main([command, str(latin)]) == 1
     assert f"{latin}:1:3: error[E508]: " in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device"])
+def test_a_mesh_or_urdf_that_is_a_fifo_or_a_device_is_reported_as_what_it_is(tmp_path: Path, kind: str) -> None:
+    """A mesh or URDF path that was a FIFO or /dev/zero was reported as "no such file"."""
+    for name in ("part.stl", "arm.urdf"):
+        if kind == "fifo":
+            os.mkfifo(tmp_path / name)
+        else:
+            (tmp_path / name).symlink_to("/dev/zero")  # never opened: `stat` says what it is
+    (tmp_path / "m.vkg").write_text(
+        'body Part {\n    shape mesh "part.stl"\n    mass 1 kg\n}\n'
+        'robot Arm {\n    urdf "arm.urdf"\n    effector tip = link hand offset (0, 0, 0) cm\n}\n',
+        encoding="utf-8",
+    )
+    diagnostics = _check(tmp_path / "m.vkg")
+    what = "a named pipe (FIFO)" if kind == "fifo" else "a character device"
+    assert sorted(d.code for d in diagnostics) == ["E503", "E504"]
+    for diag in diagnostics:
+        assert f"it is {what}, not a regular file" in diag.message and "no such file" not in diag.message

@@ -95,6 +95,26 @@ def file_problem(path: Path, shown: str, span: ir.Span | None = None, *, limit: 
     return None
 
 
+def not_a_regular_file(path: str | Path) -> str | None:
+    """Why `path` is not a regular file, by `stat` alone (nothing is opened); None when it is one.
+
+    For messages: "no such file", "it is a named pipe (FIFO), not a regular file", ...
+    """
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        return "no such file"
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            return "it is a symbolic link loop, not a regular file"
+        return exc.strerror or str(exc)
+    if stat.S_ISDIR(info.st_mode):
+        return "it is a directory, not a regular file"
+    if not stat.S_ISREG(info.st_mode):
+        return f"it is {_kind(info.st_mode)}, not a regular file"
+    return None
+
+
 def _kind(mode: int) -> str:
     if stat.S_ISFIFO(mode):
         return "a named pipe (FIFO)"
