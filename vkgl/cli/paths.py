@@ -4,9 +4,15 @@ An input file that cannot be read (missing, not a regular file, too large) is
 a diagnostic naming it (`path: error[E506]: ...`), exit 1, before any work.
 
 An output is refused (exit 1, naming both) when it is one of the command's
-inputs or another of its outputs, when it is a directory, or when its folder
-is missing or not writable: minutes of exploration or simulation must never
-end in a lost input or an unwritable result.
+inputs or another of its outputs, when it is a directory, a block device or
+a socket, or when its folder is missing or not writable: minutes of
+exploration or simulation must never end in a lost input or an unwritable
+result. Once a command has compiled its `.vkg` file, an output that is any
+file the compilation read (a module it uses, a mesh, a URDF) is refused too
+(`check_outputs_against`); `infer -o` never replaces a file `vkgc` did not
+generate, nor the module `--use` names. How each output is written (renamed
+over a regular file, written in place into a device, a FIFO or
+`/dev/stdout`) is `vkgl.formats.atomic`'s decision.
 """
 
 from __future__ import annotations
