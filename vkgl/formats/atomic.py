@@ -95,9 +95,9 @@ def check_destination(path: str | Path, shown: str | None = None) -> Way:
 def write_bytes(path: str | Path, data: bytes) -> None:
     """Write `data` to the output `path` as `decide` says; on any error a replaced file is left as it was."""
     way, target = decide(path)
-    fd = _stream_fd(Path(path))
-    if fd is not None:
-        _write_stream(fd, data)
+    stream_fd = _stream_fd(Path(path))
+    if stream_fd is not None:
+        _write_stream(stream_fd, data)
     elif way is Way.IN_PLACE:
         _write_in_place(target, data, shown=str(path))
     else:
