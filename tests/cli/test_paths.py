@@ -2,14 +2,36 @@
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
+import stat
 from pathlib import Path
 
 import pytest
 from conftest import EXAMPLES, STDLIB
 
 from vkgl.cli import main
+
+
+@pytest.fixture(autouse=True)
+def no_rename_outside_the_temporary_folder(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A writer with the old bug would rename over /dev/stdout (run as root): refuse any rename outside /tmp."""
+    import tempfile
+
+    allowed = os.path.realpath(tempfile.gettempdir())
+    real_replace, real_rename = os.replace, os.rename
+
+    def guarded(real):  # type: ignore[no-untyped-def]
+        def rename(source, destination, *args, **kwargs):  # type: ignore[no-untyped-def]
+            if not os.path.realpath(os.path.dirname(os.path.abspath(destination))).startswith(allowed):
+                raise AssertionError(f"a test renamed over {destination}")
+            return real(source, destination, *args, **kwargs)
+
+        return rename
+
+    monkeypatch.setattr(os, "replace", guarded(real_replace))
+    monkeypatch.setattr(os, "rename", guarded(real_rename))
 
 
 def test_explore_refuses_to_write_over_its_body_file(tmp_path, capsys) -> None:
@@ -85,3 +107,148 @@ def test_fmt_writes_atomically(tmp_path, name, monkeypatch) -> None:
     assert main(["fmt", str(path)]) == 1
     assert path.read_bytes() == before
     assert [p.name for p in Path(tmp_path).iterdir()] == [name]  # no temporary file left behind
+
+
+# ---------------------------------------------------------------- outputs that are not regular files
+
+
+@pytest.fixture
+def examples(tmp_path: Path) -> Path:
+    """A copy of examples/ (tasks and the scenes they use), to write next to."""
+    copy = tmp_path / "examples"
+    shutil.copytree(EXAMPLES, copy)
+    return copy
+
+
+def test_solve_feeds_a_fifo_and_leaves_it_a_fifo(examples: Path, capsys) -> None:
+    """A FIFO given as an output became a regular file (the writer renamed over it)."""
+    fifo = examples.parent / "plan.fifo"
+    os.mkfifo(fifo)
+    reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        assert main(["solve", str(examples / "tasks" / "a_push.vkg"), "--json", str(fifo)]) == 0
+        received = os.read(reader, 1 << 20)
+    finally:
+        os.close(reader)
+    assert json.loads(received)["format"] == "vkg-plan/3"
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+
+
+def test_solve_refuses_a_fifo_nobody_reads_instead_of_hanging(examples: Path, capsys) -> None:
+    fifo = examples.parent / "plan.fifo"
+    os.mkfifo(fifo)
+    assert main(["solve", str(examples / "tasks" / "a_push.vkg"), "--json", str(fifo)]) == 1
+    assert "is a named pipe (FIFO) that no process reads" in capsys.readouterr().err
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+
+
+def test_solve_json_to_dev_stdout_prints_it_with_the_rest(examples: Path, capsys) -> None:
+    assert main(["solve", str(examples / "tasks" / "a_push.vkg"), "--json", "/dev/stdout"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("task a_push: solved")
+    document = out[out.index("\n{") + 1 : out.rindex("}\n") + 1]
+    assert json.loads(document)["format"] == "vkg-plan/3"
+    assert out.endswith("/dev/stdout: plan as vkg-plan/3\n")
+
+
+def test_a_device_output_is_not_checked_as_a_folder_to_write_in(monkeypatch) -> None:
+    """`--json /dev/null` needs no writable /dev: nothing is created there."""
+    import argparse
+
+    from vkgl.cli.paths import check_paths
+
+    monkeypatch.setattr(os, "access", lambda path, mode: str(path) != "/dev")
+    args = argparse.Namespace(command="solve", taskfile="t.vkg", json="/dev/null", plot="/dev/null")
+    args.execution_json = args.animate = None
+    check_paths(args)  # neither "not writable" nor "another output of this command"
+
+
+# ---------------------------------------------------------------- outputs that are files a compilation read
+
+
+def test_solve_refuses_json_over_a_module_the_task_uses(examples: Path, capsys) -> None:
+    scene = examples / "scenes" / "tabletop.vkg"
+    before = scene.read_bytes()
+    task = examples / "tasks" / "a_push.vkg"
+    assert main(["solve", str(task), "--json", str(scene)]) == 1
+    err = capsys.readouterr().err
+    assert f"--json {scene}: is the module" in err and "tabletop.vkg" in err and f"compilation of {task}" in err
+    assert scene.read_bytes() == before
+
+
+def test_solve_refuses_a_picture_over_a_module_of_the_stdlib_copy(tmp_path, capsys, monkeypatch) -> None:
+    """Not only modules named by path: a dotted `use` found on VKG_PATH is read too."""
+    lib = tmp_path / "mylib"
+    shutil.copytree(STDLIB, lib / "stdlib")
+    task = tmp_path / "t.vkg"
+    task.write_text((EXAMPLES / "tasks" / "a_push.vkg").read_text(encoding="utf-8"), encoding="utf-8")
+    scenes = tmp_path.parent / "scenes"  # `use "../scenes/tabletop.vkg"` from the task's folder
+    shutil.copytree(EXAMPLES / "scenes", scenes, dirs_exist_ok=True)
+    monkeypatch.setenv("VKG_PATH", str(lib))
+    target = lib / "stdlib" / "affordances" / "block.vkg"
+    before = target.read_bytes()
+    assert main(["solve", str(task), "--plot", str(target)]) == 1
+    assert "is the module" in capsys.readouterr().err
+    assert target.read_bytes() == before
+
+
+def test_explore_refuses_to_write_over_a_module_its_body_file_uses(tmp_path, capsys, monkeypatch) -> None:
+    helper = tmp_path / "helper.vkg"
+    helper.write_text("# shared declarations\n", encoding="utf-8")
+    body = tmp_path / "crate.vkg"
+    body.write_text('use "helper.vkg"\n' + (STDLIB / "bodies" / "block.vkg").read_text(encoding="utf-8"))
+    monkeypatch.setattr("vkgl.api.explore", _never_explore)
+    assert main(["explore", str(body), "-o", str(helper)]) == 1
+    err = capsys.readouterr().err
+    assert f"--output {helper}: is the module" in err and f"compilation of {body}" in err
+    assert helper.read_text(encoding="utf-8") == "# shared declarations\n"
+
+
+def test_infer_refuses_to_write_over_the_body_file(tmp_path, capsys, monkeypatch) -> None:
+    """docs/stdlib.md's own `vkgc explore crate.vkg -o crate.npz && vkgc infer crate.npz -o crate.vkg`."""
+    body = tmp_path / "crate.vkg"
+    shutil.copy(STDLIB / "bodies" / "block.vkg", body)
+    before = body.read_bytes()
+    trials = tmp_path / "crate.npz"
+    trials.write_bytes(b"never read")
+    monkeypatch.chdir(tmp_path)
+    assert main(["infer", "crate.npz", "-o", "crate.vkg"]) == 1
+    err = capsys.readouterr().err
+    assert "-o crate.vkg: exists and was not generated by `vkgc`" in err and "crate_affordances.vkg" in err
+    assert body.read_bytes() == before
+
+
+def test_infer_refuses_to_write_the_module_it_would_use(tmp_path, capsys) -> None:
+    trials = tmp_path / "crate.npz"
+    trials.write_bytes(b"never read")
+    out = tmp_path / "crate.vkg"
+    assert main(["infer", str(trials), "--use", "crate.vkg", "-o", str(out)]) == 1
+    assert "is the module --use crate.vkg names" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_infer_replaces_a_module_vkgc_generated(tmp_path, capsys) -> None:
+    from vkgl.cli.paths import _check_module_output
+
+    out = tmp_path / "crate.vkg"
+    out.write_text("# Generated by `vkgc infer crate.npz` from 10 trials. Do not edit.\n", encoding="utf-8")
+    _check_module_output(out, None)  # no error
+
+
+# ---------------------------------------------------------------- links, fmt
+
+
+def test_fmt_formats_a_links_target_and_keeps_the_link(tmp_path) -> None:
+    target = tmp_path / "real" / "scene.vkg"
+    target.parent.mkdir()
+    target.write_text("scene  s {\n    table size (1, 1) m at (0, 0, 0) m\n}\n", encoding="utf-8")
+    link = tmp_path / "link.vkg"
+    os.symlink(os.path.relpath(target, tmp_path), link)
+    assert main(["fmt", str(link)]) == 0
+    assert link.is_symlink()
+    assert target.read_text(encoding="utf-8").startswith("scene s {")
+    assert main(["fmt", "--check", str(link)]) == 0
+
+
+def _never_explore(*args, **kwargs):
+    raise AssertionError("explored before refusing")

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -103,3 +105,68 @@ def test_the_key_changes_with_the_urdf(tmp_path: Path) -> None:
     assert reach_module._disk_key((str(urdf), "other", b"offset")) != reach_module._disk_key(
         (str(urdf), "hand", b"offset")
     )
+
+
+def _cache_file(folder: Path) -> Path:
+    reach_cache.store(KEY, 0.025, (0.1, 0.8))
+    (path,) = folder.iterdir()
+    return path
+
+
+def test_deep_nesting_is_ignored_not_a_crash(folder: Path) -> None:
+    """200,000 nested `[` made json raise RecursionError: every solve exited 4 until the file was deleted."""
+    path = _cache_file(folder)
+    path.write_text("[" * 200_000)
+    assert reach_cache.load(KEY) == {}
+    reach_cache.store(KEY, 0.03, (0.2, 0.7))
+    assert reach_cache.load(KEY) == {0.03: (0.2, 0.7)}
+
+
+@pytest.mark.parametrize("interval", [[0.8, 0.1], [-0.2, 0.5], [-0.5, -0.1], ["NaN", 0.5], [0.1, True]])
+def test_implausible_intervals_are_dropped_and_the_rest_kept(folder: Path, interval: list) -> None:
+    path = _cache_file(folder)
+    data = json.loads(path.read_text())
+    data["reach"]["0.300"] = [float(v) if v == "NaN" else v for v in interval]
+    data["reach"]["nan"] = [0.1, 0.2]
+    path.write_text(json.dumps(data))
+    assert reach_cache.load(KEY) == {0.025: (0.1, 0.8)}
+
+
+def test_nan_is_never_written(folder: Path) -> None:
+    reach_cache.store(KEY, float("nan"), (0.1, 0.8))
+    reach_cache.store(KEY, 0.05, (float("nan"), 0.8))
+    reach_cache.store(KEY, 0.06, (0.9, 0.1))
+    assert list(folder.iterdir()) == []
+    path = _cache_file(folder)
+    assert "nan" not in path.read_text().lower()
+
+
+def test_a_file_larger_than_the_bound_is_not_read(folder: Path) -> None:
+    path = _cache_file(folder)
+    data = json.loads(path.read_text())
+    data["pad"] = "x" * reach_cache.MAX_BYTES
+    path.write_text(json.dumps(data))
+    assert reach_cache.load(KEY) == {}
+
+
+def test_a_fifo_in_its_place_neither_hangs_nor_is_written(folder: Path) -> None:
+    path = _cache_file(folder)
+    path.unlink()
+    os.mkfifo(path)
+    assert reach_cache.load(KEY) == {}  # opened without waiting for a writer
+    reach_cache.store(KEY, 0.03, (0.2, 0.7))  # no reader: would fail; a reader: would be fed; neither happens
+    assert stat.S_ISFIFO(os.lstat(path).st_mode)
+
+
+def test_a_link_to_a_character_device_is_not_read(folder: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A link to /dev/zero in the cache's place: `fstat` says character device, nothing is read from it."""
+    path = _cache_file(folder)
+    path.unlink()
+    os.symlink("/dev/zero", path)
+    reads = []
+    real_read = os.read
+    monkeypatch.setattr(reach_cache.os, "read", lambda fd, n: reads.append(n) or real_read(fd, n))
+    assert reach_cache.load(KEY) == {}
+    assert reads == []
+    reach_cache.store(KEY, 0.03, (0.2, 0.7))  # never written through the link
+    assert os.readlink(path) == "/dev/zero"

@@ -170,3 +170,129 @@ def test_explored_ranges_are_rounded_inwards() -> None:
     turn = range_ir((0.0012, np.deg2rad(25.08)), "deg")  # to 0.1 deg
     assert turn.lower.value == pytest.approx(np.deg2rad(0.1)) and turn.upper.value == pytest.approx(np.deg2rad(25.0))
     assert range_ir((0.0, 0.0571), "cm").upper.value == pytest.approx(0.057)
+
+
+# ---------------------------------------------------------------- what learn refuses, before exploring anything
+
+
+def _body_file(path: Path, name: str = "Block") -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text((BODIES / "block.vkg").read_text(encoding="utf-8").replace("body Block", f"body {name}"))
+    return path
+
+
+@pytest.fixture
+def no_exploration(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """`learn` with exploration and inference replaced by stand-ins: what these tests ask is what it writes where."""
+    from types import SimpleNamespace
+
+    explored: list[str] = []
+
+    def explore(body, **kwargs):
+        explored.append(body.name)
+        return [None] * 3
+
+    def infer(trials, *, body_use, header, path):
+        return SimpleNamespace(source=f"# {header}\nuse {body_use}\n")
+
+    monkeypatch.setattr("vkgl.api.explore", explore)
+    monkeypatch.setattr("vkgl.api.infer", infer)
+    return explored
+
+
+def test_two_bodies_of_one_module_name_are_refused(tmp_path: Path, no_exploration: list[str]) -> None:
+    """`Crate` and `CRATE` both wrote out/crate.vkg, "generated" twice: the first body's affordances were lost."""
+    from vkgl.errors import InputError
+
+    first, second = _body_file(tmp_path / "a.vkg", "Crate"), _body_file(tmp_path / "b.vkg", "CRATE")
+    with pytest.raises(InputError, match="would both be learned into this one module") as caught:
+        learn([first, second], out_dir=tmp_path / "out")
+    assert "`Crate`" in str(caught.value) and "`CRATE`" in str(caught.value) and str(second) in str(caught.value)
+    assert no_exploration == [] and not (tmp_path / "out").exists()
+
+
+def test_one_body_in_two_files_is_refused(tmp_path: Path, no_exploration: list[str]) -> None:
+    from vkgl.errors import InputError
+
+    files = [_body_file(tmp_path / "x" / "crate.vkg", "Crate"), _body_file(tmp_path / "y" / "crate.vkg", "Crate")]
+    with pytest.raises(InputError, match="would both be learned"):
+        learn(files, out_dir=tmp_path / "out")
+    assert no_exploration == []
+
+
+def test_a_file_named_twice_is_learned_once(tmp_path: Path, no_exploration: list[str]) -> None:
+    body = _body_file(tmp_path / "bodies" / "crate.vkg", "Crate")
+    assert learn([body, body.parent, tmp_path / "bodies" / ".." / "bodies" / "crate.vkg"], out_dir=tmp_path / "out")
+    assert no_exploration == ["Crate"]
+
+
+def test_an_unwritable_output_folder_fails_before_exploring(
+    tmp_path: Path, no_exploration: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import os
+
+    from vkgl.errors import InputError
+
+    body = _body_file(tmp_path / "crate.vkg", "Crate")
+    out = tmp_path / "readonly"
+    out.mkdir(mode=0o555)
+    if os.geteuid() == 0:  # root writes anywhere the mode says not to: ask access() what it would say to a user
+        real_access = os.access
+        monkeypatch.setattr(os, "access", lambda p, m: False if Path(p) == out else real_access(p, m))
+    with pytest.raises(InputError, match="not writable"):
+        learn(body, out_dir=out / "sub")
+    (tmp_path / "file").write_text("")
+    with pytest.raises(InputError, match="is not a directory"):
+        learn(body, out_dir=tmp_path / "file")
+    assert no_exploration == []
+
+
+def test_a_module_the_body_file_uses_is_never_replaced(tmp_path: Path, no_exploration: list[str]) -> None:
+    from vkgl.errors import InputError
+
+    shared = tmp_path / "out" / "crate.vkg"
+    shared.parent.mkdir()
+    shared.write_text("# shared, hand-written\n", encoding="utf-8")
+    body = tmp_path / "box.vkg"
+    _body_file(body, "Crate")
+    body.write_text('use "out/crate.vkg"\n' + body.read_text(encoding="utf-8"), encoding="utf-8")
+    with pytest.raises(InputError, match=f"is the module `{shared}`, which {body} reads"):
+        learn(body, out_dir=tmp_path / "out", force=True)
+    assert shared.read_text(encoding="utf-8") == "# shared, hand-written\n" and no_exploration == []
+
+
+def test_learning_a_folder_into_itself_twice_learns_the_same_bodies(tmp_path: Path, no_exploration: list[str]) -> None:
+    """`learn FOLDER -o FOLDER` took its own generated modules for body files on the next run."""
+    folder = tmp_path / "lib"
+    _body_file(folder / "shapes.vkg", "Crate")
+    first = learn(folder, out_dir=folder)
+    assert first == [folder / "crate.vkg"]
+    second = learn(folder, out_dir=folder)
+    assert second == first and no_exploration == ["Crate", "Crate"]
+
+
+def test_an_interrupt_while_writing_leaves_no_temporary_file(
+    tmp_path: Path, no_exploration: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C while learn wrote left a 0-byte `.tmp` file: its own writer's temporary files were not known to the
+    interrupt handler (which removes those of `vkgl.formats.atomic`, then ends the process at once)."""
+    import os
+
+    from vkgl.formats.atomic import discard_temporaries
+
+    body = _body_file(tmp_path / "crate.vkg", "Crate")
+    out = tmp_path / "out"
+    left: list[str] = []
+
+    class Ended(BaseException):
+        pass
+
+    def interrupted(source: object, destination: object) -> None:
+        discard_temporaries()  # what `vkgl.cli.interrupt.on_interrupt` does before os._exit
+        left.extend(p.name for p in out.iterdir())
+        raise Ended
+
+    monkeypatch.setattr(os, "replace", interrupted)
+    with pytest.raises(Ended):
+        learn(body, out_dir=out)
+    assert left == []

@@ -286,6 +286,33 @@ def test_use_of_a_vkg_link_to_a_file_that_is_not_a_module(tmp_path: Path) -> Non
     assert [d.code for d in diagnostics] == ["E509"] and "secret" not in str(sources)
 
 
+@pytest.mark.parametrize(
+    "command",
+    [["check"], ["fmt"], ["fmt", "--check"], ["solve"], ["explore", "-o", "{out}"], ["learn", "-o", "{out}"]],
+)
+def test_a_command_line_link_to_a_file_that_is_not_a_module_is_never_echoed(
+    tmp_path: Path, command: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
+    """`vkgc check pw.vkg`, pw.vkg a link to /etc/passwd, printed the file's first line (E509 covered only `use`)."""
+    from vkgl.cli import main
+
+    secret = tmp_path / "elsewhere" / "passwd"
+    secret.parent.mkdir()
+    secret.write_text("root:x:0:0:SECRET:/root:/bin/bash\n", encoding="utf-8")
+    link = tmp_path / "work" / "pw.vkg"
+    link.parent.mkdir()
+    link.symlink_to(secret)
+    (tmp_path / "work" / "inside").symlink_to(secret.parent, target_is_directory=True)
+    for name in (link, tmp_path / "work" / "inside" / "passwd"):
+        args = [a.replace("{out}", str(tmp_path / "out")) for a in command]
+        assert main([args[0], str(name), *args[1:]]) == 1
+        captured = capsys.readouterr()
+        assert "error[E509]" in captured.out + captured.err
+        assert "SECRET" not in captured.out + captured.err
+    assert link.is_symlink() and secret.read_text(encoding="utf-8").startswith("root:x")
+    assert not (tmp_path / "out").exists()
+
+
 def test_use_of_a_fifo_module_does_not_hang(tmp_path: Path) -> None:
     os.mkfifo(tmp_path / "pipe.vkg")
     diagnostics, _ = check_files_text_in(tmp_path, 'use "pipe.vkg"\n')
@@ -344,3 +371,23 @@ def test_commands_report_missing_and_not_utf8_inputs_as_diagnostics(
     latin.write_bytes(b"# \xe9\n")
     assert main([command, str(latin)]) == 1
     assert f"{latin}:1:3: error[E508]: " in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device"])
+def test_a_mesh_or_urdf_that_is_a_fifo_or_a_device_is_reported_as_what_it_is(tmp_path: Path, kind: str) -> None:
+    """A mesh or URDF path that was a FIFO or /dev/zero was reported as "no such file"."""
+    for name in ("part.stl", "arm.urdf"):
+        if kind == "fifo":
+            os.mkfifo(tmp_path / name)
+        else:
+            (tmp_path / name).symlink_to("/dev/zero")  # never opened: `stat` says what it is
+    (tmp_path / "m.vkg").write_text(
+        'body Part {\n    shape mesh "part.stl"\n    mass 1 kg\n}\n'
+        'robot Arm {\n    urdf "arm.urdf"\n    effector tip = link hand offset (0, 0, 0) cm\n}\n',
+        encoding="utf-8",
+    )
+    diagnostics = _check(tmp_path / "m.vkg")
+    what = "a named pipe (FIFO)" if kind == "fifo" else "a character device"
+    assert sorted(d.code for d in diagnostics) == ["E503", "E504"]
+    for diag in diagnostics:
+        assert f"it is {what}, not a regular file" in diag.message and "no such file" not in diag.message

@@ -102,9 +102,11 @@ def cmd_fmt(args: argparse.Namespace) -> int:
 def cmd_explore(args: argparse.Namespace) -> int:
     """Run a body's exploration grid in DART and write a `vkg-trials/1` dataset."""
     from vkgl import api
+    from vkgl.cli.paths import check_outputs_against
 
     program = api.compile(args.bodyfile)
     print_diagnostics(program.warnings, program.sources, sys.stderr)  # what `vkgc check` would warn about
+    check_outputs_against(args, program.files(), f"read by the compilation of {args.bodyfile}")
     body = program.body(args.body)
     trials = api.explore(body, seed=args.seed, jobs=args.jobs, progress=_is_terminal(sys.stderr))
     trials.save(args.output)
@@ -186,6 +188,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     import json
 
     from vkgl import api
+    from vkgl.cli.paths import check_outputs_against
     from vkgl.formats.atomic import write_text
 
     if args.animate:  # refuse a file it cannot write before seconds of planning and minutes of simulation
@@ -195,6 +198,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
     program = api.compile(args.taskfile)
     # the warnings `vkgc check` prints: a tool no correspondence names is why a far goal is "infeasible"
     print_diagnostics(program.warnings, program.sources, sys.stderr)
+    check_outputs_against(args, program.files(), f"read by the compilation of {args.taskfile}")
     plan = api.solve(
         program,
         args.task,

@@ -177,8 +177,10 @@ def main(argv: list[str] | None = None) -> int:
         for problem in problems:
             print(problem, file=sys.stderr)
         return 1 if problems else 0
+    from vkgl.formats.atomic import write_text
+
     args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text(render(), encoding="utf-8")
+    write_text(args.output, render())
     print(f"{args.output}: written")
     return 0
 

@@ -25,6 +25,7 @@ from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
 from vkgl.execute.gif import write_gif
+from vkgl.formats.atomic import writing
 from vkgl.formats.execution_report import ExecutionReport, joint_value_text
 from vkgl.lang.ir.geometry import shape_mesh
 from vkgl.lang.ir.nodes import Body, UnionShape
@@ -146,7 +147,7 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
             write_gif(fig, moving, draw, indices, path, fps=FPS)
         else:  # One draw per frame: grab_frame renders the figure itself (FuncAnimation.save would draw twice).
             assert writer is not None
-            with writer.saving(fig, str(path), dpi=fig.dpi):
+            with writing(path) as temporary, writer.saving(fig, str(temporary), dpi=fig.dpi):
                 for i in indices:
                     draw(i)
                     writer.grab_frame()

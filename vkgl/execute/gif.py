@@ -30,11 +30,14 @@ Both are deterministic: the same figure and frames give the same bytes.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from vkgl.formats.atomic import write_bytes
 
 PALETTE_SAMPLES = 5
 """Frames (the first, the last, and evenly between) whose colours make the animation's palette."""
@@ -67,4 +70,6 @@ def write_gif(
         sheet.paste(render(i), (0, size[1] * k))
     palette = sheet.quantize(256, method=Image.Quantize.MAXCOVERAGE)
     images = [render(i).quantize(palette=palette, dither=Image.Dither.NONE) for i in frames]
-    images[0].save(path, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    buffer = io.BytesIO()
+    images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    write_bytes(path, buffer.getvalue())  # the one writer: whole or not at all, never over a device

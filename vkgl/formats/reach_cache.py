@@ -16,7 +16,13 @@ read back is the value computed: a cached run plans exactly as a cold one.
 
 The folder is `$VKGL_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgl`, else
 `~/.cache/vkgl`; `VKGL_CACHE_DIR=off` turns the cache off. The cache is only
-a speed-up: a file that cannot be read or written is ignored, never an error.
+a speed-up, and is not trusted: only a regular file of at most `MAX_BYTES` is
+read (a FIFO, a device or a link to `/dev/zero` in its place is never opened
+for long, nor read without bound); a file that cannot be read or parsed
+(deep nesting included) is ignored, never an error; an entry whose interval
+is implausible (not finite, negative, or r_min > r_max) is dropped, so that
+height is computed again. Only finite heights and plausible intervals are
+written.
 """
 
 from __future__ import annotations
@@ -24,14 +30,19 @@ from __future__ import annotations
 import json
 import math
 import os
+import stat
 from pathlib import Path
 
-from vkgl.formats.atomic import write_text
+from vkgl.errors import InputError
+from vkgl.formats.atomic import Way, decide, write_text
 
 CACHE_FORMAT = "vkg-reach-cache/1"
 ENV_DIR = "VKGL_CACHE_DIR"
 OFF = "off"
 """`VKGL_CACHE_DIR=off`: compute every reach in the process, keep nothing on disk."""
+
+MAX_BYTES = 1024 * 1024
+"""The largest cache file read: one height per mm over 2 m is about 80 kB."""
 
 Entries = dict[float, tuple[float, float]]
 
@@ -55,22 +66,36 @@ def load(key: str) -> Entries:
     path = _file(key)
     if path is None:
         return {}
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-        if data.get("format") != CACHE_FORMAT or data.get("key") != key:
-            return {}
-        return {_height(text): _interval(pair) for text, pair in data["reach"].items()}
-    except (OSError, ValueError, TypeError, KeyError, AttributeError):
+    text = _read_bounded(path)
+    if text is None:
         return {}
+    try:
+        data = json.loads(text)
+        if not isinstance(data, dict) or data.get("format") != CACHE_FORMAT or data.get("key") != key:
+            return {}
+        reach = data["reach"]
+        if not isinstance(reach, dict):
+            return {}
+    except (ValueError, RecursionError, KeyError):  # RecursionError: `[[[[...` nested deeper than json can go
+        return {}
+    entries: Entries = {}
+    for height_text, pair in reach.items():
+        height, interval = _height(height_text), _interval(pair)
+        if height is not None and interval is not None:
+            entries[height] = interval
+    return entries
 
 
 def store(key: str, height: float, interval: tuple[float, float]) -> None:
-    """Add one height's interval to `key`'s file (atomically; entries other processes added are kept)."""
+    """Add one height's interval to `key`'s file (atomically; entries other processes added are kept).
+
+    A height that is not finite or an implausible interval is not kept.
+    """
     path = _file(key)
-    if path is None:
+    if path is None or not math.isfinite(height) or not _plausible(*interval):
         return
     entries = load(key)
-    entries[round(height, 3)] = interval
+    entries[round(height, 3)] = (float(interval[0]), float(interval[1]))
     data = {
         "format": CACHE_FORMAT,
         "key": key,
@@ -78,22 +103,52 @@ def store(key: str, height: float, interval: tuple[float, float]) -> None:
     }
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        write_text(path, json.dumps(data, indent=0) + "\n")
+        if os.path.islink(path) or decide(path)[0] is not Way.REPLACE:
+            return  # a link, a FIFO or a device in the cache's place: never written through
+        write_text(path, json.dumps(data, indent=0, allow_nan=False) + "\n")
+    except (OSError, ValueError, InputError):
+        pass  # a read-only or full disk, or something not a file in the cache's place: computed, only not kept
+
+
+def _read_bounded(path: Path) -> str | None:
+    """The text of `path` if it is a regular file of at most MAX_BYTES, else None. Never blocks, never reads more."""
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(path, flags)  # non-blocking: opening a FIFO does not wait for a writer
     except OSError:
-        pass  # a read-only or full disk: the reach is still computed, only not kept
+        return None
+    try:
+        info = os.fstat(fd)  # of what was opened, not of what the name pointed to a moment before
+        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_BYTES:
+            return None
+        data = os.read(fd, MAX_BYTES + 1)
+        return data.decode("utf-8") if len(data) <= MAX_BYTES else None
+    except (OSError, UnicodeDecodeError):
+        return None
+    finally:
+        os.close(fd)
 
 
-def _height(text: str) -> float:
-    return round(float(text), 3)
+def _height(text: str) -> float | None:
+    try:
+        height = round(float(text), 3)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    return height if math.isfinite(height) else None
 
 
-def _interval(pair: object) -> tuple[float, float]:
+def _interval(pair: object) -> tuple[float, float] | None:
     if not isinstance(pair, list) or len(pair) != 2:
-        raise ValueError("not an interval")
+        return None
+    if not all(isinstance(v, int | float) and not isinstance(v, bool) for v in pair):
+        return None
     r_min, r_max = float(pair[0]), float(pair[1])
-    if not (math.isfinite(r_min) and math.isfinite(r_max)):
-        raise ValueError("not finite")
-    return r_min, r_max
+    return (r_min, r_max) if _plausible(r_min, r_max) else None
 
 
-__all__ = ["CACHE_FORMAT", "ENV_DIR", "OFF", "cache_folder", "load", "store"]
+def _plausible(r_min: float, r_max: float) -> bool:
+    """Radii an arm can have: finite, not negative, the inner one not beyond the outer one."""
+    return math.isfinite(r_min) and math.isfinite(r_max) and 0.0 <= r_min <= r_max
+
+
+__all__ = ["CACHE_FORMAT", "ENV_DIR", "MAX_BYTES", "OFF", "cache_folder", "load", "store"]

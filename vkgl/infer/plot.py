@@ -9,12 +9,14 @@ recordings) are drawn against their trial number.
 
 from __future__ import annotations
 
+import io
 from collections import defaultdict
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from vkgl.formats.atomic import write_bytes
 from vkgl.infer.affordances import _direction_label, _left_of
 from vkgl.infer.models import TYPES
 
@@ -42,8 +44,12 @@ def plot_posteriors(result: InferenceResult, path: str | Path) -> None:
     fig.legend(handles, TYPES, loc="upper center", ncol=len(TYPES), frameon=False)
     fig.suptitle(f"{result.body}: what the body did, by where it was pushed", y=0.02, va="bottom", fontsize=9)
     fig.tight_layout(rect=(0, 0.05, 1, 0.9))
-    fig.savefig(str(path), dpi=120, metadata={"Software": None})
-    plt.close(fig)
+    buffer = io.BytesIO()
+    try:  # rendered in memory, then written by the one writer (never over a device, never half a file)
+        fig.savefig(buffer, format=Path(path).suffix.lstrip(".").lower() or "png", dpi=120, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+    write_bytes(path, buffer.getvalue())
 
 
 def _panels(result: InferenceResult) -> dict[str, list[tuple[float, dict[str, float], str]]]:

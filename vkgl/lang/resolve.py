@@ -22,7 +22,7 @@ from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.syntax.parser import parse_collecting
-from vkgl.lang.syntax.sources import read_source
+from vkgl.lang.syntax.sources import foreign_link, read_source
 from vkgl.resources import stdlib_dir
 
 
@@ -103,10 +103,10 @@ class _Loader:
         if real in self.by_real:
             return self.by_real[real]
         shown = _display_path(path)
-        if via is not None and real.suffix != ".vkg" and real != Path(os.path.abspath(path)):
-            # `use "x.vkg"` where x.vkg is a link to /etc/passwd: not a module, never read nor quoted.
-            message = f"`{_display_link(path)}` is a link to `{real}`, which is not a .vkg module; it is not read"
-            self.out.diagnostics.append(codes.USE_NOT_VKG.diagnostic(message, via.span))
+        # `x.vkg` (used, or named on the command line) links to /etc/passwd: not a module, never read nor quoted.
+        foreign = foreign_link(path, _display_link(path), via.span if via is not None else None)
+        if foreign is not None:
+            self.out.diagnostics.append(foreign)
             return None
         source = self._read(path, shown, via)
         if source is None:

@@ -11,6 +11,7 @@ dashed, and named in the legend.
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import matplotlib
@@ -21,6 +22,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.formats.atomic import write_bytes
 from vkgl.formats.trials import Trials
 
 AXES = "xyz"
@@ -60,8 +62,10 @@ def plot_trials(trials: Trials, path: str | Path) -> None:
         reasons = sorted(set(str(r) for r, ok in zip(trials.reason, trials.ok) if not ok))
         fig.text(0.01, 0.01, f"{failed} failed (grey): " + "; ".join(reasons)[:200], fontsize=8, color="0.3")
     fig.tight_layout()
-    try:
-        fig.savefig(path, dpi=110)
+    buffer = io.BytesIO()
+    try:  # rendered in memory, then written by the one writer (never over a device, never half a file)
+        fig.savefig(buffer, format=Path(path).suffix.lstrip(".").lower() or "png", dpi=110)
+        write_bytes(path, buffer.getvalue())
     except (OSError, ValueError) as exc:
         raise InputError(f"{path}: cannot write the picture: {exc}") from exc
     finally:

@@ -21,6 +21,7 @@ from vkgl.lang.checks.joints import check_joint_dynamics
 from vkgl.lang.checks.ranges import check_body_ranges
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.syntax.sources import not_a_regular_file
 
 
 def check_body(body: ir.Body, ctx: CheckContext) -> None:
@@ -99,8 +100,9 @@ def _looked_for(resolved: str | None, problem: str) -> str:
 @lru_cache(maxsize=64)
 def _mesh_problem(path: str) -> str | None:
     """Why trimesh cannot give triangles for `path`, or None when it can."""
-    if not Path(path).is_file():
-        return "no such file"
+    problem = not_a_regular_file(path)  # a FIFO would hang trimesh, /dev/zero never ends
+    if problem:
+        return problem
     import trimesh
 
     try:
@@ -154,8 +156,9 @@ def check_robot(robot: ir.Robot, ctx: CheckContext) -> None:
 @lru_cache(maxsize=16)
 def _urdf_links(path: str) -> tuple[frozenset[str], str | None]:
     """The link names of a URDF and, if it cannot be used, why (XML first, then DART)."""
-    if not Path(path).is_file():
-        return frozenset(), "no such file"
+    problem = not_a_regular_file(path)
+    if problem:
+        return frozenset(), problem
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:

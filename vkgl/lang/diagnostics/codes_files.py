@@ -77,10 +77,13 @@ NOT_UTF8 = _code(
 )
 USE_NOT_VKG = _code(
     "E509",
-    "`use` path that does not name a .vkg file",
+    "a source that is not a .vkg file",
     (
-        '`use "PATH"` names a file whose name does not end in `.vkg` (`use "/etc/passwd"`). Only `.vkg` '
-        "modules can be used; the file is not read, and its text is never shown. Name a `.vkg` module."
+        '`use "PATH"` names a file whose name does not end in `.vkg` (`use "/etc/passwd"`), or a source (named '
+        "by `use` or on the command line) is a symbolic link, or lies in a linked folder, and the file it "
+        "finally names does not end in `.vkg` (`pw.vkg` linking to `/etc/passwd`). Only `.vkg` files are read "
+        "as sources: the file is not read, and its text is never shown. A file named on the command line that "
+        "is not a link is read whatever its name (you chose it). Name the `.vkg` file itself."
     ),
 )
 

@@ -10,6 +10,7 @@ docs/errors.md is exactly this text.
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -29,6 +30,10 @@ HELPERS = {
     "W604_joint_goal_past_the_limit": ["lib/kitchen.vkg"],
     "E502_import_cycle": ["lib/cycle_back.vkg"],
     "W603_local_stdlib_shadows": ["stdlib/tools.vkg"],
+}
+# What a case that is itself a symbolic link points to (its target is never shown).
+LINK_NOTES = {
+    "E509_command_line_link": "a stand-in for `/etc/passwd` (a line of a password file), named on the command line.",
 }
 # What a case's helper file is, when it cannot be shown as text.
 FILE_NOTES = {
@@ -75,7 +80,7 @@ def errors_doc(repo: Path = Path(".")) -> str:
         cases = sorted(golden.glob(f"{code}_*.vkg"))
         out += [f"## {code}", "", f"**{meaning[0].upper() + meaning[1:]}.** " + entry.explanation, ""]
         for case in cases:
-            src = case.read_text(encoding="utf-8")
+            src = "" if case.is_symlink() else case.read_text(encoding="utf-8")
             if code == "E104":
                 lines = src.rstrip("\n").split("\n")
                 src = (
@@ -90,7 +95,11 @@ def errors_doc(repo: Path = Path(".")) -> str:
                     )
                     + "\n"
                 )
-            out += [f"`{case.relative_to(golden.parent).as_posix()}`:", "", "```", src.rstrip("\n"), "```", ""]
+            shown = case.relative_to(golden.parent).as_posix()
+            if case.is_symlink():  # the case is a link to a file that is not a module: never quoted, here neither
+                out += [f"`{shown}` is a symbolic link to `{os.readlink(case)}`, {LINK_NOTES[case.stem]}", ""]
+            else:
+                out += [f"`{shown}`:", "", "```", src.rstrip("\n"), "```", ""]
             for helper in HELPERS.get(case.stem, []):
                 text = (golden / helper).read_text(encoding="utf-8")
                 out += [f"with `golden/{helper}`:", "", "```", text.rstrip("\n"), "```", ""]

@@ -19,6 +19,7 @@ import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -30,6 +31,7 @@ from vkgl.lang.ir.nodes import (
     Body,
     Correspondence,
     Goal,
+    MeshShape,
     Module,
     Placement,
     Pose,
@@ -38,7 +40,9 @@ from vkgl.lang.ir.nodes import (
     Robot,
     Scene,
     SceneBody,
+    Shape,
     Task,
+    UnionShape,
     Vector,
 )
 
@@ -112,6 +116,24 @@ class Program:
                 "say which by name (`vkgc solve --task NAME`, or `program.task(NAME)`)"
             )
         return self.tasks[candidates[0]]
+
+    def files(self) -> dict[Path, str]:
+        """Every file this compilation read, by real path: its modules, meshes and URDFs, each saying what it is.
+
+        What an output must never replace (`vkgc solve --json`, `explore -o`
+        refuse them); the values are for messages, e.g. "the module
+        `examples/scenes/tabletop.vkg`".
+        """
+        found: dict[Path, str] = {}
+        for shown in self.modules:
+            if not shown.startswith("<"):  # `compile_source`'s text has no file
+                found.setdefault(Path(shown).resolve(), f"the module `{shown}`")
+        for body in self.bodies.values():
+            for mesh in _meshes(body.shape):
+                found.setdefault(Path(mesh.resolved or mesh.path).resolve(), f"the mesh `{mesh.path}`")
+        for robot in self.robots.values():
+            found.setdefault(Path(robot.urdf_resolved or robot.urdf).resolve(), f"the URDF `{robot.urdf}`")
+        return found
 
     def with_goal(
         self,
@@ -314,3 +336,12 @@ def observed_placement(pose: np.ndarray, was_on_table: bool) -> Placement:
         rpy=Vector(values=tuple(float(v) for v in rpy), unit="rad"),
     )
     return Placement(on_table=False, pose=full)
+
+
+def _meshes(shape: Shape) -> list[MeshShape]:
+    """The mesh files of a shape (a union's parts included)."""
+    if isinstance(shape, MeshShape):
+        return [shape]
+    if isinstance(shape, UnionShape):
+        return [mesh for part in shape.parts for mesh in _meshes(part.shape)]
+    return []

@@ -5,7 +5,10 @@ Every `.vkg` file the front end reads (given on the command line, or named by a
 FIFO, a device, a directory or a symbolic-link loop is reported (E506) instead
 of hanging or exhausting memory; a file larger than the limit is refused
 (E507); bytes that are not UTF-8 are reported at the line and column where the
-first bad byte is (E508), without showing the file's text.
+first bad byte is (E508), without showing the file's text. A file reached
+through a symbolic link is read only when the file it finally names is a
+`.vkg` file (E509): `pw.vkg` linking to `/etc/passwd` is never read, so its
+lines are never quoted in a diagnostic.
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ def read_source(path: Path, shown: str, span: ir.Span | None = None) -> str | Di
     `span` is where the file was named (a `use`); None for a file given on the
     command line, whose diagnostics then name the file without a position.
     """
-    problem = file_problem(path, shown, span)
+    problem = foreign_link(path, shown, span) or file_problem(path, shown, span)
     if problem is not None:
         return problem
     try:
@@ -45,6 +48,25 @@ def read_source(path: Path, shown: str, span: ir.Span | None = None) -> str | Di
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
         return not_utf8(shown, data, exc, span)
+
+
+def foreign_link(path: Path, shown: str, span: ir.Span | None = None) -> Diagnostic | None:
+    """E509 when `path` goes through a symbolic link to a file that is not a `.vkg` file (nothing is opened)."""
+    real = Path(os.path.realpath(path))
+    if real.suffix == ".vkg" or real == Path(os.path.abspath(path)):
+        return None
+    message = f"`{shown}` is a link to `{_relative(real)}`, which is not a .vkg file; it is not read"
+    note = "a source reached through a symbolic link must be a .vkg file; name the .vkg file itself"
+    return _at(codes.USE_NOT_VKG.diagnostic(message, span, note), shown)
+
+
+def _relative(real: Path) -> str:
+    """`real` relative to the working directory when inside it, else absolute."""
+    try:
+        relative = os.path.relpath(real)
+    except ValueError:  # another drive on Windows
+        return str(real)
+    return str(real) if relative.startswith("..") else relative
 
 
 def file_problem(path: Path, shown: str, span: ir.Span | None = None, *, limit: bool = True) -> Diagnostic | None:
@@ -70,6 +92,26 @@ def file_problem(path: Path, shown: str, span: ir.Span | None = None, *, limit: 
         return _too_large(shown, span)
     if not os.access(path, os.R_OK):
         return _unreadable(shown, "permission denied", span)
+    return None
+
+
+def not_a_regular_file(path: str | Path) -> str | None:
+    """Why `path` is not a regular file, by `stat` alone (nothing is opened); None when it is one.
+
+    For messages: "no such file", "it is a named pipe (FIFO), not a regular file", ...
+    """
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        return "no such file"
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            return "it is a symbolic link loop, not a regular file"
+        return exc.strerror or str(exc)
+    if stat.S_ISDIR(info.st_mode):
+        return "it is a directory, not a regular file"
+    if not stat.S_ISREG(info.st_mode):
+        return f"it is {_kind(info.st_mode)}, not a regular file"
     return None
 
 
