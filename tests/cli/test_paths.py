@@ -176,16 +176,19 @@ def test_solve_refuses_json_over_a_module_the_task_uses(examples: Path, capsys) 
     assert scene.read_bytes() == before
 
 
-def test_solve_refuses_a_picture_over_a_module_of_the_stdlib_copy(tmp_path, capsys, monkeypatch) -> None:
-    """Not only modules named by path: a dotted `use` found on VKG_PATH is read too."""
+def test_solve_refuses_a_picture_over_a_module_found_on_vkg_path(tmp_path, capsys, monkeypatch) -> None:
+    """Not only modules named by path: a dotted `use` found on VKG_PATH is read too (the stdlib itself is only
+    ever the installed one, so the library here is the user's own)."""
     lib = tmp_path / "mylib"
-    shutil.copytree(STDLIB, lib / "stdlib")
+    (lib / "shapes").mkdir(parents=True)
+    target = lib / "shapes" / "crate.vkg"
+    target.write_text("body Crate {\n    shape box (0.1, 0.1, 0.1) m\n    mass 0.5 kg\n}\n", encoding="utf-8")
     task = tmp_path / "t.vkg"
-    task.write_text((EXAMPLES / "tasks" / "a_push.vkg").read_text(encoding="utf-8"), encoding="utf-8")
+    source = (EXAMPLES / "tasks" / "a_push.vkg").read_text(encoding="utf-8")
+    task.write_text("use shapes.crate\n" + source, encoding="utf-8")
     scenes = tmp_path.parent / "scenes"  # `use "../scenes/tabletop.vkg"` from the task's folder
     shutil.copytree(EXAMPLES / "scenes", scenes, dirs_exist_ok=True)
     monkeypatch.setenv("VKG_PATH", str(lib))
-    target = lib / "stdlib" / "affordances" / "block.vkg"
     before = target.read_bytes()
     assert main(["solve", str(task), "--plot", str(target)]) == 1
     assert "is the module" in capsys.readouterr().err
