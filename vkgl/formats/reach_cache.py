@@ -23,26 +23,16 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from pathlib import Path
 
 from vkgl.formats.atomic import write_text
+from vkgl.resources import CACHE_ENV as ENV_DIR
+from vkgl.resources import CACHE_OFF as OFF
+from vkgl.resources import cache_folder  # the one cache folder of vkgl (the grammar's tables are kept there too)
 
 CACHE_FORMAT = "vkg-reach-cache/1"
-ENV_DIR = "VKGL_CACHE_DIR"
-OFF = "off"
-"""`VKGL_CACHE_DIR=off`: compute every reach in the process, keep nothing on disk."""
 
 Entries = dict[float, tuple[float, float]]
-
-
-def cache_folder() -> Path | None:
-    """Where reach files live, or None when the cache is off."""
-    chosen = os.environ.get(ENV_DIR)
-    if chosen:
-        return None if chosen == OFF else Path(chosen)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "vkgl"
 
 
 def _file(key: str) -> Path | None:

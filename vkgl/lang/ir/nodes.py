@@ -24,7 +24,7 @@ if TYPE_CHECKING:  # numpy and SciPy are imported where numbers are wanted: `vkg
 class Span(BaseModel):
     """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", defer_build=True)
 
     file: str
     line: int
@@ -39,7 +39,7 @@ class Span(BaseModel):
 class Node(BaseModel):
     """Base of every IR node: frozen, no extra fields, a span that equality ignores."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", defer_build=True)
 
     span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -508,6 +508,3 @@ class Module(Node):
     uses: list[Use] = []
     decls: list[Decl] = []
 
-
-ShapePart.model_rebuild()
-UnionShape.model_rebuild()

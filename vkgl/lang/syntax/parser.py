@@ -1,6 +1,6 @@
 """The parser: VKG source text -> IR `Module`, with units checked and converted to SI.
 
-Lark's LALR parser (grammar/vkg.lark, built once per process) makes a tree;
+Lark's LALR parser (grammar/vkg.lark, made once per process) makes a tree;
 `Builder` (vkgl/lang/syntax/builder.py) turns it into IR nodes that keep their source
 spans; syntax errors become diagnostics in vkgl/lang/syntax/syntax_errors.py. Problems
 that need no other module (syntax, units, missing or repeated statements) are
@@ -11,6 +11,7 @@ found here; everything that needs names from other modules is the checker's job
 from __future__ import annotations
 
 import gc
+import hashlib
 import threading
 from dataclasses import dataclass
 from functools import lru_cache
@@ -25,7 +26,7 @@ from vkgl.lang.ir import nodes as ir
 from vkgl.lang.syntax.builder import MAX_UNION_DEPTH, Builder
 from vkgl.lang.syntax.syntax_errors import syntax_diagnostics
 from vkgl.lang.syntax.values import new_node
-from vkgl.resources import grammar_path
+from vkgl.resources import cache_folder, grammar_path
 
 
 @dataclass(frozen=True)
@@ -130,15 +131,38 @@ _comments = _CommentCollector()
 
 @lru_cache(maxsize=1)
 def lark_parser() -> Lark:
-    """The LALR parser of grammar/vkg.lark, built once per process."""
+    """The LALR parser of grammar/vkg.lark, made once per process.
+
+    Building the LALR tables from the grammar takes a tenth of a second, as long
+    as the rest of `vkgc check`; Lark keeps them in the cache folder
+    (`vkgl.resources.cache_folder`) and loads them in a few milliseconds. The
+    file is named by the grammar's hash, and Lark checks its first line (a hash
+    of the grammar, the options and Lark's and Python's versions) before using
+    it; a stale, torn or unreadable file is ignored and written again.
+    """
+    grammar = grammar_path().read_text(encoding="utf-8")
     return Lark(
-        grammar_path().read_text(encoding="utf-8"),
+        grammar,
         parser="lalr",
         lexer="contextual",
         propagate_positions=True,
         maybe_placeholders=False,
         lexer_callbacks={"COMMENT": _comments},
+        cache=_tables_file(grammar),
     )
+
+
+def _tables_file(grammar: str) -> str | bool:
+    """Where Lark keeps the grammar's tables: a file of the cache folder, or False when there is none."""
+    folder = cache_folder()
+    if folder is None:
+        return False
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return False  # a read-only home: build the tables in every process
+    digest = hashlib.sha256(grammar.encode("utf-8")).hexdigest()[:32]
+    return str(folder / f"grammar-{digest}.lark-tables")
 
 
 def _doc_comment(text: str, comments: list[Comment]) -> str | None:
