@@ -507,4 +507,3 @@ class Module(Node):
     doc: str | None = None
     uses: list[Use] = []
     decls: list[Decl] = []
-
