@@ -11,7 +11,6 @@ found here; everything that needs names from other modules is the checker's job
 from __future__ import annotations
 
 import gc
-import hashlib
 import threading
 from dataclasses import dataclass
 from functools import lru_cache
@@ -25,8 +24,9 @@ from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.syntax.builder import MAX_UNION_DEPTH, Builder
 from vkgl.lang.syntax.syntax_errors import syntax_diagnostics
+from vkgl.lang.syntax.tables import load_or_build
 from vkgl.lang.syntax.values import new_node
-from vkgl.resources import cache_folder, grammar_path
+from vkgl.resources import grammar_path
 
 
 @dataclass(frozen=True)
@@ -108,6 +108,10 @@ class _CommentCollector:
         if sink is not None:
             sink.append(token)
 
+    def __reduce__(self) -> str:
+        # Saved with the grammar's tables (tables.py) by name, so that a loaded parser calls this very collector.
+        return "_comments"
+
     def collect(self) -> _Collecting:
         """A context in which the comments lexed go to a fresh list (the context's value)."""
         return _Collecting(self._local)
@@ -129,40 +133,19 @@ class _Collecting:
 _comments = _CommentCollector()
 
 
+_OPTIONS: dict[str, object] = {
+    "parser": "lalr",
+    "lexer": "contextual",
+    "propagate_positions": True,
+    "maybe_placeholders": False,
+}
+
+
 @lru_cache(maxsize=1)
 def lark_parser() -> Lark:
-    """The LALR parser of grammar/vkg.lark, made once per process.
-
-    Building the LALR tables from the grammar takes a tenth of a second, as long
-    as the rest of `vkgc check`; Lark keeps them in the cache folder
-    (`vkgl.resources.cache_folder`) and loads them in a few milliseconds. The
-    file is named by the grammar's hash, and Lark checks its first line (a hash
-    of the grammar, the options and Lark's and Python's versions) before using
-    it; a stale, torn or unreadable file is ignored and written again.
-    """
+    """The LALR parser of grammar/vkg.lark, made once per process (its tables kept between processes: tables.py)."""
     grammar = grammar_path().read_text(encoding="utf-8")
-    return Lark(
-        grammar,
-        parser="lalr",
-        lexer="contextual",
-        propagate_positions=True,
-        maybe_placeholders=False,
-        lexer_callbacks={"COMMENT": _comments},
-        cache=_tables_file(grammar),
-    )
-
-
-def _tables_file(grammar: str) -> str | bool:
-    """Where Lark keeps the grammar's tables: a file of the cache folder, or False when there is none."""
-    folder = cache_folder()
-    if folder is None:
-        return False
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return False  # a read-only home: build the tables in every process
-    digest = hashlib.sha256(grammar.encode("utf-8")).hexdigest()[:32]
-    return str(folder / f"grammar-{digest}.lark-tables")
+    return load_or_build(grammar, _OPTIONS, lambda: Lark(grammar, lexer_callbacks={"COMMENT": _comments}, **_OPTIONS))
 
 
 def _doc_comment(text: str, comments: list[Comment]) -> str | None:
