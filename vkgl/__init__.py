@@ -9,7 +9,6 @@ The functions here are the driver's (`vkgl.api`); docs/api.md shows them all.
 Heavy back ends (DART, NLopt) are imported inside them, so `import vkgl` is fast.
 """
 
-from importlib import metadata as _metadata
 from typing import TYPE_CHECKING as _TYPE_CHECKING
 
 from vkgl.api import compile, compile_source, execute, explore, infer, learn, solve
@@ -17,11 +16,6 @@ from vkgl.errors import CompileError, InputError, VkgError
 
 if _TYPE_CHECKING:
     from vkgl.lang.ir.program import Program
-
-try:
-    __version__ = _metadata.version("vkgl")
-except _metadata.PackageNotFoundError:  # a source checkout that is not installed
-    __version__ = "0+unknown"
 
 __all__ = [
     "CompileError",
@@ -45,8 +39,19 @@ def __getattr__(name: str) -> object:
         from vkgl.lang.ir.program import Program
 
         return Program
+    if name == "__version__":  # importlib.metadata costs 30 ms of every `vkgc` start; only --version wants it
+        return _version()
     raise AttributeError(f"module 'vkgl' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
     return sorted(__all__)
+
+
+def _version() -> str:
+    from importlib import metadata
+
+    try:
+        return metadata.version("vkgl")
+    except metadata.PackageNotFoundError:  # a source checkout that is not installed
+        return "0+unknown"

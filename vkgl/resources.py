@@ -1,12 +1,25 @@
-"""Where the shipped data lives: the grammar and the standard library.
+"""Where the shipped data lives (the grammar and the standard library), and where vkgl keeps what it computes once.
 
 In a wheel they are inside the package (`vkgl/grammar`, `vkgl/stdlib`); in a
 source checkout (editable install, tests) they are at the repository root.
+
+The cache folder holds what is worth computing once per machine rather than
+once per process: the arm's reach (`vkgl.formats.reach_cache`), the grammar's
+LALR tables (`vkgl.lang.syntax.tables`) and the URDFs DART has loaded
+(`vkgl.lang.checks.urdf`), so that `vkgc check` starts fast. It is
+`$VKGL_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgl`, else `~/.cache/vkgl`;
+`VKGL_CACHE_DIR=off` turns it off. The cache is only a speed-up: a file that cannot be read or written is
+ignored, never an error, and every file names what it was computed from.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
+
+CACHE_ENV = "VKGL_CACHE_DIR"
+CACHE_OFF = "off"
+"""`VKGL_CACHE_DIR=off`: compute everything in the process, keep nothing on disk."""
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -26,3 +39,12 @@ def grammar_path() -> Path:
 def stdlib_dir() -> Path:
     """The directory `stdlib/` (its parent is an import root)."""
     return _find("stdlib")
+
+
+def cache_folder() -> Path | None:
+    """The folder of the cache (it may not exist yet), or None when the cache is off."""
+    chosen = os.environ.get(CACHE_ENV)
+    if chosen:
+        return None if chosen == CACHE_OFF else Path(chosen)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "vkgl"

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from pathlib import Path
 from typing import Any
-from xml.sax.saxutils import quoteattr
 
 import dartpy as dart
 import numpy as np
@@ -54,6 +53,8 @@ def load_mesh_shape(shape: MeshShape) -> Any:
     way DART loads URDF meshes. A file DART cannot read is a SimulationError
     that names it.
     """
+    from xml.sax.saxutils import quoteattr  # with urllib.request, http and ssl: only for meshes
+
     path = Path(shape.resolved or shape.path).resolve()
     if not path.is_file():
         raise InputError(f"{path}: no such mesh file")

@@ -68,3 +68,13 @@ def test_verbose_prints_the_joint_configurations(capsys) -> None:
     out = capsys.readouterr().out
     assert "joints (rad; panda_joint1" in out
     assert "step 1 start [" in out and "step 1 end   [" in out
+
+
+def test_version_prints_the_installed_version(capsys) -> None:
+    """`--version` looks the version up only when asked (importlib.metadata is slow to import)."""
+    import vkgl
+
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out == f"vkgc {vkgl.__version__}\n"

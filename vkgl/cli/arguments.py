@@ -97,17 +97,28 @@ def _seconds(text: str) -> float:
     return value
 
 
+class _Version(argparse.Action):
+    """`--version`: print `vkgc VERSION` and exit; the version is looked up only then (importlib.metadata is slow)."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS, help: str | None = None) -> None:
+        super().__init__(option_strings=option_strings, dest=dest, default=argparse.SUPPRESS, nargs=0, help=help)
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: Any) -> NoReturn:
+        from vkgl import __version__
+
+        print(f"vkgc {__version__}")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of `vkgc` (all sub-commands)."""
-    from vkgl import __version__
-
     parser = _Parser(
         prog="vkgc",
         description="Compile, explore, infer and plan with VKG (virtual kinematic graph) programs.",
         epilog="exit codes: 0 ok, 1 input errors (usage errors too), 2 no plan, 3 timeout, 4 internal error, "
         "5 plan executed in physics but the goal was not reached (solve --execute), 130 interrupted",
     )
-    parser.add_argument("--version", action="version", version=f"vkgc {__version__}", help="print the version")
+    parser.add_argument("--version", action=_Version, help="print the version")
     parser.add_argument("--debug", action="store_true", help="show the traceback of internal errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     p = _subcommand(sub, "check", help="parse and check .vkg files")

@@ -11,7 +11,6 @@ inside a C extension's import (which would turn it into an ImportError).
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import signal
 import sys
@@ -31,7 +30,9 @@ def on_interrupt(signum: int, frame: FrameType | None) -> None:
     """End the workers, drop half-written files, exit 130."""
     from vkgl.formats.atomic import discard_temporaries
 
-    children = multiprocessing.active_children()
+    # No worker without multiprocessing imported; importing it at the top would cost every `vkgc` start 4 ms.
+    multiprocessing = sys.modules.get("multiprocessing")
+    children = multiprocessing.active_children() if multiprocessing is not None else []
     for child in children:
         child.terminate()
     for child in children:

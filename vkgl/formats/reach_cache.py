@@ -35,25 +35,16 @@ from pathlib import Path
 
 from vkgl.errors import InputError
 from vkgl.formats.atomic import Way, decide, write_text
+from vkgl.resources import CACHE_ENV as ENV_DIR
+from vkgl.resources import CACHE_OFF as OFF
+from vkgl.resources import cache_folder  # the one cache folder of vkgl (the grammar's tables are kept there too)
 
 CACHE_FORMAT = "vkg-reach-cache/1"
-ENV_DIR = "VKGL_CACHE_DIR"
-OFF = "off"
-"""`VKGL_CACHE_DIR=off`: compute every reach in the process, keep nothing on disk."""
 
 MAX_BYTES = 1024 * 1024
 """The largest cache file read: one height per mm over 2 m is about 80 kB."""
 
 Entries = dict[float, tuple[float, float]]
-
-
-def cache_folder() -> Path | None:
-    """Where reach files live, or None when the cache is off."""
-    chosen = os.environ.get(ENV_DIR)
-    if chosen:
-        return None if chosen == OFF else Path(chosen)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "vkgl"
 
 
 def _file(key: str) -> Path | None:

@@ -8,17 +8,14 @@ from __future__ import annotations
 
 import os
 import re
-import xml.etree.ElementTree as ET
 from functools import lru_cache
-from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean, duplicates, shown, shown_vector
 from vkgl.lang.checks.explore import check_explore
 from vkgl.lang.checks.joints import check_joint_dynamics
 from vkgl.lang.checks.ranges import check_body_ranges
+from vkgl.lang.checks.urdf import urdf_links
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.syntax.sources import not_a_regular_file
@@ -126,7 +123,7 @@ def _check_joint(joint: ir.Joint, ctx: CheckContext) -> None:
 
 def check_direction(vector: ir.Vector, what: str, ctx: CheckContext) -> None:
     """Report a direction vector (`what`, e.g. "a joint axis") that is zero."""
-    if len(vector.values) and not np.any(np.asarray(vector.values) != 0):
+    if len(vector.values) and all(v == 0 for v in vector.values):
         ctx.error(codes.ZERO_DIRECTION, f"{what} must not be zero", vector.span)
 
 
@@ -134,7 +131,7 @@ def check_robot(robot: ir.Robot, ctx: CheckContext) -> None:
     """Report a robot's duplicate effectors, an unusable URDF and effector links the URDF lacks."""
     duplicates(robot.effectors, "effector", ctx)
     path = robot.urdf_resolved or robot.urdf
-    links, problem = _urdf_links(path)
+    links, problem = urdf_links(path)
     if problem:
         ctx.error(
             codes.URDF_UNREADABLE,
@@ -151,28 +148,3 @@ def check_robot(robot: ir.Robot, ctx: CheckContext) -> None:
                 ctx.narrow(effector.span, rf"link\s+({re.escape(effector.link)})\b"),
                 did_you_mean(effector.link, sorted(links)),
             )
-
-
-@lru_cache(maxsize=16)
-def _urdf_links(path: str) -> tuple[frozenset[str], str | None]:
-    """The link names of a URDF and, if it cannot be used, why (XML first, then DART)."""
-    problem = not_a_regular_file(path)
-    if problem:
-        return frozenset(), problem
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        return frozenset(), f"not valid XML ({exc})"
-    if root.tag != "robot":
-        return frozenset(), f"the root element is <{root.tag}>, not <robot>"
-    links = frozenset(link.get("name", "") for link in root.iter("link"))
-    if not links:
-        return links, "it declares no <link>"
-    return links, _dart_problem(path)
-
-
-def _dart_problem(path: str) -> str | None:
-    import dartpy as dart
-
-    skeleton = dart.utils.DartLoader().parseSkeleton(str(Path(path).resolve()))
-    return None if skeleton is not None else "DART cannot load it (see its messages above)"

@@ -163,7 +163,7 @@ def _check_correspondences(block: ir.Correspondences, program: Program, ctx: Che
     effectors = {e.name for robot in program.robots.values() for e in robot.effectors}
     duplicates(block.items, "correspondence", ctx, lambda c: f"{c.frame.body}.{c.frame.frame}")
     for item in block.items:
-        body = lookup(ir.Ref(name=item.frame.body, span=item.frame.span), "body", ctx)
+        body = lookup(ir.Ref.model_construct(name=item.frame.body, span=item.frame.span), "body", ctx)
         if body is not None and body.frame(item.frame.frame) is None:
             unknown_frame(body, item.frame.frame, item.frame.span, ctx)
         if item.effector.name not in effectors:

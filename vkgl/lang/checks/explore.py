@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import re
 
-import numpy as np
-
 from vkgl.lang.checks.context import CheckContext, shown, unknown_frame
 from vkgl.lang.checks.ranges import check_explore_ranges
 from vkgl.lang.diagnostics import codes
@@ -125,6 +123,8 @@ def _check_contact_points(contacts: ir.ContactSpec, body: ir.Body, ctx: CheckCon
     """Every contact point of a pushed face must lie on the body's surface (the first miss of each face)."""
     if not isinstance(body.shape, (ir.UnionShape, ir.MeshShape)):
         return  # boxes and cylinders are convex: every point of a face's centre line is on the surface
+    import numpy as np
+
     from vkgl.lang.ir.geometry import FACES, body_mesh, face_line, surface_point  # trimesh: only when needed
 
     try:

@@ -29,7 +29,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.lang.checks.context import CheckContext
 from vkgl.lang.checks.joints import opening_problem
@@ -47,6 +46,7 @@ from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.geometry import JOINT_LIFT, joint_pose, lifted
 from vkgl.lang.ir.program import Program
+from vkgl.lang.ir.rotations import yaw_matrix
 
 TOUCH = 0.001
 """m: bodies may interpenetrate this much at the start (contact, rounding of written positions)."""
@@ -414,7 +414,7 @@ def _goal_frame(item: Placed, values: np.ndarray, table: Table | None) -> tuple[
     rotation = item.pose[:3, :3]
     yaw = math.atan2(rotation[1, 0], rotation[0, 0])
     level = np.eye(4)
-    level[:3, :3] = Rotation.from_euler("z", -yaw).as_matrix() @ rotation
+    level[:3, :3] = np.array(yaw_matrix(-yaw)) @ rotation
     start = [p.moved(level @ np.linalg.inv(item.pose)) for p in item.pieces]
     if len(values) > 2:
         z = float(values[2])

@@ -19,9 +19,9 @@ from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.rotations import rpy_matrix, yaw_matrix
 
 CYLINDER_SIDES = 64
 BASE_RADIUS = 0.10
@@ -199,7 +199,7 @@ def bounds(pieces: list[Piece]) -> tuple[np.ndarray, np.ndarray]:
 def yawed(pieces: list[Piece], yaw: float, position: np.ndarray) -> list[Piece]:
     """`pieces` (given about their body's origin) turned by `yaw` about z and moved to `position`."""
     pose = np.eye(4)
-    pose[:3, :3] = Rotation.from_euler("z", yaw).as_matrix()
+    pose[:3, :3] = yaw_matrix(yaw)
     pose[:3, 3] = position
     return [p.moved(pose) for p in pieces]
 
@@ -242,9 +242,9 @@ def _urdf_piece(collision: ET.Element) -> Piece | None:
     try:
         origin = collision.find("origin")
         xyz = [float(v) for v in (origin.get("xyz", "0 0 0") if origin is not None else "0 0 0").split()]
-        rpy = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
+        roll, pitch, yaw = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
         pose = np.eye(4)
-        pose[:3, :3] = Rotation.from_euler("xyz", rpy).as_matrix()
+        pose[:3, :3] = rpy_matrix(roll, pitch, yaw)
         pose[:3, 3] = xyz
         geometry = collision.find("geometry")
         shape = geometry[0] if geometry is not None and len(geometry) else None

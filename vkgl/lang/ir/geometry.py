@@ -15,7 +15,6 @@ from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.nodes import (
@@ -29,6 +28,7 @@ from vkgl.lang.ir.nodes import (
     Shape,
     UnionShape,
 )
+from vkgl.lang.ir.rotations import rotvec_matrix
 
 if TYPE_CHECKING:
     import trimesh
@@ -132,6 +132,8 @@ def body_mesh(body: Body) -> trimesh.Trimesh:
 
 def resting_height(body: Body, yaw: float, table_top: float) -> float:
     """The z of the body frame when the body, turned by `yaw`, rests on a table top at `table_top`."""
+    from scipy.spatial.transform import Rotation  # the planner's and simulator's, never the checker's
+
     rotated = Rotation.from_euler("z", yaw).apply(shape_vertices(body.shape).copy())  # SciPy wants it writeable
     return float(table_top - rotated[:, 2].min())
 
@@ -269,6 +271,8 @@ def joint_coordinate(kind: str, axis: np.ndarray, rest: np.ndarray, pose: np.nda
     """
     if kind == "prismatic":
         return float(axis @ (rest[:3, :3].T @ (pose[:3, 3] - rest[:3, 3])))
+    from scipy.spatial.transform import Rotation  # the planner's and executor's, never the checker's
+
     return float(axis @ Rotation.from_matrix(rest[:3, :3].T @ pose[:3, :3]).as_rotvec())
 
 
@@ -280,6 +284,7 @@ def joint_pose(joint: Joint, rest: np.ndarray, value: float) -> np.ndarray:
         moved[:3, 3] = value * axis
     else:
         through = joint.through.array() if joint.through is not None else np.zeros(3)
-        moved[:3, :3] = Rotation.from_rotvec(value * axis).as_matrix()
+        x, y, z = (value * axis).tolist()
+        moved[:3, :3] = rotvec_matrix(x, y, z)  # SciPy's `from_rotvec(...).as_matrix()`, bit for bit
         moved[:3, 3] = through - moved[:3, :3] @ through
     return rest @ moved

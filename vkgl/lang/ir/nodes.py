@@ -10,11 +10,15 @@ Equality ignores source spans, so `parse(print(ir)) == ir` is meaningful.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal
 
-import numpy as np
 from pydantic import BaseModel, ConfigDict, Field
-from scipy.spatial.transform import Rotation
+
+from vkgl.lang.ir.rotations import Matrix3, rpy_matrix, yaw_matrix
+
+if TYPE_CHECKING:  # numpy and SciPy are imported where numbers are wanted: `vkgc check` needs no SciPy
+    import numpy as np
+    from scipy.spatial.transform import Rotation
 
 from vkgl.lang.ir.units import measured_repr
 
@@ -22,7 +26,7 @@ from vkgl.lang.ir.units import measured_repr
 class Span(BaseModel):
     """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", defer_build=True)
 
     file: str
     line: int
@@ -37,7 +41,7 @@ class Span(BaseModel):
 class Node(BaseModel):
     """Base of every IR node: frozen, no extra fields, a span that equality ignores."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", defer_build=True)
 
     span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -71,6 +75,8 @@ class Vector(Node):
 
     def array(self) -> np.ndarray:
         """The components as a float numpy array."""
+        import numpy as np
+
         return np.asarray(self.values, dtype=float)
 
 
@@ -86,16 +92,27 @@ class Pose(Node):
 
     def rotation(self) -> Rotation:
         """The orientation as a scipy Rotation (extrinsic xyz = roll, pitch, yaw)."""
+        from scipy.spatial.transform import Rotation
+
         if self.rpy is not None:
             return Rotation.from_euler("xyz", self.rpy.values)
         if self.yaw is not None:
             return Rotation.from_euler("z", self.yaw.value)
         return Rotation.identity()
 
+    def rotation_matrix(self) -> Matrix3:
+        """The orientation as a 3x3 matrix (rows): `rotation().as_matrix()` to the last bit, without SciPy."""
+        if self.rpy is not None:
+            roll, pitch, yaw = self.rpy.values
+            return rpy_matrix(roll, pitch, yaw)
+        return yaw_matrix(self.yaw.value if self.yaw is not None else 0.0)
+
     def matrix(self) -> np.ndarray:
         """The pose as a 4x4 homogeneous transform (position padded with z = 0 if 2-d)."""
+        import numpy as np
+
         m = np.eye(4)
-        m[:3, :3] = self.rotation().as_matrix()
+        m[:3, :3] = self.rotation_matrix()
         p = list(self.position.values) + [0.0] * (3 - len(self.position.values))
         m[:3, 3] = p
         return m
@@ -494,7 +511,3 @@ class Module(Node):
     doc: str | None = None
     uses: list[Use] = []
     decls: list[Decl] = []
-
-
-ShapePart.model_rebuild()
-UnionShape.model_rebuild()

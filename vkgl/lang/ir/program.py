@@ -20,9 +20,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import numpy as np
-from scipy.spatial.transform import Rotation
+from typing import TYPE_CHECKING
 
 from vkgl.errors import InputError, did_you_mean
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
@@ -45,6 +43,9 @@ from vkgl.lang.ir.nodes import (
     UnionShape,
     Vector,
 )
+
+if TYPE_CHECKING:  # imported where the numbers are wanted, so that `vkgc check` loads neither
+    import numpy as np
 
 # A body tilted less than this from level still counts as lying on the table (`with_start_poses`).
 LEVEL_TILT = math.radians(2.0)
@@ -255,6 +256,8 @@ class Program:
         `poses` keep their placement; names that are not scene bodies are ignored.
         This is what the closed-loop executor does with observed poses.
         """
+        import numpy as np
+
         from vkgl.lang.ir.geometry import joint_axis, joint_coordinate, scene_body_anchor
 
         scene = self._scene_of(self._task_of(task))
@@ -322,6 +325,9 @@ class Program:
 
 def observed_placement(pose: np.ndarray, was_on_table: bool) -> Placement:
     """The placement of a body seen at the 4x4 world `pose`: on the table if it was and still lies level."""
+    import numpy as np
+    from scipy.spatial.transform import Rotation
+
     yaw = math.atan2(pose[1, 0], pose[0, 0])
     tilt = float(np.arccos(np.clip(pose[2, 2], -1.0, 1.0)))
     if was_on_table and tilt < LEVEL_TILT:

@@ -1,6 +1,6 @@
 """The parser: VKG source text -> IR `Module`, with units checked and converted to SI.
 
-Lark's LALR parser (grammar/vkg.lark, built once per process) makes a tree;
+Lark's LALR parser (grammar/vkg.lark, made once per process) makes a tree;
 `Builder` (vkgl/lang/syntax/builder.py) turns it into IR nodes that keep their source
 spans; syntax errors become diagnostics in vkgl/lang/syntax/syntax_errors.py. Problems
 that need no other module (syntax, units, missing or repeated statements) are
@@ -24,6 +24,7 @@ from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.syntax.builder import MAX_UNION_DEPTH, Builder
 from vkgl.lang.syntax.syntax_errors import syntax_diagnostics
+from vkgl.lang.syntax.tables import load_or_build
 from vkgl.lang.syntax.values import new_node
 from vkgl.resources import grammar_path
 
@@ -107,6 +108,10 @@ class _CommentCollector:
         if sink is not None:
             sink.append(token)
 
+    def __reduce__(self) -> str:
+        # Saved with the grammar's tables (tables.py) by name, so that a loaded parser calls this very collector.
+        return "_comments"
+
     def collect(self) -> _Collecting:
         """A context in which the comments lexed go to a fresh list (the context's value)."""
         return _Collecting(self._local)
@@ -128,17 +133,19 @@ class _Collecting:
 _comments = _CommentCollector()
 
 
+_OPTIONS: dict[str, object] = {
+    "parser": "lalr",
+    "lexer": "contextual",
+    "propagate_positions": True,
+    "maybe_placeholders": False,
+}
+
+
 @lru_cache(maxsize=1)
 def lark_parser() -> Lark:
-    """The LALR parser of grammar/vkg.lark, built once per process."""
-    return Lark(
-        grammar_path().read_text(encoding="utf-8"),
-        parser="lalr",
-        lexer="contextual",
-        propagate_positions=True,
-        maybe_placeholders=False,
-        lexer_callbacks={"COMMENT": _comments},
-    )
+    """The LALR parser of grammar/vkg.lark, made once per process (its tables kept between processes: tables.py)."""
+    grammar = grammar_path().read_text(encoding="utf-8")
+    return load_or_build(grammar, _OPTIONS, lambda: Lark(grammar, lexer_callbacks={"COMMENT": _comments}, **_OPTIONS))
 
 
 def _doc_comment(text: str, comments: list[Comment]) -> str | None:

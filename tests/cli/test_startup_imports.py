@@ -1,0 +1,56 @@
+"""`vkgc check`, `fmt` and `lsp` load no back end: neither SciPy, DART, NLopt nor OMPL.
+
+Their start is most of their time (docs/internals.md, "Start-up time"): importing SciPy's
+rotations alone took longer than a whole `vkgc check` may. Each case runs in a fresh process and
+prints which of the heavy packages it imported. The first `check` of a robot asks DART whether its
+URDF loads and remembers the answer in the cache folder (`vkgl.lang.checks.urdf`); from the second on,
+DART is not imported either.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import EXAMPLES, REPO
+
+HEAVY = ("scipy", "dartpy", "nlopt", "ompl")
+TASK = EXAMPLES / "tasks" / "b_stick_push.vkg"  # a scene, a robot with a URDF, a stick with frames
+
+_REPORT = "import sys; print('heavy:', *sorted({m.split('.')[0] for m in sys.modules} & set(sys.argv[1].split(','))))"
+
+
+def _heavy_modules(code: str, cache: Path) -> set[str]:
+    """The heavy packages a fresh process running `code` (then the report) imported."""
+    env = {**os.environ, "VKGL_CACHE_DIR": str(cache), "PYTHONPATH": str(REPO)}
+    script = f"{code}\n{_REPORT}"
+    result = subprocess.run(
+        [sys.executable, "-c", script, ",".join(HEAVY)], capture_output=True, text=True, cwd=REPO, env=env, timeout=120
+    )
+    assert result.returncode == 0, result.stderr[-2000:]
+    report = [line for line in result.stdout.splitlines() if line.startswith("heavy:")]
+    assert len(report) == 1, result.stdout
+    return set(report[0].split()[1:])
+
+
+CHECK = f"from vkgl.cli import main; assert main(['check', {str(TASK)!r}]) == 0"
+FMT = f"from vkgl.cli import main; assert main(['fmt', '--check', {str(TASK)!r}]) == 0"
+LSP = (
+    "import vkgl.editor.server; from vkgl.editor.analysis import analyze; "
+    f"assert not [d for d in analyze({str(TASK)!r}).diagnostics if d.is_error]"
+)
+
+
+def test_check_imports_no_back_end_once_the_urdf_is_known(tmp_path: Path) -> None:
+    first = _heavy_modules(CHECK, tmp_path)
+    assert first <= {"dartpy"}, f"a first `vkgc check` imported {sorted(first)}"  # DART loads the URDF once
+    assert _heavy_modules(CHECK, tmp_path) == set()
+
+
+@pytest.mark.parametrize("code", [FMT, LSP], ids=["fmt", "lsp"])
+def test_fmt_and_the_language_server_import_no_back_end(code: str, tmp_path: Path) -> None:
+    _heavy_modules(CHECK, tmp_path)  # DART has seen the arm's URDF
+    assert _heavy_modules(code, tmp_path) == set()
