@@ -238,7 +238,7 @@ def learn(
     uses) is never replaced. Two bodies that would write one module, and a
     folder that cannot be written, are refused before anything is explored.
     """
-    from vkgl.formats.atomic import write_text
+    from vkgl.atomic import write_text
     from vkgl.infer.library import body_import
 
     files = _body_files([body_files] if isinstance(body_files, str | os.PathLike) else list(body_files))
@@ -320,7 +320,7 @@ def _learning_jobs(
     the compilations read (a body file, a module it uses, a mesh), a
     hand-written module (unless `force`), and a folder that cannot be written.
     """
-    from vkgl.formats.atomic import decide
+    from vkgl.atomic import decide
 
     read: dict[Path, tuple[Path, str]] = {}
     for source, program in zip(files, programs, strict=True):

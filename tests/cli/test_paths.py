@@ -94,7 +94,7 @@ def test_learn_keeps_a_hand_written_module_unless_forced(tmp_path, capsys) -> No
 @pytest.mark.parametrize("name", ["fmt.vkg"])
 def test_fmt_writes_atomically(tmp_path, name, monkeypatch) -> None:
     """A write that fails half-way leaves the old file whole (the new bytes go to a temporary file first)."""
-    import vkgl.formats.atomic as atomic
+    import vkgl.atomic as atomic
 
     path = tmp_path / name
     path.write_text("scene  s {\n    table size (1, 1) m at (0, 0, 0) m\n}\n", encoding="utf-8")

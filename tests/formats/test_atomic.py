@@ -1,4 +1,4 @@
-"""The one writer of outputs (vkgl.formats.atomic): whole or not at all, never renamed over what is not a file."""
+"""The one writer of outputs (vkgl.atomic): whole or not at all, never renamed over what is not a file."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
+from vkgl import atomic
+from vkgl.atomic import Way
 from vkgl.errors import InputError
-from vkgl.formats import atomic
-from vkgl.formats.atomic import Way
 
 
 @pytest.fixture(autouse=True)
@@ -178,7 +178,7 @@ def test_every_output_of_vkgl_goes_through_the_one_writer() -> None:
     """Issue 22: two atomic writers (`api._write_text` had no fsync and was unknown to the Ctrl-C handler)."""
     import ast
 
-    package = Path(atomic.__file__).resolve().parents[1]
+    package = Path(atomic.__file__).resolve().parent
     writes = {"replace", "rename", "write_text", "write_bytes", "savefig", "save", "mkstemp", "NamedTemporaryFile"}
     found = []
     for module in sorted(package.rglob("*.py")):
@@ -201,7 +201,7 @@ def test_every_output_of_vkgl_goes_through_the_one_writer() -> None:
 
 
 def _is_formats_call(node: object) -> bool:
-    """`trials.save(path)`: a format's own writer, which writes through `vkgl.formats.atomic`."""
+    """`trials.save(path)`: a format's own writer, which writes through `vkgl.atomic`."""
     import ast
 
     assert isinstance(node, ast.Call)

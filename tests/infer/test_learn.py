@@ -275,10 +275,10 @@ def test_an_interrupt_while_writing_leaves_no_temporary_file(
     tmp_path: Path, no_exploration: list[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """Ctrl-C while learn wrote left a 0-byte `.tmp` file: its own writer's temporary files were not known to the
-    interrupt handler (which removes those of `vkgl.formats.atomic`, then ends the process at once)."""
+    interrupt handler (which removes those of `vkgl.atomic`, then ends the process at once)."""
     import os
 
-    from vkgl.formats.atomic import discard_temporaries
+    from vkgl.atomic import discard_temporaries
 
     body = _body_file(tmp_path / "crate.vkg", "Crate")
     out = tmp_path / "out"

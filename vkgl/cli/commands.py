@@ -68,8 +68,8 @@ def cmd_check(args: argparse.Namespace) -> int:
 @_command("fmt")
 def cmd_fmt(args: argparse.Namespace) -> int:
     """Rewrite files in canonical form, or with --check list those that would change."""
+    from vkgl.atomic import write_text
     from vkgl.errors import CompileError
-    from vkgl.formats.atomic import write_text
     from vkgl.lang.syntax.printer import format_source
     from vkgl.lang.syntax.sources import read_source
 
@@ -124,7 +124,7 @@ def cmd_explore(args: argparse.Namespace) -> int:
 def cmd_infer(args: argparse.Namespace) -> int:
     """Infer affordances from a trials dataset and write a library module."""
     from vkgl import api
-    from vkgl.formats.atomic import write_text
+    from vkgl.atomic import write_text
     from vkgl.formats.infer_report import write_infer_report
     from vkgl.formats.trials import Trials
 
@@ -188,8 +188,8 @@ def cmd_solve(args: argparse.Namespace) -> int:
     import json
 
     from vkgl import api
+    from vkgl.atomic import write_text
     from vkgl.cli.paths import check_outputs_against
-    from vkgl.formats.atomic import write_text
 
     if args.animate:  # refuse a file it cannot write before seconds of planning and minutes of simulation
         from vkgl.execute.animate import check_animation_path
@@ -256,8 +256,8 @@ def _execute(args: argparse.Namespace, program: Any, plan: Any) -> bool:
     import json
 
     from vkgl import api
+    from vkgl.atomic import write_text
     from vkgl.cli.progress import ExecutionProgress
-    from vkgl.formats.atomic import write_text
 
     # a line per step (and per re-solve) as it happens, on a terminal or piped; a live bar on a terminal
     with ExecutionProgress(sys.stderr, live=_is_terminal(sys.stderr)) as shown:

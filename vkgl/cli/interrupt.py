@@ -28,7 +28,7 @@ def install() -> None:
 
 def on_interrupt(signum: int, frame: FrameType | None) -> None:
     """End the workers, drop half-written files, exit 130."""
-    from vkgl.formats.atomic import discard_temporaries
+    from vkgl.atomic import discard_temporaries
 
     # No worker without multiprocessing imported; importing it at the top would cost every `vkgc` start 4 ms.
     multiprocessing = sys.modules.get("multiprocessing")

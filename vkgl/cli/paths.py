@@ -12,7 +12,7 @@ file the compilation read (a module it uses, a mesh, a URDF) is refused too
 (`check_outputs_against`); `infer -o` never replaces a file `vkgc` did not
 generate, nor the module `--use` names. How each output is written (renamed
 over a regular file, written in place into a device, a FIFO or
-`/dev/stdout`) is `vkgl.formats.atomic`'s decision.
+`/dev/stdout`) is `vkgl.atomic`'s decision.
 """
 
 from __future__ import annotations
@@ -61,11 +61,11 @@ def check_inputs(args: argparse.Namespace) -> None:
 def check_paths(args: argparse.Namespace) -> None:
     """Raise InputError for an output that cannot be written or would replace an input or another output.
 
-    How each output is written (`vkgl.formats.atomic.decide`) is settled here:
+    How each output is written (`vkgl.atomic.decide`) is settled here:
     a regular file or a new path must be in a writable folder; a character
     device, a FIFO or `/dev/stdout` is written in place, and may be named twice.
     """
-    from vkgl.formats.atomic import Way, check_destination
+    from vkgl.atomic import Way, check_destination
 
     inputs = [(option, Path(value)) for option, value in _values(args, INPUT_FILES)]
     seen: list[tuple[str, Path]] = []

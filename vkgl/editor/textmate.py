@@ -177,7 +177,7 @@ def main(argv: list[str] | None = None) -> int:
         for problem in problems:
             print(problem, file=sys.stderr)
         return 1 if problems else 0
-    from vkgl.formats.atomic import write_text
+    from vkgl.atomic import write_text
 
     args.output.parent.mkdir(parents=True, exist_ok=True)
     write_text(args.output, render())

@@ -23,9 +23,9 @@ from typing import Any
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from vkgl.atomic import writing
 from vkgl.errors import InputError
 from vkgl.execute.gif import write_gif
-from vkgl.formats.atomic import writing
 from vkgl.formats.execution_report import ExecutionReport, joint_value_text
 from vkgl.lang.ir.geometry import shape_mesh
 from vkgl.lang.ir.nodes import Body, UnionShape

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from vkgl.formats.atomic import write_bytes
+from vkgl.atomic import write_bytes
 
 PALETTE_SAMPLES = 5
 """Frames (the first, the last, and evenly between) whose colours make the animation's palette."""

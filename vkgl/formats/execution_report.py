@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from vkgl.formats.atomic import write_text
+from vkgl.atomic import write_text
 from vkgl.se3 import yaw_of
 
 FORMAT = "vkg-execution/4"

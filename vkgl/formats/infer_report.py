@@ -10,7 +10,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from vkgl.formats.atomic import write_text
+from vkgl.atomic import write_text
 
 INFER_REPORT_FORMAT = "vkg-infer-report/1"
 

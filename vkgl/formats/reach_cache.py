@@ -33,8 +33,8 @@ import os
 import stat
 from pathlib import Path
 
+from vkgl.atomic import Way, decide, write_text
 from vkgl.errors import InputError
-from vkgl.formats.atomic import Way, decide, write_text
 from vkgl.resources import CACHE_ENV as ENV_DIR
 from vkgl.resources import CACHE_OFF as OFF
 from vkgl.resources import cache_folder  # the one cache folder of vkgl (the grammar's tables are kept there too)

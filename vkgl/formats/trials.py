@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from vkgl.atomic import write_bytes
 from vkgl.errors import InputError
-from vkgl.formats.atomic import write_bytes
 
 FORMAT = "vkg-trials/1"
 

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from vkgl.formats.atomic import write_bytes
+from vkgl.atomic import write_bytes
 from vkgl.infer.affordances import _direction_label, _left_of
 from vkgl.infer.models import TYPES
 

@@ -21,8 +21,8 @@ matplotlib.use("Agg")  # files only, no display needed
 import matplotlib.pyplot as plt
 import numpy as np
 
+from vkgl.atomic import write_bytes
 from vkgl.errors import InputError
-from vkgl.formats.atomic import write_bytes
 from vkgl.formats.trials import Trials
 
 AXES = "xyz"

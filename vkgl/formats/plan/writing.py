@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from vkgl.formats.atomic import write_text
+from vkgl.atomic import write_text
 from vkgl.formats.json_checks import frozen
 from vkgl.formats.plan.document import (
     _STATS_KEYS,

@@ -19,11 +19,12 @@ import contextlib
 import hashlib
 import importlib.util
 import os
-import tempfile
 import xml.etree.ElementTree as ET
 from functools import lru_cache
 from pathlib import Path
 
+from vkgl.atomic import write_text
+from vkgl.errors import InputError
 from vkgl.lang.syntax.sources import not_a_regular_file
 from vkgl.resources import cache_folder
 
@@ -123,21 +124,11 @@ def _known_good(key: str) -> bool:
 
 
 def _remember(key: str) -> None:
-    """Keep `key` as loaded by DART (a cache file: replaced in one step; a failure is only a slower next check)."""
+    """Keep `key` as loaded by DART (a cache file, written by the one atomic writer; a failure is only a slower
+    next check)."""
     entry = _entry(key)
     if entry is None:
         return
-    temporary = None
-    try:
+    with contextlib.suppress(OSError, InputError):
         entry.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=f".{entry.name}.", suffix=".tmp", dir=entry.parent)
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(key + "\n")
-        os.replace(temporary, entry)
-        temporary = None
-    except OSError:
-        pass
-    finally:
-        if temporary is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(temporary)
+        write_text(entry, key + "\n")

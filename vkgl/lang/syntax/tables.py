@@ -13,11 +13,9 @@ file (a saved parser is not the same bytes from one process to the next).
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
-import os
+import io
 import sys
-import tempfile
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
@@ -25,6 +23,7 @@ from typing import Any
 import lark
 from lark import Lark
 
+from vkgl.atomic import write_bytes
 from vkgl.resources import cache_folder
 
 _FORMAT = "vkg-lark-tables/1"  # part of the key: a new way of saving forgets the old files
@@ -65,19 +64,13 @@ def _load(path: Path, key: str) -> Lark | None:
 
 
 def _store(path: Path, key: str, parser: Lark) -> None:
-    """Keep `parser` at `path` (written aside, then renamed; a failure only means building again next time)."""
-    temporary = None
+    """Keep `parser` at `path` (by the one atomic writer: no process reads another's half-written file; a
+    failure only means building again next time)."""
+    buffer = io.BytesIO()
     try:
+        buffer.write(key.encode("ascii") + b"\n")
+        parser.save(buffer)
         path.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(key.encode("ascii") + b"\n")
-            parser.save(stream)
-        os.replace(temporary, path)
-        temporary = None
+        write_bytes(path, buffer.getvalue())
     except Exception:  # a read-only or full disk, or a parser Lark cannot save
         pass
-    finally:
-        if temporary is not None:
-            with contextlib.suppress(OSError):
-                os.unlink(temporary)

@@ -32,7 +32,7 @@ _EDGE_STYLE = {"fixed": "solid", "prismatic": "dashed", "revolute": "dashdot", "
 
 def plot_plan(plan: Any, path: str | Path) -> None:
     """Draw a solved plan (one panel per mode, with its graph) to `path` (PNG, SVG, PDF: by extension), atomically."""
-    from vkgl.formats.atomic import write_bytes
+    from vkgl.atomic import write_bytes
 
     suffix = Path(path).suffix.lstrip(".").lower() or "png"
     try:
