@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import gc
 import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -57,12 +58,77 @@ def parse_collecting(text: str, path: str) -> tuple[ir.Module | None, list[Comme
     return module, list(comments), list(diagnostics)
 
 
-@lru_cache(maxsize=512)
-def _parse_cached(text: str, path: str) -> tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]:
+PARSE_CACHE_CHARS = 512 * 1024
+"""The parse cache holds the parses of at most this many characters of source (least recently used go first).
+
+A parse takes about 170 bytes of memory per character of source, so the cache
+stays under about 90 MB however many distinct texts are parsed (an editor
+sends a new text on every keystroke); a text larger than a quarter of the
+budget is never kept. The stdlib and the examples are about 20 K characters.
+"""
+
+_Parsed = tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]
+
+
+class ParseCache:
+    """Parses by (text, path), least recently used dropped first, bounded by the characters of the texts kept."""
+
+    def __init__(self, budget: int) -> None:
+        self.budget = budget
+        self.chars = 0
+        self._entries: OrderedDict[tuple[str, str], _Parsed] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def get(self, key: tuple[str, str]) -> _Parsed | None:
+        """The parse of `key`, now the most recently used; None if it is not kept."""
+        with self._lock:
+            found = self._entries.get(key)
+            if found is not None:
+                self._entries.move_to_end(key)
+            return found
+
+    def put(self, key: tuple[str, str], parsed: _Parsed) -> None:
+        """Keep `parsed` (unless its text is too large to), dropping the least recently used beyond the budget."""
+        size = len(key[0]) + len(key[1])
+        if size > self.budget // 4:
+            return
+        with self._lock:
+            if key in self._entries:
+                return
+            self._entries[key] = parsed
+            self.chars += size
+            while self.chars > self.budget:
+                (text, path), _ = self._entries.popitem(last=False)
+                self.chars -= len(text) + len(path)
+
+    def clear(self) -> None:
+        """Drop every parse."""
+        with self._lock:
+            self._entries.clear()
+            self.chars = 0
+
+
+_cache = ParseCache(PARSE_CACHE_CHARS)
+
+
+def parse_cache() -> ParseCache:
+    """The process's parse cache (benchmarks clear it; tests look at its size)."""
+    return _cache
+
+
+def _parse_cached(text: str, path: str) -> _Parsed:
     # A compilation parses each imported module once; checking many files that share
     # imports (vkgc check examples/ stdlib/) parses each shared module once per process.
+    found = _cache.get((text, path))
+    if found is not None:
+        return found
     module, comments, diagnostics = _parse_uncached(text, path)
-    return module, tuple(comments), tuple(diagnostics)
+    parsed = (module, tuple(comments), tuple(diagnostics))
+    _cache.put((text, path), parsed)
+    return parsed
 
 
 def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:

@@ -1,0 +1,59 @@
+"""The JSON-RPC protocol of `vkgc lsp`: pygls's, except that every malformed request gets an answer.
+
+pygls turns each incoming message into lsprotocol types while it decodes the
+JSON. When that fails (a position with `line: -1`, a string where a number
+belongs, a missing field), it logs the error and drops the message, so the
+client waits forever for the answer to its request. Here such a request is
+answered with the JSON-RPC error pygls raised (InvalidParams, -32602), and a
+malformed notification is dropped with a log line (it has no one to answer).
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Any
+
+from lsprotocol.types import ResponseError
+from pygls.exceptions import JsonRpcException
+from pygls.protocol import LanguageServerProtocol
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class _Dropped:
+    """A message already dealt with while it was decoded (answered with an error, or a bad notification)."""
+
+    jsonrpc: str
+    method: str = ""
+
+
+class VkgProtocol(LanguageServerProtocol):
+    """pygls's language-server protocol; a request it cannot decode is answered with an error, never ignored."""
+
+    def structure_message(self, data: dict[str, Any]) -> Any:
+        """Decode one message; a malformed one is answered (requests) or logged (notifications) here."""
+        try:
+            return super().structure_message(data)
+        except JsonRpcException as exc:
+            if not isinstance(data, dict) or "jsonrpc" not in data:
+                raise
+            ident = data.get("id")
+            if "method" in data and isinstance(ident, int | str) and not isinstance(ident, bool):
+                self._send_response(ident, error=_response_error(exc))
+            else:
+                log.warning("dropped a malformed %s notification", data.get("method", "?"))
+            return _Dropped(jsonrpc=self.VERSION, method=str(data.get("method", "")))
+
+    def handle_message(self, message: Any) -> None:
+        """Dispatch a decoded message; one already answered while decoding is not dispatched again."""
+        if isinstance(message, _Dropped):
+            return
+        super().handle_message(message)
+
+
+def _response_error(exc: JsonRpcException) -> ResponseError:
+    cause = exc.__cause__
+    detail = str(cause).splitlines()[0] if cause is not None and str(cause) else exc.message
+    return ResponseError(code=exc.code, message=f"{exc.message}: {detail}" if detail != exc.message else detail)
