@@ -12,6 +12,7 @@ burst of edits is checked once.
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -23,6 +24,11 @@ from lsp_client import LspClient
 REPO = Path(__file__).resolve().parents[2]
 CRATE = "body Crate {\n    shape box (30, 30, 20) cm\n    mass 2 kg\n}\n"
 BROKEN = CRATE.replace("mass 2 kg", "mass 2 m")  # E201: a mass expected
+SHEET = 'body Sheet {\n    shape mesh "sheet.stl"\n    mass 0.2 kg\n}\n'
+FLAT_SCENE = (
+    'use stdlib.robots.panda\nuse "sheet.vkg"\n\nscene flat {\n    table size (1, 1) m at (0, 0, 0) m\n'
+    "    robot arm : Panda at (-0.5, 0, 0) m\n    sheet : Sheet on table at (0.3, 0) m\n}\n"
+)
 REQUESTS = ("textDocument/hover", "textDocument/definition", "textDocument/completion")
 
 
@@ -31,6 +37,8 @@ def project(tmp_path_factory: pytest.TempPathFactory) -> Path:
     root = tmp_path_factory.mktemp("untrusted")
     (root / "on_disk.vkg").write_text(CRATE, encoding="utf-8")
     os.mkfifo(root / "pipe.vkg")
+    shutil.copy(REPO / "tests" / "lang" / "golden" / "lib" / "one_triangle.stl", root / "sheet.stl")
+    (root / "sheet.vkg").write_text(SHEET, encoding="utf-8")
     return root
 
 
@@ -125,3 +133,11 @@ def test_a_burst_of_edits_is_checked_once(server: LspClient, project: Path) -> N
     assert [d["code"] for d in final["diagnostics"]] == ["E201"]
     checked_between = [m for m in server.seen if m["params"].get("uri") == uri]
     assert len(checked_between) <= 2  # not one check per keystroke (20 before)
+
+
+def test_a_flat_mesh_is_published_as_e503_in_the_module_that_names_it(server: LspClient, project: Path) -> None:
+    scene = (project / "flat_scene.vkg").as_uri()
+    assert open_text(server, scene, FLAT_SCENE) == []
+    sheet = (project / "sheet.vkg").as_uri()
+    published = server.wait_for("textDocument/publishDiagnostics", lambda p: p["uri"] == sheet)
+    assert [d["code"] for d in published["diagnostics"]] == ["E503"]

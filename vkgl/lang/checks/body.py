@@ -6,8 +6,10 @@ Every rule about an `explore` block lives here, so the explorer
 
 from __future__ import annotations
 
+import math
 import os
 import re
+import sys
 import xml.etree.ElementTree as ET
 from functools import lru_cache
 from pathlib import Path
@@ -109,6 +111,16 @@ def _mesh_problem(path: str) -> str | None:
         return f"trimesh cannot read it ({type(exc).__name__}: {exc})"
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         return "the file holds no triangles"
+    return flat_problem(np.asarray(loaded.vertices, dtype=float))
+
+
+def flat_problem(vertices: np.ndarray) -> str | None:
+    """Why `vertices` bound no volume (all on one plane or line, or too few), or None when they do."""
+    if len(vertices) < 4 or not np.all(np.isfinite(vertices)):
+        return f"it is degenerate: {len(vertices)} vertices bound no volume (a solid needs 4 not on one plane)"
+    spread = np.linalg.svd(vertices - vertices.mean(axis=0), compute_uv=False)
+    if spread[2] <= 1e-9 * spread[0]:
+        return "it is flat: all its vertices lie on one plane, so it bounds no volume (a solid body needs one)"
     return None
 
 
@@ -123,9 +135,29 @@ def _check_joint(joint: ir.Joint, ctx: CheckContext) -> None:
 
 
 def check_direction(vector: ir.Vector, what: str, ctx: CheckContext) -> None:
-    """Report a direction vector (`what`, e.g. "a joint axis") that is zero."""
-    if len(vector.values) and not np.any(np.asarray(vector.values) != 0):
+    """Report a direction vector (`what`, e.g. "a joint axis") that is zero, or whose length is not a normal
+    positive float: it is divided by its length, which underflows to 0 (or overflows) and gives a NaN axis."""
+    if not len(vector.values):
+        return
+    values = np.asarray(vector.values, dtype=float)
+    if not np.any(values != 0):
         ctx.error(codes.ZERO_DIRECTION, f"{what} must not be zero", vector.span)
+        return
+    if not np.all(np.isfinite(values)):
+        return  # reported where the number was read
+    with np.errstate(over="ignore", under="ignore"):
+        squared = float(np.sum(values * values))  # as the simulator normalises it: v / sqrt(v . v)
+    if math.isfinite(squared) and squared >= sys.float_info.min:
+        return
+    scale = float(np.max(np.abs(values)))
+    length = scale * float(np.linalg.norm(values / scale))
+    why = "underflows to 0" if squared < sys.float_info.min else "overflows"
+    ctx.error(
+        codes.ZERO_DIRECTION,
+        f"{what} of length {length:.3g} gives no direction: its length squared {why} in floating point",
+        vector.span,
+        "write the direction with ordinary numbers, e.g. `(1, 0, 0)`: only its direction counts",
+    )
 
 
 def check_robot(robot: ir.Robot, ctx: CheckContext) -> None:

@@ -121,9 +121,10 @@ def _mesh_pieces(shape: ir.MeshShape) -> list[Piece] | None:
     try:
         mesh = shape_mesh(shape)
         parts = mesh.split(only_watertight=False) or [mesh]
-        return [_hull(np.asarray(part.vertices)) for part in parts if len(part.vertices) >= 4]
+        pieces = [_hull(np.asarray(part.vertices)) for part in parts if len(part.vertices) >= 4]
     except Exception:  # unreadable or degenerate: the body checks report the file (E503)
         return None
+    return pieces or None  # no solid part (a flat mesh): reported as E503
 
 
 def _positive(*values: float) -> bool:

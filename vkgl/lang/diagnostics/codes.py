@@ -228,7 +228,10 @@ ZERO_DIRECTION = _code(
     "zero direction vector",
     (
         "A direction vector (joint axis, `prismatic along`, `revolute ... axis`) must not be `(0, 0, 0)`: it "
-        "says which way things move. Likewise an exploration's direction grid `1 x 1 x 1` holds only the zero "
+        "says which way things move. Nor may it be so short (`(1e-300, 0, 0)`) or so long that its length "
+        "squared underflows to 0 or overflows in floating point: it is divided by its length, which would give "
+        "a direction of NaNs; write it with ordinary numbers, only its direction counts. "
+        "Likewise an exploration's direction grid `1 x 1 x 1` holds only the zero "
         "direction: give an axis more than one point (`3 x 3 x 3`)."
     ),
 )

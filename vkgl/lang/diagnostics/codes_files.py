@@ -29,7 +29,9 @@ MESH_UNREADABLE = _code(
     "mesh file missing or unreadable",
     (
         "A mesh file is missing, or trimesh cannot read triangles from it (the message says what trimesh "
-        "said). Mesh paths are relative to the module's file."
+        "said), or its triangles bound no volume (fewer than 4 vertices, or all on one plane: a flat mesh "
+        "cannot be a solid body that stands on a table or is pushed), or it is larger than the limit for a "
+        "mesh (the message gives it). Mesh paths are relative to the module's file."
     ),
 )
 URDF_UNREADABLE = _code(

@@ -38,6 +38,12 @@ FILE_NOTES = {
     "E508": "where `golden/lib/latin1.vkg` is saved in Latin-1 (the byte `\\xe9` for `é`).",
 }
 
+# What a single case's helper file is, when it is not a module.
+CASE_NOTES = {
+    "E503_mesh_unreadable": "where `golden/lib/not_a_mesh.stl` holds the text `this is not a mesh`.",
+    "E503_flat_mesh": "where `golden/lib/one_triangle.stl` is an ASCII STL of one triangle (3 vertices on one plane).",
+}
+
 
 def errors_doc(repo: Path = Path(".")) -> str:
     """The text of docs/errors.md for the checkout at `repo` (its golden cases are read from there)."""
@@ -96,8 +102,8 @@ def errors_doc(repo: Path = Path(".")) -> str:
                 out += [f"with `golden/{helper}`:", "", "```", text.rstrip("\n"), "```", ""]
             if code in FILE_NOTES:
                 out += [FILE_NOTES[code], ""]
-            if code == "E503":
-                out += ["where `golden/lib/not_a_mesh.stl` holds the text `this is not a mesh`.", ""]
+            if case.stem in CASE_NOTES:
+                out += [CASE_NOTES[case.stem], ""]
             out += [
                 "`vkgc check` prints:",
                 "",
