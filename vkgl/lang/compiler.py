@@ -99,6 +99,7 @@ _UNLOADED = {
         codes.UNEXPECTED_CHARACTER,
         codes.UNEXPECTED_END,
         codes.NESTING_TOO_DEEP,
+        codes.TOO_MANY_TOKENS,
         codes.UNKNOWN_UNIT,
     )
 }

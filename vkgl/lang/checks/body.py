@@ -23,6 +23,7 @@ from vkgl.lang.checks.joints import check_joint_dynamics
 from vkgl.lang.checks.ranges import check_body_ranges
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.mesh_limits import file_too_large, too_many_faces
 
 
 def check_body(body: ir.Body, ctx: CheckContext) -> None:
@@ -77,7 +78,14 @@ def _check_shape(shape: Any, ctx: CheckContext) -> None:
 
 def _check_mesh_file(shape: ir.MeshShape, ctx: CheckContext) -> None:
     problem = _mesh_problem(shape.resolved or shape.path)
-    if problem:
+    if problem and problem.startswith(_TOO_LARGE):
+        ctx.error(
+            codes.MESH_TOO_LARGE,
+            f"cannot use mesh `{shape.path}`: {problem.removeprefix(_TOO_LARGE)}",
+            ctx.narrow(shape.span, r'mesh\s+("[^"]*")'),
+            "simplify it (decimate it: a collision shape rarely needs more than a few thousand triangles)",
+        )
+    elif problem:
         ctx.error(
             codes.MESH_UNREADABLE,
             f"cannot use mesh `{shape.path}`: {problem}",
@@ -98,11 +106,17 @@ def _looked_for(resolved: str | None, problem: str) -> str:
     return f"looked for `{shown}`: the path is relative to the module's file"
 
 
+_TOO_LARGE = "too large: "  # how _mesh_problem marks a mesh past the limits (E511, not E503)
+
+
 @lru_cache(maxsize=64)
 def _mesh_problem(path: str) -> str | None:
     """Why trimesh cannot give triangles for `path`, or None when it can."""
     if not Path(path).is_file():
         return "no such file"
+    refused = file_too_large(path)
+    if refused is not None:
+        return _TOO_LARGE + refused
     import trimesh
 
     try:
@@ -111,6 +125,9 @@ def _mesh_problem(path: str) -> str | None:
         return f"trimesh cannot read it ({type(exc).__name__}: {exc})"
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         return "the file holds no triangles"
+    refused = too_many_faces(len(loaded.faces))
+    if refused is not None:
+        return _TOO_LARGE + refused
     return flat_problem(np.asarray(loaded.vertices, dtype=float))
 
 

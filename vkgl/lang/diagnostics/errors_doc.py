@@ -35,6 +35,10 @@ FILE_NOTES = {
     "E505": "where `golden/lib/dangling.vkg` is a symbolic link to `no_such_target.vkg`, which does not exist.",
     "E506": "where `golden/lib/loop.vkg` is a symbolic link to itself.",
     "E507": "where `golden/lib/too_large.vkg` is an 11 MiB file (the golden test makes it).",
+    "E510": "where `golden/lib/many_tokens.vkg` is a comment line and 20,001 lines `x = (1, 2, 3) m` (the golden "
+    "test makes it).",
+    "E511": "where `golden/lib/huge_mesh.stl` is a binary STL whose header says 600,000 triangles (the golden test "
+    "makes it).",
     "E508": "where `golden/lib/latin1.vkg` is saved in Latin-1 (the byte `\\xe9` for `é`).",
 }
 

@@ -11,6 +11,7 @@ found here; everything that needs names from other modules is the checker's job
 from __future__ import annotations
 
 import gc
+import re
 import threading
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -131,7 +132,38 @@ def _parse_cached(text: str, path: str) -> _Parsed:
     return parsed
 
 
+MAX_TOKENS = 200_000
+"""The most tokens a source file may hold (E510). Compiling costs about 1 KB of memory per token at its peak;
+a 10,000-body scene is about 140,000 tokens (bench/bench_limits.py measures both sides of the limit)."""
+
+# What counts as a token: a name, a number (with its exponent), a string, any other mark; a comment is skipped.
+_TOKEN = re.compile(r'#[^\n]*|"[^"\n]*"?|\w+(?:\.\w+)*(?:[eE][-+]?\d+)?|\S')
+
+
+def too_many_tokens(text: str, path: str) -> Diagnostic | None:
+    """E510 at the first token past MAX_TOKENS, or None (the count stops there: its cost is bounded too)."""
+    if len(text) <= MAX_TOKENS:  # every token takes at least one character
+        return None
+    count = 0
+    for match in _TOKEN.finditer(text):
+        if match.group().startswith("#"):
+            continue
+        count += 1
+        if count > MAX_TOKENS:
+            start = match.start()
+            line = text.count("\n", 0, start) + 1
+            col = start - text.rfind("\n", 0, start)
+            span = new_node(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + len(match.group()))
+            message = f"`{path}` has more than {MAX_TOKENS:,} tokens, the limit for a source file (this is the next)"
+            note = "split it into modules joined by `use` (a file this large would take gigabytes to compile)"
+            return codes.TOO_MANY_TOKENS.diagnostic(message, span, note)
+    return None
+
+
 def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
+    refused = too_many_tokens(text, path)
+    if refused is not None:
+        return None, [], [refused]
     builder = Builder(path, text)
     # The parse allocates a few objects per character and frees none of them until
     # the end; pausing the cyclic garbage collector meanwhile halves the time.
