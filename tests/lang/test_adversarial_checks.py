@@ -86,3 +86,14 @@ def test_a_flat_mesh_on_a_table_is_e503_in_its_file_and_in_a_file_that_uses_it(t
     (tmp_path / "user.vkg").write_text('use "scene.vkg"\n', encoding="utf-8")
     for name in ("sheet.vkg", "scene.vkg", "user.vkg"):
         assert codes_of(tmp_path / name) == ["E503"], name
+
+
+def test_a_robot_placed_at_a_four_component_position_is_e204_not_an_internal_error(tmp_path: Path) -> None:
+    # Found by the language-server fuzz run (tests/editor/lsp_fuzz.py): exit 4 in the scene checks.
+    path = tmp_path / "scene.vkg"
+    path.write_text(
+        "use stdlib.robots.panda\nscene s {\n    table size (1.6, 1.2) m at (0.5, 0, 0) m\n"
+        "    robot arm : Panda at (0, 0, 0.7, 0) m yaw 0deg\n}\n",
+        encoding="utf-8",
+    )
+    assert codes_of(path) == ["E204"]

@@ -6,17 +6,26 @@ belongs, a missing field), it logs the error and drops the message, so the
 client waits forever for the answer to its request. Here such a request is
 answered with the JSON-RPC error pygls raised (InvalidParams, -32602), and a
 malformed notification is dropped with a log line (it has no one to answer).
+
+Likewise a change to a document that is not open (pygls raised KeyError and
+showed the user "Error in server"), or one whose range pygls cannot apply, is
+logged and dropped; the document is checked again all the same.
 """
 
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
+from lsprotocol import types
 from lsprotocol.types import ResponseError
 from pygls.exceptions import JsonRpcException
 from pygls.protocol import LanguageServerProtocol
+from pygls.protocol.language_server import lsp_method
+
+from vkgl.editor.documents import document_key
 
 log = logging.getLogger(__name__)
 
@@ -51,6 +60,22 @@ class VkgProtocol(LanguageServerProtocol):
         if isinstance(message, _Dropped):
             return
         super().handle_message(message)
+
+    @lsp_method(types.TEXT_DOCUMENT_DID_CHANGE)
+    def lsp_text_document__did_change(self, params: types.DidChangeTextDocumentParams) -> Iterator[Any]:
+        """Apply the changes to an open document (pygls's way), then call the server's handler; a change to a
+        document that is not open is dropped, and one pygls cannot apply is logged."""
+        if document_key(params.text_document.uri) not in self.workspace.text_documents:
+            log.warning("dropped a change to a document that is not open")
+            return
+        try:
+            for change in params.content_changes:
+                self.workspace.update_text_document(params.text_document, change)
+        except (IndexError, ValueError, TypeError) as exc:
+            log.warning("could not apply a change: %s", exc)
+        handler = self.fm.features.get(types.TEXT_DOCUMENT_DID_CHANGE)
+        if handler is not None:
+            yield handler, (params,), None
 
 
 def _response_error(exc: JsonRpcException) -> ResponseError:

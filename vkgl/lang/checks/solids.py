@@ -132,9 +132,13 @@ def _positive(*values: float) -> bool:
 
 
 def _matrix(pose: ir.Pose) -> np.ndarray | None:
-    """The pose's 4x4 matrix, or None when a value is not finite (its error is reported)."""
-    with np.errstate(all="ignore"):
-        matrix = pose.matrix()
+    """The pose's 4x4 matrix, or None when a value is not finite or a vector has the wrong number of components
+    (its error is reported)."""
+    try:
+        with np.errstate(all="ignore"):
+            matrix = pose.matrix()
+    except ValueError:  # `at (0, 0, 0.7, 0) m`: E204, reported by the builder
+        return None
     return matrix if np.all(np.isfinite(matrix)) else None
 
 
