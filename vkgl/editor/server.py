@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from lsprotocol import types
+from pygls.exceptions import FeatureNotificationError
 from pygls.lsp.server import LanguageServer
 from pygls.uris import from_fs_path
 from pygls.workspace import TextDocument
@@ -120,7 +121,10 @@ class VkgLanguageServer(LanguageServer):
         self._timer = None
         pending, self.pending = self.pending, set()
         for key in sorted(pending):
-            self.refresh(key)
+            try:
+                self.refresh(key)
+            except Exception as exc:  # outside a handler: report it as pygls reports a failed notification
+                self.report_server_error(exc, FeatureNotificationError)
 
     def refresh(self, uri: str) -> None:
         """Re-check `uri`, then every other open file whose compilation includes it."""
