@@ -119,6 +119,8 @@ def test_a_buffer_over_the_source_limit_is_refused_with_e507(server: LspClient, 
     published = open_text(server, uri, "#" * (MAX_SOURCE_BYTES + 1))
     assert [d["code"] for d in published] == ["E507"]
     assert "10 MiB" in published[0]["message"]
+    for method in REQUESTS:  # answered at once with null, not after pygls walks 10 MiB of text
+        assert ask(server, method, uri, 0, 5) is None
     server.notify("textDocument/didClose", {"textDocument": {"uri": uri}})
 
 

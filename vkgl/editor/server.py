@@ -88,6 +88,13 @@ class VkgLanguageServer(LanguageServer):
         """The open document `uri` (however the client spells it), or None: never a file read from disk."""
         return self.workspace.text_documents.get(document_key(uri))
 
+    def answerable(self, uri: str) -> TextDocument | None:
+        """The open document `uri` if requests about it are answered: not one over the source limit (E507)."""
+        document = self.document(uri)
+        if document is None or oversized_text(document.source, "buffer") is not None:
+            return None
+        return document
+
     def home(self) -> Path:
         """The folder untitled buffers are compiled in: the workspace's root, else the working directory."""
         root = self.workspace.root_path if self.workspace is not None else None
@@ -269,7 +276,7 @@ def did_close(ls: VkgLanguageServer, params: types.DidCloseTextDocumentParams) -
 @server.feature(types.TEXT_DOCUMENT_HOVER)
 def hover(ls: VkgLanguageServer, params: types.HoverParams) -> types.Hover | None:
     """A quantity's SI value, or what the name under the cursor declares (null for a document not open)."""
-    document = ls.document(params.text_document.uri)
+    document = ls.answerable(params.text_document.uri)
     if document is None:
         return None
     text, line, char = ls.position(document, params.position)
@@ -309,7 +316,7 @@ def _hover(value: str, document: TextDocument, line: int, start: int | None, end
 @server.feature(types.TEXT_DOCUMENT_DEFINITION)
 def definition(ls: VkgLanguageServer, params: types.DefinitionParams) -> types.Location | None:
     """Where the name under the cursor is declared, in whichever module of the compilation."""
-    document = ls.document(params.text_document.uri)
+    document = ls.answerable(params.text_document.uri)
     if document is None:
         return None
     text, line, char = ls.position(document, params.position)
@@ -335,7 +342,7 @@ def definition(ls: VkgLanguageServer, params: types.DefinitionParams) -> types.L
 @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["."]))
 def completion(ls: VkgLanguageServer, params: types.CompletionParams) -> types.CompletionList | None:
     """Keywords, units and the names in scope (members only after `Body.`)."""
-    document = ls.document(params.text_document.uri)
+    document = ls.answerable(params.text_document.uri)
     if document is None:
         return None
     text, line, char = ls.position(document, params.position)
@@ -353,12 +360,10 @@ def formatting(ls: VkgLanguageServer, params: types.DocumentFormattingParams) ->
     """`vkgc fmt` of the buffer as one edit (none when it is already canonical or does not parse)."""
     from vkgl.errors import CompileError
 
-    document = ls.document(params.text_document.uri)
+    document = ls.answerable(params.text_document.uri)
     if document is None:
         return None
     text = document.source
-    if oversized_text(text, "buffer") is not None:
-        return None
     try:
         formatted = format_source(text, str(ls.program_path(document)))
     except CompileError:
