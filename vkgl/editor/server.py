@@ -40,7 +40,7 @@ from vkgl.editor.analysis import Analysis, analyze, span_path
 from vkgl.editor.completion import candidates
 from vkgl.editor.documents import document_key, document_path
 from vkgl.editor.hover import quantity_hover, symbol_hover
-from vkgl.editor.protocol import VkgProtocol
+from vkgl.editor.protocol import VkgProtocol, count_units_fast
 from vkgl.editor.symbols import declaration_span, symbol_at
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir.nodes import Span
@@ -247,6 +247,12 @@ class VkgLanguageServer(LanguageServer):
 
 
 server = VkgLanguageServer()
+
+
+@server.feature(types.INITIALIZE)
+def initialize(ls: VkgLanguageServer, params: types.InitializeParams) -> None:
+    """Once the workspace exists: count position units with the codecs, not a character at a time."""
+    count_units_fast(ls.workspace.position_codec)
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
