@@ -154,7 +154,8 @@ def too_many_tokens(text: str, path: str) -> Diagnostic | None:
             line = text.count("\n", 0, start) + 1
             col = start - text.rfind("\n", 0, start)
             span = new_node(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + len(match.group()))
-            message = f"`{path}` has more than {MAX_TOKENS:,} tokens, the limit for a source file (this is the next)"
+            limit = f"{MAX_TOKENS:,} tokens, the limit for a source file"
+            message = f"`{path}` has more than {limit}; token {MAX_TOKENS + 1:,} is here"
             note = "split it into modules joined by `use` (a file this large would take gigabytes to compile)"
             return codes.TOO_MANY_TOKENS.diagnostic(message, span, note)
     return None
