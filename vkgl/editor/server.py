@@ -105,9 +105,10 @@ class VkgLanguageServer(LanguageServer):
         home = self.home()
         return {document_path(d.uri, home): d for d in list(self.workspace.text_documents.values())}
 
-    def overlay(self) -> dict[Path, str]:
+    def overlay(self, opened: dict[Path, TextDocument] | None = None) -> dict[Path, str]:
         """The open buffers by resolved path: what the compiler reads instead of the files."""
-        return {path: document.source for path, document in self.open_documents().items()}
+        opened = self.open_documents() if opened is None else opened
+        return {path: document.source for path, document in opened.items()}
 
     # ------------------------------------------------------------ analysis
 
@@ -153,7 +154,7 @@ class VkgLanguageServer(LanguageServer):
         if document is None:
             return
         opened = self.open_documents()
-        analysis = analyze(document_path(document.uri, self.home()), {p: d.source for p, d in opened.items()})
+        analysis = analyze(document_path(document.uri, self.home()), self.overlay(opened))
         self.analyses[key] = analysis
         if analysis.program.modules:
             self.programs[key] = analysis.program
