@@ -81,6 +81,7 @@ def main() -> None:
             return make
 
         cases += [
+            ("an empty file (start-up alone)", text_case("empty.vkg", "")),
             ("scene of 10,000 blocks (about 140 K tokens: within)", text_case("scene10k.vkg", scene_file(10_000))),
             ("scene of 12,000 blocks (about 190 K tokens: within)", text_case("scene12k.vkg", scene_file(12_000))),
             ("100,000 bodies in 4.9 MB (refused)", text_case("bodies100k.vkg", bodies_file(100_000))),
