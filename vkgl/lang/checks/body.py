@@ -15,15 +15,13 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from vkgl.lang.checks.context import CheckContext, did_you_mean, duplicates, shown, shown_vector
 from vkgl.lang.checks.explore import check_explore
 from vkgl.lang.checks.joints import check_joint_dynamics
 from vkgl.lang.checks.ranges import check_body_ranges
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.mesh_limits import file_too_large, too_many_faces
+from vkgl.lang.ir.mesh_limits import file_too_large, flat_problem, too_many_faces
 
 
 def check_body(body: ir.Body, ctx: CheckContext) -> None:
@@ -128,17 +126,7 @@ def _mesh_problem(path: str) -> str | None:
     refused = too_many_faces(len(loaded.faces))
     if refused is not None:
         return _TOO_LARGE + refused
-    return flat_problem(np.asarray(loaded.vertices, dtype=float))
-
-
-def flat_problem(vertices: np.ndarray) -> str | None:
-    """Why `vertices` bound no volume (all on one plane or line, or too few), or None when they do."""
-    if len(vertices) < 4 or not np.all(np.isfinite(vertices)):
-        return f"it is degenerate: {len(vertices)} vertices bound no volume (a solid needs 4 not on one plane)"
-    spread = np.linalg.svd(vertices - vertices.mean(axis=0), compute_uv=False)
-    if spread[2] <= 1e-9 * spread[0]:
-        return "it is flat: all its vertices lie on one plane, so it bounds no volume (a solid body needs one)"
-    return None
+    return flat_problem(loaded.vertices)
 
 
 def _check_joint(joint: ir.Joint, ctx: CheckContext) -> None:
@@ -156,18 +144,17 @@ def check_direction(vector: ir.Vector, what: str, ctx: CheckContext) -> None:
     positive float: it is divided by its length, which underflows to 0 (or overflows) and gives a NaN axis."""
     if not len(vector.values):
         return
-    values = np.asarray(vector.values, dtype=float)
-    if not np.any(values != 0):
+    values = [float(v) for v in vector.values]
+    if all(v == 0 for v in values):
         ctx.error(codes.ZERO_DIRECTION, f"{what} must not be zero", vector.span)
         return
-    if not np.all(np.isfinite(values)):
+    if not all(math.isfinite(v) for v in values):
         return  # reported where the number was read
-    with np.errstate(over="ignore", under="ignore"):
-        squared = float(np.sum(values * values))  # as the simulator normalises it: v / sqrt(v . v)
+    squared = sum(v * v for v in values)  # as the simulator normalises it: v / sqrt(v . v); inf past the range
     if math.isfinite(squared) and squared >= sys.float_info.min:
         return
-    scale = float(np.max(np.abs(values)))
-    length = scale * float(np.linalg.norm(values / scale))
+    scale = max(abs(v) for v in values)
+    length = scale * math.sqrt(sum((v / scale) ** 2 for v in values))
     why = "underflows to 0" if squared < sys.float_info.min else "overflows"
     ctx.error(
         codes.ZERO_DIRECTION,
