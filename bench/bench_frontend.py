@@ -42,7 +42,7 @@ def best_of(repeat: int, fn: Callable[[], object], before: Callable[[], None] = 
 def clear_parse_cache() -> None:
     from vkgl.lang.syntax import parser
 
-    parser._parse_cached.cache_clear()
+    parser.parse_cache().clear()
 
 
 def vkg_files() -> list[Path]:

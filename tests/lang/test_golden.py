@@ -70,6 +70,8 @@ def _as_from_the_checkout(out: str) -> str:
 
 
 TOO_LARGE = GOLDEN / "lib" / "too_large.vkg"
+MANY_TOKENS = GOLDEN / "lib" / "many_tokens.vkg"
+HUGE_MESH = GOLDEN / "lib" / "huge_mesh.stl"
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -78,6 +80,22 @@ def too_large_source() -> None:
     if not TOO_LARGE.is_file() or TOO_LARGE.stat().st_size != 11 * 1024 * 1024:
         with open(TOO_LARGE, "wb") as stream:
             stream.truncate(11 * 1024 * 1024)
+
+
+@pytest.fixture(autouse=True, scope="module")
+def past_the_size_limits() -> None:
+    """E510's and E511's cases use files made here (not stored in git; see .gitignore): a module of 20,001
+    lines of 10 tokens, and a binary STL whose header says 600,000 triangles (sparse: never read)."""
+    lines = "# 20,001 lines of 10 tokens: the 200,001st token starts the last line\n" + "x = (1, 2, 3) m\n" * 20_001
+    if not MANY_TOKENS.is_file() or MANY_TOKENS.read_text(encoding="utf-8") != lines:
+        MANY_TOKENS.write_text(lines, encoding="utf-8")
+    size = 84 + 50 * 600_000
+    if not HUGE_MESH.is_file() or HUGE_MESH.stat().st_size != size:
+        with open(HUGE_MESH, "wb") as stream:
+            stream.write(
+                b"binary STL made by tests/lang/test_golden.py".ljust(80, b" ") + (600_000).to_bytes(4, "little")
+            )
+            stream.truncate(size)
 
 
 @pytest.fixture

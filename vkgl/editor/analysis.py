@@ -3,7 +3,8 @@
 `analyze(path, overlay)` compiles `path` the way `vkgc check path` does, except
 that a module whose resolved path is a key of `overlay` is read from there (an
 open editor buffer) instead of from disk. The diagnostics are exactly those of
-`vkgl.lang.compiler.check_files([path])`: it is called as is.
+`vkgl.lang.compiler.check_files([path])` (one compilation, by `check_file`).
+A buffer larger than the CLI's source limit is refused as a file would be (E507).
 
 The one seam: the import resolver reads files in `vkgl.lang.resolve._Loader._read`.
 While an analysis runs, `resolve._Loader` is a subclass that looks in the
@@ -24,6 +25,7 @@ from vkgl.lang import compiler, resolve
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir.nodes import Module, Span, Use
 from vkgl.lang.ir.program import Program
+from vkgl.lang.syntax.sources import oversized_text
 
 _LOCK = threading.Lock()
 
@@ -67,12 +69,10 @@ def analyze(path: str | Path, overlay: dict[Path, str] | None = None) -> Analysi
     """Compile `path` (buffers in `overlay`, by resolved path, take the place of files) and report."""
     root = Path(path).resolve()
     with _reading(overlay or {}):
-        diagnostics, sources = compiler.check_files([str(path)])
-        # What check_files compiled, this time keeping the program:
-        compiled, _ = compiler._compile(str(path))
+        compiled, diagnostics = compiler.check_file(path)
     program = compiled if compiled is not None else Program(root=Module(path=str(path)))
+    sources = dict(program.sources)
     files = {resolved(shown) for shown in sources} | {root}
-    sources = {**program.sources, **sources}
     files |= {resolved(key) for key in program.modules}
     return Analysis(
         root=root,
@@ -91,7 +91,13 @@ def _reading(overlay: dict[Path, str]) -> Iterator[None]:
     class _OverlayLoader(base):  # type: ignore[valid-type, misc]
         def _read(self, path: Path, shown: str, via: Use | None) -> str | None:
             text = overlay.get(path.resolve())
-            return text if text is not None else super()._read(path, shown, via)
+            if text is None:
+                return super()._read(path, shown, via)
+            refused = oversized_text(text, shown, via.span if via is not None else None)
+            if refused is not None:
+                self.out.diagnostics.append(refused)
+                return None
+            return text
 
     with _LOCK:
         resolve._Loader = _OverlayLoader  # type: ignore[misc]

@@ -14,26 +14,39 @@ Features:
   and after `Body.` its frames and affordances;
 - formatting: `vkgc fmt` of the buffer (nothing when it does not parse).
 
+Untrusted input: only open documents are looked at (a request about any other
+URI is answered with null; nothing is read from disk for it); documents are
+keyed as pygls keys them (vkgl/editor/documents.py); a request pygls cannot
+decode gets a JSON-RPC error (vkgl/editor/protocol.py); edits are checked once
+they pause for SETTLE_SECONDS; a buffer over the 10 MiB source limit gets E507.
+
 The editor extension in editors/vscode/ starts it; any LSP client can.
 """
 
 from __future__ import annotations
 
+import asyncio
+import os
 from pathlib import Path
 from typing import Any
 
 from lsprotocol import types
+from pygls.exceptions import FeatureNotificationError
 from pygls.lsp.server import LanguageServer
-from pygls.uris import from_fs_path, to_fs_path
+from pygls.uris import from_fs_path
+from pygls.workspace import TextDocument
 
 from vkgl.editor.analysis import Analysis, analyze, span_path
 from vkgl.editor.completion import candidates
+from vkgl.editor.documents import document_key, document_path
 from vkgl.editor.hover import quantity_hover, symbol_hover
+from vkgl.editor.protocol import VkgProtocol, count_units_fast
 from vkgl.editor.symbols import declaration_span, symbol_at
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir.nodes import Span
 from vkgl.lang.ir.program import Program
 from vkgl.lang.syntax.printer import format_source
+from vkgl.lang.syntax.sources import oversized_text
 
 NAME = "vkgc-lsp"
 VERSION = "0.1.0"
@@ -50,57 +63,125 @@ _KINDS = {
 }
 
 
+SETTLE_SECONDS = 0.2
+"""Edits are checked once they pause this long: a burst of keystrokes costs one check, not one each."""
+
+
 class VkgLanguageServer(LanguageServer):
-    """The server's state: the last analysis of each open file and what was published where."""
+    """The server's state, keyed by document key: the last analysis of each open file, what was published where.
+
+    Only open documents are ever looked at: a request about any other URI is
+    answered with null, and nothing is read from disk for it.
+    """
 
     def __init__(self) -> None:
-        super().__init__(NAME, VERSION)
+        super().__init__(NAME, VERSION, protocol_cls=VkgProtocol)
         self.analyses: dict[str, Analysis] = {}
         self.programs: dict[str, Program] = {}  # the last program whose root parsed, per open file
-        self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}  # root uri -> file uri -> diagnostics
+        self.published: dict[str, dict[str, list[types.Diagnostic]]] = {}  # root key -> file uri -> diagnostics
+        self.pending: set[str] = set()  # documents edited since their last check
+        self._timer: asyncio.TimerHandle | None = None
+
+    # ------------------------------------------------------------ documents
+
+    def document(self, uri: str) -> TextDocument | None:
+        """The open document `uri` (however the client spells it), or None: never a file read from disk."""
+        return self.workspace.text_documents.get(document_key(uri))
+
+    def answerable(self, uri: str) -> TextDocument | None:
+        """The open document `uri` if requests about it are answered: not one over the source limit (E507)."""
+        document = self.document(uri)
+        if document is None or oversized_text(document.source, "buffer") is not None:
+            return None
+        return document
+
+    def home(self) -> Path:
+        """The folder untitled buffers are compiled in: the workspace's root, else the working directory."""
+        root = self.workspace.root_path if self.workspace is not None else None
+        return Path(root) if root and os.path.isabs(root) else Path.cwd()
+
+    def open_documents(self) -> dict[Path, TextDocument]:
+        """The open documents by the resolved path the compiler knows them by."""
+        home = self.home()
+        return {document_path(d.uri, home): d for d in list(self.workspace.text_documents.values())}
+
+    def overlay(self, opened: dict[Path, TextDocument] | None = None) -> dict[Path, str]:
+        """The open buffers by resolved path: what the compiler reads instead of the files."""
+        opened = self.open_documents() if opened is None else opened
+        return {path: document.source for path, document in opened.items()}
 
     # ------------------------------------------------------------ analysis
 
-    def overlay(self) -> dict[Path, str]:
-        """The open buffers by resolved path: what the compiler reads instead of the files."""
-        buffers: dict[Path, str] = {}
-        for uri, document in self.workspace.text_documents.items():
-            path = to_fs_path(uri)
-            if path is not None:
-                buffers[Path(path).resolve()] = document.source
-        return buffers
+    def edited(self, uri: str) -> None:
+        """A document changed: check it (and the files using it) once the edits pause."""
+        self.pending.add(document_key(uri))
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:  # called outside the server's loop (tests): check now
+            self.settle()
+            return
+        if self._timer is not None:
+            self._timer.cancel()
+        self._timer = loop.call_later(SETTLE_SECONDS, self.settle)
+
+    def settle(self) -> None:
+        """Check every document edited since its last check."""
+        self._timer = None
+        pending, self.pending = self.pending, set()
+        for key in sorted(pending):
+            try:
+                self.refresh(key)
+            except Exception as exc:  # outside a handler: report it as pygls reports a failed notification
+                self.report_server_error(exc, FeatureNotificationError)
 
     def refresh(self, uri: str) -> None:
         """Re-check `uri`, then every other open file whose compilation includes it."""
-        path = to_fs_path(uri)
-        if path is None:
+        key = document_key(uri)
+        self.pending.discard(key)
+        document = self.document(key)
+        if document is None:
             return
-        changed = Path(path).resolve()
-        self.check(uri)
+        changed = document_path(document.uri, self.home())
+        self.check(key)
         for other, analysis in list(self.analyses.items()):
-            if other != uri and changed in analysis.files:
+            if other != key and changed in analysis.files:
                 self.check(other)
 
     def check(self, uri: str) -> None:
         """Compile one open file and publish its diagnostics."""
-        path = to_fs_path(uri)
-        if path is None or uri not in self.workspace.text_documents:
+        key = document_key(uri)
+        document = self.document(key)
+        if document is None:
             return
-        analysis = analyze(path, self.overlay())
-        self.analyses[uri] = analysis
+        opened = self.open_documents()
+        analysis = analyze(document_path(document.uri, self.home()), self.overlay(opened))
+        self.analyses[key] = analysis
         if analysis.program.modules:
-            self.programs[uri] = analysis.program
+            self.programs[key] = analysis.program
+        else:
+            self.programs.pop(key, None)
         by_file = {
-            from_fs_path(str(file)) or str(file): [self.lsp_diagnostic(d, analysis) for d in found]
+            self.uri_of(file, opened): [self.lsp_diagnostic(d, analysis) for d in found]
             for file, found in analysis.diagnostics_by_file().items()
         }
-        self.publish(uri, by_file)
+        self.publish(key, by_file)
+
+    @staticmethod
+    def uri_of(file: Path, opened: dict[Path, TextDocument]) -> str:
+        """The URI diagnostics for `file` are published under: the client's own for an open document."""
+        document = opened.get(file)
+        if document is not None:
+            return document.uri
+        return from_fs_path(str(file)) or file.as_uri()
 
     def forget(self, uri: str) -> None:
         """A file was closed: drop its analysis and withdraw what it published."""
-        self.analyses.pop(uri, None)
-        self.programs.pop(uri, None)
-        self.publish(uri, {})
+        key = document_key(uri)
+        self.pending.discard(key)
+        self.analyses.pop(key, None)
+        self.programs.pop(key, None)
+        if key in self.published:
+            self.publish(key, {})
 
     def publish(self, root: str, by_file: dict[str, list[types.Diagnostic]]) -> None:
         """Publish the diagnostics of `root`'s compilation, merged with other open files' for shared modules."""
@@ -150,26 +231,29 @@ class VkgLanguageServer(LanguageServer):
         return self.workspace.position_codec.range_to_client_units(lines, types.Range(start=start, end=end))
 
     def lines_of(self, span: Span, sources: dict[str, str]) -> list[str]:
-        """The lines of the file a span is in: the open buffer, the compiled source, or the file."""
-        uri = from_fs_path(str(span_path(span)))
-        if uri is not None and uri in self.workspace.text_documents:
-            return list(self.workspace.get_text_document(uri).lines)
-        text = sources.get(span.file)
-        if text is None:
-            try:
-                text = span_path(span).read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError):
-                text = ""
-        return text.splitlines(keepends=True)
+        """The lines of the file a span is in: the open buffer, else the compiled source (never the disk)."""
+        document = self.open_documents().get(span_path(span))
+        if document is not None:
+            return list(document.lines)
+        return sources.get(span.file, "").splitlines(keepends=True)
 
-    def position(self, uri: str, position: types.Position) -> tuple[str, int, int]:
+    def position(self, document: TextDocument, position: types.Position) -> tuple[str, int, int]:
         """The buffer's text and a client position in code points (line, character)."""
-        document = self.workspace.get_text_document(uri)
         converted = document.position_codec.position_from_client_units(document.lines, position)
         return document.source, converted.line, converted.character
 
+    def program_path(self, document: TextDocument) -> Path:
+        """The resolved path the compiler knows `document` by."""
+        return document_path(document.uri, self.home())
+
 
 server = VkgLanguageServer()
+
+
+@server.feature(types.INITIALIZE)
+def initialize(ls: VkgLanguageServer, params: types.InitializeParams) -> None:
+    """Once the workspace exists: count position units with the codecs, not a character at a time."""
+    count_units_fast(ls.workspace.position_codec)
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
@@ -180,8 +264,8 @@ def did_open(ls: VkgLanguageServer, params: types.DidOpenTextDocumentParams) -> 
 
 @server.feature(types.TEXT_DOCUMENT_DID_CHANGE)
 def did_change(ls: VkgLanguageServer, params: types.DidChangeTextDocumentParams) -> None:
-    """Check a file (and the open files using it) on every change."""
-    ls.refresh(params.text_document.uri)
+    """Check a file (and the open files using it) once the edits pause."""
+    ls.edited(params.text_document.uri)
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_SAVE)
@@ -198,40 +282,34 @@ def did_close(ls: VkgLanguageServer, params: types.DidCloseTextDocumentParams) -
 
 @server.feature(types.TEXT_DOCUMENT_HOVER)
 def hover(ls: VkgLanguageServer, params: types.HoverParams) -> types.Hover | None:
-    """A quantity's SI value, or what the name under the cursor declares."""
-    uri = params.text_document.uri
-    text, line, char = ls.position(uri, params.position)
+    """A quantity's SI value, or what the name under the cursor declares (null for a document not open)."""
+    document = ls.answerable(params.text_document.uri)
+    if document is None:
+        return None
+    text, line, char = ls.position(document, params.position)
     lines = text.split("\n")
     if line >= len(lines):
         return None
     quantity = quantity_hover(lines[line], char)
     if quantity is not None:
         value, start, end = quantity
-        return _hover(value, ls, uri, line, start, end)
-    program = ls.programs.get(uri)
-    path = to_fs_path(uri)
-    if program is None or path is None:
+        return _hover(value, document, line, start, end)
+    key = document_key(document.uri)
+    program = ls.programs.get(key)
+    if program is None:
         return None
-    symbol = symbol_at(program, Path(path).resolve(), text, line, char)
+    symbol = symbol_at(program, ls.program_path(document), text, line, char)
     if symbol is None:
         return None
-    analysis = ls.analyses.get(uri)
+    analysis = ls.analyses.get(key)
     declared = declaration_span(symbol, analysis.sources if analysis else {})
-    return _hover(symbol_hover(symbol, declared), ls, uri, line, None, None)
+    return _hover(symbol_hover(symbol, declared), document, line, None, None)
 
 
-def _hover(
-    value: str,
-    ls: VkgLanguageServer,
-    uri: str,
-    line: int,
-    start: int | None,
-    end: int | None,
-) -> types.Hover:
+def _hover(value: str, document: TextDocument, line: int, start: int | None, end: int | None) -> types.Hover:
     contents = types.MarkupContent(kind=types.MarkupKind.Markdown, value=value)
     if start is None or end is None:
         return types.Hover(contents=contents)
-    document = ls.workspace.get_text_document(uri)
     rng = types.Range(
         start=types.Position(line=line, character=start),
         end=types.Position(line=line, character=end),
@@ -245,39 +323,41 @@ def _hover(
 @server.feature(types.TEXT_DOCUMENT_DEFINITION)
 def definition(ls: VkgLanguageServer, params: types.DefinitionParams) -> types.Location | None:
     """Where the name under the cursor is declared, in whichever module of the compilation."""
-    uri = params.text_document.uri
-    text, line, char = ls.position(uri, params.position)
-    program = ls.programs.get(uri)
-    path = to_fs_path(uri)
-    if program is None or path is None:
+    document = ls.answerable(params.text_document.uri)
+    if document is None:
         return None
-    symbol = symbol_at(program, Path(path).resolve(), text, line, char)
+    text, line, char = ls.position(document, params.position)
+    key = document_key(document.uri)
+    program = ls.programs.get(key)
+    if program is None:
+        return None
+    symbol = symbol_at(program, ls.program_path(document), text, line, char)
     if symbol is None:
         return None
+    opened = ls.open_documents()
     if symbol.file is not None:
         zero = types.Position(line=0, character=0)
-        return types.Location(
-            uri=from_fs_path(str(symbol.file)) or "",
-            range=types.Range(start=zero, end=zero),
-        )
-    analysis = ls.analyses.get(uri)
+        return types.Location(uri=ls.uri_of(Path(symbol.file), opened), range=types.Range(start=zero, end=zero))
+    analysis = ls.analyses.get(key)
     sources = analysis.sources if analysis else {}
     span = declaration_span(symbol, sources)
     if span is None:
         return None
-    return types.Location(uri=from_fs_path(str(span_path(span))) or "", range=ls.lsp_range(span, sources))
+    return types.Location(uri=ls.uri_of(span_path(span), opened), range=ls.lsp_range(span, sources))
 
 
 @server.feature(types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=["."]))
-def completion(ls: VkgLanguageServer, params: types.CompletionParams) -> types.CompletionList:
+def completion(ls: VkgLanguageServer, params: types.CompletionParams) -> types.CompletionList | None:
     """Keywords, units and the names in scope (members only after `Body.`)."""
-    uri = params.text_document.uri
-    text, line, char = ls.position(uri, params.position)
+    document = ls.answerable(params.text_document.uri)
+    if document is None:
+        return None
+    text, line, char = ls.position(document, params.position)
     lines = text.split("\n")
     before = lines[line][:char] if line < len(lines) else ""
     items = [
         types.CompletionItem(label=c.label, kind=_KINDS.get(c.kind), detail=c.detail or c.kind)
-        for c in candidates(ls.programs.get(uri), before)
+        for c in candidates(ls.programs.get(document_key(document.uri)), before)
     ]
     return types.CompletionList(is_incomplete=False, items=items)
 
@@ -287,11 +367,12 @@ def formatting(ls: VkgLanguageServer, params: types.DocumentFormattingParams) ->
     """`vkgc fmt` of the buffer as one edit (none when it is already canonical or does not parse)."""
     from vkgl.errors import CompileError
 
-    uri = params.text_document.uri
-    document = ls.workspace.get_text_document(uri)
+    document = ls.answerable(params.text_document.uri)
+    if document is None:
+        return None
     text = document.source
     try:
-        formatted = format_source(text, to_fs_path(uri) or uri)
+        formatted = format_source(text, str(ls.program_path(document)))
     except CompileError:
         return None
     if formatted == text:

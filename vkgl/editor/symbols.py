@@ -13,7 +13,6 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from vkgl.editor.analysis import span_path
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.program import Program
 
@@ -78,11 +77,8 @@ def declaration_span(symbol: Symbol, sources: dict[str, str]) -> ir.Span | None:
     if span is None or symbol.kind not in {"affordance", "effector", "instance"}:
         return span
     text = sources.get(span.file)
-    if text is None:
-        try:
-            text = span_path(span).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
-            return span
+    if text is None:  # not a module of the compilation: nothing is read from disk for it
+        return span
     lines = text.split("\n")
     if not 1 <= span.line <= len(lines):
         return span

@@ -47,19 +47,32 @@ def _raise_or_program(program: Program | None, diagnostics: list[Diagnostic]) ->
 
 def check_files(paths: list[str]) -> tuple[list[Diagnostic], dict[str, str]]:
     """Every diagnostic of every file (each compiled as a root), and the sources by path, for rendering."""
-    diagnostics: list[Diagnostic] = []
+    found: list[Diagnostic] = []
     sources: dict[str, str] = {}
-    seen: set[str] = set()
     for path in paths:
-        program, found = _compile(path)
+        program, diagnostics = _compile(path)
         if program is not None:
             sources.update(program.sources)
-        for diag in found:
-            key = diag.headline()
-            if key not in seen:  # a module used by several checked files reports its problems once
-                seen.add(key)
-                diagnostics.append(diag)
-    return sorted(diagnostics, key=Diagnostic.sort_key), sources
+        found.extend(diagnostics)
+    return _unique(found), sources
+
+
+def check_file(path: str | Path) -> tuple[Program | None, list[Diagnostic]]:
+    """One compilation of `path`: the (possibly partial) program and exactly `check_files([path])`'s diagnostics."""
+    program, diagnostics = _compile(str(path))
+    return program, _unique(diagnostics)
+
+
+def _unique(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """Sorted, each headline once (a module used by several checked files reports its problems once)."""
+    seen: set[str] = set()
+    kept: list[Diagnostic] = []
+    for diag in diagnostics:
+        key = diag.headline()
+        if key not in seen:
+            seen.add(key)
+            kept.append(diag)
+    return sorted(kept, key=Diagnostic.sort_key)
 
 
 def _compile(path: str) -> tuple[Program | None, list[Diagnostic]]:
@@ -86,6 +99,7 @@ _UNLOADED = {
         codes.UNEXPECTED_CHARACTER,
         codes.UNEXPECTED_END,
         codes.NESTING_TOO_DEEP,
+        codes.TOO_MANY_TOKENS,
         codes.UNKNOWN_UNIT,
     )
 }

@@ -6,8 +6,10 @@ Every rule about an `explore` block lives here, so the explorer
 
 from __future__ import annotations
 
+import math
 import os
 import re
+import sys
 from functools import lru_cache
 from typing import Any
 
@@ -18,6 +20,7 @@ from vkgl.lang.checks.ranges import check_body_ranges
 from vkgl.lang.checks.urdf import urdf_links
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.mesh_limits import file_too_large, flat_problem, too_many_faces
 from vkgl.lang.syntax.sources import not_a_regular_file
 
 
@@ -73,7 +76,14 @@ def _check_shape(shape: Any, ctx: CheckContext) -> None:
 
 def _check_mesh_file(shape: ir.MeshShape, ctx: CheckContext) -> None:
     problem = _mesh_problem(shape.resolved or shape.path)
-    if problem:
+    if problem and problem.startswith(_TOO_LARGE):
+        ctx.error(
+            codes.MESH_TOO_LARGE,
+            f"cannot use mesh `{shape.path}`: {problem.removeprefix(_TOO_LARGE)}",
+            ctx.narrow(shape.span, r'mesh\s+("[^"]*")'),
+            "simplify it (decimate it: a collision shape rarely needs more than a few thousand triangles)",
+        )
+    elif problem:
         ctx.error(
             codes.MESH_UNREADABLE,
             f"cannot use mesh `{shape.path}`: {problem}",
@@ -94,12 +104,18 @@ def _looked_for(resolved: str | None, problem: str) -> str:
     return f"looked for `{shown}`: the path is relative to the module's file"
 
 
+_TOO_LARGE = "too large: "  # how _mesh_problem marks a mesh past the limits (E511, not E503)
+
+
 @lru_cache(maxsize=64)
 def _mesh_problem(path: str) -> str | None:
     """Why trimesh cannot give triangles for `path`, or None when it can."""
     problem = not_a_regular_file(path)  # a FIFO would hang trimesh, /dev/zero never ends
     if problem:
         return problem
+    refused = file_too_large(path)
+    if refused is not None:
+        return _TOO_LARGE + refused
     import trimesh
 
     try:
@@ -108,7 +124,10 @@ def _mesh_problem(path: str) -> str | None:
         return f"trimesh cannot read it ({type(exc).__name__}: {exc})"
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         return "the file holds no triangles"
-    return None
+    refused = too_many_faces(len(loaded.faces))
+    if refused is not None:
+        return _TOO_LARGE + refused
+    return flat_problem(loaded.vertices)
 
 
 def _check_joint(joint: ir.Joint, ctx: CheckContext) -> None:
@@ -122,9 +141,28 @@ def _check_joint(joint: ir.Joint, ctx: CheckContext) -> None:
 
 
 def check_direction(vector: ir.Vector, what: str, ctx: CheckContext) -> None:
-    """Report a direction vector (`what`, e.g. "a joint axis") that is zero."""
-    if len(vector.values) and all(v == 0 for v in vector.values):
+    """Report a direction vector (`what`, e.g. "a joint axis") that is zero, or whose length is not a normal
+    positive float: it is divided by its length, which underflows to 0 (or overflows) and gives a NaN axis."""
+    if not len(vector.values):
+        return
+    values = [float(v) for v in vector.values]
+    if all(v == 0 for v in values):
         ctx.error(codes.ZERO_DIRECTION, f"{what} must not be zero", vector.span)
+        return
+    if not all(math.isfinite(v) for v in values):
+        return  # reported where the number was read
+    squared = sum(v * v for v in values)  # as the simulator normalises it: v / sqrt(v . v); inf past the range
+    if math.isfinite(squared) and squared >= sys.float_info.min:
+        return
+    scale = max(abs(v) for v in values)
+    length = scale * math.sqrt(sum((v / scale) ** 2 for v in values))
+    why = "underflows to 0" if squared < sys.float_info.min else "overflows"
+    ctx.error(
+        codes.ZERO_DIRECTION,
+        f"{what} of length {length:.3g} gives no direction: its length squared {why} in floating point",
+        vector.span,
+        "write the direction with ordinary numbers, e.g. `(1, 0, 0)`: only its direction counts",
+    )
 
 
 def check_robot(robot: ir.Robot, ctx: CheckContext) -> None:

@@ -8,7 +8,8 @@ tolerance (W604: a warning, because the task is well formed and the planner
 answers it with "no plan", with the same numbers). A scene body that starts
 `open Q` needs a joint too (E441), an opening of the joint's kind (E201), and
 one within the joint's limits (E442: an error, since no simulated joint can
-start beyond its stops).
+start beyond its stops); one placed without `open` starts at 0, so its limits
+must include 0 (E442 too).
 """
 
 from __future__ import annotations
@@ -78,6 +79,8 @@ def check_joint_goals(program: Program, ctx: CheckContext) -> None:
             body = program.bodies.get(placed.type.name)
             if placed.opening is not None and body is not None:
                 _check_start_opening(placed, placed.opening, body, ctx)
+            elif body is not None and body.joint is not None:
+                _check_implicit_start(placed, body.joint, ctx)
     for goal, kind in goals_with_types(program):
         body = program.bodies.get(kind)
         if goal.opening is not None and body is not None:
@@ -150,6 +153,29 @@ def _check_start_opening(placed: ir.SceneBody, opening: ir.Quantity, body: ir.Bo
         opening.span,
         "the joint starts within its limits: give an opening between them, or widen them if the real joint goes "
         "further",
+    )
+
+
+def _check_implicit_start(placed: ir.SceneBody, joint: ir.Joint, ctx: CheckContext) -> None:
+    """E442 for a body placed without `open Q` (it starts at 0, where it is placed) whose limits exclude 0."""
+    lower, upper = joint.lower.value, joint.upper.value
+    if not (math.isfinite(lower) and math.isfinite(upper) and lower <= upper):
+        return  # the limits themselves were reported
+    if lower - 1e-12 <= 0.0 <= upper + 1e-12:
+        return
+    unit = joint.lower.unit or joint.upper.unit
+
+    def said(value: float) -> str:  # in the limits' unit
+        return shown(ir.Quantity(value=value, unit=unit)).strip("`")
+
+    inside = said(lower if lower > 0 else upper)
+    ctx.error(
+        codes.START_PAST_JOINT_LIMIT,
+        f"`{placed.name}` starts at 0 (where it is placed, no `open` given), outside its "
+        f"{_JOINT_WORD[joint.type]}'s limits {said(lower).split()[0]} to {said(upper)}",
+        placed.span or placed.placement.span,
+        f"start it within them (`{placed.name} : {placed.type.name} ... open {inside}`), or give limits that "
+        "include 0 (limits are measured from where the body is placed)",
     )
 
 

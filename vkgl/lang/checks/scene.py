@@ -195,7 +195,7 @@ def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Tabl
         return pose_matrix(placement.pose)
     values = placement.pose.position.values
     yaw = placement.pose.yaw.value if placement.pose.yaw is not None else 0.0
-    if len(values) < 2 or local is None:
+    if len(values) < 2 or not local:
         return None
     if not (math.isfinite(values[0]) and math.isfinite(values[1]) and math.isfinite(yaw)):
         return None

@@ -121,9 +121,10 @@ def _mesh_pieces(shape: ir.MeshShape) -> list[Piece] | None:
     try:
         mesh = shape_mesh(shape)
         parts = mesh.split(only_watertight=False) or [mesh]
-        return [_hull(np.asarray(part.vertices)) for part in parts if len(part.vertices) >= 4]
+        pieces = [_hull(np.asarray(part.vertices)) for part in parts if len(part.vertices) >= 4]
     except Exception:  # unreadable or degenerate: the body checks report the file (E503)
         return None
+    return pieces or None  # no solid part (a flat mesh): reported as E503
 
 
 def _positive(*values: float) -> bool:
@@ -131,9 +132,13 @@ def _positive(*values: float) -> bool:
 
 
 def _matrix(pose: ir.Pose) -> np.ndarray | None:
-    """The pose's 4x4 matrix, or None when a value is not finite (its error is reported)."""
-    with np.errstate(all="ignore"):
-        matrix = pose.matrix()
+    """The pose's 4x4 matrix, or None when a value is not finite or a vector has the wrong number of components
+    (its error is reported)."""
+    try:
+        with np.errstate(all="ignore"):
+            matrix = pose.matrix()
+    except ValueError:  # `at (0, 0, 0.7, 0) m`: E204, reported by the builder
+        return None
     return matrix if np.all(np.isfinite(matrix)) else None
 
 

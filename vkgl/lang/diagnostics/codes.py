@@ -228,7 +228,10 @@ ZERO_DIRECTION = _code(
     "zero direction vector",
     (
         "A direction vector (joint axis, `prismatic along`, `revolute ... axis`) must not be `(0, 0, 0)`: it "
-        "says which way things move. Likewise an exploration's direction grid `1 x 1 x 1` holds only the zero "
+        "says which way things move. Nor may it be so short (`(1e-300, 0, 0)`) or so long that its length "
+        "squared underflows to 0 or overflows in floating point: it is divided by its length, which would give "
+        "a direction of NaNs; write it with ordinary numbers, only its direction counts. "
+        "Likewise an exploration's direction grid `1 x 1 x 1` holds only the zero "
         "direction: give an axis more than one point (`3 x 3 x 3`)."
     ),
 )
@@ -339,6 +342,7 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
 from vkgl.lang.diagnostics.codes_files import (  # noqa: E402
     IMPORT_CYCLE,
     JOINT_GOAL_PAST_LIMIT,
+    MESH_TOO_LARGE,
     MESH_UNREADABLE,
     MISSING_MODULE,
     NOT_REGULAR_FILE,
@@ -347,6 +351,7 @@ from vkgl.lang.diagnostics.codes_files import (  # noqa: E402
     SHADOWED_STDLIB,
     SOURCE_TOO_LARGE,
     SOURCE_UNREADABLE,
+    TOO_MANY_TOKENS,
     TOOL_WITHOUT_CORRESPONDENCE,
     URDF_UNREADABLE,
     USE_NOT_VKG,
@@ -366,6 +371,7 @@ __all__ = [
     "IMPORT_CYCLE",
     "JOINT_BODY_TOUCHES",
     "JOINT_GOAL_PAST_LIMIT",
+    "MESH_TOO_LARGE",
     "MESH_UNREADABLE",
     "MISSING_MODULE",
     "MISSING_UNIT",
@@ -400,6 +406,7 @@ __all__ = [
     "STATEMENT_TWICE",
     "TASK_WITHOUT_GOAL",
     "TOOL_WITHOUT_CORRESPONDENCE",
+    "TOO_MANY_TOKENS",
     "UNEXPECTED_CHARACTER",
     "UNEXPECTED_END",
     "UNEXPECTED_TOKEN",

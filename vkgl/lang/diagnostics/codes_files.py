@@ -30,7 +30,9 @@ MESH_UNREADABLE = _code(
     "mesh file missing or unreadable",
     (
         "A mesh file is missing, or trimesh cannot read triangles from it (the message says what trimesh "
-        "said). Mesh paths are relative to the module's file."
+        "said), or its triangles bound no volume (fewer than 4 vertices, or all on one plane: a flat mesh "
+        "cannot be a solid body that stands on a table or is pushed), or it is larger than the limit for a "
+        "mesh (the message gives it). Mesh paths are relative to the module's file."
     ),
 )
 URDF_UNREADABLE = _code(
@@ -84,6 +86,27 @@ USE_NOT_VKG = _code(
         "finally names does not end in `.vkg` (`pw.vkg` linking to `/etc/passwd`). Only `.vkg` files are read "
         "as sources: the file is not read, and its text is never shown. A file named on the command line that "
         "is not a link is read whatever its name (you chose it). Name the `.vkg` file itself."
+    ),
+)
+
+TOO_MANY_TOKENS = _code(
+    "E510",
+    "a source file with too many tokens",
+    (
+        "A source file holds at most 200,000 tokens (names, numbers, units and marks such as `(` or `,`; "
+        "comments do not count): compiling costs memory per token, and a file past the limit (a few megabytes "
+        "of declarations) would take gigabytes and minutes. The error is at the first token past the limit. "
+        "A 10,000-body scene is about 140,000 tokens. Split the file into modules joined by `use`."
+    ),
+)
+MESH_TOO_LARGE = _code(
+    "E511",
+    "a mesh file too large",
+    (
+        "A mesh has at most 500,000 triangles and its file at most 128 MiB: the checks, the simulator and the "
+        "planner each hold it in memory (a mesh of 1.3 million triangles took 2.2 GB and 22 s to check). A "
+        "binary STL is refused from its header, before it is read. Simplify the mesh (e.g. decimate it: a "
+        "collision shape rarely needs more than a few thousand triangles)."
     ),
 )
 

@@ -125,10 +125,11 @@ NO_JOINT_TO_OPEN = _code(
 )
 START_PAST_JOINT_LIMIT = _code(
     "E442",
-    "a body that starts open past its joint's limits",
+    "a body that starts past its joint's limits",
     (
         "`B : T at POSE open Q` starts B's physical joint at Q, measured from where B is placed (0) as the "
-        "joint's `limits` are. A joint cannot start past its stops: give a Q within the limits, or widen them "
-        "if the real joint goes further."
+        "joint's `limits` are; without `open Q` it starts at 0. A joint cannot start past its stops: give a Q "
+        "within the limits (also when the limits exclude 0, e.g. `limits (10, 20) cm`), or widen them if the "
+        "real joint goes further."
     ),
 )

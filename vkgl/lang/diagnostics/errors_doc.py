@@ -40,7 +40,17 @@ FILE_NOTES = {
     "E505": "where `golden/lib/dangling.vkg` is a symbolic link to `no_such_target.vkg`, which does not exist.",
     "E506": "where `golden/lib/loop.vkg` is a symbolic link to itself.",
     "E507": "where `golden/lib/too_large.vkg` is an 11 MiB file (the golden test makes it).",
+    "E510": "where `golden/lib/many_tokens.vkg` is a comment line and 20,001 lines `x = (1, 2, 3) m` (the golden "
+    "test makes it).",
+    "E511": "where `golden/lib/huge_mesh.stl` is a binary STL whose header says 600,000 triangles (the golden test "
+    "makes it).",
     "E508": "where `golden/lib/latin1.vkg` is saved in Latin-1 (the byte `\\xe9` for `é`).",
+}
+
+# What a single case's helper file is, when it is not a module.
+CASE_NOTES = {
+    "E503_mesh_unreadable": "where `golden/lib/not_a_mesh.stl` holds the text `this is not a mesh`.",
+    "E503_flat_mesh": "where `golden/lib/one_triangle.stl` is an ASCII STL of one triangle (3 vertices on one plane).",
 }
 
 
@@ -105,8 +115,8 @@ def errors_doc(repo: Path = Path(".")) -> str:
                 out += [f"with `golden/{helper}`:", "", "```", text.rstrip("\n"), "```", ""]
             if code in FILE_NOTES:
                 out += [FILE_NOTES[code], ""]
-            if code == "E503":
-                out += ["where `golden/lib/not_a_mesh.stl` holds the text `this is not a mesh`.", ""]
+            if case.stem in CASE_NOTES:
+                out += [CASE_NOTES[case.stem], ""]
             out += [
                 "`vkgc check` prints:",
                 "",

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.lang.ir.mesh_limits import file_too_large, too_many_faces
 from vkgl.lang.ir.nodes import (
     Body,
     BoxShape,
@@ -78,12 +79,18 @@ def _load_mesh(shape: MeshShape) -> trimesh.Trimesh:
     import trimesh
 
     path = shape.resolved or shape.path
+    refused = file_too_large(path)
+    if refused is not None:
+        raise InputError(f"{path}: cannot use mesh: {refused}")
     try:
         loaded = trimesh.load(path, force="mesh")
     except Exception as exc:  # trimesh raises many types; we say which file and why
         raise InputError(f"{path}: cannot read mesh: {exc}") from exc
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise InputError(f"{path}: the file holds no triangles")
+    refused = too_many_faces(len(loaded.faces))
+    if refused is not None:
+        raise InputError(f"{path}: cannot use mesh: {refused}")
     loaded.apply_scale(shape.scale)
     return loaded
 

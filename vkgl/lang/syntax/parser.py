@@ -11,7 +11,9 @@ found here; everything that needs names from other modules is the checker's job
 from __future__ import annotations
 
 import gc
+import re
 import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -58,15 +60,112 @@ def parse_collecting(text: str, path: str) -> tuple[ir.Module | None, list[Comme
     return module, list(comments), list(diagnostics)
 
 
-@lru_cache(maxsize=512)
-def _parse_cached(text: str, path: str) -> tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]:
+PARSE_CACHE_CHARS = 512 * 1024
+"""The parse cache holds the parses of at most this many characters of source (least recently used go first).
+
+A parse takes about 170 bytes of memory per character of source, so the cache
+stays under about 90 MB however many distinct texts are parsed (an editor
+sends a new text on every keystroke); a text larger than a quarter of the
+budget is never kept. The stdlib and the examples are about 20 K characters.
+"""
+
+_Parsed = tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]
+
+
+class ParseCache:
+    """Parses by (text, path), least recently used dropped first, bounded by the characters of the texts kept."""
+
+    def __init__(self, budget: int) -> None:
+        self.budget = budget
+        self.chars = 0
+        self._entries: OrderedDict[tuple[str, str], _Parsed] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def __len__(self) -> int:
+        return len(self._entries)
+
+    def get(self, key: tuple[str, str]) -> _Parsed | None:
+        """The parse of `key`, now the most recently used; None if it is not kept."""
+        with self._lock:
+            found = self._entries.get(key)
+            if found is not None:
+                self._entries.move_to_end(key)
+            return found
+
+    def put(self, key: tuple[str, str], parsed: _Parsed) -> None:
+        """Keep `parsed` (unless its text is too large to), dropping the least recently used beyond the budget."""
+        size = len(key[0]) + len(key[1])
+        if size > self.budget // 4:
+            return
+        with self._lock:
+            if key in self._entries:
+                return
+            self._entries[key] = parsed
+            self.chars += size
+            while self.chars > self.budget:
+                (text, path), _ = self._entries.popitem(last=False)
+                self.chars -= len(text) + len(path)
+
+    def clear(self) -> None:
+        """Drop every parse."""
+        with self._lock:
+            self._entries.clear()
+            self.chars = 0
+
+
+_cache = ParseCache(PARSE_CACHE_CHARS)
+
+
+def parse_cache() -> ParseCache:
+    """The process's parse cache (benchmarks clear it; tests look at its size)."""
+    return _cache
+
+
+def _parse_cached(text: str, path: str) -> _Parsed:
     # A compilation parses each imported module once; checking many files that share
     # imports (vkgc check examples/ stdlib/) parses each shared module once per process.
+    found = _cache.get((text, path))
+    if found is not None:
+        return found
     module, comments, diagnostics = _parse_uncached(text, path)
-    return module, tuple(comments), tuple(diagnostics)
+    parsed = (module, tuple(comments), tuple(diagnostics))
+    _cache.put((text, path), parsed)
+    return parsed
+
+
+MAX_TOKENS = 200_000
+"""The most tokens a source file may hold (E510). Compiling costs about 1 KB of memory per token at its peak;
+a 10,000-body scene is about 140,000 tokens (bench/bench_limits.py measures both sides of the limit)."""
+
+# What counts as a token: a name, a number (with its exponent), a string, any other mark; a comment is skipped.
+_TOKEN = re.compile(r'#[^\n]*|"[^"\n]*"?|\w+(?:\.\w+)*(?:[eE][-+]?\d+)?|\S')
+
+
+def too_many_tokens(text: str, path: str) -> Diagnostic | None:
+    """E510 at the first token past MAX_TOKENS, or None (the count stops there: its cost is bounded too)."""
+    if len(text) <= MAX_TOKENS:  # every token takes at least one character
+        return None
+    count = 0
+    for match in _TOKEN.finditer(text):
+        if match.group().startswith("#"):
+            continue
+        count += 1
+        if count > MAX_TOKENS:
+            start = match.start()
+            line = text.count("\n", 0, start) + 1
+            col = start - text.rfind("\n", 0, start)
+            span = new_node(ir.Span, file=path, line=line, col=col, end_line=line, end_col=col + len(match.group()))
+            limit = f"{MAX_TOKENS:,} tokens, the limit for a source file"
+            message = f"`{path}` has more than {limit}; token {MAX_TOKENS + 1:,} is here"
+            note = "split it into modules joined by `use` (a file this large would take gigabytes to compile)"
+            return codes.TOO_MANY_TOKENS.diagnostic(message, span, note)
+    return None
 
 
 def _parse_uncached(text: str, path: str) -> tuple[ir.Module | None, list[Comment], list[Diagnostic]]:
+    refused = too_many_tokens(text, path)
+    if refused is not None:
+        return None, [], [refused]
     builder = Builder(path, text)
     # The parse allocates a few objects per character and frees none of them until
     # the end; pausing the cyclic garbage collector meanwhile halves the time.

@@ -115,6 +115,13 @@ def not_a_regular_file(path: str | Path) -> str | None:
     return None
 
 
+def oversized_text(text: str, shown: str, span: ir.Span | None = None) -> Diagnostic | None:
+    """E507 when `text` (an editor buffer standing for `shown`) is larger than a source file may be; else None."""
+    if len(text) <= MAX_SOURCE_BYTES // 4 or len(text.encode("utf-8", "surrogatepass")) <= MAX_SOURCE_BYTES:
+        return None
+    return _too_large(shown, span)
+
+
 def _kind(mode: int) -> str:
     if stat.S_ISFIFO(mode):
         return "a named pipe (FIFO)"
