@@ -11,7 +11,7 @@ import pytest
 from vkgl.cli import build_parser
 
 PACKAGE = Path(__file__).resolve().parents[2] / "vkgl" / "editor"
-ALLOWED = ("vkgl.editor", "vkgl.lang", "vkgl.errors", "vkgl.resources")
+ALLOWED = ("vkgl.editor", "vkgl.lang", "vkgl.errors", "vkgl.resources", "vkgl.atomic")
 
 
 @pytest.mark.parametrize("path", sorted(PACKAGE.glob("*.py")), ids=lambda p: p.name)
