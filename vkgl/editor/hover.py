@@ -16,6 +16,7 @@ from vkgl.lang.ir.units import DIMENSION, SI_UNIT, to_si
 from vkgl.lang.syntax.printer import (
     constraint_text,
     format_number,
+    goal_text,
     joint_text,
     pose_text,
     quantity_text,
@@ -91,8 +92,8 @@ def symbol_hover(symbol: Symbol, declared: ir.Span | None = None) -> str:
         inside = ", ".join(f"`{x.name} : {x.type.name}`" for x in members)
         return f"**scene** `{node.name}`\n\n{inside}" + where
     if isinstance(node, ir.Task):
-        goals = ", ".join(f"`{g.body.name}`" for g in node.goals)
-        return f"**task** `{node.name}`\n\nscene `{node.scene.name}`; goals on {goals}" + where
+        goals = "".join(f"\n- goal `{goal_text(g)}`" for g in node.goals)
+        return f"**task** `{node.name}`\n\nscene `{node.scene.name}`{goals}" + where
     if symbol.kind == "module":
         return f"**module** `{symbol.name}`\n\n`{symbol.file}`"
     return f"`{symbol.name}`"

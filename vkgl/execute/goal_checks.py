@@ -16,6 +16,7 @@ import numpy as np
 from vkgl.errors import InputError
 from vkgl.formats.execution_report import GoalResult, Opening, joint_value_text
 from vkgl.lang.ir.nodes import Goal, Task
+from vkgl.lang.syntax.printer import goal_text
 from vkgl.se3 import angle_difference, yaw_of
 
 
@@ -51,7 +52,8 @@ def check_goal(goal: Goal, pose: np.ndarray, joint: str | None = None, opening: 
         return GoalResult(name, text, None, None, tol_p, tol_y, reading)
     tol_p, tol_y = goal.tolerance()
     position_error = None
-    parts = [name]
+    # A relative goal is said as written, then where it puts the body: "block moved by (15, 0) cm in block: at ..."
+    parts = [f"{relative_text(goal)}:" if goal.relative else name]
     if goal.position is not None:
         target = goal.position.array()
         position_error = float(np.linalg.norm(pose[: len(target), 3] - target))
@@ -64,9 +66,14 @@ def check_goal(goal: Goal, pose: np.ndarray, joint: str | None = None, opening: 
     return GoalResult(name, " ".join(parts), position_error, yaw_error, tol_p, tol_y)
 
 
+def relative_text(goal: Goal) -> str:
+    """A relative goal as written, without its tolerances: `block moved by (15, 0) cm in block`."""
+    return goal_text(goal.model_copy(update={"tol_position": None, "tol_yaw": None}))
+
+
 def miss_reason(results: list[GoalResult]) -> str:
     """Why the goals are not met, with the numbers: `drawer is open 18.7 cm, goal 20.0 cm within 1.0 cm`."""
     return "; ".join(reason for reason in (g.miss() for g in results) if reason)
 
 
-__all__ = ["check_goal", "miss_reason", "replan_limits"]
+__all__ = ["check_goal", "miss_reason", "relative_text", "replan_limits"]

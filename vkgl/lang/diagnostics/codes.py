@@ -194,8 +194,9 @@ GOAL_NOT_IN_SCENE = _code(
     "E306",
     "goal on a body not in the task's scene",
     (
-        "A goal names an object that is not in the task's scene. Goals name scene objects (`block`), not body"
-        " types (`Block`). The note suggests the closest object of the scene."
+        "A goal names an object that is not in the task's scene, or a relative goal's `moved by ... in F` names"
+        " a frame body `F` that is not. Goals name scene objects (`block`), not body types (`Block`). The note"
+        " suggests the closest object of the scene."
     ),
 )
 UNKNOWN_LINK = _code(

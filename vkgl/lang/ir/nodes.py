@@ -12,103 +12,16 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
-from scipy.spatial.transform import Rotation
+from pydantic import Field
 
-
-class Span(BaseModel):
-    """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    file: str
-    line: int
-    col: int
-    end_line: int
-    end_col: int
-
-    def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.col}"
-
-
-class Node(BaseModel):
-    """Base of every IR node: frozen, no extra fields, a span that equality ignores."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid")
-
-    span: Span | None = Field(default=None, exclude=True, repr=False)
-
-    def __eq__(self, other: object) -> bool:
-        # Spans are where a node was written, not what it means.
-        if not isinstance(other, Node) or type(self) is not type(other):
-            return NotImplemented
-        return self.model_dump() == other.model_dump()
-
-    def __hash__(self) -> int:
-        return hash(repr(self.model_dump()))
-
-
-# ---------------------------------------------------------------- values
-
-
-class Quantity(Node):
-    """A scalar with a dimension. `value` is SI; `unit` is how it was written (e.g. "cm")."""
-
-    value: float
-    unit: str = ""
-
-
-class Vector(Node):
-    """2 or 3 components in SI, one unit for all (`unit == ""` for dimensionless)."""
-
-    values: tuple[float, ...]
-    unit: str = ""
-
-    def array(self) -> np.ndarray:
-        """The components as a float numpy array."""
-        return np.asarray(self.values, dtype=float)
-
-
-class Pose(Node):
-    """A position, optionally with a yaw or a roll-pitch-yaw orientation.
-
-    At most one of `yaw` and `rpy` is set; neither means identity rotation.
-    """
-
-    position: Vector
-    yaw: Quantity | None = None
-    rpy: Vector | None = None
-
-    def rotation(self) -> Rotation:
-        """The orientation as a scipy Rotation (extrinsic xyz = roll, pitch, yaw)."""
-        if self.rpy is not None:
-            return Rotation.from_euler("xyz", self.rpy.values)
-        if self.yaw is not None:
-            return Rotation.from_euler("z", self.yaw.value)
-        return Rotation.identity()
-
-    def matrix(self) -> np.ndarray:
-        """The pose as a 4x4 homogeneous transform (position padded with z = 0 if 2-d)."""
-        m = np.eye(4)
-        m[:3, :3] = self.rotation().as_matrix()
-        p = list(self.position.values) + [0.0] * (3 - len(self.position.values))
-        m[:3, 3] = p
-        return m
-
-
-class Ref(Node):
-    """A reference to a declared name (resolved by the checker)."""
-
-    name: str
-
-
-class FrameRef(Node):
-    """`Body.frame` (used in correspondences)."""
-
-    body: str
-    frame: str
-
+# The values (spans, the base node, quantities, vectors, poses, references) live in `values`; re-exported here.
+from vkgl.lang.ir.values import FrameRef as FrameRef
+from vkgl.lang.ir.values import Node as Node
+from vkgl.lang.ir.values import Pose as Pose
+from vkgl.lang.ir.values import Quantity as Quantity
+from vkgl.lang.ir.values import Ref as Ref
+from vkgl.lang.ir.values import Span as Span
+from vkgl.lang.ir.values import Vector as Vector
 
 # ---------------------------------------------------------------- shapes
 
@@ -185,9 +98,9 @@ class Joint(Node):
 class ContactSpec(Node):
     """`contacts on faces +x, -x steps K`, or `contacts at FRAME, FRAME` (then `faces` is empty)."""
 
-    faces: list[str] = []
+    faces: list[str] = Field(default_factory=list)
     steps: int = 1
-    frames: list[Ref] = []  # `contacts at`: push at each frame's origin, along its x axis
+    frames: list[Ref] = Field(default_factory=list)  # `contacts at`: push at each frame's origin, along its x axis
 
 
 class ForceSpec(Node):
@@ -216,9 +129,9 @@ class Body(Node):
     shape: Shape
     mass: Quantity
     friction: float | None = None
-    frames: list[Frame] = []
+    frames: list[Frame] = Field(default_factory=list)
     joint: Joint | None = None
-    explores: list[Explore] = []
+    explores: list[Explore] = Field(default_factory=list)
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
     friction_span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -245,7 +158,7 @@ class Robot(Node):
     name: str
     urdf: str
     urdf_resolved: str | None = None
-    effectors: list[Effector] = []
+    effectors: list[Effector] = Field(default_factory=list)
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
     urdf_span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -401,8 +314,8 @@ class Scene(Node):
     kind: Literal["scene"] = "scene"
     name: str
     table: Table | None = None
-    robots: list[SceneRobot] = []
-    bodies: list[SceneBody] = []
+    robots: list[SceneRobot] = Field(default_factory=list)
+    bodies: list[SceneBody] = Field(default_factory=list)
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
 
 
@@ -422,6 +335,14 @@ class Goal(Node):
     `opening` (a joint goal) is the coordinate of the body's physical joint, 0
     where the body starts: a length for a prismatic joint, an angle for a
     revolute one; `opening_tolerance()` gives its tolerance in SI.
+
+    A relative goal (`B moved by V [in F] [turned by Q]`, `B turned by Q`) keeps
+    what was written in `moved_by` (a 2- or 3-vector), `moved_in` (the body
+    whose frame at the start `moved_by` is in; None: the world) and
+    `turned_by`; the checker (vkgl/lang/checks/relative.py) fills `position`
+    and `yaw` with where that puts the body, from its start in the task's
+    scene, so that every back end sees an ordinary pose goal, and a re-solve
+    from an observed scene keeps the target of the original start.
     """
 
     body: Ref
@@ -431,6 +352,14 @@ class Goal(Node):
     tol_yaw: Quantity | None = None
     opening: Quantity | None = None
     tol_opening: Quantity | None = None
+    moved_by: Vector | None = None
+    moved_in: Ref | None = None
+    turned_by: Quantity | None = None
+
+    @property
+    def relative(self) -> bool:
+        """Whether the goal is written relative to the body's start (`moved by`, `turned by`)."""
+        return self.moved_by is not None or self.turned_by is not None
 
     def opening_tolerance(self) -> float:
         """The joint goal's tolerance in SI: as given, else 1 cm for a length and 3 deg for an angle."""
@@ -488,8 +417,8 @@ class Module(Node):
 
     path: str
     doc: str | None = None
-    uses: list[Use] = []
-    decls: list[Decl] = []
+    uses: list[Use] = Field(default_factory=list)
+    decls: list[Decl] = Field(default_factory=list)
 
 
 ShapePart.model_rebuild()

@@ -290,8 +290,19 @@ def joint_text(j: Joint) -> str:
 
 
 def goal_text(g: Goal) -> str:
-    """`B at (x, y) m [yaw Q] [within L[, A]]`, `B yaw Q [within A]` or `B open Q [within Q]`."""
+    """`B at (x, y) m [yaw Q] [within L[, A]]`, `B yaw Q [within A]`, `B open Q [within Q]` or a relative goal,
+    `B moved by V [in F] [turned by Q] [within L[, A]]`, `B turned by Q [within A]` (as written, never the pose
+    the checker filled in)."""
     text = g.body.name
+    if g.relative:
+        if g.moved_by is not None:
+            text += " moved by " + vector_text(g.moved_by)
+            if g.moved_in is not None:
+                text += " in " + g.moved_in.name
+        if g.turned_by is not None:
+            text += " turned by " + quantity_text(g.turned_by)
+        tolerances = [quantity_text(q) for q in (g.tol_position, g.tol_yaw) if q is not None]
+        return text + (" within " + ", ".join(tolerances) if tolerances else "")
     if g.opening is not None:
         text += " open " + quantity_text(g.opening)
         return text + (" within " + quantity_text(g.tol_opening) if g.tol_opening is not None else "")
