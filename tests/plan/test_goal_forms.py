@@ -1,7 +1,10 @@
 """The example tasks of the goal forms people say (examples/tasks/j_*.vkg ...) solve, and the plan meets them.
 
 Task j says its goal relative to the block's start (`moved by ... in block`,
-`turned by`); the planner sees the pose goal it stands for.
+`turned by`); the planner sees the pose goal it stands for. Task k asks for
+the block anywhere in a region: one contact stops it at the region's near
+edge, where the pose goal at the region's centre needs more
+(bench/bench_region_goals.py measures more cases).
 """
 
 from __future__ import annotations
@@ -10,10 +13,12 @@ import math
 
 import numpy as np
 import pytest
+from plan_programs import EXAMPLE_TASKS as EXAMPLES
 from plan_programs import compiled  # noqa: F401 (fixture)
 from replay_check import check_plan
 
 from vkgl.api import solve
+from vkgl.lang.compiler import compile_source
 from vkgl.se3 import yaw_of
 
 
@@ -30,3 +35,26 @@ def test_a_relative_goal_is_met_from_where_the_body_starts(j_plan, compiled):
     turned = math.remainder(yaw_of(final) - yaw_of(start) - math.radians(20), 2 * math.pi)
     assert abs(turned) <= math.radians(3)
     assert check_plan(compiled("j_move_relative"), j_plan.to_json()) == []
+
+
+def _contacts(plan) -> int:
+    return sum(1 for step in plan.steps if step.op == "add")
+
+
+def test_a_region_goal_stops_at_the_near_edge_with_fewer_contacts_than_the_pose_goal_at_its_centre(compiled):
+    program = compiled("k_region_goal")
+    plan = solve(program)
+    assert plan.status == "solved", plan.reason
+    (goal,) = plan.problem.goals
+    outside = goal.region_excess(plan.final["block"])
+    assert outside.max() <= 1e-6 and outside.max() > -0.002  # inside, at the near edge
+    assert _contacts(plan) == 1
+    assert any(
+        "block ends in region (0.55, -0.16) to (0.75, 0.12) m at (0.600, 0.000) m" in line
+        for line in plan.text().splitlines()
+    )
+    assert check_plan(program, plan.to_json()) == []
+    source = (EXAMPLES / "k_region_goal.vkg").read_text(encoding="utf-8")
+    centre = source.replace("in region (0.55, -0.16) to (0.75, 0.12) m", "at (0.65, -0.02) m")
+    pose_plan = solve(compile_source(centre, str(EXAMPLES / "k_centre.vkg"), base_dir=EXAMPLES))
+    assert pose_plan.status == "solved" and _contacts(pose_plan) > _contacts(plan)

@@ -26,6 +26,7 @@ from vkgl.lang.checks.context import (
 )
 from vkgl.lang.checks.joints import check_joint_goals
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
+from vkgl.lang.checks.regions import check_regions
 from vkgl.lang.checks.relative import place_relative_goals
 from vkgl.lang.checks.scene import check_scenes
 from vkgl.lang.diagnostics import codes
@@ -57,6 +58,7 @@ def check_program(
     check_joint_goals(program, ctx)  # joint goals: a body with a joint, the right kind of opening, its limits
     _check_tools_have_correspondences(program, ctx)
     place_relative_goals(program, ctx)  # `moved by`, `turned by`: the pose goal from the body's start
+    check_regions(program, ctx)  # regions in order and convex (E450, E451); a goal's `in NAME` resolved
     check_scenes(program, ctx)  # scene geometry: overlaps, table edges, resting, goals (E420–E425)
     return program, ctx.diagnostics
 

@@ -330,6 +330,8 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
     NO_JOINT_TO_OPEN,
     OFF_TABLE,
     RANGE_WITHOUT_STATE,
+    REGION_CORNERS_SWAPPED,
+    REGION_NOT_CONVEX,
     REVERSED_RANGE,
     START_PAST_JOINT_LIMIT,
 )
@@ -386,6 +388,8 @@ __all__ = [
     "POSTERIOR_OUT_OF_RANGE",
     "PUSH_AND_GRASP_MIXED",
     "RANGE_WITHOUT_STATE",
+    "REGION_CORNERS_SWAPPED",
+    "REGION_NOT_CONVEX",
     "REVERSED_LIMITS",
     "REVERSED_RANGE",
     "RPY_ON_TABLE",

@@ -120,3 +120,23 @@ START_PAST_JOINT_LIMIT = _code(
         "if the real joint goes further."
     ),
 )
+
+# regions of the table's plane (checks_regions.py): region goals and keep-out regions, docs/language.md
+REGION_CORNERS_SWAPPED = _code(
+    "E450",
+    "a region's corners swapped",
+    (
+        "`region (x0, y0) to (x1, y1) UNIT` is the axis-aligned box from its lower-left corner to its upper-right "
+        "one: x0 <= x1 and y0 <= y1. The message says which coordinates are swapped and the note gives the "
+        "region as it was probably meant."
+    ),
+)
+REGION_NOT_CONVEX = _code(
+    "E451",
+    "a region that is not a convex polygon",
+    (
+        "A region is a box at least 1 mm wide along both axes, or a `polygon` of at least three vertices, in "
+        "order around it, that is convex and encloses some area. A concave outline can be split into convex "
+        "regions (several `keep out` statements, or the convex part a goal needs)."
+    ),
+)

@@ -15,6 +15,7 @@ from typing import Annotated, Literal
 from pydantic import Field
 
 # The values (spans, the base node, quantities, vectors, poses, references) live in `values`; re-exported here.
+from vkgl.lang.ir.regions import Region as Region
 from vkgl.lang.ir.values import FrameRef as FrameRef
 from vkgl.lang.ir.values import Node as Node
 from vkgl.lang.ir.values import Pose as Pose
@@ -316,6 +317,7 @@ class Scene(Node):
     table: Table | None = None
     robots: list[SceneRobot] = Field(default_factory=list)
     bodies: list[SceneBody] = Field(default_factory=list)
+    regions: list[Region] = Field(default_factory=list)  # `region NAME = ...`: named regions of the table's plane
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
 
 
@@ -343,6 +345,11 @@ class Goal(Node):
     and `yaw` with where that puts the body, from its start in the task's
     scene, so that every back end sees an ordinary pose goal, and a re-solve
     from an observed scene keeps the target of the original start.
+
+    A region goal (`B in region ... [yaw Q]`, `B in R` for a region `R` of
+    the scene) sets `region`: the body's footprint must lie inside it, passing
+    its edges by at most the position tolerance; `region_ref` keeps the name
+    written (the checker copies the scene's region into `region`).
     """
 
     body: Ref
@@ -355,6 +362,8 @@ class Goal(Node):
     moved_by: Vector | None = None
     moved_in: Ref | None = None
     turned_by: Quantity | None = None
+    region: Region | None = None
+    region_ref: Ref | None = None
 
     @property
     def relative(self) -> bool:

@@ -14,6 +14,7 @@ from lark import Token, Tree
 
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.regions import Region
 from vkgl.lang.ir.units import SI_UNIT, dimension_of
 from vkgl.lang.syntax.builder_tasks import TaskBuilder
 from vkgl.lang.syntax.values import INVALID, Item, RawPose, RawQ, RawVec, new_node
@@ -408,6 +409,7 @@ class Builder(TaskBuilder):
             table=tables[0] if tables else None,
             robots=[i for i in items if isinstance(i, ir.SceneRobot)],
             bodies=[i for i in items if isinstance(i, ir.SceneBody)],
+            regions=[i for i in items if isinstance(i, Region)],
             span=self.span(meta),
             name_span=self.tspan(name),
         )

@@ -16,12 +16,13 @@ from lark import Token
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.units import ARTICLE_NAME, dimension_of
-from vkgl.lang.syntax.values import INVALID, Item, RawQ, ValueReader, new_node
+from vkgl.lang.syntax.builder_regions import RegionBuilder
+from vkgl.lang.syntax.values import INVALID, Item, RawQ, new_node
 
 OPENING_UNITS = "a length (`cm`) for a prismatic joint, an angle (`deg`) for a revolute one"
 
 
-class TaskBuilder(ValueReader):
+class TaskBuilder(RegionBuilder):
     """The IR of `task` blocks; one method per grammar rule, as in `Builder`."""
 
     def task(self, meta: Any, children: list[Any]) -> ir.Task:

@@ -45,6 +45,7 @@ from vkgl.lang.ir.nodes import (
     UnionShape,
     Use,
 )
+from vkgl.lang.ir.regions import Region
 from vkgl.lang.syntax.quantities import (
     format_number,
     format_scaled,
@@ -226,6 +227,8 @@ class _Layout:
             where = "on table at" if b.placement.on_table else "at"
             opening = f" open {quantity_text(b.opening)}" if b.opening is not None else ""
             self.add(k, f"{b.name} : {b.type.name}{opening} {where} {pose_text(b.placement.pose)}", _line_of(b.span))
+        for region in s.regions:
+            self.add(k, f"region {region.name} = {region_text(region)}", _line_of(region.span))
 
     def task_items(self, k: int, t: Task) -> None:
         self.add(k, "scene " + t.scene.name, _line_of(t.scene.span))
@@ -303,6 +306,10 @@ def goal_text(g: Goal) -> str:
             text += " turned by " + quantity_text(g.turned_by)
         tolerances = [quantity_text(q) for q in (g.tol_position, g.tol_yaw) if q is not None]
         return text + (" within " + ", ".join(tolerances) if tolerances else "")
+    if g.region_ref is not None:
+        text += " in " + g.region_ref.name
+    elif g.region is not None:
+        text += " in region " + region_text(g.region)
     if g.opening is not None:
         text += " open " + quantity_text(g.opening)
         return text + (" within " + quantity_text(g.tol_opening) if g.tol_opening is not None else "")
@@ -314,6 +321,16 @@ def goal_text(g: Goal) -> str:
     if tolerances:
         text += " within " + ", ".join(tolerances)
     return text
+
+
+def region_text(r: Region) -> str:
+    """`(0.6, -0.1) to (0.8, 0.1) m` or `polygon (0.6, 0), (0.8, 0), (0.7, 0.2) m`: one unit after the last
+    corner when all share it."""
+    texts = [vector_text(c) for c in r.corners]
+    units = {t[t.rindex(")") + 1 :] for t in texts}
+    if len(units) == 1:
+        texts = [t[: t.rindex(")") + 1] for t in texts[:-1]] + texts[-1:]
+    return " to ".join(texts) if r.kind == "box" else "polygon " + ", ".join(texts)
 
 
 def search_text(s: SearchSpec) -> str:

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.geometry import (
@@ -23,6 +24,7 @@ from vkgl.lang.ir.geometry import (
     scene_body_anchor,
     scene_body_pose,
     scene_table,
+    shape_vertices,
     table_top,
 )
 from vkgl.lang.ir.nodes import (
@@ -36,6 +38,7 @@ from vkgl.lang.ir.nodes import (
     Task,
 )
 from vkgl.lang.ir.program import Program
+from vkgl.lang.ir.regions import excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.robot import Arm
@@ -119,6 +122,10 @@ class GoalSpec:
 
     A joint goal sets `opening` instead (the coordinate of the body's physical
     joint, m or rad, `PlanBody.joint_state`) with its tolerance `tol_opening`.
+    A region goal sets `region`, its half-planes (rows `nx, ny, d`, inside when
+    `n . p <= d`), and `footprint`, the body-frame points (n x 3) of the body's
+    convex hull: it holds when no point of the footprint passes an edge by
+    more than `tol_position`; `region_words` names the region for messages.
     """
 
     body: str
@@ -128,6 +135,14 @@ class GoalSpec:
     tol_yaw: float
     opening: float | None = None
     tol_opening: float = 0.0
+    region: np.ndarray | None = None
+    footprint: np.ndarray | None = None
+    region_words: str = ""
+
+    def region_excess(self, pose: np.ndarray) -> np.ndarray:
+        """Per edge of the goal's region, how far the body's footprint at `pose` passes it (m; <= 0 inside)."""
+        assert self.region is not None and self.footprint is not None, "not a region goal"
+        return excess(self.region, footprint(self.footprint, pose))
 
 
 @dataclass(frozen=True)
@@ -328,6 +343,13 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     position = goal.position.array() if goal.position is not None else None
     yaw = goal.yaw.value if goal.yaw is not None else None
     tol_p, tol_y = goal.tolerance()
+    if goal.region is not None:
+        hull = shape_vertices(bodies[name].type.shape)
+        hull = hull[ConvexHull(hull).vertices] if len(hull) > 4 else hull
+        words = goal.region.words()
+        return GoalSpec(name, None, yaw, float(tol_p), float(tol_y), None, 0.0, goal.region.halfplanes(), hull, words)
+    if goal.relative and position is None and yaw is None:  # what `vkgc check` fills in, for goals made without it
+        raise InputError(f"{_where(goal)}task {task.name}: the relative goal on `{name}` was not placed by the checker")
     if goal.opening is None:
         return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
     body = bodies[name]

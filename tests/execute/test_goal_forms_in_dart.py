@@ -1,6 +1,7 @@
 """The goal forms people say, carried out in DART: `vkgc solve --execute` reaches each example's goal.
 
 Task j: a goal relative to the block's start; the report says it as written and where it put the block.
+Task k: a region goal; the executor checks the block's footprint inside the region where DART leaves it.
 """
 
 from __future__ import annotations
@@ -25,3 +26,11 @@ def test_the_relative_goal_is_reached_in_dart(tmp_path, capsys) -> None:
     assert "goal block moved by (15, 0) cm in block: at (0.600, 0.000) m" in out
     assert "goal block turned by 20deg: yaw 20.0 deg" in out
     assert all(g["ok"] for g in data["goals"]) and len(data["goals"]) == 2
+
+
+def test_the_region_goal_is_reached_in_dart(tmp_path, capsys) -> None:
+    data, out = _execute("k_region_goal", tmp_path, capsys)
+    assert data["status"] == "reached", out
+    (goal,) = data["goals"]
+    assert goal["goal"].startswith("block in region (0.55, -0.16) to (0.75, 0.12) m yaw 0.0 deg") and goal["ok"]
+    assert goal["position_error_m"] <= 0.01  # the footprint passes no edge by more than the tolerance

@@ -1,0 +1,94 @@
+"""Regions (vkgl/lang/ir/regions.py, vkgl/lang/checks/regions.py): boxes and convex polygons, region goals.
+
+A point is inside a region exactly when it is inside every half-plane; the
+checker resolves a goal's `in NAME` to the scene's region, and reports swapped
+corners (E450) and polygons that are not convex (E451).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vkgl.errors import CompileError
+from vkgl.lang.compiler import compile_source
+from vkgl.lang.ir.nodes import Vector
+from vkgl.lang.ir.regions import Region, excess, region_problem
+from vkgl.lang.syntax.parser import parse_module
+from vkgl.lang.syntax.printer import print_module
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENE = """\
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.affordances.block
+
+scene s {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.45, 0) m yaw 0deg
+    region tray = polygon (0.55, -0.16), (0.75, -0.16), (0.8, 0.12), (0.55, 0.12) m
+}
+"""
+
+
+def _region(kind: str, *corners: tuple[float, float]) -> Region:
+    return Region(kind=kind, corners=[Vector(values=c, unit="m") for c in corners])
+
+
+def _codes(task: str) -> list[str]:
+    with pytest.raises(CompileError) as error:
+        compile_source(SCENE + task, base_dir=ROOT)
+    return [d.code for d in error.value.diagnostics]
+
+
+def test_a_named_region_is_copied_into_the_goal() -> None:
+    program = compile_source(SCENE + "task t {\n    scene s\n    goal block in tray yaw 0deg\n}\n", base_dir=ROOT)
+    (goal,) = program.tasks["t"].goals
+    assert goal.region is not None and goal.region.name == "tray" and goal.region.kind == "polygon"
+    assert goal.yaw is not None and goal.tolerance()[0] == pytest.approx(0.01)
+
+
+def test_misused_regions_are_errors() -> None:
+    assert _codes("task t {\n    scene s\n    goal block in region (0.8, 0.1) to (0.6, 0.2) m\n}\n") == ["E450"]
+    assert _codes("task t {\n    scene s\n    goal block in region polygon (0.6, 0), (0.7, 0) m\n}\n") == ["E451"]
+    assert _codes("task t {\n    scene s\n    goal block in sink\n}\n") == ["E301"]
+
+
+def test_regions_print_as_written_with_one_unit() -> None:
+    text = SCENE + "task t {\n    scene s\n    goal block in region (55, -16) to (75, 12) cm within 1 cm\n}\n"
+    module = parse_module(text, "t.vkg")
+    printed = print_module(module)
+    assert "region tray = polygon (0.55, -0.16), (0.75, -0.16), (0.8, 0.12), (0.55, 0.12) m" in printed
+    assert "goal block in region (55, -16) to (75, 12) cm within 1 cm" in printed
+    assert parse_module(printed, "t.vkg") == module
+
+
+def test_polygons_in_either_sense_are_the_same_region_and_concave_ones_are_not_regions() -> None:
+    square = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+    forward, backward = _region("polygon", *square), _region("polygon", *square[::-1])
+    assert np.allclose(sorted(map(tuple, forward.halfplanes())), sorted(map(tuple, backward.halfplanes())))
+    assert np.all(forward.halfplanes()[:, :2] @ (0.5, 0.5) < forward.halfplanes()[:, 2])  # the centre is inside
+    assert region_problem(_region("polygon", (0, 0), (1, 0), (0.5, 0.2), (1, 1), (0, 1))) == "concave"
+    assert region_problem(_region("box", (1, 0), (0, 1))) == "swapped"
+    assert region_problem(_region("box", (0, 0), (1, 0.0005))) == "flat"
+    assert forward.centre() == pytest.approx((0.5, 0.5))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    corners=st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(0.01, 1), st.floats(0.01, 1)),
+    point=st.tuples(st.floats(-2, 2), st.floats(-2, 2)),
+)
+def test_a_point_is_inside_a_box_exactly_when_its_excess_is_not_positive(corners, point) -> None:
+    x0, y0, w, h = corners
+    box = _region("box", (x0, y0), (x0 + w, y0 + h))
+    inside = x0 <= point[0] <= x0 + w and y0 <= point[1] <= y0 + h
+    outside_by = float(excess(box.halfplanes(), np.array([point])).max())
+    assert (outside_by <= 1e-12) == inside or abs(outside_by) < 1e-9
+    if not inside:  # and the excess is the distance to the box along the farthest axis
+        assert outside_by == pytest.approx(max(x0 - point[0], point[0] - x0 - w, y0 - point[1], point[1] - y0 - h))

@@ -1,0 +1,101 @@
+"""Checks of regions (E450, E451) and the region goals of tasks, whose named regions are resolved here.
+
+Every region, declared in a scene (`region NAME = ...`) or written in a goal
+(`goal B in region ...`), must be a region: a box's corners in order (E450), a
+polygon convex with some area (E451). A goal's `in NAME` names a region of
+its task's scene (E301 otherwise, E302 for a name declared twice); the
+checker copies that region into the goal (`Goal.region`), so that the
+planner and the executor need no scene lookup.
+"""
+
+from __future__ import annotations
+
+from vkgl.lang.checks.context import CheckContext, did_you_mean
+from vkgl.lang.diagnostics import codes
+from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.program import Program
+from vkgl.lang.ir.regions import Region, region_problem
+from vkgl.lang.syntax.quantities import format_number
+
+
+def check_regions(program: Program, ctx: CheckContext) -> None:
+    """Report bad regions of every scene and task; fill in the regions named by goals."""
+    for scene in program.scenes.values():
+        seen: dict[str, Region] = {}
+        for region in scene.regions:
+            if region.name in seen:
+                first = seen[region.name].name_span
+                ctx.error(
+                    codes.DUPLICATE_NAME,
+                    f"region `{region.name}` is declared twice in scene `{scene.name}`",
+                    region.name_span or region.span,
+                    f"first declared at {first}",
+                )
+                continue
+            seen[region.name] = region
+            check_region(region, ctx)
+    for name, task in list(program.tasks.items()):
+        task_scene = program.scenes.get(task.scene.name)
+        if task_scene is None:
+            continue
+        goals = [_resolved(goal, task_scene, ctx) for goal in task.goals]
+        program.tasks[name] = task.model_copy(update={"goals": goals})
+
+
+def check_region(region: Region, ctx: CheckContext) -> bool:
+    """Report `region` if its corners make no region (E450, E451); True when it is a region."""
+    problem = region_problem(region)
+    if problem is None:
+        return True
+    what = f"region `{region.name}`" if region.name else "the region"
+    if problem == "swapped":
+        (x0, y0), (x1, y1) = (c.values[:2] for c in region.corners)
+        axes = " and ".join(a for a, lo, hi in (("x", x0, x1), ("y", y0, y1)) if lo > hi)
+        fixed = (
+            f"({format_number(min(x0, x1))}, {format_number(min(y0, y1))}) to "
+            f"({format_number(max(x0, x1))}, {format_number(max(y0, y1))}) m"
+        )
+        ctx.error(
+            codes.REGION_CORNERS_SWAPPED,
+            f"{what} has its corners swapped along {axes}: the first corner is the lower-left one",
+            region.span,
+            f"write `{fixed}`",
+        )
+        return False
+    why = {
+        "few": "a polygon needs at least three vertices",
+        "flat": "it encloses no area (narrower than 1 mm)",
+        "concave": "the polygon is not convex (its vertices turn both ways)",
+    }[problem]
+    ctx.error(
+        codes.REGION_NOT_CONVEX,
+        f"{what} is not a region: {why}",
+        region.span,
+        "give the vertices of a convex polygon in order around it, or a box `(x0, y0) to (x1, y1) m`",
+    )
+    return False
+
+
+def _resolved(goal: ir.Goal, scene: ir.Scene, ctx: CheckContext) -> ir.Goal:
+    if goal.region is not None:
+        check_region(goal.region, ctx)
+        return goal
+    if goal.region_ref is None:
+        return goal
+    name = goal.region_ref.name
+    region = next((r for r in scene.regions if r.name == name), None)
+    if region is None:
+        names = [r.name for r in scene.regions]
+        ctx.error(
+            codes.UNKNOWN_NAME,
+            f"no region `{name}` in scene `{scene.name}`",
+            goal.region_ref.span,
+            did_you_mean(name, names)
+            or "declare it in the scene: `region NAME = (x0, y0) to (x1, y1) m`, or write "
+            "it in place: `in region (x0, y0) to (x1, y1) m`",
+        )
+        return goal
+    return goal.model_copy(update={"region": region})
+
+
+__all__ = ["check_region", "check_regions"]

@@ -1,0 +1,115 @@
+"""Regions of the table's plane: an axis-aligned box or a convex polygon, and what lies inside one.
+
+`region (0.6, -0.1) to (0.8, 0.1) m` is a box given by its lower-left and
+upper-right corners; `region sink = polygon (x, y), (x, y), ... m` in a scene
+a convex polygon given by its vertices in order (either sense). A region is
+a set of half-planes `n . p <= d` (`Region.halfplanes`); a body's footprint
+is inside when every point of it is (`excess` <= 0). The region goals of
+tasks (`goal B in R`) and the keep-out regions (`keep out R`) use them.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+from vkgl.lang.ir.values import Node, Span, Vector
+
+MIN_SIDE = 1e-3
+"""m: a region narrower than a millimetre along some side is degenerate."""
+
+
+class Region(Node):
+    """A region of the table's plane. `corners`: a box's two corners (lower-left, upper-right) or a polygon's
+    vertices in order, each an (x, y) vector in SI. `name` is the scene's name for it ("" when written in place).
+    """
+
+    kind: Literal["box", "polygon"] = "box"
+    corners: list[Vector]
+    name: str = ""
+    name_span: Span | None = None
+
+    def points(self) -> np.ndarray:
+        """The region's vertices (k x 2, m), counterclockwise."""
+        corners = np.array([c.values[:2] for c in self.corners], dtype=float).reshape(-1, 2)
+        if self.kind == "box":
+            (x0, y0), (x1, y1) = corners[0], corners[-1]
+            return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
+        return corners[::-1].copy() if _signed_area(corners) < 0 else corners
+
+    def halfplanes(self) -> np.ndarray:
+        """Rows `(nx, ny, d)` with unit outward normals: a point `p` is inside when `n . p <= d` for every row."""
+        points = self.points()
+        edges = np.roll(points, -1, axis=0) - points
+        normals = np.c_[edges[:, 1], -edges[:, 0]]
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        return np.c_[normals, np.sum(normals * points, axis=1)]
+
+    def centre(self) -> np.ndarray:
+        """The centroid of the region (m)."""
+        points = self.points()
+        area = _signed_area(points)
+        if abs(area) < 1e-12:
+            return points.mean(axis=0)
+        nxt = np.roll(points, -1, axis=0)
+        cross = points[:, 0] * nxt[:, 1] - nxt[:, 0] * points[:, 1]
+        return np.array([np.sum((points[:, 0] + nxt[:, 0]) * cross), np.sum((points[:, 1] + nxt[:, 1]) * cross)]) / (
+            6 * area
+        )
+
+    def words(self) -> str:
+        """`region tray` for a named region, else `region (0.6, -0.1) to (0.8, 0.1) m` in metres."""
+        if self.name:
+            return f"region {self.name}"
+        pts = ", ".join(f"({_m(c.values[0])}, {_m(c.values[1])})" for c in self.corners)
+        joiner = pts.replace("), (", ") to (", 1) if self.kind == "box" else "polygon " + pts
+        return f"region {joiner} m"
+
+
+def region_problem(region: Region) -> str | None:
+    """What makes `region` no region (swapped corners, a polygon that is not convex), or None."""
+    corners = np.array([c.values[:2] for c in region.corners], dtype=float).reshape(-1, 2)
+    if not np.all(np.isfinite(corners)):
+        return None  # E208 says why
+    if region.kind == "box":
+        if len(corners) != 2:
+            return None
+        (x0, y0), (x1, y1) = corners
+        swapped = [axis for axis, lo, hi in (("x", x0, x1), ("y", y0, y1)) if lo > hi]
+        if swapped:
+            return "swapped"
+        if min(x1 - x0, y1 - y0) < MIN_SIDE:
+            return "flat"
+        return None
+    if len(corners) < 3:
+        return "few"
+    if abs(_signed_area(corners)) < MIN_SIDE**2:
+        return "flat"
+    points = corners if _signed_area(corners) > 0 else corners[::-1]
+    edges = np.roll(points, -1, axis=0) - points
+    turns = edges[:, 0] * np.roll(edges, -1, axis=0)[:, 1] - edges[:, 1] * np.roll(edges, -1, axis=0)[:, 0]
+    return "concave" if np.any(turns < -1e-12) else None
+
+
+def excess(halfplanes: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Per half-plane, how far the farthest of `points` (n x 2) lies outside it (m; <= 0 when all are inside)."""
+    return np.max(points @ halfplanes[:, :2].T - halfplanes[:, 2], axis=0)
+
+
+def footprint(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    """The (x, y) of body-frame `points` (n x 3) at world `pose` (4 x 4)."""
+    return points @ pose[:2, :3].T + pose[:2, 3]
+
+
+def _signed_area(points: np.ndarray) -> float:
+    nxt = np.roll(points, -1, axis=0)
+    return float(np.sum(points[:, 0] * nxt[:, 1] - nxt[:, 0] * points[:, 1]) / 2)
+
+
+def _m(value: float) -> str:
+    text = f"{value:.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0") else text
+
+
+__all__ = ["Region", "excess", "footprint", "region_problem"]
