@@ -2,15 +2,20 @@
 
 Task j: a goal relative to the block's start; the report says it as written and where it put the block.
 Task k: a region goal; the executor checks the block's footprint inside the region where DART leaves it.
+Task l: a keep-out region; the block turned from its far face ends outside it in DART too.
 """
 
 from __future__ import annotations
 
 import json
 
+import numpy as np
 from conftest import EXAMPLES
 
+import vkgl
 from vkgl.cli import main
+from vkgl.lang.ir.geometry import shape_vertices
+from vkgl.lang.ir.regions import footprint, overlap_depth
 
 
 def _execute(name: str, tmp_path, capsys) -> tuple[dict, str]:
@@ -34,3 +39,14 @@ def test_the_region_goal_is_reached_in_dart(tmp_path, capsys) -> None:
     (goal,) = data["goals"]
     assert goal["goal"].startswith("block in region (0.55, -0.16) to (0.75, 0.12) m yaw 0.0 deg") and goal["ok"]
     assert goal["position_error_m"] <= 0.01  # the footprint passes no edge by more than the tolerance
+
+
+def test_the_keep_out_task_is_reached_and_the_block_ends_outside_the_region_in_dart(tmp_path, capsys) -> None:
+    data, out = _execute("l_keep_out", tmp_path, capsys)
+    assert data["status"] == "reached", out
+    assert "turn_nx_right" in out
+    program = vkgl.compile(EXAMPLES / "tasks" / "l_keep_out.vkg")
+    (keep,) = program.task("l_keep_out").keep_out
+    points = shape_vertices(program.bodies["Block"].shape)
+    final = np.array(data["final"]["block"])
+    assert overlap_depth(keep.region.points(), footprint(points, final)) <= 0.001  # its real footprint stays out

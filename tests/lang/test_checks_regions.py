@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from vkgl.errors import CompileError
 from vkgl.lang.compiler import compile_source
 from vkgl.lang.ir.nodes import Vector
-from vkgl.lang.ir.regions import Region, excess, region_problem
+from vkgl.lang.ir.regions import Region, excess, overlap_depth, region_problem
 from vkgl.lang.syntax.parser import parse_module
 from vkgl.lang.syntax.printer import print_module
 
@@ -92,3 +92,49 @@ def test_a_point_is_inside_a_box_exactly_when_its_excess_is_not_positive(corners
     assert (outside_by <= 1e-12) == inside or abs(outside_by) < 1e-9
     if not inside:  # and the excess is the distance to the box along the farthest axis
         assert outside_by == pytest.approx(max(x0 - point[0], point[0] - x0 - w, y0 - point[1], point[1] - y0 - h))
+
+
+def test_keep_out_regions_are_resolved_and_a_body_starting_inside_one_it_keeps_out_is_e452() -> None:
+    inside_block = "region (0.4, -0.05) to (0.6, 0.05) m"
+    assert _codes(f"task t {{\n    scene s\n    goal block at (0.6, 0) m\n    keep out {inside_block}\n}}\n") == [
+        "E452"
+    ]
+    program = compile_source(  # the tray region keeps out a body named only: `block` starts clear of it
+        SCENE + "task t {\n    scene s\n    goal block at (0.45, 0.3) m\n    keep block out of tray\n}\n",
+        base_dir=ROOT,
+    )
+    (keep,) = program.tasks["t"].keep_out
+    assert keep.region is not None and keep.region.name == "tray" and keep.applies_to("block")
+    assert not keep.applies_to("other")
+    assert _codes("task t {\n    scene s\n    goal block at (0.6, 0) m\n    keep out sink\n}\n") == ["E301"]
+
+
+def test_keep_out_prints_as_written() -> None:
+    text = SCENE + "task t {\n    scene s\n    goal block at (0.6, 0) m\n    keep out tray\n"
+    text += "    keep block out of region (0.1, 0.2) to (0.3, 0.4) m\n}\n"
+    module = parse_module(text, "t.vkg")
+    printed = print_module(module)
+    assert "    keep out tray\n    keep block out of region (0.1, 0.2) to (0.3, 0.4) m\n" in printed
+    assert parse_module(printed, "t.vkg") == module
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    shift=st.tuples(st.floats(-1.5, 1.5), st.floats(-1.5, 1.5)),
+    turn=st.floats(0, 6.3),
+)
+def test_the_overlap_depth_of_a_square_and_the_unit_box_is_exact(shift, turn) -> None:
+    """A square of side 0.5 turned and moved against the unit box: the depth is positive exactly when some
+    point of one lies inside the other (checked on a fine grid of the square), and never more than 0.5."""
+    box = _region("box", (0.0, 0.0), (1.0, 1.0)).points()
+    c, s = np.cos(turn), np.sin(turn)
+    corners = np.array([(-0.25, -0.25), (0.25, -0.25), (0.25, 0.25), (-0.25, 0.25)]) @ [[c, s], [-s, c]] + shift
+    depth = overlap_depth(box, corners)
+    u, v = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41))
+    grid = corners[0] + np.outer(u.ravel(), corners[1] - corners[0]) + np.outer(v.ravel(), corners[3] - corners[0])
+    inside = np.all((grid > 1e-9) & (grid < 1 - 1e-9), axis=1).any()
+    if depth > 0.03:
+        assert inside
+    if depth < -1e-9:
+        assert not inside
+    assert depth <= 0.5 + 1e-9

@@ -4,7 +4,8 @@ Task j says its goal relative to the block's start (`moved by ... in block`,
 `turned by`); the planner sees the pose goal it stands for. Task k asks for
 the block anywhere in a region: one contact stops it at the region's near
 edge, where the pose goal at the region's centre needs more
-(bench/bench_region_goals.py measures more cases).
+(bench/bench_region_goals.py measures more cases). Task l keeps every body
+out of a region beside the block.
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ from replay_check import check_plan
 
 from vkgl.api import solve
 from vkgl.lang.compiler import compile_source
+from vkgl.lang.ir.regions import footprint, overlap_depth
+from vkgl.plan.graphs.rollout import motion_matrices
 from vkgl.se3 import yaw_of
 
 
@@ -58,3 +61,32 @@ def test_a_region_goal_stops_at_the_near_edge_with_fewer_contacts_than_the_pose_
     centre = source.replace("in region (0.55, -0.16) to (0.75, 0.12) m", "at (0.65, -0.02) m")
     pose_plan = solve(compile_source(centre, str(EXAMPLES / "k_centre.vkg"), base_dir=EXAMPLES))
     assert pose_plan.status == "solved" and _contacts(pose_plan) > _contacts(plan)
+
+
+def test_a_keep_out_region_turns_the_block_from_its_far_face_and_nothing_enters_it(compiled):
+    """Task l: turning the block from its near face (the plan without the region) swings it into the region;
+    with `keep out` the plan turns it from the far face, and the whole turn, sampled finely, stays out."""
+    program = compiled("l_keep_out")
+    plan = solve(program)
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps if s.op == "add"] == ["Block.turn_nx_right"]
+    problem = plan.problem
+    (keep,) = problem.keep_out
+    points = problem.footprint_points("block")
+    start = plan.start["block"]
+    for step in plan.steps:
+        if step.op != "add":
+            continue
+        affordance = problem.affordance("block", step.affordance.split(".")[1])
+        for value in np.linspace(0.0, step.value, 60):
+            pose = start @ motion_matrices(affordance.motion, np.array([value]))[0]
+            assert overlap_depth(keep.region, footprint(points, pose)) <= 0.001
+    free = solve(compile_source(_without_keep_out(), str(EXAMPLES / "l_free.vkg"), base_dir=EXAMPLES))
+    assert [s.affordance for s in free.steps if s.op == "add"] == ["Block.turn_px_right"]
+    assert overlap_depth(keep.region, footprint(points, free.final["block"])) > 0.01  # it would end inside
+    assert check_plan(program, plan.to_json()) == []
+
+
+def _without_keep_out() -> str:
+    source = (EXAMPLES / "l_keep_out.vkg").read_text(encoding="utf-8")
+    return "\n".join(line for line in source.splitlines() if "keep out" not in line) + "\n"

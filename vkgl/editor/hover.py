@@ -20,6 +20,7 @@ from vkgl.lang.syntax.printer import (
     joint_text,
     pose_text,
     quantity_text,
+    region_text,
     vector_text,
 )
 
@@ -90,7 +91,8 @@ def symbol_hover(symbol: Symbol, declared: ir.Span | None = None) -> str:
     if isinstance(node, ir.Scene):
         members: list[ir.SceneBody | ir.SceneRobot] = [*node.robots, *node.bodies]
         inside = ", ".join(f"`{x.name} : {x.type.name}`" for x in members)
-        return f"**scene** `{node.name}`\n\n{inside}" + where
+        regions = "".join(f"\n- region `{r.name} = {region_text(r)}`" for r in node.regions)
+        return f"**scene** `{node.name}`\n\n{inside}{regions}" + where
     if isinstance(node, ir.Task):
         goals = "".join(f"\n- goal `{goal_text(g)}`" for g in node.goals)
         return f"**task** `{node.name}`\n\nscene `{node.scene.name}`{goals}" + where

@@ -1,5 +1,6 @@
 """Checks of regions (E450, E451) and the region goals of tasks, whose named regions are resolved here.
 
+A keep-out region must not hold a body it keeps out at the start (E452).
 Every region, declared in a scene (`region NAME = ...`) or written in a goal
 (`goal B in region ...`), must be a region: a box's corners in order (E450), a
 polygon convex with some area (E451). A goal's `in NAME` names a region of
@@ -10,11 +11,16 @@ planner and the executor need no scene lookup.
 
 from __future__ import annotations
 
+from typing import Any
+
 from vkgl.lang.checks.context import CheckContext, did_you_mean
+from vkgl.lang.checks.relative import start_pose
+from vkgl.lang.checks.scene import TOUCH
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.geometry import shape_vertices
 from vkgl.lang.ir.program import Program
-from vkgl.lang.ir.regions import Region, region_problem
+from vkgl.lang.ir.regions import KeepOut, Region, footprint, overlap_depth, region_problem
 from vkgl.lang.syntax.quantities import format_number
 
 
@@ -39,7 +45,10 @@ def check_regions(program: Program, ctx: CheckContext) -> None:
         if task_scene is None:
             continue
         goals = [_resolved(goal, task_scene, ctx) for goal in task.goals]
-        program.tasks[name] = task.model_copy(update={"goals": goals})
+        keep_out = [_resolved(keep, task_scene, ctx) for keep in task.keep_out]
+        for keep in keep_out:
+            _check_keep_out(keep, task_scene, program, ctx)
+        program.tasks[name] = task.model_copy(update={"goals": goals, "keep_out": keep_out})
 
 
 def check_region(region: Region, ctx: CheckContext) -> bool:
@@ -76,7 +85,42 @@ def check_region(region: Region, ctx: CheckContext) -> bool:
     return False
 
 
-def _resolved(goal: ir.Goal, scene: ir.Scene, ctx: CheckContext) -> ir.Goal:
+def _check_keep_out(keep: KeepOut, scene: ir.Scene, program: Program, ctx: CheckContext) -> None:
+    """E301 for `keep B out of R` naming no body of the scene; E452 for a body that starts inside R."""
+    names = [b.name for b in scene.bodies]
+    if keep.body is not None and keep.body.name not in names:
+        ctx.error(
+            codes.UNKNOWN_NAME,
+            f"`{keep.body.name}` is not a body of scene `{scene.name}`",
+            keep.body.span,
+            did_you_mean(keep.body.name, names) or "name a body of the scene, or write `keep out R` for all of them",
+        )
+        return
+    if keep.region is None or region_problem(keep.region) is not None:
+        return  # unknown or not a region: reported
+    region = keep.region.points()
+    for placed in scene.bodies:
+        body = program.bodies.get(placed.type.name)
+        pose = start_pose(scene, placed.name, program)
+        if not keep.applies_to(placed.name) or body is None or pose is None:
+            continue
+        try:
+            points = shape_vertices(body.shape)
+        except (ValueError, OSError):  # a mesh that cannot be read: E503 says why
+            continue
+        depth = overlap_depth(region, footprint(points, pose))
+        if depth > TOUCH:
+            ctx.error(
+                codes.KEEP_OUT_AT_START,
+                f"`{placed.name}` starts {depth * 100:.1f} cm inside the keep-out {keep.region.words()}",
+                keep.span,
+                f"no plan can keep `{placed.name}` out of a region it starts in: move the region, or name the "
+                f"bodies it is for (`keep BODY out of ...`)",
+            )
+
+
+def _resolved(goal: Any, scene: ir.Scene, ctx: CheckContext) -> Any:
+    """A goal or keep-out with its scene region copied in (`region_ref` -> `region`); reports unknown names."""
     if goal.region is not None:
         check_region(goal.region, ctx)
         return goal

@@ -140,3 +140,13 @@ REGION_NOT_CONVEX = _code(
         "regions (several `keep out` statements, or the convex part a goal needs)."
     ),
 )
+KEEP_OUT_AT_START = _code(
+    "E452",
+    "a keep-out region that a body starts in",
+    (
+        "`keep out R` keeps every body of the task's scene out of region R (`keep B out of R` only B): no body's "
+        "footprint may enter it while the plan moves it. A body whose footprint is already inside R by more "
+        "than 1 mm at the start could never satisfy that. The message says which body and how deep; move the "
+        "region, or name the bodies it is meant for (`keep block out of R`)."
+    ),
+)

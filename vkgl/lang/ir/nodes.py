@@ -15,6 +15,7 @@ from typing import Annotated, Literal
 from pydantic import Field
 
 # The values (spans, the base node, quantities, vectors, poses, references) live in `values`; re-exported here.
+from vkgl.lang.ir.regions import KeepOut as KeepOut
 from vkgl.lang.ir.regions import Region as Region
 from vkgl.lang.ir.values import FrameRef as FrameRef
 from vkgl.lang.ir.values import Node as Node
@@ -404,6 +405,7 @@ class Task(Node):
     scene: Ref
     goals: list[Goal]
     search: SearchSpec | None = None
+    keep_out: list[KeepOut] = Field(default_factory=list)  # `keep out R`, `keep B out of R`
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
 
 

@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from vkgl.lang.ir.values import Node, Span, Vector
+from vkgl.lang.ir.values import Node, Ref, Span, Vector
 
 MIN_SIDE = 1e-3
 """m: a region narrower than a millimetre along some side is degenerate."""
@@ -67,6 +67,21 @@ class Region(Node):
         return f"region {joiner} m"
 
 
+class KeepOut(Node):
+    """`keep out R` (every body) or `keep B out of R` (`body` set): no such body's sweep enters region R.
+
+    `region_ref` keeps a scene region's name as written; the checker copies the region into `region`.
+    """
+
+    body: Ref | None = None
+    region: Region | None = None
+    region_ref: Ref | None = None
+
+    def applies_to(self, name: str) -> bool:
+        """Whether the region keeps out the scene body `name`."""
+        return self.body is None or self.body.name == name
+
+
 def region_problem(region: Region) -> str | None:
     """What makes `region` no region (swapped corners, a polygon that is not convex), or None."""
     corners = np.array([c.values[:2] for c in region.corners], dtype=float).reshape(-1, 2)
@@ -112,4 +127,46 @@ def _m(value: float) -> str:
     return "0" if text in ("", "-0") else text
 
 
-__all__ = ["Region", "excess", "footprint", "region_problem"]
+def overlap_depth(region: np.ndarray, points: np.ndarray) -> float:
+    """How deep the convex hull of `points` (n x 2) and the convex polygon `region` (k x 2, counterclockwise)
+    overlap: the shortest push that separates them (m; <= 0 when they are apart, by the gap's width).
+
+    Separating axes: the edge normals of both polygons (exact for convex polygons)."""
+    hull = _hull(points)
+    axes = [_edge_normals(region), _edge_normals(hull)] if len(hull) > 2 else [_edge_normals(region)]
+    normals = np.vstack(axes)
+    a, b = region @ normals.T, points @ normals.T
+    overlap = np.minimum(a.max(axis=0), b.max(axis=0)) - np.maximum(a.min(axis=0), b.min(axis=0))
+    return float(overlap.min())
+
+
+def _edge_normals(polygon: np.ndarray) -> np.ndarray:
+    edges = np.roll(polygon, -1, axis=0) - polygon
+    normals = np.c_[edges[:, 1], -edges[:, 0]]
+    lengths = np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals[lengths[:, 0] > 1e-12] / lengths[lengths[:, 0] > 1e-12]
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull of 2-d `points`, counterclockwise (Andrew's monotone chain)."""
+    ordered = sorted(set(map(tuple, np.round(points, 12))))
+    if len(ordered) <= 2:
+        return np.array(ordered, dtype=float).reshape(-1, 2)
+
+    def half(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        out: list[tuple[float, float]] = []
+        for p in seq:
+            while len(out) >= 2 and _cross(out[-2], out[-1], p) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = half(ordered), half(ordered[::-1])
+    return np.array(lower[:-1] + upper[:-1], dtype=float)
+
+
+def _cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float]) -> float:
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+__all__ = ["KeepOut", "Region", "excess", "footprint", "overlap_depth", "region_problem"]

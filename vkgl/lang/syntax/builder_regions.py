@@ -15,7 +15,7 @@ from typing import Any
 from lark import Token
 
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.regions import Region
+from vkgl.lang.ir.regions import KeepOut, Region
 from vkgl.lang.syntax.values import Item, RawQ, RawVec, ValueReader, new_node
 
 
@@ -48,6 +48,18 @@ class RegionBuilder(ValueReader):
 
     def region_name(self, meta: Any, children: list[Token]) -> ir.Ref:
         return new_node(ir.Ref, name=str(children[0]), span=self.tspan(children[0]))
+
+    def task_keep_out(self, meta: Any, children: list[Any]) -> Item:
+        return Item("keep", self._keep_out(None, children[0], meta), self.span(meta))
+
+    def task_keep_body_out(self, meta: Any, children: list[Any]) -> Item:
+        body = new_node(ir.Ref, name=str(children[0]), span=self.tspan(children[0]))
+        return Item("keep", self._keep_out(body, children[1], meta), self.span(meta))
+
+    def _keep_out(self, body: ir.Ref | None, place: Region | ir.Ref, meta: Any) -> KeepOut:
+        region = place if isinstance(place, Region) else None
+        ref = place if isinstance(place, ir.Ref) else None
+        return new_node(KeepOut, body=body, region=region, region_ref=ref, span=self.span(meta))
 
     def goal_in(self, meta: Any, children: list[Any]) -> ir.Goal:
         """`B in R [yaw Q] [within L[, A]]`: the body's footprint inside region R (in place, or the scene's)."""

@@ -29,7 +29,7 @@ class TaskBuilder(RegionBuilder):
         name, items = children[0], children[1:]
         owner = f"task `{name}`"
         fields = self.single(
-            [i for i in items if i.key != "goal"], owner, {"scene": "scene tabletop"}, self.tspan(name)
+            [i for i in items if i.key not in ("goal", "keep")], owner, {"scene": "scene tabletop"}, self.tspan(name)
         )
         goals = [g for i in items if i.key == "goal" for g in i.value]
         if not goals:
@@ -44,6 +44,7 @@ class TaskBuilder(RegionBuilder):
             scene=fields.get("scene", new_node(ir.Ref, name="")),
             goals=goals,
             search=fields.get("search"),
+            keep_out=[i.value for i in items if i.key == "keep"],
             span=self.span(meta),
             name_span=self.tspan(name),
         )

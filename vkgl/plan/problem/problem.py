@@ -38,7 +38,7 @@ from vkgl.lang.ir.nodes import (
     Task,
 )
 from vkgl.lang.ir.program import Program
-from vkgl.lang.ir.regions import excess, footprint
+from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.robot import Arm
@@ -146,6 +146,20 @@ class GoalSpec:
 
 
 @dataclass(frozen=True)
+class KeepOutSpec:
+    """A keep-out region of the task: `region` its vertices (k x 2, m, counterclockwise), `body` the one body it
+    keeps out (None: every body), `words` how messages name it (`region sink`, `region (0.6, 0.2) to ... m`)."""
+
+    region: np.ndarray
+    body: str | None
+    words: str
+
+    def applies_to(self, name: str) -> bool:
+        """Whether the region keeps out body `name`."""
+        return self.body is None or self.body == name
+
+
+@dataclass(frozen=True)
 class Problem:
     """Everything the search and the feasibility checks need about one task; built once (`build_problem`) and
     never changed (its private lookups only fill caches)."""
@@ -166,6 +180,9 @@ class Problem:
     avoid: Avoid | None = None  # what a re-solve must not repeat (`vkgl.plan.problem.avoid`); None: nothing
     arm_start: np.ndarray | None = None
     """The arm's joints before the first step (None: its home configuration)."""
+    keep_out: tuple[KeepOutSpec, ...] = ()
+    """The task's keep-out regions: no body they apply to may enter one, along any motion."""
+    _footprints: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
     _actions: dict[tuple[str, str], np.ndarray] = field(default_factory=dict, repr=False)
@@ -174,6 +191,12 @@ class Problem:
     def robot_effector(self) -> EffectorSpec:
         """The robot's own effector (always the first)."""
         return self.effectors[0]
+
+    def footprint_points(self, body: str) -> np.ndarray:
+        """The body-frame points (n x 3) of `body`'s convex hull: its footprint on the table at any pose."""
+        if body not in self._footprints:
+            self._footprints[body] = _hull_points(self.bodies[body].type)
+        return self._footprints[body]
 
     def affordance(self, body: str, name: str) -> Affordance:
         """The affordance `name` of scene body `body`."""
@@ -254,6 +277,7 @@ def build_problem(
         limit,
         avoid or None,
         start,
+        tuple(_keep_out_spec(task, keep, bodies) for keep in task.keep_out),
     )
 
 
@@ -344,8 +368,7 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     yaw = goal.yaw.value if goal.yaw is not None else None
     tol_p, tol_y = goal.tolerance()
     if goal.region is not None:
-        hull = shape_vertices(bodies[name].type.shape)
-        hull = hull[ConvexHull(hull).vertices] if len(hull) > 4 else hull
+        hull = _hull_points(bodies[name].type)
         words = goal.region.words()
         return GoalSpec(name, None, yaw, float(tol_p), float(tol_y), None, 0.0, goal.region.halfplanes(), hull, words)
     if goal.relative and position is None and yaw is None:  # what `vkgc check` fills in, for goals made without it
@@ -362,6 +385,17 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     if not tolerance > 0:  # what `vkgc check` reports (E411)
         raise InputError(f"{_where(goal)}task {task.name}: the joint goal on `{name}` needs a positive tolerance")
     return GoalSpec(name, position, yaw, float(tol_p), float(tol_y), goal.opening.value, tolerance)
+
+
+def _hull_points(body: Body) -> np.ndarray:
+    points = shape_vertices(body.shape)
+    return points[ConvexHull(points).vertices] if len(points) > 4 else points
+
+
+def _keep_out_spec(task: Task, keep: KeepOut, bodies: dict[str, PlanBody]) -> KeepOutSpec:
+    if keep.region is None or (keep.body is not None and keep.body.name not in bodies):  # what `vkgc check` reports
+        raise InputError(f"{_where(keep)}task {task.name}: a keep-out region that `vkgc check` has not resolved")
+    return KeepOutSpec(keep.region.points(), keep.body.name if keep.body is not None else None, keep.region.words())
 
 
 def collision_scene(problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0) -> CollisionScene:

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import nlopt
 import numpy as np
 
+from vkgl.lang.ir.regions import footprint, overlap_depth
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -173,7 +174,17 @@ def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
     for trace in traces:
         for name in {e.body for e in trace.values}:
             out.extend(_stay_constraints(problem, name, trace.end[name]))
+            out.extend(_keep_out_depths(problem, name, trace.end[name]))
     return np.asarray(out if out else [-1.0], dtype=float)
+
+
+def _keep_out_depths(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
+    """How deep a moved body ends in each keep-out region that applies to it (m; <= 0 outside): the optimiser
+    keeps the ends of motions out (the geometry check then samples the whole way, `plan.geometry.keep_out`)."""
+    if not problem.keep_out:
+        return []
+    points = footprint(problem.footprint_points(name), pose)
+    return [overlap_depth(k.region, points) for k in problem.keep_out if k.applies_to(name)]
 
 
 def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
@@ -386,6 +397,14 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
             excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
             if excess > -1e-4:
                 return Rejection(Kind.TABLE, limit_words(problem, name, trace.end[name]), max(excess, 0.0))
+    for trace in traces:  # a keep-out region the optimiser could not get out of
+        for name in sorted({e.body for e in trace.values}):
+            points = footprint(problem.footprint_points(name), trace.end[name])
+            for region in (k for k in problem.keep_out if k.applies_to(name)):
+                depth = overlap_depth(region.region, points)
+                if depth > 1e-4:
+                    why = f"{name} would end {depth * 100:.1f} cm inside the keep-out {region.words}"
+                    return Rejection(Kind.COLLISION, why, depth)
     why = "the optimiser found no motion values that reach the goal"
     return Rejection(Kind.GOAL, why + _at_range_ends(problem, seq, x))
 
