@@ -3,6 +3,7 @@
 Task j: a goal relative to the block's start; the report says it as written and where it put the block.
 Task k: a region goal; the executor checks the block's footprint inside the region where DART leaves it.
 Task l: a keep-out region; the block turned from its far face ends outside it in DART too.
+Task m: a drawer placed `at cabinet.slot`, pulled open in DART.
 """
 
 from __future__ import annotations
@@ -50,3 +51,10 @@ def test_the_keep_out_task_is_reached_and_the_block_ends_outside_the_region_in_d
     points = shape_vertices(program.bodies["Block"].shape)
     final = np.array(data["final"]["block"])
     assert overlap_depth(keep.region.points(), footprint(points, final)) <= 0.001  # its real footprint stays out
+
+
+def test_the_drawer_placed_at_its_cabinets_slot_opens_in_dart(tmp_path, capsys) -> None:
+    data, out = _execute("m_drawer_at_slot", tmp_path, capsys)
+    assert data["status"] == "reached", out
+    (goal,) = data["goals"]
+    assert goal["ok"] and abs(goal["opening"]["error"]) < 0.01

@@ -5,7 +5,8 @@ Task j says its goal relative to the block's start (`moved by ... in block`,
 the block anywhere in a region: one contact stops it at the region's near
 edge, where the pose goal at the region's centre needs more
 (bench/bench_region_goals.py measures more cases). Task l keeps every body
-out of a region beside the block.
+out of a region beside the block. Task m opens a drawer placed `at cabinet.slot`
+in a cabinet turned 20 deg.
 """
 
 from __future__ import annotations
@@ -90,3 +91,14 @@ def test_a_keep_out_region_turns_the_block_from_its_far_face_and_nothing_enters_
 def _without_keep_out() -> str:
     source = (EXAMPLES / "l_keep_out.vkg").read_text(encoding="utf-8")
     return "\n".join(line for line in source.splitlines() if "keep out" not in line) + "\n"
+
+
+def test_a_drawer_placed_at_its_cabinets_slot_is_pulled_open(compiled):
+    program = compiled("m_drawer_at_slot")
+    plan = solve(program)
+    assert plan.status == "solved", plan.reason
+    drawer = plan.problem.bodies["drawer"]
+    assert np.allclose(plan.start["drawer"], plan.start["cabinet"])  # the DrawerCabinet's slot is its frame
+    assert math.degrees(yaw_of(plan.start["drawer"])) == pytest.approx(160.0)
+    assert drawer.joint_state(plan.final["drawer"]) == pytest.approx(0.15, abs=0.01)
+    assert check_plan(program, plan.to_json()) == []

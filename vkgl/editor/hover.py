@@ -18,6 +18,7 @@ from vkgl.lang.syntax.printer import (
     format_number,
     goal_text,
     joint_text,
+    placement_text,
     pose_text,
     quantity_text,
     region_text,
@@ -154,9 +155,8 @@ def shape_text(shape: ir.Shape) -> str:
 def _instance_hover(node: ir.SceneBody | ir.SceneRobot, scene: str) -> str:
     if isinstance(node, ir.SceneRobot):
         return f"**robot** `{node.name} : {node.type.name}` in scene `{scene}` at `{pose_text(node.pose)}`"
-    where = "on table at" if node.placement.on_table else "at"
     opened = f", its joint starting open `{quantity_text(node.opening)}`" if node.opening is not None else ""
     return (
         f"**scene body** `{node.name} : {node.type.name}` in scene `{scene}`, "
-        f"{where} `{pose_text(node.placement.pose)}`{opened}"
+        f"`{placement_text(node.placement)}`{opened}"
     )

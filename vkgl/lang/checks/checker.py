@@ -25,6 +25,7 @@ from vkgl.lang.checks.context import (
     where_declared,
 )
 from vkgl.lang.checks.joints import check_joint_goals
+from vkgl.lang.checks.placement import place_relative_bodies
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.checks.regions import check_regions
 from vkgl.lang.checks.relative import place_relative_goals
@@ -54,6 +55,7 @@ def check_program(
     for module in resolved.values():
         for decl in module.decls:
             _check_decl(decl, program, ctx)
+    place_relative_bodies(program, ctx)  # `in B`, `at B.F`: the world pose from B's start and its type's frame
     _check_tasks_can_move(program, ctx)
     check_joint_goals(program, ctx)  # joint goals: a body with a joint, the right kind of opening, its limits
     _check_tools_have_correspondences(program, ctx)

@@ -275,11 +275,19 @@ class Table(Node):
     position: Vector
 
 
+SLOT_FRAME = "slot"
+"""The frame of a body's type that `B2 : T in B` places B2 at."""
+
+
 class Placement(Node):
-    """Where a scene body starts: `on table at (x, y) UNIT [yaw Q]` or `at POSE`."""
+    """Where a scene body starts: `on table at (x, y) UNIT [yaw Q]`, `at POSE`, or relative to another scene
+    body: `in B` (at the frame `slot` of B's type) or `at B.F` (`relative_to`, `inside` for the `in` form).
+    For the relative forms the checker (vkgl/lang/checks/placement.py) fills `pose` with the world pose."""
 
     on_table: bool
     pose: Pose
+    relative_to: FrameRef | None = None
+    inside: bool = False
 
 
 class SceneRobot(Node):

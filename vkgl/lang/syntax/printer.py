@@ -33,6 +33,7 @@ from vkgl.lang.ir.nodes import (
     MeshShape,
     Module,
     MotionRange,
+    Placement,
     PrismaticC,
     RevoluteC,
     Robot,
@@ -222,9 +223,8 @@ class _Layout:
         for r in s.robots:
             self.add(k, f"robot {r.name} : {r.type.name} at {pose_text(r.pose)}", _line_of(r.span))
         for b in s.bodies:
-            where = "on table at" if b.placement.on_table else "at"
             opening = f" open {quantity_text(b.opening)}" if b.opening is not None else ""
-            self.add(k, f"{b.name} : {b.type.name}{opening} {where} {pose_text(b.placement.pose)}", _line_of(b.span))
+            self.add(k, f"{b.name} : {b.type.name}{opening} {placement_text(b.placement)}", _line_of(b.span))
         for region in s.regions:
             self.add(k, f"region {region.name} = {region_text(region)}", _line_of(region.span))
 
@@ -239,6 +239,14 @@ class _Layout:
             self.add(k, keep_out_text(keep), _line_of(keep.span))
         if t.search is not None:
             self.add(k, search_text(t.search), _line_of(t.search.span))
+
+
+def placement_text(p: Placement) -> str:
+    """`on table at (x, y) m [yaw Q]`, `at POSE`, `in B` or `at B.F`, as written."""
+    if p.relative_to is not None:
+        ref = p.relative_to
+        return f"in {ref.body}" if p.inside else f"at {ref.body}.{ref.frame}"
+    return ("on table at " if p.on_table else "at ") + pose_text(p.pose)
 
 
 def _use_target(u: Use) -> str:
