@@ -1,8 +1,10 @@
 """Hover text (Markdown): what a symbol is, and a quantity's SI value.
 
 A body shows its shape, mass, friction, joint and frames; an affordance its
-action, motion and evidence; a scene body its type and placement; a quantity
-(`10 cm`, `90deg`, `(10, 20, 5) cm`) its value in SI units.
+action, motion and evidence; a scene body its type and placement (`in
+cabinet`, `at shelf.top` as written); a scene its bodies and regions; a task
+its goals as written (relative and region goals included) and its keep-out
+regions; a quantity (`10 cm`, `90deg`, `(10, 20, 5) cm`) its value in SI units.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from vkgl.lang.syntax.printer import (
     format_number,
     goal_text,
     joint_text,
+    keep_out_text,
     placement_text,
     pose_text,
     quantity_text,
@@ -96,6 +99,7 @@ def symbol_hover(symbol: Symbol, declared: ir.Span | None = None) -> str:
         return f"**scene** `{node.name}`\n\n{inside}{regions}" + where
     if isinstance(node, ir.Task):
         goals = "".join(f"\n- goal `{goal_text(g)}`" for g in node.goals)
+        goals += "".join(f"\n- `{keep_out_text(k)}`" for k in node.keep_out)
         return f"**task** `{node.name}`\n\nscene `{node.scene.name}`{goals}" + where
     if symbol.kind == "module":
         return f"**module** `{symbol.name}`\n\n`{symbol.file}`"
