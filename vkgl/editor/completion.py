@@ -59,8 +59,8 @@ def _declared(program: Program) -> list[Candidate]:
         if instance.name not in seen:
             seen.add(instance.name)
             found.append(Candidate(instance.name, "instance", f"{instance.type.name} in scene {scene}"))
-    for scene in program.scenes.values():  # for `goal B in R`, `keep out R`
-        found += [Candidate(r.name, "region", f"region of scene {scene.name}") for r in scene.regions]
+    for declared in program.scenes.values():  # for `goal B in R`, `keep out R`
+        found += [Candidate(r.name, "region", f"region of scene {declared.name}") for r in declared.regions]
     for body, affordances in sorted(program.affordances.items()):
         found += [Candidate(a.name, "affordance", f"affordance of {body}") for a in affordances]
     return found
