@@ -13,6 +13,7 @@ from __future__ import annotations
 from typing import Literal
 
 import numpy as np
+from pydantic import Field
 
 from vkgl.lang.ir.values import Node, Ref, Span, Vector
 
@@ -28,7 +29,7 @@ class Region(Node):
     kind: Literal["box", "polygon"] = "box"
     corners: list[Vector]
     name: str = ""
-    name_span: Span | None = None
+    name_span: Span | None = Field(default=None, exclude=True, repr=False)
 
     def points(self) -> np.ndarray:
         """The region's vertices (k x 2, m), counterclockwise."""
