@@ -57,6 +57,9 @@ def test_misused_regions_are_errors() -> None:
     assert _codes("task t {\n    scene s\n    goal block in region (0.8, 0.1) to (0.6, 0.2) m\n}\n") == ["E450"]
     assert _codes("task t {\n    scene s\n    goal block in region polygon (0.6, 0), (0.7, 0) m\n}\n") == ["E451"]
     assert _codes("task t {\n    scene s\n    goal block in sink\n}\n") == ["E301"]
+    narrow = "region (0.6, -0.05) to (0.8, 0.05) m"  # 20 x 10 cm: the 10 x 20 cm block fits only turned
+    assert _codes(f"task t {{\n    scene s\n    goal block in {narrow} yaw 0deg\n}}\n") == ["E453"]
+    compile_source(SCENE + f"task t {{\n    scene s\n    goal block in {narrow}\n}}\n", base_dir=ROOT)
 
 
 def test_regions_print_as_written_with_one_unit() -> None:

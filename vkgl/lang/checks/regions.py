@@ -1,7 +1,8 @@
 """Checks of regions (E450, E451) and the region goals of tasks, whose named regions are resolved here.
 
 A keep-out region must not hold a body it keeps out at the start (E452).
-Every region, declared in a scene (`region NAME = ...`) or written in a goal
+A region goal's body must fit in its region at some heading the goal allows
+(E453). Every region, declared in a scene (`region NAME = ...`) or written in a goal
 (`goal B in region ...`), must be a region: a box's corners in order (E450), a
 polygon convex with some area (E451). A goal's `in NAME` names a region of
 its task's scene (E301 otherwise, E302 for a name declared twice); the
@@ -11,7 +12,11 @@ planner and the executor need no scene lookup.
 
 from __future__ import annotations
 
+import math
 from typing import Any
+
+import numpy as np
+from scipy.optimize import linprog
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
 from vkgl.lang.checks.relative import start_pose
@@ -45,6 +50,8 @@ def check_regions(program: Program, ctx: CheckContext) -> None:
         if task_scene is None:
             continue
         goals = [_resolved(goal, task_scene, ctx) for goal in task.goals]
+        for goal in goals:
+            _check_fits(goal, task_scene, program, ctx)
         keep_out = [_resolved(keep, task_scene, ctx) for keep in task.keep_out]
         for keep in keep_out:
             _check_keep_out(keep, task_scene, program, ctx)
@@ -83,6 +90,69 @@ def check_region(region: Region, ctx: CheckContext) -> bool:
         "give the vertices of a convex polygon in order around it, or a box `(x0, y0) to (x1, y1) m`",
     )
     return False
+
+
+FIT_YAWS = 72
+"""Headings tried (every 5 deg) for a region goal that leaves the yaw free."""
+
+
+def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckContext) -> None:
+    """E453: at no heading the goal allows does the body's footprint fit in its region (within the tolerance)."""
+    if goal.region is None or region_problem(goal.region) is not None:
+        return
+    placed = next((b for b in scene.bodies if b.name == goal.body.name), None)
+    body = program.bodies.get(placed.type.name) if placed is not None else None
+    start = start_pose(scene, goal.body.name, program)
+    tolerance = goal.tolerance()[0]
+    if body is None or start is None or not (math.isfinite(tolerance) and tolerance > 0):
+        return
+    try:
+        points = shape_vertices(body.shape)
+    except (ValueError, OSError):  # a mesh that cannot be read: E503 says why
+        return
+    level = _level(start) @ points.T  # the body's points about its origin, its start tilt kept, heading 0
+    planes = goal.region.halfplanes()
+    for yaw in _headings(goal):
+        c, s = math.cos(yaw), math.sin(yaw)
+        turned = np.array([[c, -s], [s, c]]) @ level[:2]
+        reach = (planes[:, :2] @ turned).max(axis=1)  # per edge, how far out the footprint reaches from its origin
+        if _translation_fits(planes, reach, tolerance):
+            return
+    width = np.ptp(level[:2], axis=1)
+    region = goal.region.points()
+    ctx.error(
+        codes.REGION_TOO_SMALL,
+        f"`{goal.body.name}` does not fit in the goal's {goal.region.words()} at any heading the goal allows: the "
+        f"region spans {_cm(np.ptp(region[:, 0]))} x {_cm(np.ptp(region[:, 1]))}, the body's footprint "
+        f"{_cm(width[0])} x {_cm(width[1])} unturned",
+        goal.region.span or goal.span,
+        "make the region larger" + (", or leave the heading free" if goal.yaw is not None else ""),
+    )
+
+
+def _translation_fits(planes: np.ndarray, reach: np.ndarray, tolerance: float) -> bool:
+    """Whether some origin `t` has `n . t + reach <= d + tolerance` for every edge (a 2-variable LP)."""
+    found = linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=planes[:, 2] + tolerance - reach, bounds=[(None, None)] * 2)
+    return bool(found.status == 0)
+
+
+def _headings(goal: ir.Goal) -> list[float]:
+    if goal.yaw is None:
+        return [2 * math.pi * k / FIT_YAWS for k in range(FIT_YAWS)]
+    yaw, tol = goal.yaw.value, min(abs(goal.tolerance()[1]), math.pi)
+    steps = max(1, math.ceil(tol / (2 * math.pi / FIT_YAWS)))
+    return [yaw + tol * k / steps for k in range(-steps, steps + 1)]
+
+
+def _level(pose: np.ndarray) -> np.ndarray:
+    """The body's start rotation less its heading (a body on the table: the identity)."""
+    yaw = math.atan2(pose[1, 0], pose[0, 0])
+    c, s = math.cos(-yaw), math.sin(-yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ pose[:3, :3]
+
+
+def _cm(metres: float) -> str:
+    return f"{metres * 100:.1f} cm"
 
 
 def _check_keep_out(keep: KeepOut, scene: ir.Scene, program: Program, ctx: CheckContext) -> None:

@@ -333,6 +333,7 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
     RANGE_WITHOUT_STATE,
     REGION_CORNERS_SWAPPED,
     REGION_NOT_CONVEX,
+    REGION_TOO_SMALL,
     REVERSED_RANGE,
     START_PAST_JOINT_LIMIT,
 )
@@ -392,6 +393,7 @@ __all__ = [
     "RANGE_WITHOUT_STATE",
     "REGION_CORNERS_SWAPPED",
     "REGION_NOT_CONVEX",
+    "REGION_TOO_SMALL",
     "REVERSED_LIMITS",
     "REVERSED_RANGE",
     "RPY_ON_TABLE",

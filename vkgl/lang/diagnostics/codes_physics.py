@@ -150,3 +150,13 @@ KEEP_OUT_AT_START = _code(
         "region, or name the bodies it is meant for (`keep block out of R`)."
     ),
 )
+REGION_TOO_SMALL = _code(
+    "E453",
+    "a region goal the body cannot fit in",
+    (
+        "`goal B in R` asks for B's whole footprint (the shadow of its shape on the table) inside region R, "
+        "passing its edges by at most the position tolerance. At no heading the goal allows (every 5 deg when "
+        "its yaw is free) does the footprint fit: no plan can reach the goal. The message gives the region's and "
+        "the footprint's extents; make the region larger, or allow other headings."
+    ),
+)
