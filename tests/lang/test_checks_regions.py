@@ -141,3 +141,18 @@ def test_the_overlap_depth_of_a_square_and_the_unit_box_is_exact(shift, turn) ->
     if depth < -1e-9:
         assert not inside
     assert depth <= 0.5 + 1e-9
+
+
+@pytest.mark.parametrize(
+    ("goal", "code"),
+    [
+        ("goal block in region (0.6) to (0.8, 0.1) m", "E204"),
+        ("goal block in region (-1e308, -1e308) to (1e308, 1e308) m", "E451"),
+        ("goal block in region (0.6, 0.2) to (0.8, 0.4) kg", "E201"),
+        ("goal block in region polygon (0.6, 0.2), (0.8, 0.3, 0.1), (0.7, 0.5) m", "E204"),
+        ("goal block at (0.6, 0) m\n    keep out region polygon (0.6, 0.2), (1e308, 0.3), (0.7, 1e308) m", "E451"),
+        ("goal block at (0.6, 0) m\n    keep out region (0.6, 0.2) to (0.8, 0.4)", "E202"),
+    ],
+)
+def test_malformed_regions_are_diagnostics_not_crashes(goal: str, code: str) -> None:
+    assert code in _codes(f"task t {{\n    scene s\n    {goal}\n}}\n")

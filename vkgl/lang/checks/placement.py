@@ -40,8 +40,8 @@ def _placed_scene(scene: ir.Scene, program: Program, ctx: CheckContext) -> ir.Sc
         for name in list(waiting):
             ref = bodies[name].placement.relative_to
             assert ref is not None
-            if ref.body in waiting:
-                continue  # its host is not placed yet
+            if ref.body in waiting and ref.body != name:
+                continue  # its host is not placed yet (a body placed in itself is reported below)
             waiting.remove(name)
             progress = True
             pose = _frame_pose(bodies[name], ref, bodies, scene, program, ctx)
@@ -49,16 +49,21 @@ def _placed_scene(scene: ir.Scene, program: Program, ctx: CheckContext) -> ir.Sc
             placed = _pose_node(pose if pose is not None else np.full((4, 4), math.nan), ref.span)
             placement = bodies[name].placement.model_copy(update={"pose": placed})
             bodies[name] = bodies[name].model_copy(update={"placement": placement})
-        if not progress:  # the rest are placed in one another
+        if not progress:  # the rest are placed in one another, or in a body that is
             for name in waiting:
                 ref = bodies[name].placement.relative_to
                 assert ref is not None
+                cycle = _cycle(name, bodies)
+                why = (
+                    f"it is placed in a cycle ({' in '.join(f'`{n}`' for n in cycle)})"
+                    if cycle
+                    else f"`{ref.body}` cannot be placed itself"
+                )
                 ctx.error(
                     codes.UNKNOWN_FRAME,
-                    f"`{name}` cannot be placed at `{ref.body}.{ref.frame}`: `{ref.body}` is itself placed in "
-                    f"`{name}`, directly or not",
+                    f"`{name}` cannot be placed at `{ref.body}.{ref.frame}`: {why}",
                     ref.span,
-                    "place one of them on the table or at a pose",
+                    "place one of them on the table or at a pose" if cycle else "",
                 )
                 nowhere = _pose_node(np.full((4, 4), math.nan), ref.span)  # the scene checks skip it
                 bodies[name] = bodies[name].model_copy(
@@ -66,6 +71,16 @@ def _placed_scene(scene: ir.Scene, program: Program, ctx: CheckContext) -> ir.Sc
                 )
             break
     return scene.model_copy(update={"bodies": [bodies[b.name] for b in scene.bodies]})
+
+
+def _cycle(name: str, bodies: dict[str, ir.SceneBody]) -> list[str]:
+    """The cycle of hosts that leads from `name` back to it (`a`, `b`, `a`), or [] when it leads elsewhere."""
+    path = [name]
+    ref = bodies[name].placement.relative_to
+    while ref is not None and ref.body in bodies and ref.body not in path:
+        path.append(ref.body)
+        ref = bodies[ref.body].placement.relative_to
+    return [*path, name] if ref is not None and ref.body == name else []
 
 
 def _frame_pose(

@@ -63,6 +63,8 @@ def check_region(region: Region, ctx: CheckContext) -> bool:
     problem = region_problem(region)
     if problem is None:
         return True
+    if problem == "reported":
+        return False
     what = f"region `{region.name}`" if region.name else "the region"
     if problem == "swapped":
         (x0, y0), (x1, y1) = (c.values[:2] for c in region.corners)
@@ -82,6 +84,7 @@ def check_region(region: Region, ctx: CheckContext) -> bool:
         "few": "a polygon needs at least three vertices",
         "flat": "it encloses no area (narrower than 1 mm)",
         "concave": "the polygon is not convex (its vertices turn both ways)",
+        "far": "a corner lies farther than 1 km from the origin",
     }[problem]
     ctx.error(
         codes.REGION_NOT_CONVEX,

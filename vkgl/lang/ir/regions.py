@@ -20,6 +20,9 @@ from vkgl.lang.ir.values import Node, Ref, Span, Vector
 MIN_SIDE = 1e-3
 """m: a region narrower than a millimetre along some side is degenerate."""
 
+FAR = 1000.0
+"""m: a region's corners lie within a kilometre of the origin (the scene checks' bound on positions)."""
+
 
 class Region(Node):
     """A region of the table's plane. `corners`: a box's two corners (lower-left, upper-right) or a polygon's
@@ -84,10 +87,15 @@ class KeepOut(Node):
 
 
 def region_problem(region: Region) -> str | None:
-    """What makes `region` no region (swapped corners, a polygon that is not convex), or None."""
-    corners = np.array([c.values[:2] for c in region.corners], dtype=float).reshape(-1, 2)
+    """What makes `region` no region, or None: "swapped" corners, "flat", "few" vertices, "concave", "far" (a
+    corner beyond `FAR`), or "reported" (a corner that is not two finite numbers: E204, E201, E208 say why)."""
+    if any(len(c.values) != 2 for c in region.corners):
+        return "reported"
+    corners = np.array([c.values for c in region.corners], dtype=float).reshape(-1, 2)
     if not np.all(np.isfinite(corners)):
-        return None  # E208 says why
+        return "reported"
+    if np.any(np.abs(corners) > FAR):
+        return "far"
     if region.kind == "box":
         if len(corners) != 2:
             return None

@@ -1,4 +1,4 @@
-"""The builder's rules for regions: `region NAME = ...` in a scene and `goal B in R` in a task.
+"""The builder's rules for regions: `region NAME = ...` in a scene, `goal B in R` and `keep [B] out [of] R` in a task.
 
 A region is a box, `(x0, y0) to (x1, y1) UNIT`, or a polygon, `polygon (x, y),
 (x, y), ... UNIT`; the unit after the last corner also applies to corners
@@ -79,4 +79,4 @@ class RegionBuilder(ValueReader):
         )
 
 
-__all__ = ["Item", "RegionBuilder"]
+__all__ = ["RegionBuilder"]
