@@ -278,3 +278,13 @@ def test_with_start_poses_keeps_a_jointed_body_on_its_anchor_and_starts_it_open(
     beyond = joint_pose(drawer.joint, scene_body_anchor(scene, placed["drawer"], drawer), 0.3002)
     past = moved.with_start_poses("open_drawer", {"drawer": beyond})
     assert next(b for b in past.scenes["kitchen"].bodies if b.name == "drawer").start_opening() == 0.3  # its stop
+
+
+def test_with_keep_out_adds_a_keep_out_region_and_refuses_what_is_no_region(program) -> None:  # type: ignore[no-untyped-def]
+    kept = program.with_keep_out("a_push", [(0.5, 0.06), (0.7, 0.3)], body="block")
+    (keep,) = kept.task().keep_out
+    assert keep.body.name == "block" and keep.region.kind == "box" and program.task().keep_out == []
+    with pytest.raises(InputError, match="has no body `blok`"):
+        program.with_keep_out("a_push", [(0.5, 0.06), (0.7, 0.3)], body="blok")
+    with pytest.raises(InputError, match="not a region"):
+        program.with_keep_out("a_push", [(0.7, 0.06), (0.5, 0.3)])

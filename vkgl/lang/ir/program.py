@@ -41,6 +41,7 @@ from vkgl.lang.ir.nodes import (
     Task,
     Vector,
 )
+from vkgl.lang.ir.regions import KeepOut, Region, region_problem
 
 # A body tilted less than this from level still counts as lying on the table (`with_start_poses`).
 LEVEL_TILT = math.radians(2.0)
@@ -208,6 +209,21 @@ class Program:
         goals.insert(min(index, len(goals)), goal)
         return dataclasses.replace(self, tasks={**self.tasks, task.name: task.model_copy(update={"goals": goals})})
 
+    def with_keep_out(
+        self, task: str | Task | None, region: Sequence[Sequence[float]], body: str | None = None
+    ) -> Program:
+        """A copy whose `task` also keeps every body (or only `body`) out of `region` (`keep out region ...`,
+        `keep B out of region ...`): two corners (x, y) in metres of a box, or the vertices of a convex polygon.
+
+        Raises InputError for an unknown task or body, or a region that is not one. (`vkgc check`'s E452, a
+        body that starts inside, is not checked here: the planner then finds no plan that moves that body.)
+        """
+        chosen = self._task_of(task)
+        ref = Ref(name=self._scene_body(self._scene_of(chosen), body).name) if body is not None else None
+        keep = KeepOut(body=ref, region=_region(region))
+        updated = chosen.model_copy(update={"keep_out": [*chosen.keep_out, keep]})
+        return dataclasses.replace(self, tasks={**self.tasks, chosen.name: updated})
+
     def with_start(
         self, scene_or_task: str | Task | Scene, body: str, *, at: Sequence[float], yaw: float = 0.0
     ) -> Program:
@@ -326,16 +342,7 @@ def _region_goal(
     within: tuple[float, float] | float | None,
 ) -> Goal:
     """`with_goal(..., region=corners)`: the region goal, its region checked as `vkgc check` checks one."""
-    from vkgl.lang.ir.regions import Region, region_problem
-
-    try:
-        vectors = [Vector(values=tuple(float(v) for v in c), unit="m") for c in corners]
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"a region's corners are (x, y) pairs of metres, got {corners!r}") from exc
-    region = Region(kind="box", corners=vectors) if len(vectors) == 2 else Region(kind="polygon", corners=vectors)
-    problem = region_problem(region)
-    if problem is not None:
-        raise InputError(f'the region {corners!r} is not a region ({problem}): see docs/language.md, "Regions"')
+    region = _region(corners)
     old = next((g for g in task.goals if g.body.name == body), None)
     tolerances = (old.tol_position, old.tol_yaw) if old is not None else (None, None)
     if within is not None:
@@ -346,3 +353,16 @@ def _region_goal(
         tolerances = (Quantity(value=float(within[0]), unit="m"), Quantity(value=float(within[1]), unit="rad"))
     heading = Quantity(value=float(yaw), unit="rad") if yaw is not None else None
     return Goal(body=Ref(name=body), region=region, yaw=heading, tol_position=tolerances[0], tol_yaw=tolerances[1])
+
+
+def _region(corners: Sequence[Sequence[float]]) -> Region:
+    """The region of `corners` in metres (two: a box; more: a polygon), or InputError saying why it is none."""
+    try:
+        vectors = [Vector(values=tuple(float(v) for v in c), unit="m") for c in corners]
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"a region's corners are (x, y) pairs of metres, got {corners!r}") from exc
+    region = Region(kind="box", corners=vectors) if len(vectors) == 2 else Region(kind="polygon", corners=vectors)
+    problem = region_problem(region)
+    if problem is not None:
+        raise InputError(f'the region {corners!r} is not a region ({problem}): see docs/language.md, "Regions"')
+    return region
