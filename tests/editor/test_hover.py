@@ -25,3 +25,27 @@ def test_a_scene_bodys_hover_says_where_its_joint_starts() -> None:
     door, block = scene.bodies
     assert _instance_hover(door, "s").endswith("its joint starting open `60deg`")
     assert "open" not in _instance_hover(block, "s")
+
+
+def test_hovers_and_completion_show_goals_regions_keep_outs_and_placements_as_written() -> None:
+    from vkgl.editor.completion import candidates
+    from vkgl.editor.hover import _instance_hover, symbol_hover
+    from vkgl.editor.symbols import Symbol
+
+    module = parse_module(
+        "scene s { cabinet : DrawerCabinet on table at (0.7, 0.25) m yaw 180deg  drawer : Drawer in cabinet "
+        "shelf_box : Block at cabinet.slot  region tray = (0.55, -0.16) to (0.75, 0.12) m }\n"
+        "task t { scene s  goal drawer moved by (0, 5) cm in cabinet turned by 10deg and shelf_box in tray yaw 0deg "
+        "keep out region (0.1, 0.2) to (0.3, 0.4) m  keep drawer out of tray }",
+        "s.vkg",
+    )
+    scene, task = module.decls
+    assert _instance_hover(scene.bodies[1], "s").endswith("`in cabinet`")
+    assert _instance_hover(scene.bodies[2], "s").endswith("`at cabinet.slot`")
+    assert "- region `tray = (0.55, -0.16) to (0.75, 0.12) m`" in symbol_hover(Symbol("scene", "s", scene, None))
+    shown = symbol_hover(Symbol("task", "t", task, None))
+    assert "- goal `drawer moved by (0, 5) cm in cabinet turned by 10deg`" in shown
+    assert "- goal `shelf_box in tray yaw 0deg`" in shown
+    assert "- `keep out region (0.1, 0.2) to (0.3, 0.4) m`" in shown and "- `keep drawer out of tray`" in shown
+    words = {c.label for c in candidates(None, "    goal ")}
+    assert {"moved", "turned", "by", "in", "region", "polygon", "keep", "out", "of"} <= words

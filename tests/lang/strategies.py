@@ -14,6 +14,7 @@ import string
 from hypothesis import strategies as st
 
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.regions import KeepOut, Region
 from vkgl.lang.ir.units import to_si
 
 PATH = "generated.vkg"
@@ -97,6 +98,15 @@ KEYWORDS = frozenset(
         "timeout",
         "range",
         "to",
+        "moved",
+        "turned",
+        "by",
+        "in",
+        "region",
+        "polygon",
+        "keep",
+        "out",
+        "of",
         "m",
         "cm",
         "mm",
@@ -323,9 +333,24 @@ def correspondence_blocks() -> st.SearchStrategy[ir.Correspondences]:
 def scenes() -> st.SearchStrategy[ir.Scene]:
     table = st.builds(ir.Table, size=vectors("length", 2), position=vectors("length", 3))
     robot = st.builds(ir.SceneRobot, name=names(), type=refs(), pose=poses())
+    origin = ir.Pose(position=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"))  # what the builder puts before checks
+    relative = st.one_of(
+        st.builds(
+            lambda b: ir.Placement(
+                on_table=False, pose=origin, relative_to=ir.FrameRef(body=b, frame="slot"), inside=True
+            ),
+            names(),
+        ),
+        st.builds(
+            lambda b, f: ir.Placement(on_table=False, pose=origin, relative_to=ir.FrameRef(body=b, frame=f)),
+            names(),
+            names(),
+        ),
+    )
     placement = st.one_of(
         st.builds(ir.Placement, on_table=st.just(True), pose=poses(n=2, rpy=False)),
         st.builds(ir.Placement, on_table=st.just(False), pose=poses()),
+        relative,
     )
     opening = st.none() | st.sampled_from(["length", "angle"]).flatmap(quantities)  # `open Q`: a joint's start
     body = st.builds(ir.SceneBody, name=names(), type=refs(), placement=placement, opening=opening)
@@ -335,6 +360,16 @@ def scenes() -> st.SearchStrategy[ir.Scene]:
         table=st.none() | table,
         robots=st.lists(robot, max_size=2),
         bodies=st.lists(body, max_size=3),
+        regions=st.lists(st.builds(lambda r, n: r.model_copy(update={"name": n}), regions(), names()), max_size=2),
+    )
+
+
+def regions() -> st.SearchStrategy[Region]:
+    """Boxes (two corners) and polygons (three to five vertices), each corner a 2-vector of lengths."""
+    corner = vectors("length", 2)
+    return st.one_of(
+        st.builds(lambda cs: Region(kind="box", corners=cs), st.lists(corner, min_size=2, max_size=2)),
+        st.builds(lambda cs: Region(kind="polygon", corners=cs), st.lists(corner, min_size=3, max_size=5)),
     )
 
 
@@ -361,13 +396,39 @@ def goals() -> st.SearchStrategy[ir.Goal]:
     joint_goal = st.sampled_from(["length", "angle"]).flatmap(
         lambda kind: st.builds(ir.Goal, body=refs(), opening=quantities(kind), tol_opening=st.none() | quantities(kind))
     )
-    return st.one_of(position_goal, yaw_goal, joint_goal)
+    moved_goal = st.builds(
+        ir.Goal,
+        body=refs(),
+        moved_by=st.one_of(vectors("length", 2), vectors("length", 3)),
+        moved_in=st.none() | refs(),
+        turned_by=st.none() | quantities("angle"),
+        tol_position=st.none() | quantities("length"),
+    )
+    turned_goal = st.builds(
+        ir.Goal, body=refs(), turned_by=quantities("angle"), tol_yaw=st.none() | quantities("angle")
+    )
+    region_goal = st.builds(
+        ir.Goal,
+        body=refs(),
+        region=regions(),
+        yaw=st.none() | quantities("angle"),
+        tol_position=st.none() | quantities("length"),
+    ) | st.builds(ir.Goal, body=refs(), region_ref=refs(), tol_position=st.none() | quantities("length"))
+    return st.one_of(position_goal, yaw_goal, joint_goal, moved_goal, turned_goal, region_goal)
 
 
 def tasks() -> st.SearchStrategy[ir.Task]:
     search = st.builds(ir.SearchSpec, max_depth=st.none() | counts(0, 20), timeout=st.none() | quantities("time"))
+    keep = st.builds(KeepOut, body=st.none() | refs(), region=regions()) | st.builds(
+        KeepOut, body=st.none() | refs(), region_ref=refs()
+    )
     return st.builds(
-        ir.Task, name=names(), scene=refs(), goals=st.lists(goals(), min_size=1, max_size=3), search=st.none() | search
+        ir.Task,
+        name=names(),
+        scene=refs(),
+        goals=st.lists(goals(), min_size=1, max_size=3),
+        search=st.none() | search,
+        keep_out=st.lists(keep, max_size=2),
     )
 
 

@@ -133,6 +133,21 @@ def test_with_goal_rejects_what_cannot_be_a_goal(program) -> None:  # type: igno
         program.with_goal("b_push", "block", at=(0.6, 0))
 
 
+def test_with_goal_gives_a_region_goal_and_refuses_what_is_no_region(program) -> None:  # type: ignore[no-untyped-def]
+    tray = program.with_goal("a_push", "block", region=[(0.55, -0.16), (0.75, 0.12)], yaw=0.0, within=(0.02, 0.1))
+    (goal,) = tray.task().goals
+    assert goal.region is not None and goal.region.kind == "box" and goal.position is None
+    assert goal.yaw.value == 0.0 and goal.tolerance() == (0.02, 0.1)
+    triangle = program.with_goal("a_push", "block", region=[(0.5, -0.2), (0.8, -0.2), (0.7, 0.2)])
+    assert triangle.task().goals[0].region.kind == "polygon"
+    with pytest.raises(InputError, match="not a region \\(swapped\\)"):
+        program.with_goal("a_push", "block", region=[(0.75, -0.16), (0.55, 0.12)])
+    with pytest.raises(InputError, match="not a region \\(concave\\)"):
+        program.with_goal("a_push", "block", region=[(0, 0), (1, 0), (0.5, 0.2), (1, 1), (0, 1)])
+    with pytest.raises(InputError, match="takes no position"):
+        program.with_goal("a_push", "block", region=[(0.55, -0.16), (0.75, 0.12)], at=(0.6, 0))
+
+
 # ---------------------------------------------------------------- start poses
 
 
@@ -266,3 +281,13 @@ def test_with_start_poses_keeps_a_jointed_body_on_its_anchor_and_starts_it_open(
     beyond = joint_pose(drawer.joint, scene_body_anchor(scene, placed["drawer"], drawer), 0.3002)
     past = moved.with_start_poses("open_drawer", {"drawer": beyond})
     assert next(b for b in past.scenes["kitchen"].bodies if b.name == "drawer").start_opening() == 0.3  # its stop
+
+
+def test_with_keep_out_adds_a_keep_out_region_and_refuses_what_is_no_region(program) -> None:  # type: ignore[no-untyped-def]
+    kept = program.with_keep_out("a_push", [(0.5, 0.06), (0.7, 0.3)], body="block")
+    (keep,) = kept.task().keep_out
+    assert keep.body.name == "block" and keep.region.kind == "box" and program.task().keep_out == []
+    with pytest.raises(InputError, match="has no body `blok`"):
+        program.with_keep_out("a_push", [(0.5, 0.06), (0.7, 0.3)], body="blok")
+    with pytest.raises(InputError, match="not a region"):
+        program.with_keep_out("a_push", [(0.7, 0.06), (0.5, 0.3)])

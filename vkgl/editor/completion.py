@@ -23,7 +23,7 @@ _AFTER_DOT = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\.([A-Za-z_][A-Za-z0-9_]*)?$")
 class Candidate:
     """One completion: the text, its kind and a detail.
 
-    Kinds: keyword, unit, body, robot, scene, instance, affordance, frame.
+    Kinds: keyword, unit, body, robot, scene, instance, affordance, frame, region.
     """
 
     label: str
@@ -59,6 +59,8 @@ def _declared(program: Program) -> list[Candidate]:
         if instance.name not in seen:
             seen.add(instance.name)
             found.append(Candidate(instance.name, "instance", f"{instance.type.name} in scene {scene}"))
+    for declared in program.scenes.values():  # for `goal B in R`, `keep out R`
+        found += [Candidate(r.name, "region", f"region of scene {declared.name}") for r in declared.regions]
     for body, affordances in sorted(program.affordances.items()):
         found += [Candidate(a.name, "affordance", f"affordance of {body}") for a in affordances]
     return found

@@ -1,8 +1,10 @@
 """Hover text (Markdown): what a symbol is, and a quantity's SI value.
 
 A body shows its shape, mass, friction, joint and frames; an affordance its
-action, motion and evidence; a scene body its type and placement; a quantity
-(`10 cm`, `90deg`, `(10, 20, 5) cm`) its value in SI units.
+action, motion and evidence; a scene body its type and placement (`in
+cabinet`, `at shelf.top` as written); a scene its bodies and regions; a task
+its goals as written (relative and region goals included) and its keep-out
+regions; a quantity (`10 cm`, `90deg`, `(10, 20, 5) cm`) its value in SI units.
 """
 
 from __future__ import annotations
@@ -16,9 +18,13 @@ from vkgl.lang.ir.units import DIMENSION, SI_UNIT, to_si
 from vkgl.lang.syntax.printer import (
     constraint_text,
     format_number,
+    goal_text,
     joint_text,
+    keep_out_text,
+    placement_text,
     pose_text,
     quantity_text,
+    region_text,
     vector_text,
 )
 
@@ -89,10 +95,12 @@ def symbol_hover(symbol: Symbol, declared: ir.Span | None = None) -> str:
     if isinstance(node, ir.Scene):
         members: list[ir.SceneBody | ir.SceneRobot] = [*node.robots, *node.bodies]
         inside = ", ".join(f"`{x.name} : {x.type.name}`" for x in members)
-        return f"**scene** `{node.name}`\n\n{inside}" + where
+        regions = "".join(f"\n- region `{r.name} = {region_text(r)}`" for r in node.regions)
+        return f"**scene** `{node.name}`\n\n{inside}{regions}" + where
     if isinstance(node, ir.Task):
-        goals = ", ".join(f"`{g.body.name}`" for g in node.goals)
-        return f"**task** `{node.name}`\n\nscene `{node.scene.name}`; goals on {goals}" + where
+        goals = "".join(f"\n- goal `{goal_text(g)}`" for g in node.goals)
+        goals += "".join(f"\n- `{keep_out_text(k)}`" for k in node.keep_out)
+        return f"**task** `{node.name}`\n\nscene `{node.scene.name}`{goals}" + where
     if symbol.kind == "module":
         return f"**module** `{symbol.name}`\n\n`{symbol.file}`"
     return f"`{symbol.name}`"
@@ -151,9 +159,8 @@ def shape_text(shape: ir.Shape) -> str:
 def _instance_hover(node: ir.SceneBody | ir.SceneRobot, scene: str) -> str:
     if isinstance(node, ir.SceneRobot):
         return f"**robot** `{node.name} : {node.type.name}` in scene `{scene}` at `{pose_text(node.pose)}`"
-    where = "on table at" if node.placement.on_table else "at"
     opened = f", its joint starting open `{quantity_text(node.opening)}`" if node.opening is not None else ""
     return (
         f"**scene body** `{node.name} : {node.type.name}` in scene `{scene}`, "
-        f"{where} `{pose_text(node.placement.pose)}`{opened}"
+        f"`{placement_text(node.placement)}`{opened}"
     )

@@ -60,6 +60,7 @@ _KINDS = {
     "instance": types.CompletionItemKind.Variable,
     "affordance": types.CompletionItemKind.Method,
     "frame": types.CompletionItemKind.Field,
+    "region": types.CompletionItemKind.Constant,
 }
 
 

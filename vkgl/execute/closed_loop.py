@@ -52,6 +52,7 @@ from vkgl.formats.execution_report import (
     StepReport,
 )
 from vkgl.formats.plan import PlanDocument, PlanStepRecord
+from vkgl.lang.ir.geometry import shape_vertices
 from vkgl.lang.ir.nodes import Goal, Task
 from vkgl.lang.ir.program import Program
 from vkgl.se3 import angle_difference, yaw_of
@@ -336,10 +337,17 @@ class _Loop:
         real = self.replay.poses()
         openings = self.replay.openings()
         return [
-            check_goal(goal, real[name], self.replay.joint_type(name), openings.get(name))
+            check_goal(goal, real[name], self.replay.joint_type(name), openings.get(name), self._points(goal))
             for goal in self.task.goals
             if (name := goal.body.name) in real
         ]
+
+    def _points(self, goal: Goal) -> np.ndarray | None:
+        """The body-frame points of a region goal's body (its shape's vertices); None for other goals."""
+        scene = self.program.scenes.get(self.task.scene.name)
+        placed = next((b for b in scene.bodies if b.name == goal.body.name), None) if scene is not None else None
+        body = self.program.bodies.get(placed.type.name) if placed is not None else None
+        return shape_vertices(body.shape) if goal.region is not None and body is not None else None
 
     def _miss_reason(self) -> str:
         return miss_reason(self.goal_results())

@@ -25,7 +25,10 @@ from vkgl.lang.checks.context import (
     where_declared,
 )
 from vkgl.lang.checks.joints import check_joint_goals
+from vkgl.lang.checks.placement import place_relative_bodies
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
+from vkgl.lang.checks.regions import check_regions
+from vkgl.lang.checks.relative import place_relative_goals
 from vkgl.lang.checks.scene import check_scenes
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
@@ -52,9 +55,12 @@ def check_program(
     for module in resolved.values():
         for decl in module.decls:
             _check_decl(decl, program, ctx)
+    place_relative_bodies(program, ctx)  # `in B`, `at B.F`: the world pose from B's start and its type's frame
     _check_tasks_can_move(program, ctx)
     check_joint_goals(program, ctx)  # joint goals: a body with a joint, the right kind of opening, its limits
     _check_tools_have_correspondences(program, ctx)
+    place_relative_goals(program, ctx)  # `moved by`, `turned by`: the pose goal from the body's start
+    check_regions(program, ctx)  # regions in order and convex (E450, E451); a goal's `in NAME` resolved
     check_scenes(program, ctx)  # scene geometry: overlaps, table edges, resting, goals (E420–E425)
     return program, ctx.diagnostics
 

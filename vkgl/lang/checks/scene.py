@@ -32,6 +32,7 @@ import numpy as np
 
 from vkgl.lang.checks.context import CheckContext
 from vkgl.lang.checks.joints import opening_problem
+from vkgl.lang.checks.overlap_fix import clearing_move
 from vkgl.lang.checks.solids import (
     Piece,
     bounds,
@@ -145,7 +146,7 @@ def _check_scene(
         for k in np.flatnonzero(overhangs > EDGE):
             if bodies[k].body.joint is None:
                 _report_off_table(bodies[k], float(overhangs[k]), table, ctx)
-    _check_overlaps(bodies, bases, ctx)
+    _check_overlaps(bodies, bases, ctx, table)
     _check_joint_clearance(bodies, ctx)
     if table is not None:
         for item in bodies:
@@ -236,7 +237,7 @@ def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckCon
     )
 
 
-def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext) -> None:
+def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext, table: Table | None = None) -> None:
     """E420: pairs of bodies, and bodies and robot bases, that interpenetrate by more than TOUCH.
 
     Only pairs whose bounds overlap by more than TOUCH are compared piece by piece (a sort-and-sweep
@@ -253,6 +254,7 @@ def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext) 
                 f"`{bodies[i].name}` and `{bodies[j].name}` overlap by {_cm(depth)} at the start: move one of them",
                 _where(bodies[j].scene_body),
                 f"bodies may touch, but not interpenetrate by more than {TOUCH * 1000:g} mm",
+                *_clearing_note(bodies[i], bodies[j], bodies, table),
             )
     for base in bases:
         low, high = bounds(base.pieces)
@@ -291,6 +293,39 @@ def _check_joint_clearance(bodies: list[Placed], ctx: CheckContext) -> None:
                     _where(item.scene_body),
                     f"leave at least {JOINT_GAP * 1000:g} mm between them where `{item.name}` hangs",
                 )
+
+
+def _clearing_note(first: Placed, second: Placed, bodies: list[Placed], table: Table | None) -> list[str]:
+    """E420's suggestion: where the body to move (one placed relative to the other, else the second) clears
+    every body it overlaps."""
+    mover, other = (first, second) if _placed_in(first, second) else (second, first)
+    others = [b.pieces for b in bodies if b is not mover and pieces_depth(mover.pieces, b.pieces) > TOUCH]
+    floor = table.top if table is not None else None
+    vertical = not mover.scene_body.placement.on_table  # a body on the table only slides on it
+    found = clearing_move(mover.pieces, others or [other.pieces], 0.0, floor, vertical=vertical)  # touching at most
+    if found is None:
+        return []
+    words, shift = found
+    x, y, z = mover.pose[:3, 3] + shift
+    note = f"`{mover.name}` clears it moved {words} by {_cm(float(np.linalg.norm(shift)))}, "
+    note += f"to ({_m(x)}, {_m(y)}, {_m(z)}) m"
+    ref = mover.scene_body.placement.relative_to
+    if ref is None:
+        return [note]
+    host = next((b for b in bodies if b.name == ref.body), None)
+    if host is None:
+        return [note]
+    local = host.pose[:3, :3].T @ shift  # the same move in the host's frame, where its type declares the frame
+    moved = ", ".join(_m(v * 100) for v in local)
+    return [
+        note,
+        f"it is placed at `{ref.body}.{ref.frame}`: move the frame `{ref.frame}` of `{host.body.name}` by ({moved}) cm",
+    ]
+
+
+def _placed_in(item: Placed, host: Placed) -> bool:
+    ref = item.scene_body.placement.relative_to
+    return ref is not None and ref.body == host.name
 
 
 def _close_pairs(lows: np.ndarray, highs: np.ndarray, chunk: int = 512) -> list[tuple[int, int]]:

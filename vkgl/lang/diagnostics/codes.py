@@ -194,8 +194,9 @@ GOAL_NOT_IN_SCENE = _code(
     "E306",
     "goal on a body not in the task's scene",
     (
-        "A goal names an object that is not in the task's scene. Goals name scene objects (`block`), not body"
-        " types (`Block`). The note suggests the closest object of the scene."
+        "A goal names an object that is not in the task's scene, or a relative goal's `moved by ... in F` names"
+        " a frame body `F` that is not. Goals name scene objects (`block`), not body types (`Block`). The note"
+        " suggests the closest object of the scene."
     ),
 )
 UNKNOWN_LINK = _code(
@@ -328,11 +329,15 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
     GOAL_IN_ROBOT_BASE,
     GOAL_OFF_TABLE,
     JOINT_BODY_TOUCHES,
+    KEEP_OUT_AT_START,
     NEGATIVE_JOINT_DYNAMICS,
     NEGATIVE_RANGE,
     NO_JOINT_TO_OPEN,
     OFF_TABLE,
     RANGE_WITHOUT_STATE,
+    REGION_CORNERS_SWAPPED,
+    REGION_NOT_CONVEX,
+    REGION_TOO_SMALL,
     REVERSED_RANGE,
     START_PAST_JOINT_LIMIT,
 )
@@ -371,6 +376,7 @@ __all__ = [
     "IMPORT_CYCLE",
     "JOINT_BODY_TOUCHES",
     "JOINT_GOAL_PAST_LIMIT",
+    "KEEP_OUT_AT_START",
     "MESH_TOO_LARGE",
     "MESH_UNREADABLE",
     "MISSING_MODULE",
@@ -393,6 +399,9 @@ __all__ = [
     "POSTERIOR_OUT_OF_RANGE",
     "PUSH_AND_GRASP_MIXED",
     "RANGE_WITHOUT_STATE",
+    "REGION_CORNERS_SWAPPED",
+    "REGION_NOT_CONVEX",
+    "REGION_TOO_SMALL",
     "REVERSED_LIMITS",
     "REVERSED_RANGE",
     "RPY_ON_TABLE",

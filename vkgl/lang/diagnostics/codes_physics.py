@@ -133,3 +133,43 @@ START_PAST_JOINT_LIMIT = _code(
         "real joint goes further."
     ),
 )
+
+# regions of the table's plane (checks_regions.py): region goals and keep-out regions, docs/language.md
+REGION_CORNERS_SWAPPED = _code(
+    "E450",
+    "a region's corners swapped",
+    (
+        "`region (x0, y0) to (x1, y1) UNIT` is the axis-aligned box from its lower-left corner to its upper-right "
+        "one: x0 <= x1 and y0 <= y1. The message says which coordinates are swapped and the note gives the "
+        "region as it was probably meant."
+    ),
+)
+REGION_NOT_CONVEX = _code(
+    "E451",
+    "a region that is not a convex polygon",
+    (
+        "A region is a box at least 1 mm wide along both axes, or a `polygon` of at least three vertices, in "
+        "order around it, that is convex and encloses some area. A concave outline can be split into convex "
+        "regions (several `keep out` statements, or the convex part a goal needs)."
+    ),
+)
+KEEP_OUT_AT_START = _code(
+    "E452",
+    "a keep-out region that a body starts in",
+    (
+        "`keep out R` keeps every body of the task's scene out of region R (`keep B out of R` only B): no body's "
+        "footprint may enter it while the plan moves it. A body whose footprint is already inside R by more "
+        "than 1 mm at the start could never satisfy that. The message says which body and how deep; move the "
+        "region, or name the bodies it is meant for (`keep block out of R`)."
+    ),
+)
+REGION_TOO_SMALL = _code(
+    "E453",
+    "a region goal the body cannot fit in",
+    (
+        "`goal B in R` asks for B's whole footprint (the shadow of its shape on the table) inside region R, "
+        "passing its edges by at most the position tolerance. At no heading the goal allows (every 5 deg when "
+        "its yaw is free) does the footprint fit: no plan can reach the goal. The message gives the region's and "
+        "the footprint's extents; make the region larger, or allow other headings."
+    ),
+)

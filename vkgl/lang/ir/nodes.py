@@ -10,126 +10,20 @@ Equality ignores source spans, so `parse(print(ir)) == ir` is meaningful.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
 
-from vkgl.lang.ir.rotations import Matrix3, rpy_matrix, yaw_matrix
-
-if TYPE_CHECKING:  # numpy and SciPy are imported where numbers are wanted: `vkgc check` needs no SciPy
-    import numpy as np
-    from scipy.spatial.transform import Rotation
-
-from vkgl.lang.ir.units import measured_repr
-
-
-class Span(BaseModel):
-    """A region of a source file. Lines and columns are 1-based; `end_col` is exclusive."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid", defer_build=True)
-
-    file: str
-    line: int
-    col: int
-    end_line: int
-    end_col: int
-
-    def __str__(self) -> str:
-        return f"{self.file}:{self.line}:{self.col}"
-
-
-class Node(BaseModel):
-    """Base of every IR node: frozen, no extra fields, a span that equality ignores."""
-
-    model_config = ConfigDict(frozen=True, extra="forbid", defer_build=True)
-
-    span: Span | None = Field(default=None, exclude=True, repr=False)
-
-    def __eq__(self, other: object) -> bool:
-        # Spans are where a node was written, not what it means.
-        if not isinstance(other, Node) or type(self) is not type(other):
-            return NotImplemented
-        return self.model_dump() == other.model_dump()
-
-    def __hash__(self) -> int:
-        return hash(repr(self.model_dump()))
-
-
-# ---------------------------------------------------------------- values
-
-
-class Quantity(Node):
-    """A scalar with a dimension. `value` is SI; `unit` is how it was written (e.g. "cm")."""
-
-    value: float
-    unit: str = ""
-    __repr__ = __str__ = measured_repr("value")  # not `Quantity(value=0.01, unit='cm')`: 0.01 is metres
-
-
-class Vector(Node):
-    """2 or 3 components in SI, one unit for all (`unit == ""` for dimensionless)."""
-
-    values: tuple[float, ...]
-    unit: str = ""
-    __repr__ = __str__ = measured_repr("values")
-
-    def array(self) -> np.ndarray:
-        """The components as a float numpy array."""
-        import numpy as np
-
-        return np.asarray(self.values, dtype=float)
-
-
-class Pose(Node):
-    """A position, optionally with a yaw or a roll-pitch-yaw orientation.
-
-    At most one of `yaw` and `rpy` is set; neither means identity rotation.
-    """
-
-    position: Vector
-    yaw: Quantity | None = None
-    rpy: Vector | None = None
-
-    def rotation(self) -> Rotation:
-        """The orientation as a scipy Rotation (extrinsic xyz = roll, pitch, yaw)."""
-        from scipy.spatial.transform import Rotation
-
-        if self.rpy is not None:
-            return Rotation.from_euler("xyz", self.rpy.values)
-        if self.yaw is not None:
-            return Rotation.from_euler("z", self.yaw.value)
-        return Rotation.identity()
-
-    def rotation_matrix(self) -> Matrix3:
-        """The orientation as a 3x3 matrix (rows): `rotation().as_matrix()` to the last bit, without SciPy."""
-        if self.rpy is not None:
-            roll, pitch, yaw = self.rpy.values
-            return rpy_matrix(roll, pitch, yaw)
-        return yaw_matrix(self.yaw.value if self.yaw is not None else 0.0)
-
-    def matrix(self) -> np.ndarray:
-        """The pose as a 4x4 homogeneous transform (position padded with z = 0 if 2-d)."""
-        import numpy as np
-
-        m = np.eye(4)
-        m[:3, :3] = self.rotation_matrix()
-        p = list(self.position.values) + [0.0] * (3 - len(self.position.values))
-        m[:3, 3] = p
-        return m
-
-
-class Ref(Node):
-    """A reference to a declared name (resolved by the checker)."""
-
-    name: str
-
-
-class FrameRef(Node):
-    """`Body.frame` (used in correspondences)."""
-
-    body: str
-    frame: str
-
+# The values (spans, the base node, quantities, vectors, poses, references) live in `values`; re-exported here.
+from vkgl.lang.ir.regions import KeepOut as KeepOut
+from vkgl.lang.ir.regions import Region as Region
+from vkgl.lang.ir.values import FrameRef as FrameRef
+from vkgl.lang.ir.values import Node as Node
+from vkgl.lang.ir.values import Pose as Pose
+from vkgl.lang.ir.values import Quantity as Quantity
+from vkgl.lang.ir.values import Ref as Ref
+from vkgl.lang.ir.values import Span as Span
+from vkgl.lang.ir.values import Vector as Vector
 
 # ---------------------------------------------------------------- shapes
 
@@ -206,9 +100,9 @@ class Joint(Node):
 class ContactSpec(Node):
     """`contacts on faces +x, -x steps K`, or `contacts at FRAME, FRAME` (then `faces` is empty)."""
 
-    faces: list[str] = []
+    faces: list[str] = Field(default_factory=list)
     steps: int = 1
-    frames: list[Ref] = []  # `contacts at`: push at each frame's origin, along its x axis
+    frames: list[Ref] = Field(default_factory=list)  # `contacts at`: push at each frame's origin, along its x axis
 
 
 class ForceSpec(Node):
@@ -237,9 +131,9 @@ class Body(Node):
     shape: Shape
     mass: Quantity
     friction: float | None = None
-    frames: list[Frame] = []
+    frames: list[Frame] = Field(default_factory=list)
     joint: Joint | None = None
-    explores: list[Explore] = []
+    explores: list[Explore] = Field(default_factory=list)
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
     friction_span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -266,7 +160,7 @@ class Robot(Node):
     name: str
     urdf: str
     urdf_resolved: str | None = None
-    effectors: list[Effector] = []
+    effectors: list[Effector] = Field(default_factory=list)
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
     urdf_span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -381,11 +275,19 @@ class Table(Node):
     position: Vector
 
 
+SLOT_FRAME = "slot"
+"""The frame of a body's type that `B2 : T in B` places B2 at."""
+
+
 class Placement(Node):
-    """Where a scene body starts: `on table at (x, y) UNIT [yaw Q]` or `at POSE`."""
+    """Where a scene body starts: `on table at (x, y) UNIT [yaw Q]`, `at POSE`, or relative to another scene
+    body: `in B` (at the frame `slot` of B's type) or `at B.F` (`relative_to`, `inside` for the `in` form).
+    For the relative forms the checker (vkgl/lang/checks/placement.py) fills `pose` with the world pose."""
 
     on_table: bool
     pose: Pose
+    relative_to: FrameRef | None = None
+    inside: bool = False
 
 
 class SceneRobot(Node):
@@ -422,8 +324,9 @@ class Scene(Node):
     kind: Literal["scene"] = "scene"
     name: str
     table: Table | None = None
-    robots: list[SceneRobot] = []
-    bodies: list[SceneBody] = []
+    robots: list[SceneRobot] = Field(default_factory=list)
+    bodies: list[SceneBody] = Field(default_factory=list)
+    regions: list[Region] = Field(default_factory=list)  # `region NAME = ...`: named regions of the table's plane
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
 
 
@@ -443,6 +346,19 @@ class Goal(Node):
     `opening` (a joint goal) is the coordinate of the body's physical joint, 0
     where the body starts: a length for a prismatic joint, an angle for a
     revolute one; `opening_tolerance()` gives its tolerance in SI.
+
+    A relative goal (`B moved by V [in F] [turned by Q]`, `B turned by Q`) keeps
+    what was written in `moved_by` (a 2- or 3-vector), `moved_in` (the body
+    whose frame at the start `moved_by` is in; None: the world) and
+    `turned_by`; the checker (vkgl/lang/checks/relative.py) fills `position`
+    and `yaw` with where that puts the body, from its start in the task's
+    scene, so that every back end sees an ordinary pose goal, and a re-solve
+    from an observed scene keeps the target of the original start.
+
+    A region goal (`B in region ... [yaw Q]`, `B in R` for a region `R` of
+    the scene) sets `region`: the body's footprint must lie inside it, passing
+    its edges by at most the position tolerance; `region_ref` keeps the name
+    written (the checker copies the scene's region into `region`).
     """
 
     body: Ref
@@ -452,6 +368,16 @@ class Goal(Node):
     tol_yaw: Quantity | None = None
     opening: Quantity | None = None
     tol_opening: Quantity | None = None
+    moved_by: Vector | None = None
+    moved_in: Ref | None = None
+    turned_by: Quantity | None = None
+    region: Region | None = None
+    region_ref: Ref | None = None
+
+    @property
+    def relative(self) -> bool:
+        """Whether the goal is written relative to the body's start (`moved by`, `turned by`)."""
+        return self.moved_by is not None or self.turned_by is not None
 
     def opening_tolerance(self) -> float:
         """The joint goal's tolerance in SI: as given, else 1 cm for a length and 3 deg for an angle."""
@@ -487,6 +413,7 @@ class Task(Node):
     scene: Ref
     goals: list[Goal]
     search: SearchSpec | None = None
+    keep_out: list[KeepOut] = Field(default_factory=list)  # `keep out R`, `keep B out of R`
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
 
 
@@ -509,5 +436,5 @@ class Module(Node):
 
     path: str
     doc: str | None = None
-    uses: list[Use] = []
-    decls: list[Decl] = []
+    uses: list[Use] = Field(default_factory=list)
+    decls: list[Decl] = Field(default_factory=list)

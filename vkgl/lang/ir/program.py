@@ -43,6 +43,7 @@ from vkgl.lang.ir.nodes import (
     UnionShape,
     Vector,
 )
+from vkgl.lang.ir.regions import KeepOut, Region, region_problem
 
 if TYPE_CHECKING:  # imported where the numbers are wanted, so that `vkgc check` loads neither
     import numpy as np
@@ -145,6 +146,7 @@ class Program:
         yaw: float | None = None,
         within: tuple[float, float] | float | None = None,
         open: float | None = None,  # the goal's keyword, as in `goal B open Q` (shadows the builtin here only)
+        region: Sequence[Sequence[float]] | None = None,
     ) -> Program:
         """A copy whose `task` has the goal on `body` replaced (or added, if it had none).
 
@@ -158,10 +160,17 @@ class Program:
         replaced, else 1 cm or 3 deg).
         Raises InputError for an unknown task or body, a goal that says nothing,
         a joint goal with a position or heading too, or on a body without a joint.
+        `region`: a region goal instead of a position (`goal B in region ...`), two corners (x, y) in metres
+        for a box (lower-left, upper-right) or three or more vertices of a convex polygon; `yaw` may be given
+        with it. Raises InputError for a region that is not one (docs/language.md, "Regions").
         """
         chosen = self._task_of(task)
         scene = self._scene_of(chosen)
         placed = self._scene_body(scene, body)
+        if region is not None:
+            if at is not None or open is not None:
+                raise InputError(f"a region goal on `{body}` takes no position (`at`) or opening (`open`)")
+            return self._with_goal_on(chosen, _region_goal(chosen, body, region, yaw, within))
         if open is not None:
             if at is not None or yaw is not None:
                 raise InputError(
@@ -226,6 +235,21 @@ class Program:
         index = task.goals.index(old[0]) if old else len(task.goals)
         goals.insert(min(index, len(goals)), goal)
         return dataclasses.replace(self, tasks={**self.tasks, task.name: task.model_copy(update={"goals": goals})})
+
+    def with_keep_out(
+        self, task: str | Task | None, region: Sequence[Sequence[float]], body: str | None = None
+    ) -> Program:
+        """A copy whose `task` also keeps every body (or only `body`) out of `region` (`keep out region ...`,
+        `keep B out of region ...`): two corners (x, y) in metres of a box, or the vertices of a convex polygon.
+
+        Raises InputError for an unknown task or body, or a region that is not one. (`vkgc check`'s E452, a
+        body that starts inside, is not checked here: the planner then finds no plan that moves that body.)
+        """
+        chosen = self._task_of(task)
+        ref = Ref(name=self._scene_body(self._scene_of(chosen), body).name) if body is not None else None
+        keep = KeepOut(body=ref, region=_region(region))
+        updated = chosen.model_copy(update={"keep_out": [*chosen.keep_out, keep]})
+        return dataclasses.replace(self, tasks={**self.tasks, chosen.name: updated})
 
     def with_start(
         self, scene_or_task: str | Task | Scene, body: str, *, at: Sequence[float], yaw: float = 0.0
@@ -351,3 +375,37 @@ def _meshes(shape: Shape) -> list[MeshShape]:
     if isinstance(shape, UnionShape):
         return [mesh for part in shape.parts for mesh in _meshes(part.shape)]
     return []
+
+
+def _region_goal(
+    task: Task,
+    body: str,
+    corners: Sequence[Sequence[float]],
+    yaw: float | None,
+    within: tuple[float, float] | float | None,
+) -> Goal:
+    """`with_goal(..., region=corners)`: the region goal, its region checked as `vkgc check` checks one."""
+    region = _region(corners)
+    old = next((g for g in task.goals if g.body.name == body), None)
+    tolerances = (old.tol_position, old.tol_yaw) if old is not None else (None, None)
+    if within is not None:
+        if not isinstance(within, Sequence) or len(within) != 2 or not all(math.isfinite(t) and t > 0 for t in within):
+            raise InputError(
+                f"the tolerances of a region goal are two positive numbers (metres, radians), got {within!r}"
+            )
+        tolerances = (Quantity(value=float(within[0]), unit="m"), Quantity(value=float(within[1]), unit="rad"))
+    heading = Quantity(value=float(yaw), unit="rad") if yaw is not None else None
+    return Goal(body=Ref(name=body), region=region, yaw=heading, tol_position=tolerances[0], tol_yaw=tolerances[1])
+
+
+def _region(corners: Sequence[Sequence[float]]) -> Region:
+    """The region of `corners` in metres (two: a box; more: a polygon), or InputError saying why it is none."""
+    try:
+        vectors = [Vector(values=tuple(float(v) for v in c), unit="m") for c in corners]
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"a region's corners are (x, y) pairs of metres, got {corners!r}") from exc
+    region = Region(kind="box", corners=vectors) if len(vectors) == 2 else Region(kind="polygon", corners=vectors)
+    problem = region_problem(region)
+    if problem is not None:
+        raise InputError(f'the region {corners!r} is not a region ({problem}): see docs/language.md, "Regions"')
+    return region

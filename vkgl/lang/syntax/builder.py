@@ -14,6 +14,8 @@ from lark import Token, Tree
 
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.ir.nodes import SLOT_FRAME
+from vkgl.lang.ir.regions import Region
 from vkgl.lang.ir.units import SI_UNIT, dimension_of
 from vkgl.lang.syntax.builder_tasks import TaskBuilder
 from vkgl.lang.syntax.values import INVALID, Item, RawPose, RawQ, RawVec, new_node
@@ -408,6 +410,7 @@ class Builder(TaskBuilder):
             table=tables[0] if tables else None,
             robots=[i for i in items if isinstance(i, ir.SceneRobot)],
             bodies=[i for i in items if isinstance(i, ir.SceneBody)],
+            regions=[i for i in items if isinstance(i, Region)],
             span=self.span(meta),
             name_span=self.tspan(name),
         )
@@ -447,6 +450,33 @@ class Builder(TaskBuilder):
             type=new_node(ir.Ref, name=str(kind), span=self.tspan(kind)),
             placement=new_node(ir.Placement, on_table=False, pose=self.to_pose(raw), span=raw.span),
             opening=children[2] if len(children) > 3 else None,
+            span=self.span(meta),
+        )
+
+    def scene_in(self, meta: Any, children: list[Any]) -> ir.SceneBody:
+        """`NAME : TYPE [open Q] in B`: at the frame `slot` of B's type."""
+        host = children[-1]
+        ref = new_node(ir.FrameRef, body=str(host), frame=SLOT_FRAME, span=self.tspan(host))
+        return self._relative(meta, children[:-1], ref, inside=True)
+
+    def scene_at_frame(self, meta: Any, children: list[Any]) -> ir.SceneBody:
+        """`NAME : TYPE [open Q] at B.F`: at frame F of B's type."""
+        host, frame = children[-2], children[-1]
+        first, last = self.tspan(host), self.tspan(frame)
+        span = first.model_copy(update={"end_line": last.end_line, "end_col": last.end_col})
+        ref = new_node(ir.FrameRef, body=str(host), frame=str(frame), span=span)
+        return self._relative(meta, children[:-2], ref, inside=False)
+
+    def _relative(self, meta: Any, head: list[Any], ref: ir.FrameRef, *, inside: bool) -> ir.SceneBody:
+        """A scene body placed relative to another (`head`: its name, type and `open Q` if any)."""
+        origin = ir.Pose(position=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"))  # the checker puts the world pose
+        placement = new_node(ir.Placement, on_table=False, pose=origin, relative_to=ref, inside=inside, span=ref.span)
+        return new_node(
+            ir.SceneBody,
+            name=str(head[0]),
+            type=new_node(ir.Ref, name=str(head[1]), span=self.tspan(head[1])),
+            placement=placement,
+            opening=head[2] if len(head) > 2 else None,
             span=self.span(meta),
         )
 

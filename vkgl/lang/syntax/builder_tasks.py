@@ -1,4 +1,4 @@
-"""The builder's rules for tasks: scene, goals (pose, heading and joint goals) and the search block.
+"""The builder's rules for tasks: scene, goals (pose, heading, joint and relative goals) and the search block.
 
 `TaskBuilder` holds the methods of the task rules of grammar/vkg.lark; the
 `Builder` (vkgl/lang/syntax/builder.py) derives from it. A joint goal's opening is a
@@ -16,19 +16,20 @@ from lark import Token
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.units import ARTICLE_NAME, dimension_of
-from vkgl.lang.syntax.values import INVALID, Item, RawQ, ValueReader, new_node
+from vkgl.lang.syntax.builder_regions import RegionBuilder
+from vkgl.lang.syntax.values import INVALID, Item, RawQ, new_node
 
 OPENING_UNITS = "a length (`cm`) for a prismatic joint, an angle (`deg`) for a revolute one"
 
 
-class TaskBuilder(ValueReader):
+class TaskBuilder(RegionBuilder):
     """The IR of `task` blocks; one method per grammar rule, as in `Builder`."""
 
     def task(self, meta: Any, children: list[Any]) -> ir.Task:
         name, items = children[0], children[1:]
         owner = f"task `{name}`"
         fields = self.single(
-            [i for i in items if i.key != "goal"], owner, {"scene": "scene tabletop"}, self.tspan(name)
+            [i for i in items if i.key not in ("goal", "keep")], owner, {"scene": "scene tabletop"}, self.tspan(name)
         )
         goals = [g for i in items if i.key == "goal" for g in i.value]
         if not goals:
@@ -43,6 +44,7 @@ class TaskBuilder(ValueReader):
             scene=fields.get("scene", new_node(ir.Ref, name="")),
             goals=goals,
             search=fields.get("search"),
+            keep_out=[i.value for i in items if i.key == "keep"],
             span=self.span(meta),
             name_span=self.tspan(name),
         )
@@ -83,6 +85,47 @@ class TaskBuilder(ValueReader):
             ir.Goal,
             body=new_node(ir.Ref, name=str(body), span=self.tspan(body)),
             yaw=self.to_quantity(yaw, "angle"),
+            tol_yaw=self.to_quantity(tolerances[0], "angle") if tolerances else None,
+            span=self.span(meta),
+        )
+
+    def goal_moved(self, meta: Any, children: list[Any]) -> ir.Goal:
+        """`B moved by V [in F] [turned by Q] [within L[, A]]`: a displacement from the body's start."""
+        body, vector = children[0], children[1]
+        parts = {c.key: c.value for c in children[2:] if isinstance(c, Item)}
+        tolerances: list[RawQ] = next((c for c in children[2:] if isinstance(c, list)), [])
+        turned = parts.get("turned")
+        return new_node(
+            ir.Goal,
+            body=new_node(ir.Ref, name=str(body), span=self.tspan(body)),
+            moved_by=self.to_vector(vector, "length", (2, 3), "a displacement"),
+            moved_in=parts.get("in"),
+            turned_by=self.to_quantity(turned, "angle") if turned is not None else None,
+            tol_position=self.to_quantity(tolerances[0], "length") if tolerances else None,
+            tol_yaw=self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None,
+            span=self.span(meta),
+        )
+
+    def moved_in(self, meta: Any, children: list[Token]) -> Item:
+        return Item("in", new_node(ir.Ref, name=str(children[0]), span=self.tspan(children[0])), self.span(meta))
+
+    def turned_by(self, meta: Any, children: list[RawQ]) -> Item:
+        return Item("turned", children[0], self.span(meta))
+
+    def goal_turned(self, meta: Any, children: list[Any]) -> ir.Goal:
+        """`B turned by Q [within A]`: a turn about z from the body's start heading."""
+        body, turned = children[0], children[1]
+        tolerances: list[RawQ] = children[2] if len(children) > 2 else []
+        if len(tolerances) > 1:
+            self.error(
+                codes.WRONG_COMPONENT_COUNT,
+                "a turn goal takes one tolerance, an angle: `within 3 deg`",
+                tolerances[1].span,
+            )
+        return new_node(
+            ir.Goal,
+            body=new_node(ir.Ref, name=str(body), span=self.tspan(body)),
+            turned_by=self.to_quantity(turned.value, "angle"),
             tol_yaw=self.to_quantity(tolerances[0], "angle") if tolerances else None,
             span=self.span(meta),
         )

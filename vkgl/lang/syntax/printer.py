@@ -29,22 +29,22 @@ from vkgl.lang.ir.nodes import (
     Explore,
     FixedC,
     FreeC,
-    Goal,
     Joint,
     MeshShape,
     Module,
     MotionRange,
+    Placement,
     PrismaticC,
     RevoluteC,
     Robot,
     Scene,
-    SearchSpec,
     Shape,
     Span,
     Task,
     UnionShape,
     Use,
 )
+from vkgl.lang.syntax.printer_tasks import goal_text, keep_out_text, region_text, search_text
 from vkgl.lang.syntax.quantities import (
     format_number,
     format_scaled,
@@ -223,9 +223,10 @@ class _Layout:
         for r in s.robots:
             self.add(k, f"robot {r.name} : {r.type.name} at {pose_text(r.pose)}", _line_of(r.span))
         for b in s.bodies:
-            where = "on table at" if b.placement.on_table else "at"
             opening = f" open {quantity_text(b.opening)}" if b.opening is not None else ""
-            self.add(k, f"{b.name} : {b.type.name}{opening} {where} {pose_text(b.placement.pose)}", _line_of(b.span))
+            self.add(k, f"{b.name} : {b.type.name}{opening} {placement_text(b.placement)}", _line_of(b.span))
+        for region in s.regions:
+            self.add(k, f"region {region.name} = {region_text(region)}", _line_of(region.span))
 
     def task_items(self, k: int, t: Task) -> None:
         self.add(k, "scene " + t.scene.name, _line_of(t.scene.span))
@@ -234,8 +235,18 @@ class _Layout:
                 self.add(k, "goal " + goal_text(g), _line_of(g.span))
             else:
                 self.add(k + 1, "and " + goal_text(g), _line_of(g.span))
+        for keep in t.keep_out:
+            self.add(k, keep_out_text(keep), _line_of(keep.span))
         if t.search is not None:
             self.add(k, search_text(t.search), _line_of(t.search.span))
+
+
+def placement_text(p: Placement) -> str:
+    """`on table at (x, y) m [yaw Q]`, `at POSE`, `in B` or `at B.F`, as written."""
+    if p.relative_to is not None:
+        ref = p.relative_to
+        return f"in {ref.body}" if p.inside else f"at {ref.body}.{ref.frame}"
+    return ("on table at " if p.on_table else "at ") + pose_text(p.pose)
 
 
 def _use_target(u: Use) -> str:
@@ -287,32 +298,6 @@ def joint_text(j: Joint) -> str:
     if j.friction is not None:
         text += " friction " + quantity_text(j.friction)
     return text
-
-
-def goal_text(g: Goal) -> str:
-    """`B at (x, y) m [yaw Q] [within L[, A]]`, `B yaw Q [within A]` or `B open Q [within Q]`."""
-    text = g.body.name
-    if g.opening is not None:
-        text += " open " + quantity_text(g.opening)
-        return text + (" within " + quantity_text(g.tol_opening) if g.tol_opening is not None else "")
-    if g.position is not None:
-        text += " at " + vector_text(g.position)
-    if g.yaw is not None:
-        text += " yaw " + quantity_text(g.yaw)
-    tolerances = [quantity_text(q) for q in (g.tol_position, g.tol_yaw) if q is not None]
-    if tolerances:
-        text += " within " + ", ".join(tolerances)
-    return text
-
-
-def search_text(s: SearchSpec) -> str:
-    """`search { max_depth 6  timeout 30 s }` on one line, as docs/language.md writes it."""
-    items = []
-    if s.max_depth is not None:
-        items.append(f"max_depth {s.max_depth}")
-    if s.timeout is not None:
-        items.append("timeout " + quantity_text(s.timeout))
-    return "search { " + "  ".join(items) + " }" if items else "search { }"
 
 
 def layout(module: Module) -> list[Line]:

@@ -6,6 +6,8 @@ for the arm once joint space found its configurations (`arm`):
 - every moved body swept along its motion against every body the mode keeps
   still (`vkgl.plan.geometry.sweep`: no 5 mm overlap slips between samples), a tool
   pushing or pulling a body moving with it, its whole shape checked;
+- no body a keep-out region of the task applies to entering it along its motion
+  (`vkgl.plan.geometry.keep_out`);
 - every mode's start and end poses free of overlap (a tool and the body it
   acts on may touch; a released tool must land clear of the others);
 - the arm's links at the configurations inverse kinematics returned, and a
@@ -24,6 +26,7 @@ import numpy as np
 
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.collision import CollisionScene, Contact, pair
+from vkgl.plan.geometry.keep_out import keep_out_rejection
 from vkgl.plan.geometry.sweep import sweep_mode
 from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
@@ -82,6 +85,9 @@ class GeometryCheck:
             found = sweep_mode(self.scene, self.problem, trace, allowed)
             if found:
                 return _rejection(found, f"in mode {k}, {_moving(self.problem, graph, trace)}")
+            kept_out = keep_out_rejection(self.problem, trace, f"in mode {k}, {_moving(self.problem, graph, trace)}")
+            if kept_out is not None:
+                return kept_out
             for when, poses in (("start", trace.start), ("end", trace.end)):
                 self.queries += 1
                 found = self.scene.overlap(poses, ignore=allowed)

@@ -135,6 +135,19 @@ def sweep_mode(
         tool = problem.effector(e.effector).tool
         if tool is not None:
             skip.add(pair(tool, e.body))
+    for frame, constraint, value, movers in moving_groups(problem, trace):
+        found = sweep(scene, frame, constraint, value, movers, still, skip, step=step)
+        if found:
+            return found
+    return []
+
+
+def moving_groups(
+    problem: Problem, trace: ModeTrace
+) -> Iterable[tuple[np.ndarray, PrismaticC | RevoluteC, float, dict[str, np.ndarray]]]:
+    """Each motion of a mode: the moved body's start pose (the motion's frame), its motion, value, and the start
+    poses of everything that moves rigidly with it (the body, a tool pushing it, a tool held against it)."""
+    moving = {n for n in trace.start if not _close(trace.start[n], trace.end[n], 1e-9)}
     for e, value in trace.values.items():
         if value == 0.0 or e.body not in moving:
             continue
@@ -145,10 +158,7 @@ def sweep_mode(
         carried = frame @ motion_matrices(constraint, np.array([value]))[0] @ np.linalg.inv(frame)
         movers = {n: trace.start[n] for n in moving if _close(trace.end[n], carried @ trace.start[n], 1e-6)}
         movers[e.body] = frame
-        found = sweep(scene, frame, constraint, value, movers, still, skip, step=step)
-        if found:
-            return found
-    return []
+        yield frame, constraint, value, movers
 
 
 def _close(a: np.ndarray, b: np.ndarray, atol: float) -> bool:

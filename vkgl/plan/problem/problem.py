@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.geometry import (
@@ -24,6 +25,7 @@ from vkgl.lang.ir.geometry import (
     scene_body_anchor,
     scene_body_pose,
     scene_table,
+    shape_vertices,
     table_top,
 )
 from vkgl.lang.ir.nodes import (
@@ -37,6 +39,7 @@ from vkgl.lang.ir.nodes import (
     Task,
 )
 from vkgl.lang.ir.program import Program
+from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.robot import Arm
@@ -120,6 +123,10 @@ class GoalSpec:
 
     A joint goal sets `opening` instead (the coordinate of the body's physical
     joint, m or rad, `PlanBody.joint_state`) with its tolerance `tol_opening`.
+    A region goal sets `region`, its half-planes (rows `nx, ny, d`, inside when
+    `n . p <= d`), and `footprint`, the body-frame points (n x 3) of the body's
+    convex hull: it holds when no point of the footprint passes an edge by
+    more than `tol_position`; `region_words` names the region for messages.
     """
 
     body: str
@@ -129,6 +136,28 @@ class GoalSpec:
     tol_yaw: float
     opening: float | None = None
     tol_opening: float = 0.0
+    region: np.ndarray | None = None
+    footprint: np.ndarray | None = None
+    region_words: str = ""
+
+    def region_excess(self, pose: np.ndarray) -> np.ndarray:
+        """Per edge of the goal's region, how far the body's footprint at `pose` passes it (m; <= 0 inside)."""
+        assert self.region is not None and self.footprint is not None, "not a region goal"
+        return excess(self.region, footprint(self.footprint, pose))
+
+
+@dataclass(frozen=True)
+class KeepOutSpec:
+    """A keep-out region of the task: `region` its vertices (k x 2, m, counterclockwise), `body` the one body it
+    keeps out (None: every body), `words` how messages name it (`region sink`, `region (0.6, 0.2) to ... m`)."""
+
+    region: np.ndarray
+    body: str | None
+    words: str
+
+    def applies_to(self, name: str) -> bool:
+        """Whether the region keeps out body `name`."""
+        return self.body is None or self.body == name
 
 
 @dataclass(frozen=True)
@@ -152,6 +181,9 @@ class Problem:
     avoid: Avoid | None = None  # what a re-solve must not repeat (`vkgl.plan.problem.avoid`); None: nothing
     arm_start: np.ndarray | None = None
     """The arm's joints before the first step (None: its home configuration)."""
+    keep_out: tuple[KeepOutSpec, ...] = ()
+    """The task's keep-out regions: no body they apply to may enter one, along any motion."""
+    _footprints: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
     _actions: dict[tuple[str, str], np.ndarray] = field(default_factory=dict, repr=False)
@@ -160,6 +192,12 @@ class Problem:
     def robot_effector(self) -> EffectorSpec:
         """The robot's own effector (always the first)."""
         return self.effectors[0]
+
+    def footprint_points(self, body: str) -> np.ndarray:
+        """The body-frame points (n x 3) of `body`'s convex hull: its footprint on the table at any pose."""
+        if body not in self._footprints:
+            self._footprints[body] = _hull_points(self.bodies[body].type)
+        return self._footprints[body]
 
     def affordance(self, body: str, name: str) -> Affordance:
         """The affordance `name` of scene body `body`."""
@@ -240,6 +278,7 @@ def build_problem(
         limit,
         avoid or None,
         start,
+        tuple(_keep_out_spec(task, keep, bodies) for keep in task.keep_out),
     )
 
 
@@ -329,6 +368,12 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     position = goal.position.array() if goal.position is not None else None
     yaw = goal.yaw.value if goal.yaw is not None else None
     tol_p, tol_y = goal.tolerance()
+    if goal.region is not None:
+        hull = _hull_points(bodies[name].type)
+        words = goal.region.words()
+        return GoalSpec(name, None, yaw, float(tol_p), float(tol_y), None, 0.0, goal.region.halfplanes(), hull, words)
+    if goal.relative and position is None and yaw is None:  # what `vkgc check` fills in, for goals made without it
+        raise InputError(f"{_where(goal)}task {task.name}: the relative goal on `{name}` was not placed by the checker")
     if goal.opening is None:
         return GoalSpec(name, position, yaw, float(tol_p), float(tol_y))
     body = bodies[name]
@@ -341,6 +386,17 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
     if not tolerance > 0:  # what `vkgc check` reports (E411)
         raise InputError(f"{_where(goal)}task {task.name}: the joint goal on `{name}` needs a positive tolerance")
     return GoalSpec(name, position, yaw, float(tol_p), float(tol_y), goal.opening.value, tolerance)
+
+
+def _hull_points(body: Body) -> np.ndarray:
+    points = shape_vertices(body.shape)
+    return points[ConvexHull(points).vertices] if len(points) > 4 else points
+
+
+def _keep_out_spec(task: Task, keep: KeepOut, bodies: dict[str, PlanBody]) -> KeepOutSpec:
+    if keep.region is None or (keep.body is not None and keep.body.name not in bodies):  # what `vkgc check` reports
+        raise InputError(f"{_where(keep)}task {task.name}: a keep-out region that `vkgc check` has not resolved")
+    return KeepOutSpec(keep.region.points(), keep.body.name if keep.body is not None else None, keep.region.words())
 
 
 def collision_scene(problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0) -> CollisionScene:

@@ -192,6 +192,9 @@ def _draw_scene(
         ax.add_patch(Circle(base, r_min, fill=False, linestyle=":", color="0.45"))
         ax.plot(*base, marker="s", color="0.3")
         for goal in problem.goals:
+            if goal.region is not None:  # the region itself: where the body's footprint must end
+                ax.add_patch(Polygon(_region_outline(goal.region), fill=False, edgecolor="red", linestyle="--"))
+                continue
             pose = _goal_pose(problem, goal)
             if pose is not None and goal.body in outlines:
                 for part in outlines[goal.body]:
@@ -264,6 +267,12 @@ def _goal_pose(problem: Any, goal: Any) -> np.ndarray | None:
         zero = body.rest if body.joint_zero is None else body.joint_zero
         return joint_pose(body.type.joint, zero, goal.opening)
     return None
+
+
+def _region_outline(halfplanes: np.ndarray) -> np.ndarray:
+    """The vertices of a convex region given by its half-planes (rows nx, ny, d), in order: consecutive edges meet."""
+    following = np.roll(halfplanes, -1, axis=0)
+    return np.array([np.linalg.solve(np.array([a[:2], b[:2]]), [a[2], b[2]]) for a, b in zip(halfplanes, following)])
 
 
 def _placed(outline: np.ndarray, pose: np.ndarray) -> np.ndarray:

@@ -125,7 +125,26 @@ class Plan:
                     f"final: {name} at ({pose[0, 3]:.3f}, {pose[1, 3]:.3f}, {pose[2, 3]:.3f}) m "
                     f"yaw {math.degrees(yaw_of(pose)):.1f} deg"
                 )
+        lines += self.region_lines()
         return "\n".join(lines)
+
+    def region_lines(self) -> list[str]:
+        """Where each region goal's body ends in its region: `block ends in region tray at (0.600, 0.000) m, its
+        footprint 0.0 cm inside the region's nearest edge` (from `final`; nothing for other goals)."""
+        if self.problem is None or self.status != "solved":
+            return []
+        out = []
+        for goal in self.problem.goals:
+            pose = self.final.get(goal.body)
+            if goal.region is None or pose is None:
+                continue
+            inside = -float(goal.region_excess(pose).max())
+            where = "inside" if inside >= -1e-6 else "outside (within the tolerance)"
+            out.append(
+                f"{goal.body} ends in {goal.region_words} at ({pose[0, 3]:.3f}, {pose[1, 3]:.3f}) m, its footprint "
+                f"{abs(inside) * 100:.1f} cm {where} the region's nearest edge"
+            )
+        return out
 
 
 def _count(n: int, noun: str) -> str:

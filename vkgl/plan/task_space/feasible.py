@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vkgl.lang.ir.regions import footprint, overlap_depth
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -130,7 +131,8 @@ class _Evaluator:
 
 
 def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray:
-    """Each goal's position error (per component), yaw error and joint coordinate error, divided by its tolerance."""
+    """Each goal's position error (per component), yaw error and joint coordinate error, divided by its tolerance;
+    for a region goal, how far the footprint passes each edge of the region (0 inside: an inequality)."""
     out: list[float] = []
     for goal in problem.goals:
         pose = final[goal.body]
@@ -140,6 +142,8 @@ def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray
             out.append(wrap_angle(yaw_of(pose) - goal.yaw) / goal.tol_yaw)
         if goal.opening is not None:
             out.append((problem.bodies[goal.body].joint_state(pose) - goal.opening) / goal.tol_opening)
+        if goal.region is not None:  # an inequality: only the part of the footprint outside an edge counts
+            out.extend(np.maximum(goal.region_excess(pose), 0.0) / goal.tol_position)
     return np.asarray(out, dtype=float)
 
 
@@ -159,6 +163,8 @@ def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalS
             and abs(problem.bodies[goal.body].joint_state(pose) - goal.opening) > goal.tol_opening
         ):
             return False
+        if goal.region is not None and float(goal.region_excess(pose).max()) > goal.tol_position:
+            return False
     return True
 
 
@@ -169,7 +175,17 @@ def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
     for trace in traces:
         for name in {e.body for e in trace.values}:
             out.extend(_stay_constraints(problem, name, trace.end[name]))
+            out.extend(_keep_out_depths(problem, name, trace.end[name]))
     return np.asarray(out if out else [-1.0], dtype=float)
+
+
+def _keep_out_depths(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
+    """How deep a moved body ends in each keep-out region that applies to it (m; <= 0 outside): the optimiser
+    keeps the ends of motions out (the geometry check then samples the whole way, `plan.geometry.keep_out`)."""
+    if not problem.keep_out:
+        return []
+    points = footprint(problem.footprint_points(name), pose)
+    return [overlap_depth(k.region, points) for k in problem.keep_out if k.applies_to(name)]
 
 
 def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
@@ -253,11 +269,48 @@ def task_space(
         violation = float(c.max())
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
+            x = _near_edge(problem, seq, evaluator, x)
             return TaskSolution(x, rollout(problem, seq, x, JOINT_SAMPLES), free=not pinned)
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)
     return _why_not(problem, seq, best[1] if best is not None else guess)
+
+
+REGION_TRIM_STEPS = 20
+"""Bisection steps that shorten the motions of a body with a region goal to where it just lies inside."""
+
+
+def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.ndarray) -> np.ndarray:
+    """`x` with the motions of the bodies that have region goals scaled down to the least fraction that still
+    puts each footprint inside its region (no tolerance used) with every constraint and goal holding.
+
+    The optimiser stops anywhere inside a region (its residual is 0 there);
+    the shortest motion ends at the region's near edge, and the goal's
+    tolerance is then left to the execution.
+    """
+    bodies = {goal.body for goal in problem.goals if goal.region is not None}
+    scaled = np.array([e.body in bodies for _, e in seq.variables], dtype=bool)
+    if not scaled.any():
+        return x
+
+    def inside(fraction: float) -> bool:
+        trial = np.where(scaled, x * fraction, x)
+        if float(evaluator.evaluate(trial)[1].max()) > 1e-6:
+            return False
+        final = rollout(problem, seq, trial, 2)[-1].end
+        regions_hold = all(
+            float(g.region_excess(final[g.body]).max()) <= 1e-6 for g in problem.goals if g.region is not None
+        )
+        return regions_hold and goal_holds(problem, final)
+
+    if not inside(1.0):
+        return x  # inside only within the tolerance: keep what the optimiser found
+    low, high = 0.0, 1.0
+    for _ in range(REGION_TRIM_STEPS):
+        middle = (low + high) / 2
+        low, high = (low, middle) if inside(middle) else (middle, high)
+    return np.where(scaled, x * high, x)
 
 
 def task_space_alternatives(
@@ -346,6 +399,14 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
             excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
             if excess > -1e-4:
                 return Rejection(Kind.TABLE, limit_words(problem, name, trace.end[name]), max(excess, 0.0))
+    for trace in traces:  # a keep-out region the optimiser could not get out of
+        for name in sorted({e.body for e in trace.values}):
+            points = footprint(problem.footprint_points(name), trace.end[name])
+            for region in (k for k in problem.keep_out if k.applies_to(name)):
+                depth = overlap_depth(region.region, points)
+                if depth > 1e-4:
+                    why = f"{name} would end {depth * 100:.1f} cm inside the keep-out {region.words}"
+                    return Rejection(Kind.COLLISION, why, depth)
     why = "the optimiser found no motion values that reach the goal"
     return Rejection(Kind.GOAL, why + _at_range_ends(problem, seq, x))
 
