@@ -1,4 +1,4 @@
-"""Bodies placed relative to another (vkgl/lang/checks/placement.py): `in B` and `at B.F`.
+"""Bodies placed relative to another (vkgl/lang/checks/geometry/placement.py): `in B` and `at B.F`.
 
 The checker puts the body at the frame of its host's type where the host
 starts; a missing frame is E303, an unknown host E301, a cycle E303; E420's
@@ -97,7 +97,7 @@ def test_e420_says_how_to_move_the_frame_of_a_relative_placement() -> None:
     (overlap,) = error.value.diagnostics
     assert overlap.code == "E420"
     assert "`drawer` clears it moved up by 0.5 cm, to (0.7, 0.25, 0.068) m" in overlap.notes
-    assert "it is placed at `cabinet.slot`: move the frame `slot` of `DrawerCabinet` by (0, 0, 0.5) cm" in overlap.notes
+    assert "it is placed at `cabinet.slot`: move the frame `slot` of `DrawerCabinet` by (0, 0, 0.45) cm" in overlap.notes
 
 
 def test_relative_placements_print_as_written() -> None:

@@ -1,4 +1,4 @@
-"""Regions (vkgl/lang/ir/regions.py, vkgl/lang/checks/regions.py): boxes and convex polygons, region goals.
+"""Regions (vkgl/lang/ir/regions.py, vkgl/lang/checks/geometry/regions.py): boxes and convex polygons, region goals.
 
 A point is inside a region exactly when it is inside every half-plane; the
 checker resolves a goal's `in NAME` to the scene's region, and reports swapped

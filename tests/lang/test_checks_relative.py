@@ -1,4 +1,4 @@
-"""Relative goals (vkgl/lang/checks/relative.py): `moved by` and `turned by` become the pose goal they stand for.
+"""Relative goals (lang/checks/geometry/relative.py): `moved by` and `turned by` become the pose goal they stand for.
 
 The displacement is added in the world frame, or turned by the start rotation
 of the body named after `in`; a turn is added to the start heading; the printer

@@ -1,4 +1,4 @@
-"""Scene geometry at `vkgc check` (vkgl/lang/checks/scene.py): impossible starts and goals are errors.
+"""Scene geometry at `vkgc check` (vkgl/lang/checks/geometry/scene.py): impossible starts and goals are errors.
 
 Each finding of the issue is reproduced with its own input: a goal inside the
 robot's base, a block floating at z = 0.5 m, two overlapping blocks, a block on

@@ -24,12 +24,12 @@ from vkgl.lang.checks.context import (
     unknown_frame,
     where_declared,
 )
+from vkgl.lang.checks.geometry.placement import place_relative_bodies
+from vkgl.lang.checks.geometry.regions import check_regions
+from vkgl.lang.checks.geometry.relative import place_relative_goals
+from vkgl.lang.checks.geometry.scene import check_scenes
 from vkgl.lang.checks.joints import check_joint_goals
-from vkgl.lang.checks.placement import place_relative_bodies
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
-from vkgl.lang.checks.regions import check_regions
-from vkgl.lang.checks.relative import place_relative_goals
-from vkgl.lang.checks.scene import check_scenes
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir

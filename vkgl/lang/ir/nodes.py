@@ -282,7 +282,7 @@ SLOT_FRAME = "slot"
 class Placement(Node):
     """Where a scene body starts: `on table at (x, y) UNIT [yaw Q]`, `at POSE`, or relative to another scene
     body: `in B` (at the frame `slot` of B's type) or `at B.F` (`relative_to`, `inside` for the `in` form).
-    For the relative forms the checker (vkgl/lang/checks/placement.py) fills `pose` with the world pose."""
+    For the relative forms the checker (vkgl/lang/checks/geometry/placement.py) fills `pose` with the world pose."""
 
     on_table: bool
     pose: Pose
@@ -350,7 +350,7 @@ class Goal(Node):
     A relative goal (`B moved by V [in F] [turned by Q]`, `B turned by Q`) keeps
     what was written in `moved_by` (a 2- or 3-vector), `moved_in` (the body
     whose frame at the start `moved_by` is in; None: the world) and
-    `turned_by`; the checker (vkgl/lang/checks/relative.py) fills `position`
+    `turned_by`; the checker (vkgl/lang/checks/geometry/relative.py) fills `position`
     and `yaw` with where that puts the body, from its start in the task's
     scene, so that every back end sees an ordinary pose goal, and a re-solve
     from an observed scene keeps the target of the original start.

@@ -4,7 +4,7 @@ A region is a box, `(x0, y0) to (x1, y1) UNIT`, or a polygon, `polygon (x, y),
 (x, y), ... UNIT`; the unit after the last corner also applies to corners
 written without one (as a motion's `range 0 to 24 cm`). Whether the corners
 make a region (not swapped, a convex polygon) is the checker's question
-(vkgl/lang/checks/regions.py).
+(vkgl/lang/checks/geometry/regions.py).
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vkgl.lang.checks.solids import Piece, pieces_depth
+from vkgl.lang.checks.geometry.solids import Piece, pieces_depth
 
 AXES = (
     ("up", (0, 0, 1)),

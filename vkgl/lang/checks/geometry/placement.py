@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
 from vkgl.lang.diagnostics import codes
@@ -141,6 +140,8 @@ def _pose_node(pose: np.ndarray, span: ir.Span | None) -> ir.Pose:
         return ir.Pose(
             position=position, yaw=ir.Quantity(value=math.atan2(rotation[1, 0], rotation[0, 0]), unit="rad"), span=span
         )
+    from scipy.spatial.transform import Rotation  # only for hosts tilted off level: `vkgc check` stays light
+
     rpy = Rotation.from_matrix(rotation).as_euler("xyz")
     return ir.Pose(position=position, rpy=ir.Vector(values=tuple(float(v) for v in rpy), unit="rad"), span=span)
 

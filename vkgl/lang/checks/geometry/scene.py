@@ -1,7 +1,7 @@
 """Checks of scene geometry: where bodies start and where goals put them (E420–E425).
 
 A scene must be physically possible at the start and a goal reachable in
-principle, with every body's real shape (vkgl/lang/checks/solids.py):
+principle, with every body's real shape (vkgl/lang/checks/geometry/solids.py):
 
 - E420 no two bodies (or a body and a robot's base) interpenetrate by more than
   `TOUCH` (touching is fine);
@@ -26,14 +26,16 @@ invalid shape or a value that is not a finite number.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from vkgl.lang.checks.context import CheckContext
-from vkgl.lang.checks.joints import opening_problem
-from vkgl.lang.checks.overlap_fix import clearing_move
-from vkgl.lang.checks.solids import (
+from vkgl.lang.checks.geometry.overlaps import check_joint_clearance, check_overlaps
+from vkgl.lang.checks.geometry.placed import Base, Placed, Table
+from vkgl.lang.checks.geometry.placed import cm as _cm
+from vkgl.lang.checks.geometry.placed import m as _m
+from vkgl.lang.checks.geometry.placed import where as _where
+from vkgl.lang.checks.geometry.solids import (
     Piece,
     bounds,
     footprint_overlap,
@@ -43,59 +45,21 @@ from vkgl.lang.checks.solids import (
     shape_pieces,
     yawed,
 )
+from vkgl.lang.checks.joints import opening_problem
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.geometry import JOINT_LIFT, joint_pose, lifted
+from vkgl.lang.ir.geometry import joint_pose, lifted
 from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.rotations import yaw_matrix
 
-TOUCH = 0.001
-"""m: bodies may interpenetrate this much at the start (contact, rounding of written positions)."""
 EDGE = 0.001
 """m: a body may pass the table's edge this much."""
 REST = 0.001
 """m: a body `at` a pose rests when its lowest point is this close to the table top or a body's top."""
-JOINT_GAP = 0.0005
-"""m: a body on a joint stays this clear of other bodies where it hangs (in DART a drawer touching its
-cabinet's top dragged the cabinet 20 cm; 1 mm under it, the cabinet stayed put)."""
 FAR = 1000.0
 """m: a body farther than this from the table's centre is off the table, whatever its shape."""
 FREE_YAWS = 72
 """Headings tried (every 5 deg) for a goal that leaves the yaw free."""
-
-
-@dataclass(frozen=True)
-class Table:
-    """The table's rectangle (x and y from `low` to `high`) and the height of its top."""
-
-    low: np.ndarray
-    high: np.ndarray
-    top: float
-
-
-@dataclass(frozen=True)
-class Placed:
-    """A scene body where it starts: its world pose, convex pieces and axis-aligned bounds."""
-
-    scene_body: ir.SceneBody
-    body: ir.Body
-    pose: np.ndarray
-    pieces: list[Piece]
-    low: np.ndarray
-    high: np.ndarray
-
-    @property
-    def name(self) -> str:
-        """The scene body's name."""
-        return self.scene_body.name
-
-
-@dataclass(frozen=True)
-class Base:
-    """A robot's base in a scene."""
-
-    name: str
-    pieces: list[Piece]
 
 
 def check_scenes(program: Program, ctx: CheckContext) -> None:
@@ -146,8 +110,8 @@ def _check_scene(
         for k in np.flatnonzero(overhangs > EDGE):
             if bodies[k].body.joint is None:
                 _report_off_table(bodies[k], float(overhangs[k]), table, ctx)
-    _check_overlaps(bodies, bases, ctx, table)
-    _check_joint_clearance(bodies, ctx)
+    check_overlaps(bodies, bases, ctx, table)
+    check_joint_clearance(bodies, ctx)
     if table is not None:
         for item in bodies:
             if item.body.joint is None and not item.scene_body.placement.on_table:
@@ -235,115 +199,6 @@ def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckCon
         _where(item.scene_body),
         "move it onto the table" if not inside else "move it inward, or turn it along the edge",
     )
-
-
-def _check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext, table: Table | None = None) -> None:
-    """E420: pairs of bodies, and bodies and robot bases, that interpenetrate by more than TOUCH.
-
-    Only pairs whose bounds overlap by more than TOUCH are compared piece by piece (a sort-and-sweep
-    along x finds them), so a scene of thousands of bodies stays fast.
-    """
-    if not bodies:
-        return
-    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
-    for i, j in _close_pairs(lows, highs):
-        depth = pieces_depth(bodies[i].pieces, bodies[j].pieces)
-        if depth > TOUCH:
-            ctx.error(
-                codes.BODIES_OVERLAP,
-                f"`{bodies[i].name}` and `{bodies[j].name}` overlap by {_cm(depth)} at the start: move one of them",
-                _where(bodies[j].scene_body),
-                f"bodies may touch, but not interpenetrate by more than {TOUCH * 1000:g} mm",
-                *_clearing_note(bodies[i], bodies[j], bodies, table),
-            )
-    for base in bases:
-        low, high = bounds(base.pieces)
-        near = np.all(np.minimum(highs, high) - np.maximum(lows, low) > TOUCH, axis=1)
-        for k in np.flatnonzero(near):
-            depth = pieces_depth(bodies[k].pieces, base.pieces)
-            if depth > TOUCH:
-                ctx.error(
-                    codes.BODIES_OVERLAP,
-                    f"`{bodies[k].name}` overlaps the base of robot `{base.name}` by {_cm(depth)} at the start: "
-                    f"move it",
-                    _where(bodies[k].scene_body),
-                )
-
-
-def _check_joint_clearance(bodies: list[Placed], ctx: CheckContext) -> None:
-    """E426: a body on a joint less than JOINT_GAP from another body where it hangs (not already E420)."""
-    jointed = [k for k, b in enumerate(bodies) if b.body.joint is not None]
-    if not jointed:
-        return
-    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
-    for k in jointed:
-        item = bodies[k]
-        near = np.all(np.minimum(highs, item.high) - np.maximum(lows, item.low) > -JOINT_GAP, axis=1)
-        for j in np.flatnonzero(near):
-            if j == k or (j in jointed and j < k):  # each pair of jointed bodies once
-                continue
-            depth = pieces_depth(item.pieces, bodies[j].pieces)
-            if -JOINT_GAP < depth <= TOUCH:
-                gap = max(0.0, -depth)
-                ctx.error(
-                    codes.JOINT_BODY_TOUCHES,
-                    f"`{item.name}` hangs on its joint {JOINT_LIFT * 1000:g} mm above where it is placed, as in "
-                    f"simulation, and is {gap * 1000:.1f} mm from `{bodies[j].name}`: moving on its joint it "
-                    f"would rub on `{bodies[j].name}` and drag it",
-                    _where(item.scene_body),
-                    f"leave at least {JOINT_GAP * 1000:g} mm between them where `{item.name}` hangs",
-                )
-
-
-def _clearing_note(first: Placed, second: Placed, bodies: list[Placed], table: Table | None) -> list[str]:
-    """E420's suggestion: where the body to move (one placed relative to the other, else the second) clears
-    every body it overlaps."""
-    mover, other = (first, second) if _placed_in(first, second) else (second, first)
-    others = [b.pieces for b in bodies if b is not mover and pieces_depth(mover.pieces, b.pieces) > TOUCH]
-    floor = table.top if table is not None else None
-    vertical = not mover.scene_body.placement.on_table  # a body on the table only slides on it
-    found = clearing_move(mover.pieces, others or [other.pieces], 0.0, floor, vertical=vertical)  # touching at most
-    if found is None:
-        return []
-    words, shift = found
-    x, y, z = mover.pose[:3, 3] + shift
-    note = f"`{mover.name}` clears it moved {words} by {_cm(float(np.linalg.norm(shift)))}, "
-    note += f"to ({_m(x)}, {_m(y)}, {_m(z)}) m"
-    ref = mover.scene_body.placement.relative_to
-    if ref is None:
-        return [note]
-    host = next((b for b in bodies if b.name == ref.body), None)
-    if host is None:
-        return [note]
-    local = host.pose[:3, :3].T @ shift  # the same move in the host's frame, where its type declares the frame
-    moved = ", ".join(_m(v * 100) for v in local)
-    return [
-        note,
-        f"it is placed at `{ref.body}.{ref.frame}`: move the frame `{ref.frame}` of `{host.body.name}` by ({moved}) cm",
-    ]
-
-
-def _placed_in(item: Placed, host: Placed) -> bool:
-    ref = item.scene_body.placement.relative_to
-    return ref is not None and ref.body == host.name
-
-
-def _close_pairs(lows: np.ndarray, highs: np.ndarray, chunk: int = 512) -> list[tuple[int, int]]:
-    """The pairs (i < j) of boxes that overlap by more than TOUCH along every axis, in order."""
-    order = np.argsort(lows[:, 0], kind="stable")
-    ends = np.searchsorted(lows[order, 0], highs[order, 0] - TOUCH, side="left")
-    pairs: list[tuple[int, int]] = []
-    for first in range(0, len(order), chunk):
-        ks = np.arange(first, min(first + chunk, len(order)))
-        counts = np.maximum(ends[ks] - ks - 1, 0)
-        if not counts.any():
-            continue
-        left = np.repeat(ks, counts)
-        right = left + 1 + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-        i, j = order[left], order[right]
-        close = np.all(np.minimum(highs[i], highs[j]) - np.maximum(lows[i], lows[j]) > TOUCH, axis=1)
-        pairs += zip(np.minimum(i, j)[close].tolist(), np.maximum(i, j)[close].tolist())
-    return sorted(pairs)
 
 
 def _check_rests(item: Placed, bodies: list[Placed], table: Table, ctx: CheckContext) -> None:
@@ -501,24 +356,8 @@ def _free_yaw_note(goal: ir.Goal) -> str:
 # ---------------------------------------------------------------- messages
 
 
-def _cm(metres: float) -> str:
-    return f"{metres * 100:.1f} cm"
-
-
-def _m(metres: float) -> str:
-    """A coordinate in metres to the millimetre, without trailing zeros: `1.35`, `-0.3`, `2`."""
-    if abs(metres) >= 1e6:
-        return f"{metres:.4g}"
-    text = f"{metres:.3f}".rstrip("0").rstrip(".")
-    return "0" if text in ("", "-0") else text
-
-
 def _span_xy(low: np.ndarray, high: np.ndarray) -> str:
     return f"x from {_m(low[0])} to {_m(high[0])} m and y from {_m(low[1])} to {_m(high[1])} m"
-
-
-def _where(scene_body: ir.SceneBody) -> ir.Span | None:
-    return scene_body.span or scene_body.placement.span
 
 
 def _position_span(scene_body: ir.SceneBody) -> ir.Span | None:

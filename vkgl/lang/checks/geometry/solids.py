@@ -1,4 +1,4 @@
-"""Bodies as convex solids in the world, for the scene checks (vkgl/lang/checks/scene.py).
+"""Bodies as convex solids in the world, for the scene checks (vkgl/lang/checks/geometry/scene.py).
 
 A body's shape becomes a list of convex pieces: a box is one piece, exact; a
 cylinder is a 64-sided prism (inscribed: within 0.12 % of its radius); a union

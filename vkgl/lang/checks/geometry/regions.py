@@ -16,11 +16,10 @@ import math
 from typing import Any
 
 import numpy as np
-from scipy.optimize import linprog
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
-from vkgl.lang.checks.relative import start_pose
-from vkgl.lang.checks.scene import TOUCH
+from vkgl.lang.checks.geometry.placed import TOUCH
+from vkgl.lang.checks.geometry.relative import start_pose
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.geometry import shape_vertices
@@ -135,6 +134,8 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
 
 def _translation_fits(planes: np.ndarray, reach: np.ndarray, tolerance: float) -> bool:
     """Whether some origin `t` has `n . t + reach <= d + tolerance` for every edge (a 2-variable LP)."""
+    from scipy.optimize import linprog  # only for regions whose fit is in question: `vkgc check` stays light
+
     found = linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=planes[:, 2] + tolerance - reach, bounds=[(None, None)] * 2)
     return bool(found.status == 0)
 
