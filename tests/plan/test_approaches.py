@@ -65,7 +65,7 @@ def test_the_search_works_for_any_push(yaw, pitch):
     assert len(ways) == MAX_SEARCHED
     assert all(np.isfinite(w.direction).all() and np.linalg.norm(w.direction) == pytest.approx(1.0) for w in ways)
     # the bar's axis is horizontal and across the push
-    side = [w.direction for w in ways if w.name.startswith("from the side along the bar, from one end")][0]
+    side = next(w.direction for w in ways if w.name.startswith("from the side along the bar, from one end"))
     assert abs(side[2]) < 1e-9 and abs(side @ push) < 1e-9
 
 

@@ -17,16 +17,23 @@ the step has them (`vkgl.motion.arm_collision`), and timed at `CARTESIAN_SPEED`:
   a tall crate, the hand leaned outward at the edge of the arm's reach, has
   no room to back off 3 cm level, and coming straight down along the face
   would start the transit's goal within its clearance of it. A held tool
-  comes down `TOOL_DESCENT` to its stand-off first.
+  comes down `TOOL_DESCENT` to its stand-off first. When all three rules
+  fail, the ways of `vkgl.plan.arm.approaches.searched` are tried in turn (a
+  cone about the push, from the side along a handle's bar, higher and lower,
+  shorter and longer stand-offs), and a failure names what was tried.
 - **retreat**: straight back out of a contact by `STANDOFF`, against the way
-  it pushed (straight up when that way is blocked: a hook behind a handle's bar);
+  it pushed (straight up when that way is blocked: a hook behind a handle's
+  bar); out the way it came first when it came in from the side
+  (`vkgl.motion.moves.way_out`). Execution leaves a plan's last contact by
+  that rule, and `leave` checks it;
 - **lift**: straight up `LIFT` after a grasp or a release.
 
 The joint-space transit that brings the arm to an approach's first
 configuration is planned by `vkgl.plan.arm.paths`, after the search; that
 configuration is checked here, with the transit's clearance
 (`GeometryCheck.transit_space`): an approach the transit could not end in
-is rejected at once (kind "transit"), and the next way in is tried.
+is rejected at once (kind "transit"); when the first rule's is, the search's
+ways are tried.
 """
 
 from __future__ import annotations
@@ -108,7 +115,7 @@ class StraightMoves:
         hopeless = self.tool_overlap_at_contact(step, state)
         if hopeless is not None:
             why = f"{label}: at the contact itself {hopeless[0]}: no way into it can be clear"
-            return Rejection(Kind.APPROACH, why, 1.0)
+            return Rejection(Kind.APPROACH, why, hopeless[1])
         return self.search(step, state, label, push, first)
 
     def search(
@@ -128,7 +135,9 @@ class StraightMoves:
                 closest = (depth, f"{way.name}: {rejection.why.removeprefix(label + ': ')}")
         closest_words = closest[1] if closest is not None else first.why.removeprefix(label + ": ")
         why = f"{label}: no straight approach into the contact ({summary(tried)}; closest: {closest_words})"
-        return Rejection(first.kind, why, 1.0)
+        # how far it missed: the shallowest overlap of a blocked way (the search reports the closest miss)
+        miss = closest[0] if closest is not None and np.isfinite(closest[0]) else 1.0
+        return Rejection(first.kind, why, miss)
 
     def tool_overlap_at_contact(self, step: PlanStepRecord, state: ArmState) -> tuple[str, float] | None:
         """What a held tool overlaps, deeper than `CONTACT_SLACK`, at the contact itself (its tip touches the
@@ -331,4 +340,3 @@ __all__ = [
     "ArmState",
     "StraightMoves",
 ]
-
