@@ -32,8 +32,7 @@ The joint-space transit that brings the arm to an approach's first
 configuration is planned by `vkgl.plan.arm.paths`, after the search; that
 configuration is checked here, with the transit's clearance
 (`GeometryCheck.transit_space`): an approach the transit could not end in
-is rejected at once (kind "transit"); when the first rule's is, the search's
-ways are tried.
+is rejected at once (kind "transit"), and the next way in is tried.
 """
 
 from __future__ import annotations
@@ -47,7 +46,7 @@ from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, approach_poses, follow_poses
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT, WayOut, way_out
-from vkgl.plan.arm.approaches import DOWN, SLANT, rules, searched, summary
+from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -103,41 +102,33 @@ class StraightMoves:
         if step.motion == "free":  # a grasp
             return self.approach(step, state, label, DOWN, GRASP_STANDOFF)
         push = self.push_direction(step, step.poses_start)
-        first_way, *other_rules = rules(push)
-        first = self.approach(step, state, label, first_way.direction, first_way.standoff)
-        if not isinstance(first, Rejection) or first.kind not in (Kind.APPROACH, Kind.TRANSIT):
-            return first
-        if first.kind == Kind.APPROACH:  # the three rules, as they always were
-            for way in other_rules:
-                found = self.approach(step, state, label, way.direction, way.standoff)
-                if not isinstance(found, Rejection):
-                    return found
+        tried: list[Way] = []
+        closest: tuple[float, str] | None = None
+        kind = Kind.APPROACH  # the first rule's failure's: a stand-off the transit cannot end in, or no way in
+        for way in rules(push):
+            found = self._approach(step, state, label, way.direction, way.standoff)
+            if not isinstance(found, tuple):
+                return found
+            if not tried:
+                kind = found[0].kind
+                if kind not in (Kind.APPROACH, Kind.TRANSIT):
+                    return found[0]
+            tried.append(way)
+            closest = _closer(closest, way, found, label)
         hopeless = self.tool_overlap_at_contact(step, state)
         if hopeless is not None:
             why = f"{label}: at the contact itself {hopeless[0]}: no way into it can be clear"
             return Rejection(Kind.APPROACH, why, hopeless[1])
-        return self.search(step, state, label, push, first)
-
-    def search(
-        self, step: PlanStepRecord, state: ArmState, label: str, push: np.ndarray, first: Rejection
-    ) -> Approach | Rejection:
-        """The first of the searched ways into the contact that works, or why none does: which ways were
-        tried (with the three rules) and the closest miss (the shallowest overlap, else the first failure)."""
-        closest: tuple[float, str] | None = None
-        tried = rules(push)
         for way in searched(push):
-            tried.append(way)
             found = self._approach(step, state, label, way.direction, way.standoff)
             if not isinstance(found, tuple):
                 return found
-            rejection, depth = found
-            if closest is None or depth < closest[0]:
-                closest = (depth, f"{way.name}: {rejection.why.removeprefix(label + ': ')}")
-        closest_words = closest[1] if closest is not None else first.why.removeprefix(label + ": ")
-        why = f"{label}: no straight approach into the contact ({summary(tried)}; closest: {closest_words})"
+            tried.append(way)
+            closest = _closer(closest, way, found, label)
+        assert closest is not None  # the rules were tried
+        why = f"{label}: no straight approach into the contact ({summary(tried)}; closest: {closest[1]})"
         # how far it missed: the shallowest overlap of a blocked way (the search reports the closest miss)
-        miss = closest[0] if closest is not None and np.isfinite(closest[0]) else 1.0
-        return Rejection(first.kind, why, miss)
+        return Rejection(kind, why, closest[0] if np.isfinite(closest[0]) else 1.0)
 
     def tool_overlap_at_contact(self, step: PlanStepRecord, state: ArmState) -> tuple[str, float] | None:
         """What a held tool overlaps, deeper than `CONTACT_SLACK`, at the contact itself (its tip touches the
@@ -340,3 +331,13 @@ __all__ = [
     "ArmState",
     "StraightMoves",
 ]
+
+
+def _closer(
+    closest: tuple[float, str] | None, way: Way, found: tuple[Rejection, float], label: str
+) -> tuple[float, str]:
+    """The closer of two misses: the shallower overlap of a blocked way; among others the first."""
+    rejection, depth = found
+    if closest is not None and closest[0] <= depth:
+        return closest
+    return depth, f"{way.name}: {rejection.why.removeprefix(label + ': ')}"
