@@ -7,8 +7,10 @@ from the step's `op` and the affordance's motion:
   with the body's planned motion (planned poses_start -> poses_end), settle;
 - let go (remove of a push): the path is the retreat out of the contact
   (outside a plan, at its end or before a re-solve, `let_go` leaves the
-  contact the way the plan's approach came into it: straight back, or
-  straight up from a hook behind a handle's bar);
+  contact by the rule of the way the plan's approach came into it,
+  `vkgl.motion.moves.way_out`, as the planner checked: straight back,
+  straight up from a hook behind a handle's bar, or back out the way it
+  came from the side of a bar);
 - grasp (add, free motion, e.g. Stick.wield): the path comes down onto the
   tool's grasp frame; hold the tool;
 - release (remove of a grasp): lower the tool onto the table and let go (the
@@ -29,7 +31,7 @@ from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
 from vkgl.lang.ir.nodes import Affordance, Body, FixedC
-from vkgl.motion.moves import LIFT, STANDOFF
+from vkgl.motion.moves import LIFT, STANDOFF, WayOut, way_out
 
 PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
@@ -43,7 +45,8 @@ class StepKinds:
         self.moves = moves
         self.grasp_planned: np.ndarray | None = None  # effector frame in the held tool's frame, as planned
         self.push_direction: np.ndarray | None = None  # x axis of the pushing frame while in contact
-        self.from_above = False  # the contact was approached from above (a hook behind a bar): leave it upward
+        self.way_in: np.ndarray | None = None  # world: the last move of the step's planned approach
+        self.leaving: tuple[WayOut, np.ndarray | None] = ("back", None)  # how `let_go` leaves the contact
 
     def _frame_of(self, body_type: Body, frame: str, where: str) -> np.ndarray:
         found = body_type.frame(frame)
@@ -89,7 +92,7 @@ class StepKinds:
         # the fingertip pushes; an open gripper closing around a tool, or a hand holding one, does not
         self.sim.arm.fingertip_collides(self.sim.arm.held is None and not (step.motion == "free" and step.op == "add"))
         self.moves.follow_path(step.path, label)
-        self.from_above = _approached_from_above(self.sim, step)
+        self.way_in = _way_in(self.sim, step)
         if step.motion == "free":
             (self._grasp if step.op == "add" else self._release)(step, label)
         elif step.op == "add":
@@ -130,20 +133,34 @@ class StepKinds:
             else self.moves.motion_chain(push, [step.q_start, step.q_end])
         )
         self.push_direction = direction
+        # the rule the planner checked for leaving this contact, from the way its approach came in
+        self.leaving = ("back", None) if self.way_in is None else (way_out(self.way_in, direction), self.way_in)
         self.moves.run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
         end = self.sim.arm.effector_pose()
-        self.push_direction = motion.at(1.0)[:3, :3] @ direction
+        turn = motion.at(1.0)[:3, :3]
+        self.push_direction = turn @ direction
+        rule, way = self.leaving
+        self.leaving = (rule, None if way is None else turn @ way)
         self.moves.run([paths.hold("settle", end, SETTLE)], label)
 
     def let_go(self, label: str = "end") -> None:
-        """Break contact: back off against the push direction, then lift; straight up when the plan came into the
-        contact from above (a hook behind a handle's bar: backing off would put the hand into the body it pulled).
-        Nothing if not in contact."""
+        """Break contact by the rule of the way the plan came into it (`vkgl.motion.moves.way_out`, as the
+        planner checked it): back off against the push direction, then lift; straight up when the plan came
+        into the contact from above (a hook behind a handle's bar: backing off would put the hand into the body
+        it pulled); back out the way it came, then lift, when it came from elsewhere (from the side of a
+        handle's bar). Nothing if not in contact."""
         if self.push_direction is None:
             return
         up = np.array([0.0, 0.0, 1.0])
-        if self.from_above:
+        rule, way = self.leaving
+        self.leaving = ("back", None)
+        if rule == "up":
             self.moves.straight("retreat", (STANDOFF + LIFT) * up, paths.APPROACH_SPEED, label)
+            self.push_direction = None
+            return
+        if rule == "reverse" and way is not None:
+            self.moves.straight("retreat", -STANDOFF * way, paths.APPROACH_SPEED, label)
+            self.moves.straight("retreat", LIFT * up, paths.TRANSIT_SPEED, label)
             self.push_direction = None
             return
         start = self.sim.arm.effector_pose()
@@ -204,14 +221,15 @@ class StepKinds:
         self.moves.run([paths.hold("settle", pose, seconds)], label)
 
 
-def _approached_from_above(sim: SceneWorld, step: PlanStepRecord) -> bool:
-    """Whether the step's planned approach came down into its contact (its last move more vertical than
-    horizontal: a held tool's approach comes down to its stand-off first, then goes along its push)."""
+def _way_in(sim: SceneWorld, step: PlanStepRecord) -> np.ndarray | None:
+    """The direction (world, unit) of the last move of the step's planned approach into its contact (a held
+    tool's approach comes down to its stand-off first, then goes its way in), or None without one."""
     approach = next((s for s in reversed(step.path) if s.phase == "approach"), None)
     if approach is None or len(approach.joints) < 2:
-        return False
-    way = sim.arm_model.fk(approach.joints[-2])[:3, 3] - sim.arm_model.fk(approach.joints[-1])[:3, 3]
-    return bool(way[2] > float(np.linalg.norm(way[:2])))
+        return None
+    way = sim.arm_model.fk(approach.joints[-1])[:3, 3] - sim.arm_model.fk(approach.joints[-2])[:3, 3]
+    length = float(np.linalg.norm(way))
+    return way / length if length > 1e-9 else None
 
 
 __all__ = ["StepKinds"]

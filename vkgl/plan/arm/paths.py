@@ -282,6 +282,8 @@ class ArmPathPlanner:
             k - 1, len(segments), state.q.copy(), approach.pre_contact, step.poses_start, state.held, label
         )
         segments.append(approach.segment)
+        if step.motion != "free":
+            state.entered = self.moves.entered(step, approach)
         if step.motion == "free":  # a grasp: the tool rides in the hand from here on
             in_hand = np.linalg.inv(self.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
             state.held, state.lift = Held(step.body, in_hand), True

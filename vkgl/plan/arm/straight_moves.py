@@ -17,9 +17,15 @@ the step has them (`vkgl.motion.arm_collision`), and timed at `CARTESIAN_SPEED`:
   a tall crate, the hand leaned outward at the edge of the arm's reach, has
   no room to back off 3 cm level, and coming straight down along the face
   would start the transit's goal within its clearance of it. A held tool
-  comes down `TOOL_DESCENT` to its stand-off first.
+  comes down `TOOL_DESCENT` to its stand-off first. When all three rules
+  fail, the ways of `vkgl.plan.arm.approaches.searched` are tried in turn (a
+  cone about the push, from the side along a handle's bar, higher and lower,
+  shorter and longer stand-offs), and a failure names what was tried.
 - **retreat**: straight back out of a contact by `STANDOFF`, against the way
-  it pushed (straight up when that way is blocked: a hook behind a handle's bar);
+  it pushed (straight up when that way is blocked: a hook behind a handle's
+  bar); out the way it came first when it came in from the side
+  (`vkgl.motion.moves.way_out`). Execution leaves a plan's last contact by
+  that rule, and `leave` checks it;
 - **lift**: straight up `LIFT` after a grasp or a release.
 
 The joint-space transit that brings the arm to an approach's first
@@ -39,37 +45,40 @@ import numpy as np
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, approach_poses, follow_poses
 from vkgl.motion.arm_collision import ArmCollision, Held
-from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT
+from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT, WayOut, way_out
+from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
-SLANT = np.radians(30.0)
-"""rad: below the push direction, the last way tried into a contact (after along the push and from above);
-less than 45 deg, so that execution leaves such a contact straight back, as `StraightMoves.leave` checks."""
-
-DOWN = np.array([0.0, 0.0, -1.0])
+CONTACT_SLACK = 0.003
+"""m: how deep a held tool may seem to overlap the body it pushes at the contact (its tip on the face) before
+the contact itself counts as blocked."""
 
 
 @dataclass
 class ArmState:
-    """Where the previous step left the arm: its joints, a tool in the hand, whether it must lift first."""
+    """Where the previous step left the arm: its joints, a tool in the hand, whether it must lift first, and how
+    it leaves the contact it is in."""
 
     q: np.ndarray
     held: Held | None = None
     lift: bool = False
+    entered: tuple[WayOut, np.ndarray] | None = None  # the contact the arm is in: how it leaves (`entered`)
 
     def copy(self) -> ArmState:
         """The same state with joints of its own (a trial that may be dropped)."""
-        return ArmState(np.asarray(self.q, dtype=float).copy(), self.held, self.lift)
+        return ArmState(np.asarray(self.q, dtype=float).copy(), self.held, self.lift, self.entered)
 
 
 @dataclass(frozen=True)
 class Approach:
-    """A way into a contact: the straight move's segment, from `pre_contact` (the joints a transit must reach)."""
+    """A way into a contact: the straight move's segment, from `pre_contact` (the joints a transit must reach),
+    and the `way` it comes in."""
 
     pre_contact: np.ndarray
     segment: ArmSegment
+    way: np.ndarray  # world, unit: the direction of its last straight move into the contact
 
 
 class StraightMoves:
@@ -83,27 +92,64 @@ class StraightMoves:
     def into_contact(self, step: PlanStepRecord, state: ArmState, label: str) -> Approach | Rejection:
         """The straight approach into the step's contact.
 
-        A push is approached along its push direction; when that way is blocked (a hook behind a handle's
-        bar would back into the body it pulls), from above, down into the contact (the gap behind the bar);
-        when that fails too, slanted: along the push and `SLANT` down (the stand-off above and behind).
+        A push is approached by the three rules (`approaches.rules`): along its push direction; when that way
+        is blocked (a hook behind a handle's bar would back into the body it pulls), from above, down into the
+        contact (the gap behind the bar); when that fails too, slanted: along the push and `SLANT` down (the
+        stand-off above and behind). When all three fail, the searched ways (`approaches.searched`: a cone
+        about the push, from the side along a handle's bar, higher and lower, shorter and longer stand-offs),
+        in order; when none works, the reason says which were tried and which came closest.
         """
         if step.motion == "free":  # a grasp
             return self.approach(step, state, label, DOWN, GRASP_STANDOFF)
         push = self.push_direction(step, step.poses_start)
-        first = self.approach(step, state, label, push, STANDOFF)
-        if not isinstance(first, Rejection) or first.kind != Kind.APPROACH:
-            return first
-        slanted = np.cos(SLANT) * push + np.sin(SLANT) * DOWN
-        for way in (DOWN, slanted / np.linalg.norm(slanted)):
-            found = self.approach(step, state, label, way, STANDOFF)
-            if not isinstance(found, Rejection):
+        tried: list[Way] = []
+        closest: tuple[float, str] | None = None
+        kind = Kind.APPROACH  # the first rule's failure's: a stand-off the transit cannot end in, or no way in
+        for way in rules(push):
+            found = self._approach(step, state, label, way.direction, way.standoff)
+            if not isinstance(found, tuple):
                 return found
-        return first
+            if not tried:
+                kind = found[0].kind
+                if kind not in (Kind.APPROACH, Kind.TRANSIT):
+                    return found[0]
+            tried.append(way)
+            closest = _closer(closest, way, found, label)
+        hopeless = self.tool_overlap_at_contact(step, state)
+        if hopeless is not None:
+            why = f"{label}: at the contact itself {hopeless[0]}: no way into it can be clear"
+            return Rejection(Kind.APPROACH, why, hopeless[1])
+        for way in searched(push):
+            found = self._approach(step, state, label, way.direction, way.standoff)
+            if not isinstance(found, tuple):
+                return found
+            tried.append(way)
+            closest = _closer(closest, way, found, label)
+        assert closest is not None  # the rules were tried
+        why = f"{label}: no straight approach into the contact ({summary(tried)}; closest: {closest[1]})"
+        # how far it missed: the shallowest overlap of a blocked way (the search reports the closest miss)
+        return Rejection(kind, why, closest[0] if np.isfinite(closest[0]) else 1.0)
+
+    def tool_overlap_at_contact(self, step: PlanStepRecord, state: ArmState) -> tuple[str, float] | None:
+        """What a held tool overlaps, deeper than `CONTACT_SLACK`, at the contact itself (its tip touches the
+        body it pushes; the rest of it must clear that body): no way into such a contact is clear. None for the
+        bare hand (the contact's own checks cover it) or when the tool only touches."""
+        if state.held is None:
+            return None
+        clash = self.first_overlap(np.asarray([step.q_start]), step.poses_start, state.held, set(), {step.body})
+        return clash if clash is not None and clash[1] > CONTACT_SLACK else None
 
     def approach(
         self, step: PlanStepRecord, state: ArmState, label: str, direction: np.ndarray, standoff: float
     ) -> Approach | Rejection:
         """Straight along `direction` into the contact from `standoff` back (a held tool first comes down)."""
+        found = self._approach(step, state, label, direction, standoff)
+        return found[0] if isinstance(found, tuple) else found
+
+    def _approach(
+        self, step: PlanStepRecord, state: ArmState, label: str, direction: np.ndarray, standoff: float
+    ) -> Approach | tuple[Rejection, float]:
+        """`approach`, a failure with how far it missed: the overlap (m) of a blocked way, infinite otherwise."""
         grasp = step.motion == "free"
         contact = self.problem.arm.fk(step.q_start)
         poses = approach_poses(contact, standoff, APPROACH_STEP, direction)
@@ -116,7 +162,8 @@ class StraightMoves:
         # solved from the contact outward, so the arm arrives in the configuration the search checked
         outward = follow_poses(self.problem.arm, poses[::-1], step.q_start)
         if isinstance(outward, CartesianFailure):
-            return Rejection(Kind.APPROACH, f"{label}: no straight approach into the contact ({outward.reason})", 1.0)
+            why = f"{label}: no straight approach into the contact ({outward.reason})"
+            return Rejection(Kind.APPROACH, why, 1.0), float("inf")
         joints = outward.joints[::-1].copy()
         joints[-1] = step.q_start
         # the gripper closes around a tool it grasps; a pushing hand must clear the body it pushes until contact
@@ -124,35 +171,61 @@ class StraightMoves:
         clash = self.first_overlap(joints[:-1], step.poses_start, state.held, ignore, {step.body})
         if clash is not None:
             why = f"{label}: the straight approach into the contact is blocked: {clash[0]}"
-            return Rejection(Kind.APPROACH, why, 1.0)
+            return Rejection(Kind.APPROACH, why, 1.0), clash[1]
         # the transit planned later must end here: with room to spare, or another way in is tried
         space = self.geometry.transit_space(state.held)
         clash = self.first_overlap(joints[:1], step.poses_start, state.held, set(), collision=space)
         if clash is not None:
             why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash[0]}"
-            return Rejection(Kind.TRANSIT, why, 1.0)
-        return Approach(joints[0].copy(), self.straight("approach", joints, length))
+            return Rejection(Kind.TRANSIT, why, 1.0), float("inf")
+        way = np.asarray(direction, dtype=float)
+        return Approach(joints[0].copy(), self.straight("approach", joints, length), way)
+
+    def entered(self, step: PlanStepRecord, approach: Approach) -> tuple[WayOut, np.ndarray]:
+        """How the arm will leave the contact `approach` makes (`vkgl.motion.moves.way_out`), and the way it came
+        in turned with the pushed body to the end of the step's motion (where a reverse retreat backs out)."""
+        rule = way_out(approach.way, self.push_direction(step, step.poses_start))
+        turn = step.poses_end[step.body][:3, :3] @ step.poses_start[step.body][:3, :3].T
+        return rule, turn @ approach.way
 
     def leave(self, step: PlanStepRecord, state: ArmState, label: str) -> Rejection | None:
-        """Why the arm could not leave the plan's last contact as execution leaves it (straight back out of it,
-        or up where that is blocked, then up), or None. Nothing is added to the plan: a plan ends in its last
-        contact, and execution breaks it with that move (`vkgl.execute.steps`)."""
+        """Why the arm could not leave the plan's last contact as execution leaves it, or None. Nothing is added
+        to the plan: a plan ends in its last contact, and execution breaks it (`vkgl.execute.steps.let_go`) by
+        the rule of the way it came in (`vkgl.motion.moves.way_out`): straight up after coming down into it;
+        straight back against the push (straight up where the arm has no straight path back), then up; or back
+        out the way it came, then up."""
+        rule, way = state.entered or ("back", None)
         after = ArmState(np.asarray(state.q, dtype=float).copy(), state.held, False)
-        retreat = self.retreat(step, after, f"{label}, at the end", step.poses_end)
-        if isinstance(retreat, Rejection):
-            return retreat
-        lift = self.lift(after, step.poses_end, f"{label}, at the end")
+        label, poses = f"{label}, at the end", step.poses_end
+        what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        if rule == "reverse" and way is not None:
+            out = self._move_away(after, -way, STANDOFF, poses, {step.body}, label, what)
+        else:
+            back = -self.push_direction(step, poses) if rule == "back" else -DOWN
+            out = self._move_away(after, back, STANDOFF, poses, {step.body}, label, what)
+            if isinstance(out, tuple) and not out[1]:  # no straight path back: execution goes up instead
+                out = self._move_away(after, -DOWN, STANDOFF, poses, {step.body}, label, what)
+        if isinstance(out, tuple):
+            return out[0]
+        lift = self.lift(after, poses, label)
         return lift if isinstance(lift, Rejection) else None
 
     def retreat(
         self, step: PlanStepRecord, state: ArmState, label: str, poses: Mapping[str, np.ndarray] | None = None
     ) -> ArmSegment | Rejection:
-        """Straight back out of the contact the step removes, against the way it pushed, with the bodies at
-        `poses` (the step's start by default); when that way is blocked (a fingertip or a held hook behind a
-        handle's bar), straight up."""
+        """Straight back out of the contact the step removes, with the bodies at `poses` (the step's start by
+        default): out the way it came in when that was neither along the push nor from above
+        (`vkgl.motion.moves.way_out`), else (or when that is blocked) against the way it pushed; when that is
+        blocked too (a fingertip or a held hook behind a handle's bar), straight up."""
         poses = step.poses_start if poses is None else poses
-        away = -self.push_direction(step, poses)
+        rule, way = state.entered or ("back", None)
+        state.entered = None
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        if rule == "reverse" and way is not None:
+            reverse = self.move_away(state, -way, STANDOFF, poses, {step.body}, label, what)
+            if not isinstance(reverse, Rejection):
+                return reverse
+        away = -self.push_direction(step, poses)
         first = self.move_away(state, away, STANDOFF, poses, {step.body}, label, what)
         if not isinstance(first, Rejection):
             return first
@@ -176,17 +249,31 @@ class StraightMoves:
     ) -> ArmSegment | Rejection:
         """A straight move of the hand by `length` along `way` from where the arm is; `what`: the segment's
         phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose."""
+        found = self._move_away(state, way, length, poses, pad_may_touch, label, what)
+        return found[0] if isinstance(found, tuple) else found
+
+    def _move_away(
+        self,
+        state: ArmState,
+        way: np.ndarray,
+        length: float,
+        poses: Mapping[str, np.ndarray],
+        pad_may_touch: set[str],
+        label: str,
+        what: tuple[str, str, str],
+    ) -> ArmSegment | tuple[Rejection, bool]:
+        """`move_away`; a failure says whether the way was blocked (True) or had no straight IK path (False)."""
         phase, no_path, blocked = what
         start = self.problem.arm.fk(state.q)
         out = approach_poses(start, length, APPROACH_STEP, -way)[::-1]  # from `start` to `length` along `way`
         path = follow_poses(self.problem.arm, out, state.q)
         if isinstance(path, CartesianFailure):
-            return Rejection(Kind.APPROACH, f"{label}: {no_path} ({path.reason})", 1.0)
+            return Rejection(Kind.APPROACH, f"{label}: {no_path} ({path.reason})", 1.0), False
         joints = path.joints.copy()
         joints[0] = state.q
         clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
         if clash is not None:
-            return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0)
+            return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0), True
         state.q = joints[-1]
         return self.straight(phase, joints, length)
 
@@ -244,3 +331,13 @@ __all__ = [
     "ArmState",
     "StraightMoves",
 ]
+
+
+def _closer(
+    closest: tuple[float, str] | None, way: Way, found: tuple[Rejection, float], label: str
+) -> tuple[float, str]:
+    """The closer of two misses: the shallower overlap of a blocked way; among others the first."""
+    rejection, depth = found
+    if closest is not None and closest[0] <= depth:
+        return closest
+    return depth, f"{way.name}: {rejection.why.removeprefix(label + ': ')}"
