@@ -267,13 +267,10 @@ class FixedC(Node):
 class MotionRange(Node):
     """`range LO to HI UNIT [open]` on a motion: the values of its state it was explored over (SI: m or rad).
 
-    A length for a prismatic motion, an angle for a revolute one; the checker
-    wants `0 <= lower <= upper`. Plans keep each motion value inside it, except
-    past the upper bound of an `open` range: the body was still moving when
-    its exploration ended (a free slide on its support), so `upper` is how far
-    it was seen to go, not a bound. Only a prismatic motion's range may be
-    open (E433). Without `open` (every module written before it existed) the
-    range is closed: the motion stops there.
+    A length for a slide, an angle for a turn; the checker wants `0 <= lower <= upper`.
+    Plans keep each value inside it, but `open` (slides only, E433; else closed, as
+    before `open` existed) says the body was still moving when exploration ended:
+    `upper` is how far it was seen to go, not a bound.
     """
 
     lower: Quantity
