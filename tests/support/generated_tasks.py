@@ -99,8 +99,14 @@ class BodyType:
         )
 
     def source_hash(self) -> str:
-        """The key of the learned-affordance cache: a hash of the body's source."""
-        return hashlib.sha256(self.source().encode()).hexdigest()[:16]
+        """The key of the learned-affordance cache: a hash of the body's source and of what inference writes.
+
+        `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
+        `range ... open`), so a cache learned by an older inference is not reused.
+        """
+        from vkgl.formats.infer_report import INFER_REPORT_FORMAT
+
+        return hashlib.sha256((self.source() + INFER_REPORT_FORMAT).encode()).hexdigest()[:16]
 
 
 GENERATED_TYPES = (
