@@ -1,11 +1,13 @@
 """Benchmark: how often does a plan that `vkgc solve` calls solved work in physics, on generated tasks?
 
-    python bench/bench_physical.py [--seed 1] [--count 50] [--jobs 2] [--timeout 20] [--json results.json]
+    python bench/bench_physical.py [--seed 1] [--count 50] [--jobs 2] [--timeout 20] [--short-pushes]
+                                   [--json results.json]
 
 Generates `--count` tasks with `tests/support/generated_tasks.py` (bodies,
 scenes and goals nobody tuned the planner for; the generated bodies'
 affordances are learned once with `vkgl.learn` and cached by body source
-hash under `bench/.cache/physical/`), then for each task, in a process pool of
+hash under `bench/.cache/physical/`; `--short-pushes` explores them with their
+short push grid only, without the long `explore slides` pushes), then for each task, in a process pool of
 `--jobs` workers: solve it (`vkgl.solve`, `--timeout` s), check a solved plan's
 geometry independently (`tests/support/plan_geometry.py`: bodies pushed
 through bodies or the table), carry it out open loop in DART and classify it:
@@ -208,6 +210,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--cache", type=Path, default=REPO / "bench" / ".cache" / "physical", help="learned affordances"
     )
+    parser.add_argument(
+        "--short-pushes",
+        action="store_true",
+        help="explore the generated bodies with their short push grid only (no long `explore slides` block)",
+    )
     parser.add_argument("--json", type=Path, help="also write every task's result here")
     parser.add_argument("--from-json", type=Path, help="print the tables of a --json file again; run nothing")
     args = parser.parse_args(argv)
@@ -217,7 +224,9 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as scratch:
         out = args.out or Path(scratch)
         started = time.perf_counter()
-        tasks = generated_tasks.generate_tasks(args.seed, args.count, out, cache=args.cache, jobs=args.jobs)
+        tasks = generated_tasks.generate_tasks(
+            args.seed, args.count, out, cache=args.cache, jobs=args.jobs, long_slides=not args.short_pushes
+        )
         print(f"generated {len(tasks)} tasks in {time.perf_counter() - started:.0f} s", file=sys.stderr)
         jobs = [
             {"task_file": str(t.task_file), "name": t.name, "timeout": args.timeout, "meta": t.spec.metadata()}
@@ -233,7 +242,8 @@ def main(argv: list[str] | None = None) -> int:
         wall = time.perf_counter() - started
     if args.json:
         args.json.write_text(json.dumps(sorted(results, key=lambda r: r["index"]), indent=1) + "\n")
-    print(f"## bench_physical: seed {args.seed}, {args.count} tasks, {args.jobs} jobs, {wall:.0f} s wall\n")
+    explored = ", short push grid only" if args.short_pushes else ""
+    print(f"## bench_physical: seed {args.seed}, {args.count} tasks{explored}, {args.jobs} jobs, {wall:.0f} s wall\n")
     print(report_text(results))
     return 0
 

@@ -49,3 +49,9 @@ def test_quantities_with_units_on_each_component_and_plain_numbers() -> None:
     assert quantity_hover("    frame tip = (18, 12, 0) cm yaw 180deg", 20)[0] == (
         "`(18, 12, 0) cm` = (0.18, 0.12, 0) m (length)"
     )
+
+
+def test_after_a_motion_range_only_open_is_offered() -> None:
+    for before in ("        motion prismatic along (1, 0, 0) range 0 to 8 cm ", "    range 0 cm to 8 cm op"):
+        assert [(c.label, c.kind) for c in candidates(None, before)] == [("open", "keyword")]
+    assert ("open", "keyword") in {(c.label, c.kind) for c in candidates(None, "    motion prismatic along ")}

@@ -161,6 +161,14 @@ def test_learn_writes_each_affordances_explored_range(learned) -> None:
     assert all(a.motion.range is not None for a in _affordances(learned["door"]).values())
 
 
+def test_a_slide_still_going_when_exploration_ended_is_open_and_a_stop_is_a_bound(learned) -> None:
+    block = _affordances(learned["block"])
+    assert block["push_center_px"].motion.range.open and block["push_center_nx"].motion.range.open  # still sliding
+    assert not any(a.motion.range.open for n, a in block.items() if n.startswith("turn_"))  # turns stay closed
+    for body in ("drawer", "door"):  # at their stops (30 cm, 90 deg) before their trials ended
+        assert not any(a.motion.range.open for a in _affordances(learned[body]).values())
+
+
 def test_explored_ranges_are_rounded_inwards() -> None:
     from vkgl.infer.affordances import range_ir
 

@@ -284,13 +284,14 @@ def robots() -> st.SearchStrategy[ir.Robot]:
 
 
 def motion_ranges(dimension: str) -> st.SearchStrategy[ir.MotionRange | None]:
-    """No range, or `range LO to HI UNIT` with both bounds in one unit or each in its own."""
+    """No range, or `range LO to HI UNIT [open]` with both bounds in one unit or each in its own."""
 
     def bounds(lower_unit: str, upper_unit: str) -> st.SearchStrategy[ir.MotionRange]:
         return st.builds(
             ir.MotionRange,
             lower=st.builds(ir.Quantity, value=si_values(lower_unit), unit=st.just(lower_unit)),
             upper=st.builds(ir.Quantity, value=si_values(upper_unit), unit=st.just(upper_unit)),
+            open=st.booleans(),
         )
 
     same = units(dimension).flatmap(lambda u: bounds(u, u))

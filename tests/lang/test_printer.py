@@ -219,3 +219,18 @@ def test_print_is_a_fixed_point(module: ir.Module) -> None:
 def test_repository_files_survive_print_and_parse(path) -> None:
     module = parse(path.read_text(encoding="utf-8"), str(path))
     assert parse(print_module(module), str(path)) == module
+
+
+def test_an_open_range_round_trips_and_a_closed_one_stays_closed() -> None:
+    source = (
+        "use stdlib.bodies.block\n\naffordances Block {\n"
+        "    affordance a {\n        action fixed at (-5, 0, 0) cm yaw 0deg\n"
+        "        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 5.7 cm open\n    }\n"
+        "    affordance b {\n        action fixed at (-5, 0, 0) cm yaw 0deg\n"
+        "        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 5.7 cm\n    }\n}\n"
+    )
+    module = parse(source)
+    slides = [a.motion for a in module.decls[0].affordances]  # type: ignore[union-attr]
+    assert [m.range.open for m in slides] == [True, False]
+    assert [m.range.upper.value for m in slides] == pytest.approx([0.057, 0.057])
+    assert print_module(module) == source

@@ -76,3 +76,28 @@ def test_a_turn_past_the_explored_range_is_infeasible_with_the_numbers(tmp_path)
     plan = solve(turn_task(tmp_path, -35, 2))
     assert plan.status == "infeasible"
     assert "the turn would need 35.0 deg, past the 25.0 deg Block.turn_px_left was explored over" in plan.reason
+
+
+def test_an_open_slide_is_planned_past_its_explored_range_in_one_push(tmp_path):
+    plan = solve(slide_task(tmp_path, " range 0 to 10 cm open", 2))  # still sliding when exploration ended at 10 cm
+    assert plan.status == "solved", plan.reason
+    assert plan.depth == 2 and plan.steps[0].value == pytest.approx(0.25, abs=0.01)
+
+
+def test_a_closed_range_stays_a_bound_where_the_open_one_does_not(tmp_path):
+    plan = solve(slide_task(tmp_path, " range 0 to 10 cm", 2))
+    assert plan.status == "infeasible"
+    assert "Block.push_center_px slides at most 10.0 cm per contact (the range it was explored over)" in plan.reason
+
+
+def test_a_moved_body_stays_on_the_table_with_its_whole_outline(tmp_path):
+    from vkgl.plan.task_space.feasible import _stay_constraints
+
+    plan = solve(slide_task(tmp_path, " range 0 to 10 cm open", 2))
+    problem = plan.problem
+    edge = problem.table_center[0] + problem.table_size[0] / 2
+    pose = problem.bodies["block"].rest.copy()
+    pose[0, 3] = edge - 0.03  # the frame 3 cm inside the edge, the 10 cm block's far half 2 cm beyond it
+    assert max(_stay_constraints(problem, "block", pose)) == pytest.approx(0.02, abs=1e-6)
+    pose[0, 3] = edge - 0.06
+    assert max(_stay_constraints(problem, "block", pose)) < 0

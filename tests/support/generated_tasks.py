@@ -30,7 +30,7 @@ from __future__ import annotations
 import hashlib
 import math
 import shutil
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -56,6 +56,7 @@ class BodyType:
     density: float = 500.0
     stdlib: bool = False
     parts: tuple[tuple[float, float, float, float], ...] = ()  # (cx, cy, sx, sy) boxes of a union, body frame
+    long_slides: bool = True  # explored with the long `slides` pushes too; False: the short push grid only
 
     @property
     def mass(self) -> float:
@@ -85,17 +86,27 @@ class BodyType:
             f"        force normal 1 N\n"
             f"        duration 3 s\n"
             f"    }}\n"
-            f"    explore slides {{\n"
-            f"        contacts on faces +x, -x steps 1\n"
-            f"        force normal 1 N\n"
-            f"        duration {_num(SLIDE_SECONDS)} s\n"
-            f"    }}\n"
-            f"}}\n"
+            + (
+                f"    explore slides {{\n"
+                f"        contacts on faces +x, -x steps 1\n"
+                f"        force normal 1 N\n"
+                f"        duration {_num(SLIDE_SECONDS)} s\n"
+                f"    }}\n"
+                if self.long_slides
+                else ""
+            )
+            + "}\n"
         )
 
     def source_hash(self) -> str:
-        """The key of the learned-affordance cache: a hash of the body's source."""
-        return hashlib.sha256(self.source().encode()).hexdigest()[:16]
+        """The key of the learned-affordance cache: a hash of the body's source and of what inference writes.
+
+        `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
+        `range ... open`), so a cache learned by an older inference is not reused.
+        """
+        from vkgl.formats.infer_report import INFER_REPORT_FORMAT
+
+        return hashlib.sha256((self.source() + INFER_REPORT_FORMAT).encode()).hexdigest()[:16]
 
 
 GENERATED_TYPES = (
@@ -414,15 +425,19 @@ def bodies_source(types: list[BodyType]) -> str:
     return header + "".join("\n" + t.source() for t in types)
 
 
-def write_task(spec: TaskSpec, folder: Path, library: dict[str, Path | None] | None = None) -> Path:
+def write_task(
+    spec: TaskSpec, folder: Path, library: dict[str, Path | None] | None = None, *, long_slides: bool = True
+) -> Path:
     """Write the task's `.vkg` files into `folder`; return the task file.
 
     `library` maps a generated body type's name to its learned affordance
     module (`learned_affordances`); without it `affordances.vkg` is not
-    written (the scene still compiles, the task does not).
+    written (the scene still compiles, the task does not). `long_slides`:
+    whether the bodies declare the long `explore slides` block (else the
+    short push grid only).
     """
     folder.mkdir(parents=True, exist_ok=True)
-    types = spec.generated_types()
+    types = [replace(t, long_slides=long_slides) for t in spec.generated_types()]
     if types:
         (folder / "bodies.vkg").write_text(bodies_source(types), encoding="utf-8")
         if library is not None:
@@ -491,15 +506,27 @@ class GeneratedTask:
 
 
 def generate_tasks(
-    seed: int, count: int, out_dir: Path, *, cache: Path | None = None, jobs: int | None = None
+    seed: int,
+    count: int,
+    out_dir: Path,
+    *,
+    cache: Path | None = None,
+    jobs: int | None = None,
+    long_slides: bool = True,
 ) -> list[GeneratedTask]:
-    """Write `count` tasks of `seed` into `out_dir/<name>/`; learn affordances into `cache` when given."""
+    """Write `count` tasks of `seed` into `out_dir/<name>/`; learn affordances into `cache` when given.
+
+    `long_slides=False` explores the generated bodies with the short push grid only (no `explore slides`).
+    """
     specs = [task_spec(seed, i) for i in range(count)]
     library = None
     if cache is not None:
         types = sorted({t for s in specs for t in s.generated_types()}, key=lambda t: t.name)
-        library = learned_affordances(types, cache, jobs=jobs)
-    return [GeneratedTask(s, out_dir / s.name, write_task(s, out_dir / s.name, library)) for s in specs]
+        library = learned_affordances([replace(t, long_slides=long_slides) for t in types], cache, jobs=jobs)
+    return [
+        GeneratedTask(s, out_dir / s.name, write_task(s, out_dir / s.name, library, long_slides=long_slides))
+        for s in specs
+    ]
 
 
 FIXTURES = Path(__file__).resolve().parents[1] / "bench" / "learned"

@@ -138,7 +138,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = _subcommand(sub, "infer", help="infer affordances from a trials dataset")
     p.add_argument("trials", metavar="TRIALS.npz", help="a vkg-trials/1 dataset (from `vkgc explore`)")
     p.add_argument("-o", "--output", required=True, metavar="MODULE.vkg", help="where to write the affordance module")
-    p.add_argument("--report", metavar="R.json", help="also write the per-trial report (vkg-infer-report/1)")
+    p.add_argument("--report", metavar="R.json", help="also write the per-trial report (vkg-infer-report/2)")
     p.add_argument("--plot", metavar="F.png", help="also draw the posterior over types by contact")
     p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
 

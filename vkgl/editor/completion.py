@@ -1,8 +1,9 @@
 """Completion candidates: keywords, units, body types, scene bodies, affordance names, frames.
 
 After `Name.` only the members of that body type (frames and affordances)
-are offered; after a number only units; otherwise everything the program
-in scope declares plus the grammar's keywords and units.
+are offered; after a number only units; after a motion's whole `range LO to
+HI UNIT` only `open`; otherwise everything the program in scope declares plus
+the grammar's keywords and units.
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.units import DIMENSION
 
 _AFTER_NUMBER = re.compile(r"(?<![A-Za-z0-9_.])" + NUMBER_PATTERN + r"[ \t]*[A-Za-z]*$")
+_AFTER_RANGE = re.compile(r"\brange\s+\S+(?:\s+\S+)?\s+to\s+" + NUMBER_PATTERN + r"\s*[A-Za-z]+[ \t]+[A-Za-z]*$")
+_OPEN_DETAIL = "the body was still sliding when exploration ended: plans may slide it further"
 _AFTER_DOT = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\.([A-Za-z_][A-Za-z0-9_]*)?$")
 
 
@@ -38,6 +41,8 @@ def candidates(program: Program | None, before: str) -> list[Candidate]:
         return _members(program, dotted.group(1))
     if _AFTER_NUMBER.search(before):
         return unit_candidates()
+    if _AFTER_RANGE.search(before):
+        return [Candidate("open", "keyword", _OPEN_DETAIL)]
     found = [Candidate(word, "keyword") for word in keywords()]
     found += unit_candidates()
     if program is not None:

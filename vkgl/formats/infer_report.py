@@ -1,4 +1,5 @@
-"""`vkg-infer-report/1`: per trial, the posterior over constraint types and the MAP parameters of both edges.
+"""`vkg-infer-report/2`: per trial, the posterior over constraint types, the MAP parameters of both edges and
+how the motion ended (/2: `ending` per motion, `still_moving` and `open` per affordance).
 
 `vkgl.infer.library.build_report` fills it; this module is its only writer
 (docs/formats.md documents the fields).
@@ -12,7 +13,7 @@ from typing import Any
 
 from vkgl.atomic import write_text
 
-INFER_REPORT_FORMAT = "vkg-infer-report/1"
+INFER_REPORT_FORMAT = "vkg-infer-report/2"
 
 
 def write_infer_report(path: str | Path, report: dict[str, Any]) -> None:

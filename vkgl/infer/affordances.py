@@ -77,6 +77,12 @@ class Group:
     kept: int | None = None  # the representative trial (None for a joint fit over all members)
     key: tuple = field(default_factory=tuple)
     state_range: tuple[float, float] | None = None  # the motion's states over all members (m or rad)
+    still_moving: bool = False  # the member that went furthest was still moving when its trial ended
+
+    @property
+    def open_range(self) -> bool:
+        """Whether the range is written `open`: a slide still going when exploration ended (never a turn)."""
+        return self.still_moving and self.motion.type == "prismatic"
 
 
 def group_trials(trials: Trials, results: list[TrialInference]) -> list[Group]:
@@ -192,9 +198,24 @@ def _push_groups(pushes: list[TrialInference]) -> list[Group]:
                 kept=best.index,
                 key=(label, place_of[best.index], action_type, motion_type, sense, kind),
                 state_range=_state_range(members),
+                still_moving=_still_moving(members),
             )
         )
     return groups
+
+
+def _still_moving(members: list[TrialInference]) -> bool:
+    """Whether the member whose motion went furthest was still moving when its trial ended.
+
+    That member saw the end of the explored range: if it had stopped (a
+    limit, a wall, a stall) the range ends at a bound, whatever shorter
+    trials did; if it was still moving, exploration ended before the motion.
+    """
+    moved = [r for r in members if r.motion is not None and r.motion.best.states.size]
+    if not moved:
+        return False
+    furthest = max(moved, key=lambda r: (float(np.nanmax(r.motion.best.states)), -r.index))  # type: ignore[union-attr]
+    return furthest.ending is not None and furthest.ending.moving
 
 
 def _state_range(members: list[TrialInference]) -> tuple[float, float] | None:
@@ -342,20 +363,23 @@ def affordance_ir(g: Group) -> Affordance:
     """The group as an `affordance NAME { action ...  motion ...  evidence ... }` IR node."""
     action = constraint_ir(g.action) if g.action is not None else FixedC()
     evidence = Evidence(trials=len(g.members), loglik=_round(g.loglik, 1), posterior=_round(g.posterior, 3))
-    motion = constraint_ir(g.motion, g.state_range)
+    motion = constraint_ir(g.motion, g.state_range, open_range=g.open_range)
     return Affordance(name=g.name, action=action, motion=motion, evidence=evidence)
 
 
-def constraint_ir(edge: EdgeInference, state_range: tuple[float, float] | None = None) -> Any:
+def constraint_ir(
+    edge: EdgeInference, state_range: tuple[float, float] | None = None, *, open_range: bool = False
+) -> Any:
     """The MAP constraint of an edge as IR, rounded for reading (0.1 mm, 1e-3 in directions, 0.1 deg).
 
-    A prismatic or revolute motion with a `state_range` gets the explored range (see `range_ir`).
+    A prismatic or revolute motion with a `state_range` gets the explored range (see `range_ir`);
+    `open_range` marks a slide's range `open` (still moving when exploration ended).
     """
     params = edge.params
     if edge.type == "fixed":
         return FixedC(pose=_pose_ir(np.asarray(params["pose"])))
     if edge.type == "prismatic":
-        bounds = range_ir(state_range, "cm") if state_range is not None else None
+        bounds = range_ir(state_range, "cm", open_range=open_range) if state_range is not None else None
         return PrismaticC(axis=_direction_ir(params["axis"]), origin=_point_ir(params["origin"]), range=bounds)
     if edge.type == "revolute":
         bounds = range_ir(state_range, "deg") if state_range is not None else None
@@ -363,18 +387,21 @@ def constraint_ir(edge: EdgeInference, state_range: tuple[float, float] | None =
     return FreeC()
 
 
-def range_ir(state_range: tuple[float, float], unit: str) -> MotionRange:
+def range_ir(state_range: tuple[float, float], unit: str, *, open_range: bool = False) -> MotionRange:
     """The explored range of a motion's state, rounded inwards: never wider than what was seen.
 
     `unit` is `cm` (slides, to 0.1 cm = 1 mm) or `deg` (turns, to 0.1 deg).
     The upper bound is rounded down, the lower bound up and then to at least
     0 (plans use non-negative values only); an upper bound below that is 0.
+    `open_range`: written `open` (the body was still moving at the upper bound).
     """
     low, high = (v / float(SCALE[unit]) for v in state_range)
     lower = max(0.0, math.ceil(round(low * 10.0, 9)) / 10.0)
     upper = max(lower, math.floor(round(high * 10.0, 9)) / 10.0)
     return MotionRange(
-        lower=Quantity(value=_si(lower, 1, unit), unit=unit), upper=Quantity(value=_si(upper, 1, unit), unit=unit)
+        lower=Quantity(value=_si(lower, 1, unit), unit=unit),
+        upper=Quantity(value=_si(upper, 1, unit), unit=unit),
+        open=open_range,
     )
 
 

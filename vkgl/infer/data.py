@@ -97,11 +97,15 @@ class EdgeData:
 
 @dataclass(frozen=True)
 class TrialEdges:
-    """The two edges of one trial; `action` is None when `T_ro` was not observed."""
+    """The two edges of one trial; `action` is None when `T_ro` was not observed.
+
+    `t` holds the times (s) of the motion's samples, in order.
+    """
 
     action: EdgeData | None
     motion: EdgeData
     samples: int
+    t: np.ndarray
 
 
 def edge_data(p: np.ndarray, rot: Rotation, has_rot: np.ndarray) -> EdgeData:
@@ -145,7 +149,7 @@ def trial_edges(trials: Trials, i: int) -> TrialEdges:
     order = np.argsort(t[usable], kind="stable")
     motion = _relative_motion(*_poses(T_ow[usable][order], f"T_ow of trial {i}"))
     action = _action(trials.T_ro[i][usable][order], i)
-    return TrialEdges(action=action, motion=motion, samples=int(usable.sum()))
+    return TrialEdges(action=action, motion=motion, samples=int(usable.sum()), t=t[usable][order])
 
 
 def _action(T_ro: np.ndarray, i: int) -> EdgeData | None:

@@ -2,7 +2,7 @@
 
 `infer_library(trials, ...)` turns a `vkg-trials/1` dataset into an
 `affordances BODY { ... }` module (IR and canonical source, through the
-printer) and the per-trial `vkg-infer-report/1` (`vkgl.formats.infer_report`).
+printer) and the per-trial `vkg-infer-report/2` (`vkgl.formats.infer_report`).
 `body_import` says how a generated module imports its body. The driver
 (`vkgl.api.learn`) composes exploration and this stage.
 """
@@ -31,7 +31,7 @@ class InferenceResult:
     """What inference made of a dataset.
 
     `module` (IR) and `source` (its canonical text) hold the affordances;
-    `report` is the `vkg-infer-report/1` dict; `trials` and `groups` are the
+    `report` is the `vkg-infer-report/2` dict; `trials` and `groups` are the
     per-trial graphs and the affordance groups (for pictures and tests).
     """
 
@@ -122,7 +122,7 @@ def _require_usable(trials: Trials, results: list[TrialInference]) -> None:
 
 
 def build_report(trials: Trials, results: list[TrialInference], groups: list[Group]) -> dict[str, Any]:
-    """The `vkg-infer-report/1` dict: per trial the posterior and MAP parameters of both edges."""
+    """The `vkg-infer-report/2` dict: per trial the posterior and MAP parameters of both edges, how it ended."""
     name_of = {i: g.name for g in groups for i in g.members}
     entries = []
     for r in results:
@@ -133,6 +133,13 @@ def build_report(trials: Trials, results: list[TrialInference], groups: list[Gro
             entry["samples"] = r.samples
             entry["action"] = _edge_report(r.action)
             entry["motion"] = _edge_report(r.motion)
+            if r.ending is not None:
+                entry["motion"]["ending"] = {
+                    "end_speed": _number(r.ending.end_speed),
+                    "peak_speed": _number(r.ending.peak_speed),
+                    "ratio": _number(r.ending.ratio),
+                    "moving": r.ending.moving,
+                }
             entry["loglik"] = _number(r.loglik)
             entry["affordance"] = name_of.get(r.index)
         entries.append(entry)
@@ -147,6 +154,8 @@ def build_report(trials: Trials, results: list[TrialInference], groups: list[Gro
                 "kept": g.kept,
                 "loglik": _number(g.loglik),
                 "posterior": _number(g.posterior),
+                "still_moving": g.still_moving,
+                "open": g.open_range,
             }
             for g in groups
         ],

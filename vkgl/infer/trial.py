@@ -14,6 +14,7 @@ import numpy as np
 
 from vkgl.formats.trials import Trials
 from vkgl.infer.data import SkipTrial, trial_edges
+from vkgl.infer.ending import Ending, motion_ending
 from vkgl.infer.select import EdgeInference, infer_edge
 
 
@@ -22,7 +23,9 @@ class TrialInference:
     """The inferred graph of one trial, or why there is none.
 
     `action` is None when the effector was not observed (or the trial was
-    skipped); `motion` is None only when the trial was skipped.
+    skipped); `motion` is None only when the trial was skipped. `ending`: how
+    the MAP motion's state ended (`vkgl.infer.ending`), None for a motion
+    without a state (fixed, free) or a trial too short to tell.
     """
 
     index: int
@@ -32,6 +35,7 @@ class TrialInference:
     action: EdgeInference | None = None
     motion: EdgeInference | None = None
     skipped: str | None = None
+    ending: Ending | None = None
 
     @property
     def loglik(self) -> float:
@@ -53,6 +57,8 @@ def infer_trial(trials: Trials, i: int) -> TrialInference:
         return result
     result.samples = edges.samples
     result.motion = infer_edge(edges.motion, relative=True)
+    if result.motion.type in ("prismatic", "revolute"):
+        result.ending = motion_ending(edges.t, result.motion.best.states)
     if edges.action is not None:
         result.action = infer_edge(edges.action, relative=False)
     return result

@@ -144,7 +144,7 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
 
 
 def _check_motion_range(motion: ir.Constraint, ctx: CheckContext) -> None:
-    """A motion's `range`: lower first, and never below zero (plans use non-negative values only)."""
+    """A motion's `range`: lower first, never below zero (plans use non-negative values only), `open` on slides only."""
     bounds = motion.range if isinstance(motion, (ir.PrismaticC, ir.RevoluteC)) else None
     if bounds is None:
         return
@@ -155,6 +155,13 @@ def _check_motion_range(motion: ir.Constraint, ctx: CheckContext) -> None:
             f"a motion range starts at 0 or above, got {shown(lower)}",
             lower.span or bounds.span,
             "motion values are >= 0 (the sense the exploring force produced): write `range 0 to ...`",
+        )
+    if bounds.open and isinstance(motion, ir.RevoluteC):
+        ctx.error(
+            codes.OPEN_TURN,
+            "only a slide's range can be `open`: a turn is known only over the angles it was explored over",
+            ctx.narrow(bounds.span, r"\b(open)\s*$"),
+            "remove `open` (a turn's pivot drifts as it turns further), or explore the turn further",
         )
     if lower.value > upper.value:
         ctx.error(

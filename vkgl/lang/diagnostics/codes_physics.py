@@ -102,6 +102,16 @@ NEGATIVE_RANGE = _code(
         "the other way)."
     ),
 )
+OPEN_TURN = _code(
+    "E433",
+    "an open range on a turn",
+    (
+        "`open` after a range says the body was still sliding when its exploration ended, so plans may slide "
+        "it further (a free slide on its support). A turn is not extended that way: a push near a body's end "
+        "turns it about a pivot that drifts as it turns (docs/inference.md), so a revolute motion is known "
+        "only over the angles it was explored over. Remove `open`, or explore the turn further."
+    ),
+)
 
 # physical joints and joint goals (builder.py, checks_joints.py)
 NEGATIVE_JOINT_DYNAMICS = _code(

@@ -180,14 +180,17 @@ class FixedC(Node):
 
 
 class MotionRange(Node):
-    """`range LO to HI UNIT` on a motion: the values of its state it was explored over (SI: m or rad).
+    """`range LO to HI UNIT [open]` on a motion: the values of its state it was explored over (SI: m or rad).
 
-    A length for a prismatic motion, an angle for a revolute one; the checker
-    wants `0 <= lower <= upper`. Plans keep each motion value inside it.
+    A length for a slide, an angle for a turn; the checker wants `0 <= lower <= upper`.
+    Plans keep each value inside it, but `open` (slides only, E433; else closed, as
+    before `open` existed) says the body was still moving when exploration ended:
+    `upper` is how far it was seen to go, not a bound.
     """
 
     lower: Quantity
     upper: Quantity
+    open: bool = False
 
 
 class PrismaticC(Node):

@@ -317,7 +317,7 @@ class Builder(TaskBuilder):
     def motion(self, meta: Any, children: list[Any]) -> Item:
         constraint = children[0]
         if len(children) > 1:  # `range LO to HI UNIT`: a length for a slide, an angle for a turn
-            lower, upper, where = children[1]
+            lower, upper, is_open, where = children[1]
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 dimension = "length" if isinstance(constraint, ir.PrismaticC) else "angle"
                 high = self.to_quantity(upper, dimension)
@@ -327,7 +327,7 @@ class Builder(TaskBuilder):
                     low = self.to_quantity(RawQ(lower.text, upper.unit, lower.span, lower.written), dimension)
                 else:  # the upper bound's unit was reported; one error is enough
                     low = new_node(ir.Quantity, value=INVALID, unit=high.unit, span=lower.span)
-                bounds = new_node(ir.MotionRange, lower=low, upper=high, span=where)
+                bounds = new_node(ir.MotionRange, lower=low, upper=high, open=is_open, span=where)
                 constraint = constraint.model_copy(update={"range": bounds})
             else:
                 self.error(
@@ -339,8 +339,11 @@ class Builder(TaskBuilder):
                 )
         return Item("motion", constraint, self.span(meta))
 
-    def motion_range(self, meta: Any, children: list[Any]) -> tuple[RawQ, RawQ, ir.Span]:
-        return children[0], children[1], self.span(meta)
+    def motion_range(self, meta: Any, children: list[Any]) -> tuple[RawQ, RawQ, bool, ir.Span]:
+        return children[0], children[1], len(children) > 2, self.span(meta)
+
+    def range_open(self, meta: Any, children: list[Any]) -> bool:
+        return True
 
     def fixed(self, meta: Any, children: list[Any]) -> ir.FixedC:
         pose = self.to_pose(children[0]) if children else None

@@ -280,11 +280,12 @@ def constraint_text(c: Constraint) -> str:
 
 
 def range_text(r: MotionRange | None) -> str:
-    """` range 0 to 24 cm` (one unit written once when both bounds have it), or "" for no range."""
+    """` range 0 to 24 cm` (one unit written once when both bounds have it), ` ... open` when open, "" for none."""
     if r is None:
         return ""
     lower = format_scaled(r.lower.value, r.lower.unit) if r.lower.unit == r.upper.unit else None
-    return f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
+    text = f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
+    return text + " open" if r.open else text
 
 
 def joint_text(j: Joint) -> str:

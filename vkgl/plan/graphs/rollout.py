@@ -214,11 +214,19 @@ RANGE_MARGIN = 0.0
 
 
 def value_bounds(constraint: object) -> tuple[float, float]:
-    """The values one mode may give a motion: [0, cap] (`PRISMATIC_MAX` / `REVOLUTE_MAX`) within its `range`."""
+    """The values one mode may give a motion: [0, cap] (`PRISMATIC_MAX` / `REVOLUTE_MAX`) within its `range`.
+
+    An `open` range (a slide that was still going when its exploration ended)
+    bounds the motion from below only: it may slide as far as the cap, and the
+    table (`feasible._stay_constraints`), the body's physical joint, if it has
+    one, and the collision checks of its sweep decide how far it really goes.
+    """
     cap = REVOLUTE_MAX if isinstance(constraint, RevoluteC) else PRISMATIC_MAX
     bounds = constraint.range if isinstance(constraint, (PrismaticC, RevoluteC)) else None
     if bounds is None:
         return 0.0, cap
+    if bounds.open and isinstance(constraint, PrismaticC):
+        return min(max(0.0, bounds.lower.value), cap), cap
     upper = min(cap, bounds.upper.value + RANGE_MARGIN)
     return min(max(0.0, bounds.lower.value), upper), upper
 

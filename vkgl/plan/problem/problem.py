@@ -63,7 +63,8 @@ class PlanBody:
     enact); `joint`: the type of its physical joint to the world, if any, with
     `joint_axis` (body frame), `joint_limits` and `joint_zero`, the world pose
     where its coordinate is 0 (where the scene places it: `rest` unless the
-    scene starts it `open Q`).
+    scene starts it `open Q`). `outline`: the corners of its convex hull (body
+    frame, k x 3), which must all stay over the table when it is moved.
     """
 
     name: str
@@ -76,6 +77,7 @@ class PlanBody:
     joint_axis: np.ndarray | None = None
     joint_limits: tuple[float, float] | None = None
     joint_zero: np.ndarray | None = None
+    outline: np.ndarray = field(default_factory=lambda: np.zeros((1, 3)))
 
     def joint_state(self, pose: np.ndarray) -> float:
         """The coordinate of the physical joint at world `pose` (m or rad), 0 at `joint_zero`; the body needs a joint.
@@ -327,7 +329,19 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         joint_axis=None if joint is None else joint_axis(joint),
         joint_limits=None if joint is None else (joint.lower.value, joint.upper.value),
         joint_zero=None if joint is None else scene_body_anchor(scene, scene_body, body),
+        outline=hull_corners(shape_vertices(body.shape)),
     )
+
+
+def hull_corners(vertices: np.ndarray) -> np.ndarray:
+    """The vertices of the convex hull of `vertices` (k x 3): what can first pass a table's edge."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    points = np.unique(np.asarray(vertices, dtype=float), axis=0)
+    try:
+        return points[ConvexHull(points).vertices]
+    except (QhullError, ValueError):  # flat or degenerate: every point counts
+        return points
 
 
 def action_pose(affordance: Affordance) -> np.ndarray:

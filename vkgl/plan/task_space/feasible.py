@@ -189,12 +189,18 @@ def _keep_out_depths(problem: Problem, name: str, pose: np.ndarray) -> list[floa
 
 
 def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
-    """A moved body stays over the table (if it lies on it) and within its physical joint's limits."""
+    """A moved body stays on the table (if it lies on it: its whole outline) and within its physical joint's limits.
+
+    The outline, not the body's frame: a slide that is not bounded by its range
+    (`range ... open`) would otherwise stop with its centre on the table's edge,
+    half of it in the air, and fall off in physics.
+    """
     body = problem.bodies[name]
     out: list[float] = []
     if body.on_table and problem.table_center is not None:
-        offset = np.abs(pose[:2, 3] - problem.table_center) - problem.table_size / 2  # type: ignore[operator]
-        out.extend(float(v) for v in offset)
+        corners = body.outline @ pose[:3, :3].T + pose[:3, 3]
+        offset = np.abs(corners[:, :2] - problem.table_center) - problem.table_size / 2  # type: ignore[operator]
+        out.extend(float(v) for v in offset.max(axis=0))
     if body.joint_limits is not None and body.joint_axis is not None:
         lower, upper = body.joint_limits
         state = body.joint_state(pose)
@@ -223,7 +229,7 @@ def limit_words(problem: Problem, name: str, pose: np.ndarray, goal: GoalSpec | 
             f"{edge * scale:.1f} {unit} (range {lower * scale:.1f} to {upper * scale:.1f} {unit})"
         )
     overhang = max(_stay_constraints(problem, name, pose) or [0.0])
-    return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (its frame leaves the table)"
+    return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (part of it leaves the table)"
 
 
 def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) -> float | None:
