@@ -86,4 +86,4 @@ def test_body_with_several_files_is_refused(bodies: Path, capsys: pytest.Capture
 
 def test_a_folder_without_body_files_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert cli.main(["learn", str(tmp_path)]) == 1
-    assert "a folder without .vkg files" in capsys.readouterr().err
+    assert "a folder without .vkg body files" in capsys.readouterr().err

@@ -31,8 +31,10 @@ def on_interrupt(signum: int, frame: FrameType | None) -> None:
     from vkgl.atomic import discard_temporaries
 
     # No worker without multiprocessing imported; importing it at the top would cost every `vkgc` start 4 ms.
-    multiprocessing = sys.modules.get("multiprocessing")
-    children = multiprocessing.active_children() if multiprocessing is not None else []
+    # Ctrl-C may come while it is being imported: a module half initialised has no `active_children` yet, and
+    # no worker either.
+    active_children = getattr(sys.modules.get("multiprocessing"), "active_children", None)
+    children = active_children() if callable(active_children) else []
     for child in children:
         child.terminate()
     for child in children:
