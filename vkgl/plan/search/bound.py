@@ -156,53 +156,72 @@ def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[A
     """The moving modes `goal` needs at least (part 1 of the module's docstring), and why in words."""
     parts: list[tuple[float, str]] = [(0.0, "")]
     rest = body.rest
+    kind = body.type.name
     if goal.position is not None:
-        gap = float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)) - goal.tol_position
-        if gap > _SLACK:
+        far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
+        if far.needed > _SLACK:
             step, name = max(((_translation(a), a.name) for a in movers), default=(0.0, ""))
-            parts.append(_modes(gap, step, 100.0, "cm", f"{body.name} is", f"{body.type.name}.{name} moves it"))
+            parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
     if goal.yaw is not None:
-        gap = abs(wrap_angle(yaw_of(rest) - goal.yaw)) - goal.tol_yaw
-        if gap > _SLACK:
+        turn = _Gap(abs(wrap_angle(yaw_of(rest) - goal.yaw)), goal.tol_yaw, "deg")
+        if turn.needed > _SLACK:
             turners = [a for a in movers if a.motion.type == "revolute"]
             level = all(_vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
             turns = [(value_bounds(a.motion)[1] if level else math.pi, a.name) for a in turners]
             if not turns:
-                parts.append((math.inf, _no_turn(body, gap)))
+                parts.append((math.inf, _no_turn(body, turn)))
             else:
                 step, name = max(turns)
-                words = f"{body.type.name}.{name} turns it"
-                parts.append(_modes(gap, step, 180.0 / math.pi, "deg", f"{body.name}'s heading is", words))
+                parts.append(turn.modes(step, f"{body.name}'s heading is", f"{kind}.{name} turns it"))
     if goal.opening is not None and body.joint is not None:
-        gap = abs(body.start_state - goal.opening) - goal.tol_opening
-        if gap > _SLACK:
+        unit = "cm" if body.joint == "prismatic" else "deg"
+        opening = _Gap(abs(body.start_state - goal.opening), goal.tol_opening, unit)
+        if opening.needed > _SLACK:
             if body.joint == "prismatic":
                 step, name = max(((value_bounds(a.motion)[1], a.name) for a in movers), default=(0.0, ""))
-                words = f"{body.type.name}.{name} opens it"
-                parts.append(_modes(gap, step, 100.0, "cm", f"{body.name}'s opening is", words))
+                span = f"from {opening.words(body.start_state)} to {opening.words(goal.opening)}"
+                parts.append(opening.modes(step, f"{body.name}'s opening ({span}) is", f"{kind}.{name} opens it"))
             else:
                 parts.append((1.0, ""))
     return max(parts, key=lambda p: p[0])
 
 
-def _modes(gap: float, step: float, scale: float, unit: str, subject: str, mover: str) -> tuple[float, str]:
-    """`ceil(gap / step)` moving modes, and the words: "block is 27.6 cm from its goal and ... at most 8.0 cm"."""
-    if step <= 0:
-        return math.inf, f"{subject} {gap * scale:.1f} {unit} from its goal and nothing moves it"
-    modes = max(1, math.ceil(gap / step - _SLACK))
-    if modes == 1:
-        return 1.0, ""  # one contact: nothing worth saying
-    return float(modes), (
-        f"{subject} {gap * scale:.1f} {unit} beyond its goal's tolerance and {mover} at most "
-        f"{step * scale:.1f} {unit} per contact: at least {modes} contacts"
-    )
+@dataclass(frozen=True)
+class _Gap:
+    """How far a goal is (`distance`, m or rad), its tolerance, and the unit its words use."""
+
+    distance: float
+    tolerance: float
+    unit: str
+
+    @property
+    def needed(self) -> float:
+        """What the motions must cover at least (triangle inequality)."""
+        return self.distance - self.tolerance
+
+    def words(self, value: float) -> str:
+        """`value` in the gap's unit: "27.6 cm", "35.0 deg"."""
+        scale = 100.0 if self.unit == "cm" else 180.0 / math.pi
+        return f"{value * scale:.1f} {self.unit}"
+
+    def modes(self, step: float, subject: str, mover: str) -> tuple[float, str]:
+        """`ceil(needed / step)` moving modes and the words: "block is 27.6 cm from its goal (within 1.0 cm
+        wanted) and Block.push_px moves it at most 8.0 cm per contact: at least 4 contacts"."""
+        where = f"{subject} {self.words(self.distance)} from its goal (within {self.words(self.tolerance)} wanted)"
+        if step <= 0:
+            return math.inf, f"{where} and nothing moves it"
+        modes = max(1, math.ceil(self.needed / step - _SLACK))
+        if modes == 1:
+            return 1.0, ""  # one contact: nothing worth saying
+        return float(modes), f"{where} and {mover} at most {self.words(step)} per contact: at least {modes} contacts"
 
 
-def _no_turn(body: PlanBody, gap: float) -> str:
+def _no_turn(body: PlanBody, gap: _Gap) -> str:
     names = ", ".join(a.name for a in body.affordances) or "none"
     return (
-        f"{body.name}'s heading is {math.degrees(gap):.1f} deg beyond its goal's tolerance and no affordance of "
-        f"{body.type.name} turns it ({names}): no sequence of any length reaches that heading"
+        f"{body.name}'s heading is {gap.words(gap.distance)} from its goal (within {gap.words(gap.tolerance)} "
+        f"wanted) and no affordance of {body.type.name} turns it ({names}): no sequence of any length reaches "
+        f"that heading"
     )
 
 
