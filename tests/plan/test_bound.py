@@ -142,7 +142,8 @@ def test_a_far_goal_with_short_slides_needs_a_contact_and_a_break_per_slide(tmp_
 
 
 def test_a_body_the_hand_cannot_reach_needs_the_grasp_of_a_tool_first(tmp_path):
-    problem = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n")
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    problem = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
     assert Bound(problem)(start_sequence(problem)) == 2  # grasp the stick, push with its tip
     alone = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
     assert Bound(alone)(start_sequence(alone)) == math.inf  # nothing reaches it

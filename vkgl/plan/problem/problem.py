@@ -40,7 +40,7 @@ from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.robot import Arm
 
-DEFAULT_MAX_DEPTH = 6
+DEFAULT_MAX_DEPTH = 10
 """Graphs in the longest sequence searched (G0 included) when the task says nothing."""
 
 DEFAULT_TIMEOUT = 60.0
