@@ -1,8 +1,14 @@
-"""Algorithm 1 of the paper: breadth-first search over graph sequences, first feasible sequence returned.
+"""Algorithm 1 of the paper, best first: graph sequences in the order of depth plus a lower bound of the graphs
+still needed (`vkgl.plan.search.bound`), the first feasible sequence returned.
 
 Sequences are extended one transition at a time (`successors` in
-`vkgl.plan.graphs.graph`) and checked as they are generated, level by level, so the
-first feasible sequence found is a shortest one. What never loses a solution:
+`vkgl.plan.graphs.graph`), queued (a heap) by depth plus bound, ties in the
+order breadth-first search generates them (the indices of their actions among
+their parents' successors), and checked when they leave the queue. The bound
+never overestimates, so the first feasible sequence checked is a shortest one,
+and the very one the paper's breadth-first search finds first; a sequence
+whose depth plus bound passes `max_depth` is never queued. What never loses a
+solution besides:
 
 - a sequence is only checked when its last mode moves a goal body: otherwise
   its final poses are those of a shorter prefix, which was checked before;
