@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -161,3 +162,24 @@ def test_a_heading_nothing_turns_is_never_reached_and_no_depth_is_suggested(tmp_
     assert plan.status == "infeasible"
     assert "no affordance of Block turns it (push_px): no sequence of any length reaches that heading" in plan.reason
     assert "--max-depth" not in plan.reason
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rows=st.integers(2, 40), slides=st.integers(2, 3), fixed=st.booleans())
+def test_screening_rows_of_two_slides_gives_the_row_and_values_of_trying_every_row(seed, rows, slides, fixed):
+    # the deep sequences' hot spot (two turns and two slides of one body): the screened search must not change
+    # what closed_form decides
+    from vkgl.plan.task_space.closed_form import _best_row, _closest
+
+    rng = np.random.default_rng(seed)
+    columns = rng.normal(size=(rows, 3, slides))
+    origins, position = rng.normal(size=(rows, 3)) * 0.3, rng.normal(size=2) * 0.3
+    limits = np.stack([np.zeros(slides), rng.uniform(0.0, 0.5, size=slides)], axis=1)
+    if fixed:
+        limits[0] = (0.1, 0.1)
+    every = min(
+        ((*_closest(columns[row], position - origins[row, :2], limits), row) for row in range(rows)),
+        key=lambda found: (found[0], found[2]),
+    )
+    residual, row, values = _best_row(columns, origins, position, limits)
+    assert (residual, row) == (every[0], every[2]) and np.array_equal(values, every[1])
