@@ -19,7 +19,11 @@ through bodies or the table), carry it out open loop in DART and classify it:
   the plan leaves it (report.final against the plan's final poses);
 - `colliding`: the geometry check found an overlap deeper than 2 mm;
 - `no plan`: the planner said no plan exists (honest infeasible);
-- `timeout`, `error`: the solve ran out of time, or something raised.
+- `timeout`, `error`: the solve ran out of time, or something raised;
+- `missed`: "no plan", yet a plan exists: solved again with `max_depth` + 4
+  (at most 12) and ten times the timeout, a plan is found (`--no-missed`
+  skips these re-solves, for speed; a re-solve that times out counts as
+  unsettled, listed under the tables).
 
 Prints one line per task as it finishes (stderr), then Markdown tables by
 target kind, size class, clutter count, reach and path, and the totals.
@@ -48,7 +52,11 @@ import generated_tasks  # noqa: E402
 import plan_geometry  # noqa: E402
 
 DISTURBED_M = 0.01
-COLUMNS = ("solved", "reached", "clean", "disturbed", "colliding", "no plan", "timeout", "error")
+COLUMNS = ("solved", "reached", "clean", "disturbed", "colliding", "no plan", "timeout", "missed", "error")
+MISSED_DEPTH = 4
+"""The re-solve of a "no plan" searches this many graphs deeper (up to the limit of 12) ..."""
+MISSED_TIME = 10.0
+"""... with this many times the timeout."""
 
 
 def execute_plan(program: Any, task_name: str, plan: Any) -> Any:
@@ -72,6 +80,13 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
         result["reason"] = (plan.reason or "").splitlines()[0] if plan.reason else ""
         result["arm_path_s"] = plan.details.get("arm_path_time_s")
         result["transit_s"] = plan.details.get("transit_time_s")
+        result["search"] = {
+            "expanded": plan.stats.get("graphs_expanded"),
+            "sequences": plan.details.get("sequences"),
+            "pruned_by_bound": plan.details.get("pruned_by_bound"),
+        }
+        if plan.status == "infeasible" and job.get("missed", True):
+            result["missed"] = _resolved_deeper(program, job, plan.problem.max_depth)
         if plan.status != "solved":
             return result
         plan_json = plan.to_json()
@@ -87,6 +102,21 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
         result["outcome"] = "error"
         result["reason"] = f"{type(exc).__name__}: {exc}".splitlines()[0]
     return result
+
+
+def _resolved_deeper(program: Any, job: dict[str, Any], depth: int) -> dict[str, Any]:
+    """A "no plan" solved again, `MISSED_DEPTH` graphs deeper and with `MISSED_TIME` times the timeout."""
+    import vkgl
+
+    deeper = min(12, depth + MISSED_DEPTH)
+    started = time.perf_counter()
+    plan = vkgl.solve(program, job["name"], timeout=job["timeout"] * MISSED_TIME, max_depth=deeper)
+    return {
+        "status": plan.status,
+        "max_depth": deeper,
+        "depth": plan.depth if plan.status == "solved" else None,
+        "solve_s": round(time.perf_counter() - started, 2),
+    }
 
 
 def _step_text(step: dict[str, Any]) -> str:
@@ -125,6 +155,7 @@ def flags(result: dict[str, Any]) -> dict[str, bool]:
         "colliding": solved and bool(result["findings"]),
         "no plan": result["outcome"] == "no plan",
         "timeout": result["outcome"] == "timeout",
+        "missed": (result.get("missed") or {}).get("status") == "solved",
         "error": result["outcome"] == "error",
     }
 
@@ -180,6 +211,18 @@ def report_text(results: list[dict[str, Any]]) -> str:
             f"Transit planning, after the search (the candidates it found): median "
             f"{statistics.median(transit):.0f} ms per solved task (max {max(transit):.0f} ms)."
         )
+    again = [r for r in results if r.get("missed")]
+    if again:
+        unsettled = [r["name"] for r in again if r["missed"]["status"] == "timeout"]
+        found = [f"{r['name']} (depth {r['missed']['depth']})" for r in again if r["missed"]["status"] == "solved"]
+        parts.append(
+            f'Each "no plan" solved again {MISSED_DEPTH} graphs deeper with {MISSED_TIME:g} times the timeout: '
+            f"{len(again)} re-solved, {len(found)} missed plans"
+            + (f" ({', '.join(found)})" if found else "")
+            + f", {len(unsettled)} unsettled (the re-solve timed out)"
+            + (f": {', '.join(unsettled)}" if unsettled else "")
+            + "."
+        )
     return "\n\n".join(parts)
 
 
@@ -194,6 +237,8 @@ def progress_line(r: dict[str, Any]) -> str:
             outcome += " disturbed " + ",".join(r["disturbed"])
         if r["findings"]:
             outcome += f" | {len(r['findings'])} overlaps: {r['findings'][0]}"
+    if r.get("missed"):
+        outcome += f" [deeper: {r['missed']['status']} in {r['missed']['solve_s']}s]"
     if r.get("reason") and r.get("execution") != "reached":
         outcome += f" | {r['reason'][:140]}"
     return f"{what}  {outcome}"
@@ -215,6 +260,9 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="explore the generated bodies with their short push grid only (no long `explore slides` block)",
     )
+    parser.add_argument(
+        "--no-missed", action="store_true", help='do not solve each "no plan" again deeper and longer (faster)'
+    )
     parser.add_argument("--json", type=Path, help="also write every task's result here")
     parser.add_argument("--from-json", type=Path, help="print the tables of a --json file again; run nothing")
     args = parser.parse_args(argv)
@@ -229,7 +277,13 @@ def main(argv: list[str] | None = None) -> int:
         )
         print(f"generated {len(tasks)} tasks in {time.perf_counter() - started:.0f} s", file=sys.stderr)
         jobs = [
-            {"task_file": str(t.task_file), "name": t.name, "timeout": args.timeout, "meta": t.spec.metadata()}
+            {
+                "task_file": str(t.task_file),
+                "name": t.name,
+                "timeout": args.timeout,
+                "missed": not args.no_missed,
+                "meta": t.spec.metadata(),
+            }
             for t in tasks
         ]
         results: list[dict[str, Any]] = []

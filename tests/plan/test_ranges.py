@@ -52,8 +52,17 @@ def test_without_a_range_a_slide_is_unbounded(tmp_path):
 def test_too_shallow_for_the_pushes_a_range_needs_says_so_with_numbers(tmp_path):
     plan = solve(slide_task(tmp_path, " range 0 to 10 cm", 4))
     assert plan.status == "infeasible"
-    assert "5.0 cm from its goal" in plan.reason
-    assert "Block.push_center_px slides at most 10.0 cm per contact (the range it was explored over)" in plan.reason
+    assert (
+        "block is 25.0 cm from its goal (within 1.0 cm wanted) and Block.push_center_px moves it at most 10.0 cm "
+        "per contact: at least 3 contacts: the goal needs at least 6 graphs"
+    ) in plan.reason
+    assert plan.reason.splitlines()[-1].endswith("(try --max-depth 6)")  # the shortest depth that may work
+
+
+def test_a_depth_with_room_for_the_pushes_but_not_for_their_contacts_is_checked_as_before(tmp_path):
+    plan = solve(slide_task(tmp_path, " range 0 to 10 cm", 6))  # three pushes: ADD, REMOVE, ADD, REMOVE, ADD
+    assert plan.status == "solved", plan.reason
+    assert plan.depth == 6
 
 
 def turn_task(tmp_path: Path, yaw_deg: float, max_depth: int) -> str:
@@ -75,7 +84,10 @@ def test_a_60_degree_turn_of_the_block_is_repeated_turns_within_the_explored_ran
 def test_a_turn_past_the_explored_range_is_infeasible_with_the_numbers(tmp_path):
     plan = solve(turn_task(tmp_path, -35, 2))
     assert plan.status == "infeasible"
-    assert "the turn would need 35.0 deg, past the 25.0 deg Block.turn_px_left was explored over" in plan.reason
+    assert "block's heading is 35.0 deg from its goal (within 3.0 deg wanted)" in plan.reason
+    assert "turns it at most 25.0 deg per contact: at least 2 contacts: the goal needs at least 4 graphs" in plan.reason
+    single = solve(turn_task(tmp_path, -35, 4))  # deep enough for two turns: searched, and the turns are found
+    assert single.status == "solved" and single.depth == 4, single.reason
 
 
 def test_an_open_slide_is_planned_past_its_explored_range_in_one_push(tmp_path):

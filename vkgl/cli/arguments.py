@@ -17,7 +17,7 @@ from typing import Any, NoReturn
 from vkgl.cli.exit_codes import EXIT_INPUT
 
 MAX_DEPTH_LIMIT = 12
-"""Graphs in a sequence at most: the search is breadth-first, so deeper is exponentially slower."""
+"""Graphs in a sequence at most: deeper searches grow exponentially where the bound prunes little."""
 
 TIMEOUT_LIMIT = 3600.0
 """s: a search longer than an hour is a mistake, not a plan."""

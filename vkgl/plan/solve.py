@@ -34,7 +34,8 @@ def solve(
 ) -> Plan:
     """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
 
-    Breadth-first search over graph sequences (`vkgl.plan.search.search`) with
+    Best-first search over graph sequences guided by an admissible bound of the graphs still needed
+    (`vkgl.plan.search.search`, `vkgl.plan.search.bound`: plans stay shortest) with
     task-space and joint-space feasibility checks (`vkgl.plan.task_space.feasible`).
     `progress` shows the search on stderr; `arm_start` are the arm's joints
     where its first path starts (its home configuration by default: where
@@ -155,6 +156,10 @@ def _plan(problem: Problem, result: SearchResult, started: float) -> Plan:
     details = {
         "sequences": result.stats.sequences,
         "pruned": result.stats.pruned,
+        "pruned_by_bound": result.stats.cut_by_bound,  # never queued: depth + bound passes max_depth
+        "passed_over": result.stats.passed_over,
+        "excluded": result.stats.excluded,
+        "max_depth": problem.max_depth,
         "geometry_checks": result.stats.geometry_checks,
         "optimisations": result.stats.work.optimisations,
         "ik_calls": result.stats.work.ik_calls,

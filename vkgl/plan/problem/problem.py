@@ -45,7 +45,10 @@ from vkgl.plan.problem.avoid import Avoid
 from vkgl.robot import Arm
 
 DEFAULT_MAX_DEPTH = 6
-"""Graphs in the longest sequence searched (G0 included) when the task says nothing."""
+"""Graphs in the longest sequence searched (G0 included) when the task says nothing. Not 10: with the guided
+search, tasks that are "no plan" at 6 mostly time out at 10 on scenes with clutter (the bound is weak where
+bodies slide far, and deeper sequences moving clutter and tools reach the optimiser: docs/physical_bench.md,
+"Guided search"); a user who wants deeper writes `max_depth`, and the hint says when it could help."""
 
 DEFAULT_TIMEOUT = 60.0
 """s: the search gives up after this long when the task says nothing."""

@@ -1,8 +1,14 @@
-"""Algorithm 1 of the paper: breadth-first search over graph sequences, first feasible sequence returned.
+"""Algorithm 1 of the paper, best first: graph sequences in the order of depth plus a lower bound of the graphs
+still needed (`vkgl.plan.search.bound`), the first feasible sequence returned.
 
 Sequences are extended one transition at a time (`successors` in
-`vkgl.plan.graphs.graph`) and checked as they are generated, level by level, so the
-first feasible sequence found is a shortest one. What never loses a solution:
+`vkgl.plan.graphs.graph`), queued (a heap) by depth plus bound, ties in the
+order breadth-first search generates them (the indices of their actions among
+their parents' successors), and checked when they leave the queue. The bound
+never overestimates, so the first feasible sequence checked is a shortest one,
+and the very one the paper's breadth-first search finds first; a sequence
+whose depth plus bound passes `max_depth` is never queued. What never loses a
+solution besides:
 
 - a sequence is only checked when its last mode moves a goal body: otherwise
   its final poses are those of a shorter prefix, which was checked before;
@@ -19,9 +25,11 @@ poses with the values at zero), so no work is repeated along a branch.
 
 from __future__ import annotations
 
+import heapq
+import math
 import sys
 import time
-from collections import Counter, deque
+from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
@@ -34,6 +42,7 @@ from vkgl.plan.graphs.rollout import Sequence, extend, rollout, start_sequence
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
+from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
 from vkgl.plan.task_space.feasible import (
     Counters,
@@ -56,7 +65,10 @@ class SearchStats:
     pruned: int = 0
     excluded: int = 0  # sequences cut at once for repeating a step that failed in execution (`vkgl.plan.problem.avoid`)
     passed_over: int = 0  # sequences whose last mode moves no goal body: extended, never checked themselves
-    cut_by_depth: int = 0  # sequences at max_depth that could have been extended further
+    cut_by_bound: int = 0  # sequences never queued: their depth plus the graphs they still need pass max_depth
+    shortest_cut: float = math.inf  # the fewest graphs any of those could reach the goal in (inf: none)
+    cut_at_start: bool = False  # G0 alone already needs more graphs than max_depth allows
+    level: float = 1  # depth plus bound of the sequence checked last: every one below it has been checked
     task_space_checks: int = 0
     geometry_checks: int = 0
     joint_space_checks: int = 0
@@ -93,29 +105,43 @@ class SearchResult:
 
 
 def search(problem: Problem, *, deadline: float, progress: bool = False) -> SearchResult:
-    """Breadth-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs)."""
+    """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
+
+    Sequences are checked in the order of their depth plus `Bound` (an admissible lower bound of the graphs
+    still needed, `vkgl.plan.search.bound`), ties broken by the breadth-first order of their actions, and
+    those whose depth plus bound passes `max_depth` are never made: the plan is the one breadth-first search
+    returns, found sooner.
+    """
     stats = SearchStats()
     reporter = _Progress(progress)
     geometry = GeometryCheck(problem)
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
+    bound = Bound(problem)
     root = start_sequence(problem)
     if goal_holds(problem, root.zero_poses):
         found = _unless_excluded(problem, _check(problem, root, stats, deadline, checks), stats)
         found = _with_transits(problem, found, stats, deadline, checks.arm_paths)
         return found or SearchResult("infeasible", "", stats)
-    queue: deque[Sequence] = deque([root])
+    frontier: list[tuple[float, tuple[int, ...], Sequence]] = []
+    _push(problem, frontier, root, (), bound(root), stats)
     try:
-        while queue:
-            seq = queue.popleft()
+        while frontier:
+            stats.level, path, seq = heapq.heappop(frontier)
+            if time.perf_counter() > deadline:
+                return SearchResult("timeout", _timeout_reason(problem, stats), stats)
+            if seq.actions and _moves_goal_body(problem, seq):
+                found = _unless_excluded(problem, _check(problem, seq, stats, deadline, checks), stats)
+                found = _with_transits(problem, found, stats, deadline, checks.arm_paths)
+                if found is not None:
+                    return found
+            elif seq.actions:
+                stats.passed_over += 1
             if seq.depth >= problem.max_depth:
-                stats.cut_by_depth += 1
                 continue
             stats.graphs_expanded += 1
             stats.depth_reached = max(stats.depth_reached, seq.depth + 1)
             reporter.show(stats)
-            for action in successors(problem, seq.graphs[-1], seq.last):
-                if time.perf_counter() > deadline:
-                    return SearchResult("timeout", _timeout_reason(problem, stats), stats)
+            for index, action in enumerate(successors(problem, seq.graphs[-1], seq.last)):
                 child, hand = extend(problem, seq, action)
                 stats.sequences += 1
                 if hand is not None and (rejection := unreachable(problem, hand)) is not None:
@@ -126,22 +152,30 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                     stats.excluded += 1  # with everything that would follow it
                     stats.reject(rejection, action.label(problem))
                     continue
-                if _moves_goal_body(problem, child):
-                    found = _unless_excluded(problem, _check(problem, child, stats, deadline, checks), stats)
-                    found = _with_transits(problem, found, stats, deadline, checks.arm_paths)
-                    if found is not None:
-                        return found
-                else:
-                    stats.passed_over += 1
-                if child.depth < problem.max_depth:
-                    queue.append(child)
-                else:
-                    stats.cut_by_depth += 1
+                _push(problem, frontier, child, path + (index,), bound(child), stats)
     finally:
         reporter.done()
     if time.perf_counter() > deadline:
         return SearchResult("timeout", _timeout_reason(problem, stats), stats)
-    return SearchResult("infeasible", _infeasible_reason(problem, stats), stats)
+    return SearchResult("infeasible", _infeasible_reason(problem, stats, bound), stats)
+
+
+def _push(
+    problem: Problem,
+    frontier: list[tuple[float, tuple[int, ...], Sequence]],
+    seq: Sequence,
+    path: tuple[int, ...],
+    needed: float,
+    stats: SearchStats,
+) -> None:
+    """Queue `seq` (reached by the successor indices `path`) unless it and the `needed` graphs pass max_depth."""
+    total = seq.depth + needed
+    if total > problem.max_depth:
+        stats.cut_by_bound += bool(seq.actions)  # G0 is no sequence tried: the reason says so instead
+        stats.cut_at_start = not seq.actions
+        stats.shortest_cut = min(stats.shortest_cut, total)
+        return
+    heapq.heappush(frontier, (total, path, seq))
 
 
 def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
@@ -316,6 +350,8 @@ def _accounting(stats: SearchStats) -> str:
     parts = [f"{stats.pruned} with the hand out of reach at once", f"{checked} checked in task space"]
     if stats.excluded:
         parts.insert(1, f"{stats.excluded} repeating a step that failed in execution")
+    if stats.cut_by_bound:
+        parts.insert(1, f"{stats.cut_by_bound} needing more graphs than max_depth allows")
     if stats.joint_space_checks:
         parts.append(f"{stats.joint_space_checks} of them also in joint space")
     if stats.rejections["excluded"] > stats.excluded:
@@ -330,24 +366,43 @@ def _accounting(stats: SearchStats) -> str:
     )
 
 
-def _infeasible_reason(problem: Problem, stats: SearchStats) -> str:
+def _infeasible_reason(problem: Problem, stats: SearchStats, bound: Bound) -> str:
     """A one-line summary (what scripts print), then an indented line per kind with its closest miss.
 
-    The `--max-depth` hint, when there is one, is a line of its own after the list.
+    When the bound cut every sequence at the start, the summary says why with numbers instead. The
+    `--max-depth` hint, when the bound says a longer sequence could reach the goal, is a line of its own.
     """
     head = f"no sequence of at most {problem.max_depth} graphs reaches the goal"
-    detail = _summary(stats)
-    lines = [f"{head}: {detail}" if detail else head]
-    for kind in _kinds(stats):
-        lines += _closest(stats, kind)
-    lines.append(f"  ({_accounting(stats)})")
-    # A joint's limit or the table's edge stays where it is however long the sequence: no hint then.
-    if stats.cut_by_depth and problem.max_depth < MAX_DEPTH_HINT and set(stats.rejections) - {"table"}:
-        lines.append(
-            f"{stats.cut_by_depth} sequences were cut at max_depth {problem.max_depth}: a longer one may "
-            f"work (try --max-depth {problem.max_depth + 1})"
-        )
+    if stats.cut_at_start:
+        needed = "" if math.isinf(stats.shortest_cut) else f"the goal needs at least {stats.shortest_cut:g} graphs"
+        detail = ": ".join(part for part in (bound.explain(), needed) if part)
+        lines = [f"{head}: {detail}" if detail else head]
+    else:
+        detail = _summary(stats)
+        lines = [f"{head}: {detail}" if detail else head]
+        for kind in _kinds(stats):
+            lines += _closest(stats, kind)
+        lines.append(f"  ({_accounting(stats)})")
+    hint = _depth_hint(problem, stats)
+    if hint:
+        lines.append(hint)
     return "\n".join(lines)
+
+
+def _depth_hint(problem: Problem, stats: SearchStats) -> str:
+    """The `--max-depth` to try, only when the bound says that a longer sequence could reach the goal."""
+    shortest = stats.shortest_cut
+    if math.isinf(shortest) or shortest > MAX_DEPTH_HINT:
+        return ""
+    # A joint's limit or the table's edge stays where it is however long the sequence: no hint then.
+    if stats.rejections and not set(stats.rejections) - {"table"}:
+        return ""
+    if stats.cut_at_start:
+        return f"a longer sequence may reach the goal (try --max-depth {shortest:g})"
+    return (
+        f"a longer sequence may reach the goal: {stats.cut_by_bound} sequences need more than {problem.max_depth} "
+        f"graphs, the shortest at least {shortest:g} (try --max-depth {shortest:g})"
+    )
 
 
 MAX_DEPTH_HINT = 12
@@ -355,11 +410,23 @@ MAX_DEPTH_HINT = 12
 
 
 def _timeout_reason(problem: Problem, stats: SearchStats) -> str:
+    done = f"every sequence that could reach the goal in fewer than {stats.level:g} graphs was checked"
+    closest = _closest_miss(stats)
     return (
-        f"no plan within the timeout of {problem.timeout:g} s (searched up to depth "
-        f"{min(stats.depth_reached, problem.max_depth)}, {stats.sequences} sequences tried); "
-        f"raise `timeout` in the task's search block or pass --timeout"
+        f"no plan within the timeout of {problem.timeout:g} s: the time ran out while checking sequences of "
+        f"{stats.level:g} graphs or more ({done}; {stats.sequences} sequences made, "
+        f"{stats.task_space_checks} checked in task space, {stats.work.optimisations} optimisations, "
+        f"{stats.work.ik_calls} IK calls)" + (f"; the closest miss: {closest}" if closest else "") + "\n"
+        "raise `timeout` in the task's search block or pass --timeout"
     )
+
+
+def _closest_miss(stats: SearchStats) -> str:
+    """The rejection that got farthest towards a plan (the latest stage, then the smallest excess), in words."""
+    if not stats.examples:
+        return ""
+    kind = min(stats.examples, key=lambda k: (-Kind(k).stage, stats.examples[k][0], k))
+    return stats.examples[kind][1]
 
 
 class _Progress:

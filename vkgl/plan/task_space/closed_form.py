@@ -347,6 +347,8 @@ def _best_row(
             estimate = np.linalg.norm(a * value[:, None] - offsets, axis=1)
         if np.isfinite(estimate).all():
             rows = np.flatnonzero(estimate <= estimate.min() + SCREEN).tolist()
+    elif n > 1:
+        return _best_row_screened(columns[:, :k, :], offsets, position, origins, limits)
     best: tuple[float, int, np.ndarray] | None = None
     for row in rows:
         residual, solution = _closest(columns[row], position - origins[row, :k], limits)
@@ -354,6 +356,38 @@ def _best_row(
             best = (residual, row, solution)
     assert best is not None
     return best
+
+
+def _best_row_screened(
+    columns: np.ndarray, offsets: np.ndarray, position: np.ndarray, origins: np.ndarray, limits: np.ndarray
+) -> tuple[float, int, np.ndarray]:
+    """`_best_row` with two slides or more: the same row and numbers, with fewer bounded least squares.
+
+    Each row's unconstrained least-squares distance (one batched NumPy pass) is a lower bound of its bounded
+    one. The row of the smallest bound is solved first; then, in row order, only rows whose bound (less
+    `SCREEN` for rounding) does not exceed the best distance found so far can be closer, and only they are
+    solved; equal distances keep the first row, as the plain loop over every row does.
+    """
+    k = len(position)
+    lower = _unbounded_distances(columns, offsets) - SCREEN
+    if not np.isfinite(lower).all():
+        lower = np.full(len(columns), -np.inf)
+    first = int(np.argmin(lower))
+    residual, solution = _closest(columns[first], position - origins[first, :k], limits)
+    best = (residual, first, solution)
+    for row in range(len(columns)):
+        if row == first or lower[row] > best[0]:
+            continue
+        residual, solution = _closest(columns[row], position - origins[row, :k], limits)
+        if residual < best[0] or (residual == best[0] and row < best[1]):
+            best = (residual, row, solution)
+    return best
+
+
+def _unbounded_distances(columns: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """Per row, the distance left by the best slide values with no bounds at all (n x k x s columns)."""
+    fitted = np.einsum("nks,ns->nk", columns, np.einsum("nsk,nk->ns", np.linalg.pinv(columns), offsets))
+    return np.linalg.norm(offsets - fitted, axis=1)
 
 
 def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tuple[float, np.ndarray]:

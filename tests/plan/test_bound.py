@@ -1,0 +1,185 @@
+"""The search's bound (`vkgl.plan.search.bound`) never exceeds the true remaining depth.
+
+On small generated problems (a block with a ranged slide and a ranged turn, a goal somewhere around it, with or
+without a stick to push with), every sequence the search may make up to a depth is enumerated breadth first with
+the search's own rules (`successors`, the reach cut), each one whose last mode moves the block is checked in task
+space (a relaxation of the whole check: fewer sequences pass it, never more), and the true remaining depth of
+each sequence is the fewest graphs to a descendant that passes. The bound must not exceed it.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import vkgl
+from vkgl.lang.compiler import compile_file
+from vkgl.plan.graphs.graph import successors
+from vkgl.plan.graphs.rollout import Sequence, extend, start_sequence
+from vkgl.plan.problem.problem import Problem, build_problem
+from vkgl.plan.problem.rejection import Rejection
+from vkgl.plan.search.bound import Bound
+from vkgl.plan.task_space.feasible import Counters, task_space
+from vkgl.plan.task_space.workspace import unreachable
+
+ROOT = Path(__file__).resolve().parents[2]
+
+PROGRAM = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.bodies.stick
+use stdlib.affordances.stick
+use stdlib.tools
+
+affordances Block {{
+    affordance push_px {{
+        action fixed at (-5, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to {slide} cm
+    }}
+    affordance turn_left {{
+        action fixed at (-5, 6.56, 0) cm yaw 0deg
+        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to {turn} deg
+    }}
+}}
+
+scene s {{
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at ({x}, 0) m yaw 0deg
+{stick}}}
+
+task t {{ scene s  goal block at ({gx}, {gy}) m{yaw} within 1 cm, 3 deg }}
+"""
+
+DEPTH = 6
+"""Graphs in the longest sequence enumerated (G0 included)."""
+
+
+def _problem(tmp_path: Path, **fields: object) -> Problem:
+    path = tmp_path / "bound.vkg"
+    path.write_text(PROGRAM.format(**fields), encoding="utf-8")
+    program = compile_file(str(path))
+    return build_problem(program, program.task(), max_depth=DEPTH)
+
+
+def _children(problem: Problem, seq: Sequence) -> list[Sequence]:
+    """What the search makes from `seq`: its successors, less those whose hand is out of reach at once."""
+    out = []
+    for action in successors(problem, seq.graphs[-1], seq.last):
+        child, hand = extend(problem, seq, action)
+        if hand is None or unreachable(problem, hand) is None:
+            out.append(child)
+    return out
+
+
+def _passes(problem: Problem, seq: Sequence) -> bool:
+    mode = seq.depth - 1
+    if not any(m == mode and e.body == "block" for m, e in seq.variables):
+        return False  # ends where a shorter prefix ends: the search never checks it
+    return not isinstance(task_space(problem, seq, math.inf, Counters()), Rejection)
+
+
+def _remaining(problem: Problem, seq: Sequence, seen: list[tuple[Sequence, float]]) -> float:
+    """The fewest graphs from `seq` to a descendant that passes (inf: none within DEPTH); every sequence with
+    its own is appended to `seen`."""
+    best = 0.0 if seq.actions and _passes(problem, seq) else math.inf
+    if seq.depth < DEPTH:
+        for child in _children(problem, seq):
+            best = min(best, 1 + _remaining(problem, child, seen))
+    seen.append((seq, best))
+    return best
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    x=st.sampled_from([0.45, 0.6, 0.9]),
+    dx=st.sampled_from([0.0, 0.05, 0.1, 0.15, 0.25, -0.05]),
+    dy=st.sampled_from([0.0, 0.04]),
+    yaw=st.sampled_from([None, -20, -40]),
+    slide=st.sampled_from([6, 10, 30]),
+    turn=st.sampled_from([15, 25]),
+    stick=st.booleans(),
+)
+def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, yaw, slide, turn, stick):
+    problem = _problem(
+        tmp_path,
+        x=x,
+        gx=round(x + dx, 3),
+        gy=dy,
+        yaw="" if yaw is None else f" yaw {yaw}deg",
+        slide=slide,
+        turn=turn,
+        stick="    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n" if stick else "",
+    )
+    bound = Bound(problem)
+    seen: list[tuple[Sequence, float]] = []
+    _remaining(problem, start_sequence(problem), seen)
+    for seq, true in seen:
+        assert bound(seq) <= true, (
+            f"bound {bound(seq)} > true remaining {true} after {[a.label(problem) for a in seq.actions]}"
+        )
+
+
+def test_the_bound_is_the_true_depth_of_three_short_pushes(tmp_path):
+    problem = _problem(tmp_path, x=0.45, gx=0.6, gy=0, yaw="", slide=6, turn=25, stick="")
+    seen: list[tuple[Sequence, float]] = []
+    true = _remaining(problem, start_sequence(problem), seen)
+    assert true == 5 and Bound(problem)(start_sequence(problem)) == 5  # push, break, push, break, push
+    assert sum(1 for seq, depth in seen if depth < math.inf and Bound(problem)(seq) == depth) >= 5
+
+
+def test_a_far_goal_with_short_slides_needs_a_contact_and_a_break_per_slide(tmp_path):
+    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw="", slide=8, turn=25, stick="")
+    bound = Bound(problem)
+    root = start_sequence(problem)
+    assert bound(root) == 7  # 27 cm in slides of 8 cm: 4 pushes, 3 breaks between them
+    first = next(c for c in _children(problem, root) if c.last.engagement.affordance == "push_px")
+    assert bound(first) == 6  # one push made: three more, each after a break
+    assert "block is 28.0 cm from its goal (within 1.0 cm wanted)" in bound.explain()
+
+
+def test_a_body_the_hand_cannot_reach_needs_the_grasp_of_a_tool_first(tmp_path):
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    problem = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    assert Bound(problem)(start_sequence(problem)) == 2  # grasp the stick, push with its tip
+    alone = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
+    assert Bound(alone)(start_sequence(alone)) == math.inf  # nothing reaches it
+
+
+def test_a_heading_nothing_turns_is_never_reached_and_no_depth_is_suggested(tmp_path):
+    path = tmp_path / "noturn.vkg"
+    start, end = PROGRAM.index("    affordance turn_left"), PROGRAM.index("}}\n}}\n") + 3
+    text = PROGRAM[:start] + PROGRAM[end:]  # the block only slides
+    path.write_text(text.format(x=0.45, gx=0.5, gy=0, yaw=" yaw 30deg", slide=10, stick=""), encoding="utf-8")
+    program = compile_file(str(path))
+    problem = build_problem(program, program.task())
+    assert Bound(problem)(start_sequence(problem)) == math.inf
+    plan = vkgl.solve(program)
+    assert plan.status == "infeasible"
+    assert "no affordance of Block turns it (push_px): no sequence of any length reaches that heading" in plan.reason
+    assert "--max-depth" not in plan.reason
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), rows=st.integers(2, 40), slides=st.integers(2, 3), fixed=st.booleans())
+def test_screening_rows_of_two_slides_gives_the_row_and_values_of_trying_every_row(seed, rows, slides, fixed):
+    # the deep sequences' hot spot (two turns and two slides of one body): the screened search must not change
+    # what closed_form decides
+    from vkgl.plan.task_space.closed_form import _best_row, _closest
+
+    rng = np.random.default_rng(seed)
+    columns = rng.normal(size=(rows, 3, slides))
+    origins, position = rng.normal(size=(rows, 3)) * 0.3, rng.normal(size=2) * 0.3
+    limits = np.stack([np.zeros(slides), rng.uniform(0.0, 0.5, size=slides)], axis=1)
+    if fixed:
+        limits[0] = (0.1, 0.1)
+    every = min(
+        ((*_closest(columns[row], position - origins[row, :2], limits), row) for row in range(rows)),
+        key=lambda found: (found[0], found[2]),
+    )
+    residual, row, values = _best_row(columns, origins, position, limits)
+    assert (residual, row) == (every[0], every[2]) and np.array_equal(values, every[1])

@@ -1,0 +1,249 @@
+"""A lower bound of the graphs a sequence still needs before its goal can hold: the guide of the best-first search.
+
+`Bound(problem)(seq)` is a whole number (or `math.inf`: no extension of `seq`
+can ever reach the goal) that never exceeds the number of actions any feasible
+extension of `seq` within the search's space adds. Its parts, per goal body `b`:
+
+1. **Moving modes in all** (`N_b`, fixed per problem). A body that is not a tool
+   and has no `free` affordance moves only during modes in which an engagement
+   of a prismatic or revolute affordance on it is in force (`rollout`: nothing
+   else changes its pose; transitions only move tools and put released bodies
+   down), by one motion value within `value_bounds` per mode. One mode
+   translates its frame's origin by at most `step_b`: a slide by its range's
+   upper end (`v` along a unit axis), a turn by `θ ≤ θmax` about an axis at
+   distance `r` from the origin by `2 r sin(min(θmax, π) / 2)` (the chord);
+   `step_b` is the largest over the affordances that can move `b` (of the type
+   of its physical joint, if it has one). A goal at distance `d` with tolerance
+   `t` needs the origin to move at least `d - t` (triangle inequality), hence
+   at least `ceil((d - t) / step_b)` modes. Headings: only turns change one; a
+   turn about an axis vertical in the world changes it by its angle, so a
+   heading off by `ψ - t_ψ` (the circle's distance, less the tolerance) needs
+   `ceil((ψ - t_ψ) / θmax)` turning modes; when some turn's axis is not
+   vertical every turn counts as half a turn (one mode could give any heading). No
+   turning affordance and a heading off by more than its tolerance: never
+   (`inf`). A prismatic joint's opening moves by at most the slide per mode
+   (`|axis · joint_axis| <= 1`); a hinge's opening counts one mode. `N_b` is
+   the largest of these (a mode may serve several at once).
+2. **Moving modes still to come**: `m_b = max(0, N_b - k_b)` where `k_b` counts
+   the modes of `seq` that move `b` (its motion variables): each moved `b` by at
+   most `step_b` too, so the rest must cover what they did not.
+3. **Contacts made and broken.** Every graph is one action. When no tool has two
+   effector frames, the graph in which an engagement on `b` acts holds nothing
+   but it and the grasp of the tool it acts through (one contact per effector;
+   a tool frame acts only while its tool is held, and a tool in use stays in
+   hand): its only successor removes it. Then each further moving mode of `b`
+   needs its own ADD on `b`, and each ADD but the first a REMOVE of the one
+   before: `2 m_b` actions on `b` when something engages `b` now, `2 m_b - 1`
+   when nothing does. These actions target `b`, so those of different bodies
+   are different actions and add up. With a tool of two frames (one may act
+   while the other holds its contact) each further mode still needs a graph
+   (`m_b`), and a body not moving now at least one ADD (and a REMOVE first when
+   something holds it still): the bound is the larger of the largest `m_b` and
+   the sum of those actions.
+4. **The grasp a tool needs first.** A body still at rest whose every moving
+   affordance puts the hand out of the arm's reach can only be moved through a
+   tool: the search never adds the hand's own contact there (it cuts that
+   subtree at once, `vkgl.plan.search.search`), and the body stays at rest until
+   something moves it. When no tool is in the hand that is one more ADD (its
+   target is a tool, not a goal body: it adds to the sum); with no tool at all,
+   never.
+
+Each part counts actions that every feasible extension must contain, and parts
+that add up count disjoint actions, so the bound never exceeds the true
+remaining depth: the best-first search that prunes at `depth + bound >
+max_depth` loses no plan within `max_depth`, and, checking sequences in the
+order of `depth + bound` (ties by the breadth-first order of their actions), it
+returns the very plan breadth-first search returns (tests/plan/test_bound.py
+checks the bound against exhaustive breadth-first search).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from vkgl.lang.ir.nodes import Affordance
+from vkgl.plan.graphs.graph import KGraph, is_held, motion_type
+from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
+from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
+from vkgl.plan.task_space.workspace import unreachable
+from vkgl.se3 import wrap_angle, yaw_of
+
+_SLACK = 1e-6
+"""Rounding room (m, rad, or modes): a need within it of a whole number of steps is that number, never one more."""
+
+_MOVING = ("prismatic", "revolute")
+
+
+@dataclass(frozen=True)
+class BodyNeed:
+    """What a goal body needs from its start, fixed per problem: `modes` (moving modes in all, `inf`: never) and
+    `why` (the words that explain it, with the numbers), and whether only a tool can move it (`needs_tool`)."""
+
+    body: str
+    modes: float
+    why: str
+    needs_tool: bool
+
+
+class Bound:
+    """The lower bound of one problem (see the module's docstring); call it on a sequence."""
+
+    def __init__(self, problem: Problem) -> None:
+        self.problem = problem
+        tools = [e.tool for e in problem.effectors if e.tool is not None]
+        self.tools = frozenset(tools)
+        self.two_frames = any(tools.count(t) > 1 for t in self.tools)
+        self.needs = [need for need in _needs(problem, self.tools) if need.modes > 0]
+
+    def __call__(self, seq: Sequence) -> float:
+        """The fewest actions any feasible extension of `seq` adds (`inf`: none can reach the goal)."""
+        if not self.needs:
+            return 0
+        graph = seq.graphs[-1]
+        remaining, actions, tool = 0.0, 0.0, False
+        for need in self.needs:
+            still = need.modes - sum(1 for _, e in seq.variables if e.body == need.body)
+            if still <= 0:
+                continue
+            if math.isinf(still):
+                return math.inf
+            engaged = graph.engaging(need.body)
+            moving = engaged is not None and motion_type(self.problem, engaged) in _MOVING
+            remaining = max(remaining, still)
+            if self.two_frames:
+                actions += 0 if moving else (2 if engaged is not None else 1)
+            else:
+                actions += 2 * still - (0 if engaged is not None else 1)
+            tool = tool or (need.needs_tool and not moving and need.body not in seq.dependent)
+        if tool and not self._holds_tool(graph):
+            if not self.tools:
+                return math.inf
+            actions += 1
+        return max(remaining, actions)
+
+    def explain(self) -> str:
+        """Why the goal needs the graphs the bound gives at the start (empty when it gives none)."""
+        return "; ".join(need.why for need in self.needs if need.why)
+
+    def _holds_tool(self, graph: KGraph) -> bool:
+        return any(is_held(self.problem, graph, tool) for tool in self.tools)
+
+
+def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
+    """Per goal body, the moving modes its goals need (the largest over its goals) and whether only a tool can."""
+    out: dict[str, BodyNeed] = {}
+    for goal in problem.goals:
+        body = problem.bodies[goal.body]
+        if goal.body in tools or any(a.motion.type == "free" for a in body.affordances):
+            continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes
+        movers = _movers(body)
+        modes, why = _goal_modes(problem, body, goal, movers)
+        kept = out.get(goal.body)
+        if kept is None or modes > kept.modes:
+            out[goal.body] = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers))
+    return list(out.values())
+
+
+def _movers(body: PlanBody) -> list[Affordance]:
+    """The affordances that can move `body` (only its physical joint's type, if it has one)."""
+    return [a for a in body.affordances if a.motion.type in _MOVING and (body.joint in (None, a.motion.type))]
+
+
+def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tuple[float, str]:
+    """The moving modes `goal` needs at least (part 1 of the module's docstring), and why in words."""
+    parts: list[tuple[float, str]] = [(0.0, "")]
+    rest = body.rest
+    kind = body.type.name
+    if goal.position is not None:
+        far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
+        if far.needed > _SLACK:
+            step, name = max(((_translation(a), a.name) for a in movers), default=(0.0, ""))
+            parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
+    if goal.yaw is not None:
+        turn = _Gap(abs(wrap_angle(yaw_of(rest) - goal.yaw)), goal.tol_yaw, "deg")
+        if turn.needed > _SLACK:
+            turners = [a for a in movers if a.motion.type == "revolute"]
+            level = all(_vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
+            turns = [(value_bounds(a.motion)[1] if level else math.pi, a.name) for a in turners]
+            if not turns:
+                parts.append((math.inf, _no_turn(body, turn)))
+            else:
+                step, name = max(turns)
+                parts.append(turn.modes(step, f"{body.name}'s heading is", f"{kind}.{name} turns it"))
+    if goal.opening is not None and body.joint is not None:
+        unit = "cm" if body.joint == "prismatic" else "deg"
+        opening = _Gap(abs(body.start_state - goal.opening), goal.tol_opening, unit)
+        if opening.needed > _SLACK:
+            if body.joint == "prismatic":
+                step, name = max(((value_bounds(a.motion)[1], a.name) for a in movers), default=(0.0, ""))
+                span = f"from {opening.words(body.start_state)} to {opening.words(goal.opening)}"
+                parts.append(opening.modes(step, f"{body.name}'s opening ({span}) is", f"{kind}.{name} opens it"))
+            else:
+                parts.append((1.0, ""))
+    return max(parts, key=lambda p: p[0])
+
+
+@dataclass(frozen=True)
+class _Gap:
+    """How far a goal is (`distance`, m or rad), its tolerance, and the unit its words use."""
+
+    distance: float
+    tolerance: float
+    unit: str
+
+    @property
+    def needed(self) -> float:
+        """What the motions must cover at least (triangle inequality)."""
+        return self.distance - self.tolerance
+
+    def words(self, value: float) -> str:
+        """`value` in the gap's unit: "27.6 cm", "35.0 deg"."""
+        scale = 100.0 if self.unit == "cm" else 180.0 / math.pi
+        return f"{value * scale:.1f} {self.unit}"
+
+    def modes(self, step: float, subject: str, mover: str) -> tuple[float, str]:
+        """`ceil(needed / step)` moving modes and the words: "block is 27.6 cm from its goal (within 1.0 cm
+        wanted) and Block.push_px moves it at most 8.0 cm per contact: at least 4 contacts"."""
+        where = f"{subject} {self.words(self.distance)} from its goal (within {self.words(self.tolerance)} wanted)"
+        if step <= 0:
+            return math.inf, f"{where} and nothing moves it"
+        modes = max(1, math.ceil(self.needed / step - _SLACK))
+        if modes == 1:
+            return 1.0, ""  # one contact: nothing worth saying
+        return float(modes), f"{where} and {mover} at most {self.words(step)} per contact: at least {modes} contacts"
+
+
+def _no_turn(body: PlanBody, gap: _Gap) -> str:
+    names = ", ".join(a.name for a in body.affordances) or "none"
+    return (
+        f"{body.name}'s heading is {gap.words(gap.distance)} from its goal (within {gap.words(gap.tolerance)} "
+        f"wanted) and no affordance of {body.type.name} turns it ({names}): no sequence of any length reaches "
+        f"that heading"
+    )
+
+
+def _translation(affordance: Affordance) -> float:
+    """The farthest one mode of `affordance` moves its body's frame origin (m)."""
+    upper = value_bounds(affordance.motion)[1]
+    axis, center = unit_axis_and_center(affordance.motion)
+    if center is None:
+        return upper
+    radius = float(np.linalg.norm(center - np.dot(center, axis) * axis))
+    return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
+
+
+def _vertical(rest: np.ndarray, affordance: Affordance) -> bool:
+    """Whether `affordance` turns its body about an axis vertical in the world (at `rest`; slides and such turns
+    keep it vertical). A turn about it changes the heading by its angle; about any other, by up to half a turn."""
+    axis, _ = unit_axis_and_center(affordance.motion)
+    return abs(float((rest[:3, :3] @ axis)[2])) > 1.0 - 1e-9
+
+
+def _needs_tool(problem: Problem, body: PlanBody, movers: list[Affordance]) -> bool:
+    """Whether the hand itself reaches none of `body`'s moving contacts where it rests (part 4)."""
+    if not movers:
+        return False
+    return all(unreachable(problem, body.rest @ problem.action(body.name, a.name)) is not None for a in movers)
