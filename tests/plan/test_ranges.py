@@ -56,7 +56,8 @@ def test_too_shallow_for_the_pushes_a_range_needs_says_so_with_numbers(tmp_path)
         "block is 25.0 cm from its goal (within 1.0 cm wanted) and Block.push_center_px moves it at most 10.0 cm "
         "per contact: at least 3 contacts: the goal needs at least 6 graphs"
     ) in plan.reason
-    assert plan.reason.splitlines()[-1].endswith("(try --max-depth 6)")  # the shortest depth that may work
+    # the shortest depth that may work, on a line of its own (the tools' hint may follow it)
+    assert any(line.endswith("(try --max-depth 6)") for line in plan.reason.splitlines()[1:])
 
 
 def test_a_depth_with_room_for_the_pushes_but_not_for_their_contacts_is_checked_as_before(tmp_path):
@@ -99,7 +100,7 @@ def test_an_open_slide_is_planned_past_its_explored_range_in_one_push(tmp_path):
 def test_a_closed_range_stays_a_bound_where_the_open_one_does_not(tmp_path):
     plan = solve(slide_task(tmp_path, " range 0 to 10 cm", 2))
     assert plan.status == "infeasible"
-    assert "Block.push_center_px slides at most 10.0 cm per contact (the range it was explored over)" in plan.reason
+    assert "Block.push_center_px moves it at most 10.0 cm per contact" in plan.reason
 
 
 def test_a_moved_body_stays_on_the_table_with_its_whole_outline(tmp_path):
