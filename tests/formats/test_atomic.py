@@ -7,30 +7,11 @@ import stat
 from pathlib import Path
 
 import pytest
+from rename_guard import no_rename_outside_the_temporary_folder  # noqa: F401 (an autouse fixture)
 
 from vkgl import atomic
 from vkgl.atomic import Way
 from vkgl.errors import InputError
-
-
-@pytest.fixture(autouse=True)
-def no_rename_outside_the_temporary_folder(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A writer with the old bug would rename over /dev/stdout (run as root): refuse any rename outside /tmp."""
-    import tempfile
-
-    allowed = os.path.realpath(tempfile.gettempdir())
-    real_replace, real_rename = os.replace, os.rename
-
-    def guarded(real):  # type: ignore[no-untyped-def]
-        def rename(source, destination, *args, **kwargs):  # type: ignore[no-untyped-def]
-            if not os.path.realpath(os.path.dirname(os.path.abspath(destination))).startswith(allowed):
-                raise AssertionError(f"a test renamed over {destination}")
-            return real(source, destination, *args, **kwargs)
-
-        return rename
-
-    monkeypatch.setattr(os, "replace", guarded(real_replace))
-    monkeypatch.setattr(os, "rename", guarded(real_rename))
 
 
 def _no_rename(monkeypatch: pytest.MonkeyPatch) -> None:
