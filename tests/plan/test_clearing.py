@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import vkgl
-from vkgl.plan.task_space.clearing import MARGIN, convex_hull, polygon_distance
+from vkgl.lang.ir.regions import convex_hull
+from vkgl.plan.task_space.clearing import MARGIN, polygon_distance
 
 _EMPTY = Path(__file__).resolve().parent
 

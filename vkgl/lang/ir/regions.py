@@ -141,7 +141,7 @@ def overlap_depth(region: np.ndarray, points: np.ndarray) -> float:
     overlap: the shortest push that separates them (m; <= 0 when they are apart, by the gap's width).
 
     Separating axes: the edge normals of both polygons (exact for convex polygons)."""
-    hull = _hull(points)
+    hull = convex_hull(points)
     axes = [_edge_normals(region), _edge_normals(hull)] if len(hull) > 2 else [_edge_normals(region)]
     normals = np.vstack(axes)
     a, b = region @ normals.T, points @ normals.T
@@ -156,8 +156,9 @@ def _edge_normals(polygon: np.ndarray) -> np.ndarray:
     return normals[lengths[:, 0] > 1e-12] / lengths[lengths[:, 0] > 1e-12]
 
 
-def _hull(points: np.ndarray) -> np.ndarray:
-    """The convex hull of 2-d `points`, counterclockwise (Andrew's monotone chain)."""
+def convex_hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull of 2-d `points`, counterclockwise, without collinear points (Andrew's monotone chain: here
+    rather than SciPy's Qhull, which `vkgc check` does not import)."""
     ordered = sorted(set(map(tuple, np.round(points, 12))))
     if len(ordered) <= 2:
         return np.array(ordered, dtype=float).reshape(-1, 2)
@@ -178,4 +179,4 @@ def _cross(o: tuple[float, float], a: tuple[float, float], b: tuple[float, float
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
 
 
-__all__ = ["KeepOut", "Region", "excess", "footprint", "overlap_depth", "region_problem"]
+__all__ = ["KeepOut", "Region", "convex_hull", "excess", "footprint", "overlap_depth", "region_problem"]

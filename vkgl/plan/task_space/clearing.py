@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vkgl.lang.ir.geometry import shape_vertices
+from vkgl.lang.ir.regions import convex_hull
+from vkgl.lang.ir.regions import footprint as region_footprint
 from vkgl.plan.graphs.graph import Engagement
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, motion_matrices, rollout, tool_pose_on
 from vkgl.plan.problem.problem import Problem
@@ -54,31 +55,7 @@ class Blocker:
 
 def footprint(problem: Problem, body: str, pose: np.ndarray) -> np.ndarray:
     """The convex footprint (k x 2, counter-clockwise) of `body` at world `pose`, on the table's plane."""
-    vertices = np.asarray(shape_vertices(problem.bodies[body].type.shape), dtype=float)
-    world = vertices @ pose[:3, :3].T + pose[:3, 3]
-    return convex_hull(world[:, :2])
-
-
-def convex_hull(points: np.ndarray) -> np.ndarray:
-    """The convex hull of 2-D points, counter-clockwise, without repeated or collinear points (monotone chain)."""
-    unique = np.unique(np.round(np.asarray(points, dtype=float), 12), axis=0)
-    if len(unique) < 3:
-        return unique
-
-    def half(rows: np.ndarray) -> list[np.ndarray]:
-        chain: list[np.ndarray] = []
-        for p in rows:
-            while len(chain) >= 2 and _cross(chain[-2], chain[-1], p) <= 0:
-                chain.pop()
-            chain.append(p)
-        return chain
-
-    lower, upper = half(unique), half(unique[::-1])
-    return np.array(lower[:-1] + upper[:-1])
-
-
-def _cross(o: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    return float((a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]))
+    return convex_hull(region_footprint(problem.footprint_points(body), pose))
 
 
 def polygon_distance(a: np.ndarray, b: np.ndarray) -> float:
@@ -211,7 +188,6 @@ __all__ = [
     "blockers",
     "cleared_values",
     "clearing_value",
-    "convex_hull",
     "corridors",
     "footprint",
     "polygon_distance",
