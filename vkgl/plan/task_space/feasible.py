@@ -49,8 +49,7 @@ RESTARTS = 3
 
 ALTERNATIVE_FRACTIONS = (0.25, 0.5, 1.0)
 """Where in their ranges the motion values start when the search asks the optimiser for other solutions of a
-sequence (a body in the way moved a quarter, half, then all of the way it was explored: the shortest move that
-clears the path first)."""
+sequence, after the geometric ones (`ASIDE_BEYOND`) failed."""
 
 ASIDE_BEYOND = (0.0, 0.5, 1.0)
 """A body in the way is moved by the smallest value that clears the later motions' corridors
