@@ -17,9 +17,10 @@ translational joint, without gravity (the robot carries it). Its frame is the
 effector frame (docs/language.md, "The effector frame convention"): origin on the sphere's surface along x, x the
 direction it pushes, z up. Every control period the robot looks at the body
 and aims the fingertip along the current inward normal of the pushed face
-("force normal"); across the push the fingertip is compliant sideways (light
-damping, so friction can drag it along a turning face) and holds its height
-(a stiff spring).
+("force normal"); across the push the fingertip is compliant sideways and
+vertically (light damping only, so friction can drag it along a turning face,
+and can neither lift the body nor hold it down: docs/exploration.md, "A pusher
+carries no vertical load").
 
 Hand (policies `grasp FRAME ... force directions`): the hand body is welded
 to the tool at the grasp frame, so its frame is the effector frame (a free
@@ -45,8 +46,7 @@ FINGERTIP_MASS = 0.05  # kg
 FINGERTIP_FRICTION = 1.0  # rubber-like; the pair takes the body's smaller coefficient
 NO_LOAD_SPEED = 0.1  # m/s, the drive's speed when nothing resists (quasi-static pushing)
 SIDEWAYS_DAMPING = 1.0  # N s/m, the fingertip's compliance across the push direction
-HOLD_STIFFNESS = 2000.0  # N/m, how stiffly the fingertip keeps its height
-HOLD_DAMPING = 20.0  # N s/m (about critical for the fingertip's mass)
+VERTICAL_DAMPING = 1.0  # N s/m: no spring holds its height, so friction cannot carry the body's weight
 STABLE_STEP = 1.0  # the drive's damping may remove at most this fraction of the velocity per step
 WRIST_HEIGHT = 0.10  # m from the grasp frame to the wrist the robot drives (a Panda hand: 10.3 cm)
 WRIST_DAMPING = 0.01  # N m s/rad: the wrist turns freely but not forever
@@ -120,7 +120,6 @@ class Pusher:
         self.joint.setTransformFromParentBodyNode(isometry(_pose(rotation, np.zeros(3))))
         self.joint.setPositions(rotation.T @ centre)
         self.joint.setVelocities(rotation.T @ velocity)
-        self.hold = float(rotation[:, 2] @ self.home)  # the starting height, in the new coordinates
 
     def effector_pose(self) -> np.ndarray:
         """The world pose of the effector frame as simulated now."""
@@ -133,17 +132,10 @@ class Pusher:
         self._aim(frame_facing(direction, self.fallback_z), centre, velocity)
 
     def drive(self) -> None:
-        """Set the drive's forces for the next physics step (push, give way sideways, hold the height)."""
-        q = self.joint.getPositions()
+        """Set the drive's forces for the next physics step (push; give way sideways and up or down)."""
         v = self.joint.getVelocities()
         self.joint.setCommands(
-            np.array(
-                [
-                    self.force_limit - self.damping * v[0],
-                    -SIDEWAYS_DAMPING * v[1],
-                    HOLD_STIFFNESS * (self.hold - q[2]) - HOLD_DAMPING * v[2],
-                ]
-            )
+            np.array([self.force_limit - self.damping * v[0], -SIDEWAYS_DAMPING * v[1], -VERTICAL_DAMPING * v[2]])
         )
 
 
