@@ -51,6 +51,9 @@ KEYWORDS = frozenset(
         "on",
         "faces",
         "steps",
+        "heights",
+        "tips",
+        "above",
         "force",
         "normal",
         "directions",
@@ -248,7 +251,12 @@ def force_specs() -> st.SearchStrategy[ir.ForceSpec]:
 
 
 def explores() -> st.SearchStrategy[ir.Explore]:
-    on_faces = st.builds(ir.ContactSpec, faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4), steps=counts())
+    on_faces = st.builds(
+        ir.ContactSpec,
+        faces=st.lists(st.sampled_from(FACES), min_size=1, max_size=4),
+        steps=counts(),
+        heights=st.just(1) | counts(),
+    )
     at_frames = st.builds(ir.ContactSpec, frames=st.lists(refs(), min_size=1, max_size=3))
     contacts = on_faces | at_frames
     return st.builds(
@@ -320,7 +328,15 @@ def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
         motion=constraints(ranged=True),
         evidence=st.none() | evidence,
     )
-    return st.builds(ir.AffordanceSet, body=refs(), affordances=st.lists(affordance, min_size=1, max_size=3))
+    tipping = st.builds(
+        ir.Tipping, height=quantities("length"), faces=st.lists(st.sampled_from(FACES), max_size=4, unique=True)
+    )
+    return st.builds(
+        ir.AffordanceSet,
+        body=refs(),
+        affordances=st.lists(affordance, min_size=1, max_size=3),
+        tipping=st.lists(tipping, max_size=2),
+    )
 
 
 def correspondence_blocks() -> st.SearchStrategy[ir.Correspondences]:

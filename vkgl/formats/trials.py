@@ -24,6 +24,16 @@ from vkgl.errors import InputError
 
 FORMAT = "vkg-trials/1"
 
+TIP_ANGLE = 5.0
+"""deg: a lying body whose up axis tilts more than this from the vertical tipped over (docs/formats.md)."""
+TIPPED = "the body tipped over"
+"""How the `reason` of a trial that ended because its body tipped over begins."""
+
+
+def tilt_deg(T_ow: np.ndarray) -> np.ndarray:
+    """The angle (deg) between a body's z axis and the vertical, for poses (..., 4, 4) of a body that starts upright."""
+    return np.degrees(np.arccos(np.clip(np.asarray(T_ow)[..., 2, 2], -1.0, 1.0)))
+
 
 @dataclass
 class Trials:

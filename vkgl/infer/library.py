@@ -21,6 +21,7 @@ from vkgl.formats.infer_report import INFER_REPORT_FORMAT
 from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
+from vkgl.infer.tipping import tipping_ir
 from vkgl.infer.trial import TrialInference, infer_trials
 from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module
@@ -63,7 +64,13 @@ def infer_library(trials: Trials, *, body_use: str, header: str, path: str = "<i
         path=path,
         doc=header,
         uses=[Use(target=body_use, by_path=body_use.endswith(".vkg"))],
-        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=[affordance_ir(g) for g in groups])],
+        decls=[
+            AffordanceSet(
+                body=Ref(name=trials.body),
+                affordances=[affordance_ir(g) for g in groups],
+                tipping=tipping_ir(trials),
+            )
+        ],
     )
     report = build_report(trials, results, groups)
     return InferenceResult(

@@ -13,7 +13,9 @@ What is recorded, at SAMPLE_PERIOD (50 Hz) from t = 0 to the duration:
 both measured from the simulated poses), and per trial the action: the contact
 point and the force (body frame, declared magnitude). A trial whose simulation
 fails (NaN, body leaves the table, deep penetration) keeps its samples up to
-the failure, is marked `ok = False` and says why in `reason`.
+the failure, is marked `ok = False` and says why in `reason`. So does a trial
+whose lying body tips over (tilts more than TIP_ANGLE, 5 deg): it ends there,
+`reason` starting with TIPPED, and inference records the contact's height.
 
 The force of a push (docs/exploration.md, "Force"): `force normal F` is the
 push beyond what friction can hold. The fingertip's force limit is F + mu m g
@@ -41,7 +43,7 @@ import dartpy as dart
 import numpy as np
 
 from vkgl.errors import SimulationError
-from vkgl.formats.trials import Trials
+from vkgl.formats.trials import TIP_ANGLE, TIPPED, Trials, tilt_deg
 from vkgl.lang.ir.geometry import body_mesh, resting_height
 from vkgl.lang.ir.nodes import Body
 from vkgl.sim import world as sim_world
@@ -325,6 +327,9 @@ class _Trial:
                 return f"the body left the table (its lowest point rose {100 * lowest:.1f} cm)"
             if lowest < -LIFT_LIMIT:
                 return f"the body left the table (its lowest point fell to {100 * lowest:.1f} cm)"
+            tilt = float(tilt_deg(body))
+            if tilt > TIP_ANGLE:  # a falling body is no motion to learn; inference records where it tipped
+                return f"{TIPPED} (tilted {tilt:.1f} deg, more than {TIP_ANGLE:g} deg)"
         result = self.world.getLastCollisionResult()
         depth = max((result.getContact(i).penetrationDepth for i in range(result.getNumContacts())), default=0.0)
         if depth > PENETRATION_LIMIT:

@@ -6,6 +6,9 @@ A policy is a grid search (docs/method.md, "Exploration"):
   along the centre line of each named face (the horizontal line at mid height
   of a side face; the line along the longer horizontal side for `+z`), at the
   centres of K equal cells; the force pushes along the face's inward normal.
+  `heights H` repeats the line at H heights up a side face (the centres of H
+  equal cells of the body's height, lowest first), so that exploration finds
+  the heights at which a push tips the body.
 - `contacts at FRAME, ...` with `force normal Q`: one contact per frame, at
   its origin, the force along its x axis (the effector frame convention: x
   into the touched surface), e.g. behind a handle's bar, pulling the body.
@@ -35,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.errors import InputError
-from vkgl.lang.ir.geometry import FACES, body_mesh, face_line, surface_point
+from vkgl.lang.ir.geometry import FACES, at_heights, body_mesh, face_line, surface_point
 from vkgl.lang.ir.nodes import Body, Explore
 from vkgl.lang.ir.units import SCALE
 
@@ -118,7 +121,7 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float)
     for face in contacts.faces:
         outward = FACES[face]
         line_axis, points = face_line(mesh, outward, contacts.steps)
-        for k, point in enumerate(points):
+        for k, up, point in at_heights(mesh, points, contacts.heights):
             hit = surface_point(mesh, point, outward)
             assert hit is not None, "contact points are checked (E415)"
             specs.append(
@@ -132,10 +135,14 @@ def _push_trials(body: Body, policy: Explore, magnitude: float, duration: float)
                     magnitude=magnitude,
                     duration=duration,
                     line_axis=line_axis,
-                    label=f"{policy.name} {face} {k + 1}/{contacts.steps}",
+                    label=f"{policy.name} {face} {k + 1}/{contacts.steps}" + _height_label(up, contacts.heights),
                 )
             )
     return specs
+
+
+def _height_label(up: float, heights: int) -> str:
+    return f" at {100 * up:.1f} cm" if heights > 1 else ""  # mid-height pushes keep their old labels
 
 
 def _frame_trials(body: Body, policy: Explore, magnitude: float, duration: float) -> list[TrialSpec]:

@@ -30,6 +30,7 @@ from vkgl.lang.checks.geometry.relative import place_relative_goals
 from vkgl.lang.checks.geometry.scene import check_scenes
 from vkgl.lang.checks.joints import check_joint_goals
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
+from vkgl.lang.checks.tipping import check_tipping
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
@@ -100,6 +101,7 @@ def _assemble(modules: dict[str, ir.Module], root: str, sources: dict[str, str],
         for block in module.decls:
             if isinstance(block, ir.AffordanceSet):
                 program.affordances.setdefault(block.body.name, []).extend(block.affordances)
+                program.tipping.setdefault(block.body.name, []).extend(block.tipping)
             elif isinstance(block, ir.Correspondences):
                 program.correspondences.extend(block.items)
     return program
@@ -126,6 +128,7 @@ def _check_decl(decl: Any, program: Program, ctx: CheckContext) -> None:
 def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
     body = lookup(block.body, "body", ctx)
     duplicates(block.affordances, "affordance", ctx)
+    check_tipping(block, body if isinstance(body, ir.Body) else None, ctx)
     for affordance in block.affordances:
         for constraint in (affordance.action, affordance.motion):
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):

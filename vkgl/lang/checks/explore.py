@@ -15,7 +15,7 @@ from vkgl.lang.checks.context import CheckContext, shown, unknown_frame
 from vkgl.lang.checks.ranges import check_explore_ranges
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.limits import STEPS
+from vkgl.lang.ir.limits import HEIGHTS, STEPS
 
 PUSH_EXAMPLE = "contacts on faces +x, -x steps 9"
 FORCE_EXAMPLE = "`force normal 1 N` (pushes) or `force directions 3 x 3 x 3 1 N` (grasps)"
@@ -33,6 +33,12 @@ def check_explore(explore: ir.Explore, body: ir.Body, shape_ok: bool, ctx: Check
             f"`steps` must be at least 1, got {contacts.steps}",
             ctx.narrow(contacts.span, r"steps\s+(\S+)"),
         )
+    if contacts is not None and contacts.heights <= 0:
+        ctx.error(
+            codes.NON_POSITIVE_VALUE,
+            f"`heights` must be at least 1, got {contacts.heights}",
+            ctx.narrow(contacts.span, r"heights\s+(\S+)"),
+        )
     _check_force(explore, ctx)
     if explore.duration is not None and explore.duration.value <= 0:
         ctx.error(
@@ -43,7 +49,7 @@ def check_explore(explore: ir.Explore, body: ir.Body, shape_ok: bool, ctx: Check
     check_explore_ranges(explore, ctx)
     if contacts is not None:
         _check_faces(contacts, body, ctx)
-        if shape_ok and 1 <= contacts.steps <= STEPS.high:
+        if shape_ok and 1 <= contacts.steps <= STEPS.high and 1 <= contacts.heights <= HEIGHTS.high:
             _check_contact_points(contacts, body, ctx)
         known = [f for f in contacts.frames if body.frame(f.name) is not None]
         for ref in contacts.frames:
@@ -110,6 +116,13 @@ def _check_force(explore: ir.Explore, ctx: CheckContext) -> None:
 
 
 def _check_faces(contacts: ir.ContactSpec, body: ir.Body, ctx: CheckContext) -> None:
+    if contacts.heights > 1 and "+z" in contacts.faces:
+        ctx.error(
+            codes.HEIGHTS_ON_TOP,
+            f"`heights {contacts.heights}` spreads contacts up side faces, but `+z` is the top, pushed down",
+            ctx.narrow(contacts.span, r"(\+z)"),
+            "explore `+z` in a block of its own, without `heights`",
+        )
     if "-z" in contacts.faces:
         ctx.error(
             codes.UNREACHABLE_FACE,
@@ -125,7 +138,7 @@ def _check_contact_points(contacts: ir.ContactSpec, body: ir.Body, ctx: CheckCon
         return  # boxes and cylinders are convex: every point of a face's centre line is on the surface
     import numpy as np
 
-    from vkgl.lang.ir.geometry import FACES, body_mesh, face_line, surface_point  # trimesh: only when needed
+    from vkgl.lang.ir.geometry import FACES, at_heights, body_mesh, face_line, surface_point  # trimesh: lazily
 
     try:
         mesh = body_mesh(body)
@@ -137,12 +150,13 @@ def _check_contact_points(contacts: ir.ContactSpec, body: ir.Body, ctx: CheckCon
             continue
         line_axis, points = face_line(mesh, outward, contacts.steps)
         along = int(np.argmax(line_axis))
-        for k, point in enumerate(points):
+        for k, height, point in at_heights(mesh, points, contacts.heights):
             if surface_point(mesh, point, outward) is None:
+                up = f", {100 * height:.1f} cm up the face" if contacts.heights > 1 else ""
                 ctx.error(
                     codes.CONTACT_OFF_SURFACE,
                     f"face {face} of `{body.name}` has no surface at contact point {k + 1} of {contacts.steps} "
-                    f"({'xyz'[along]} = {100 * point[along]:.1f} cm on its centre line): "
+                    f"({'xyz'[along]} = {100 * point[along]:.1f} cm on its centre line{up}): "
                     "the shape is hollow or flat there; use fewer steps or another face",
                     ctx.narrow(contacts.span, rf"({re.escape(face)})"),
                 )

@@ -69,10 +69,13 @@ def _check_shape(shape: Any, ctx: CheckContext) -> None:
 
 
 def check_explore_ranges(explore: ir.Explore, ctx: CheckContext) -> None:
-    """Steps, direction grid sizes, force and duration of an `explore` block."""
+    """Steps, heights, direction grid sizes, force and duration of an `explore` block."""
     if explore.contacts is not None:
         span = ctx.narrow(explore.contacts.span, r"steps\s+(\S+)")
         check_count(explore.contacts.steps, "`steps`", limits.STEPS, span, ctx)
+        if explore.contacts.heights != 1:
+            span = ctx.narrow(explore.contacts.span, r"heights\s+(\S+)")
+            check_count(explore.contacts.heights, "`heights`", limits.HEIGHTS, span, ctx)
     force = explore.force
     if force is not None:
         if force.grid is not None and max(force.grid) > limits.GRID.high:

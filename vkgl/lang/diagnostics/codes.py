@@ -320,6 +320,25 @@ CONTACT_OFF_SURFACE = _code(
         "fingertip comes from: the message says what a push along its x axis meets instead."
     ),
 )
+HEIGHTS_ON_TOP = _code(
+    "E416",
+    "contact heights on the top face",
+    (
+        "`heights K` spreads a side face's contact points over K heights (docs/exploration.md, \"Contact "
+        'heights"); the top (`+z`) is pushed down, so it has no height to choose. Put `+z` in a block of its '
+        "own without `heights`, or drop `heights`."
+    ),
+)
+TIPPING_HEIGHT = _code(
+    "E417",
+    "a tipping height that cannot be",
+    (
+        '`tips above Q on faces F` (written by inference, docs/inference.md, "Tipping") says that a push on '
+        "side face F higher than Q over the table tips the body. Q is a length from 0 up to the body's "
+        "height, and F a side face (`+x -x +y -y`): the top is pushed down and the underside is never "
+        "pushed. Learn the body again (`vkgc learn`) rather than editing the clause."
+    ),
+)
 
 # scene geometry (E42x), motion ranges (E43x), joints (E44x): registered after the codes above
 from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
@@ -374,6 +393,7 @@ __all__ = [
     "GOAL_IN_ROBOT_BASE",
     "GOAL_NOT_IN_SCENE",
     "GOAL_OFF_TABLE",
+    "HEIGHTS_ON_TOP",
     "IMPORT_CYCLE",
     "JOINT_BODY_TOUCHES",
     "JOINT_GOAL_PAST_LIMIT",
@@ -416,6 +436,7 @@ __all__ = [
     "STATEMENT_MISSING",
     "STATEMENT_TWICE",
     "TASK_WITHOUT_GOAL",
+    "TIPPING_HEIGHT",
     "TOOL_WITHOUT_CORRESPONDENCE",
     "TOO_MANY_TOKENS",
     "UNEXPECTED_CHARACTER",

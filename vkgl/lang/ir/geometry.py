@@ -228,6 +228,26 @@ def face_line(mesh: trimesh.Trimesh, outward: np.ndarray, steps: int) -> tuple[n
     return direction, points
 
 
+def at_heights(mesh: trimesh.Trimesh, points: list[np.ndarray], heights: int) -> list[tuple[int, float, np.ndarray]]:
+    """A side face's contact points (`face_line`) repeated at `heights` heights: (index along the line,
+    height over the body's bottom, point), lowest height first.
+
+    The heights are the centres of `heights` equal cells of the body's height;
+    with one height the points stay at mid height, exactly as `face_line` made them.
+    """
+    lo, hi = mesh.bounds
+    if heights == 1:
+        return [(k, float((hi[2] - lo[2]) / 2), p) for k, p in enumerate(points)]
+    out = []
+    for j in range(heights):
+        up = (j + 0.5) / heights * float(hi[2] - lo[2])
+        for k, p in enumerate(points):
+            q = p.copy()
+            q[2] = lo[2] + up
+            out.append((k, up, q))
+    return out
+
+
 def surface_point(mesh: trimesh.Trimesh, start: np.ndarray, outward: np.ndarray) -> np.ndarray | None:
     """Where a ray from `start` along -outward first meets the body's surface, or None."""
     hit = ray_hit(mesh, start, -np.asarray(outward, dtype=float))

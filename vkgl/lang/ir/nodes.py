@@ -102,6 +102,7 @@ class ContactSpec(Node):
 
     faces: list[str] = Field(default_factory=list)
     steps: int = 1
+    heights: int = 1  # `heights K`: K contact heights up each side face, at the centres of K equal cells
     frames: list[Ref] = Field(default_factory=list)  # `contacts at`: push at each frame's origin, along its x axis
 
 
@@ -243,12 +244,28 @@ class Affordance(Node):
     evidence: Evidence | None = None
 
 
+class Tipping(Node):
+    """`tips above Q [on faces F, ...]`: pushed higher than Q over the table on those faces, the body tips.
+
+    `faces` empty: every side face. Written by inference (docs/inference.md, "Tipping").
+    """
+
+    height: Quantity
+    faces: list[str] = Field(default_factory=list)
+
+
 class AffordanceSet(Node):
-    """`affordances BODY { affordance ... }`."""
+    """`affordances BODY { affordance ... tips above Q ... }`."""
 
     kind: Literal["affordances"] = "affordances"
     body: Ref
     affordances: list[Affordance]
+    tipping: list[Tipping] = Field(default_factory=list)
+
+    def tipping_height(self, face: str) -> float | None:
+        """The lowest height (m over the table) above which a push on `face` tips the body, or None."""
+        heights = [t.height.value for t in self.tipping if not t.faces or face in t.faces]
+        return min(heights) if heights else None
 
 
 # ---------------------------------------------------------------- correspondences

@@ -40,6 +40,7 @@ from vkgl.lang.ir.nodes import (
     SceneBody,
     Shape,
     Task,
+    Tipping,
     UnionShape,
     Vector,
 )
@@ -57,7 +58,8 @@ class Program:
     """The checked IR of a root module and everything it (transitively) uses.
 
     `affordances` maps a body type name to its affordances, in declaration order,
-    merged over every `affordances BODY { ... }` block of the compilation.
+    merged over every `affordances BODY { ... }` block of the compilation;
+    `tipping` its `tips above` clauses, merged the same way.
     `warnings` holds the non-fatal diagnostics of the compilation.
     """
 
@@ -67,6 +69,7 @@ class Program:
     robots: dict[str, Robot] = field(default_factory=dict)
     affordances: dict[str, list[Affordance]] = field(default_factory=dict)
     correspondences: list[Correspondence] = field(default_factory=list)
+    tipping: dict[str, list[Tipping]] = field(default_factory=dict)
     scenes: dict[str, Scene] = field(default_factory=dict)
     tasks: dict[str, Task] = field(default_factory=dict)
     warnings: list[Diagnostic] = field(default_factory=list)

@@ -229,9 +229,14 @@ class Builder(TaskBuilder):
         return Item("explore", explore, self.span(meta))
 
     def contacts(self, meta: Any, children: list[Any]) -> Item:
+        heights = children.pop() if isinstance(children[-1], int) else 1  # `contact_heights` gives an int
         faces = [str(c) for c in children[:-1]]
-        spec = new_node(ir.ContactSpec, faces=faces, steps=self.integer(children[-1], "`steps`"), span=self.span(meta))
+        steps = self.integer(children[-1], "`steps`")
+        spec = new_node(ir.ContactSpec, faces=faces, steps=steps, heights=heights, span=self.span(meta))
         return Item("contacts", spec, self.span(meta))
+
+    def contact_heights(self, meta: Any, children: list[Any]) -> int:
+        return self.integer(children[0], "`heights`")
 
     def contacts_at(self, meta: Any, children: list[Any]) -> Item:
         frames = [new_node(ir.Ref, name=str(c), span=self.tspan(c)) for c in children]
@@ -289,13 +294,18 @@ class Builder(TaskBuilder):
     # ------------------------------------------------------------ affordances
 
     def affordances(self, meta: Any, children: list[Any]) -> ir.AffordanceSet:
-        body = children[0]
+        body, items = children[0], children[1:]
         return new_node(
             ir.AffordanceSet,
             body=new_node(ir.Ref, name=str(body), span=self.tspan(body)),
-            affordances=children[1:],
+            affordances=[a for a in items if isinstance(a, ir.Affordance)],
+            tipping=[t for t in items if isinstance(t, ir.Tipping)],
             span=self.span(meta),
         )
+
+    def tipping(self, meta: Any, children: list[Any]) -> ir.Tipping:
+        height = self.to_quantity(children[0], "length")
+        return new_node(ir.Tipping, height=height, faces=[str(c) for c in children[1:]], span=self.span(meta))
 
     def affordance(self, meta: Any, children: list[Any]) -> ir.Affordance:
         name, items = children[0], children[1:]

@@ -175,7 +175,8 @@ class _Layout:
             if c.frames:
                 self.add(k, f"contacts at {', '.join(f.name for f in c.frames)}", _line_of(c.span))
             else:
-                self.add(k, f"contacts on faces {', '.join(c.faces)} steps {c.steps}", _line_of(c.span))
+                heights = f" heights {c.heights}" if c.heights != 1 else ""  # mid-height only: as before heights
+                self.add(k, f"contacts on faces {', '.join(c.faces)} steps {c.steps}{heights}", _line_of(c.span))
         if e.grasp is not None:
             self.add(k, f"grasp {e.grasp.name}", _line_of(e.grasp.span))
         if e.force is not None:
@@ -197,6 +198,9 @@ class _Layout:
             self.add(k, f"effector {e.name} = link {e.link} offset {pose_text(e.offset)}", _line_of(e.span))
 
     def affordances(self, k: int, s: AffordanceSet) -> None:
+        for t in s.tipping:
+            faces = f" on faces {', '.join(t.faces)}" if t.faces else ""
+            self.add(k, f"tips above {quantity_text(t.height)}{faces}", _line_of(t.span))
         for a in s.affordances:
             self.block(k, f"affordance {a.name}", a.span, functools.partial(self.affordance_items, a=a))
 
