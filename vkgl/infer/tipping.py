@@ -18,23 +18,11 @@ from __future__ import annotations
 import numpy as np
 
 from vkgl.formats.trials import TIPPED, Trials
+from vkgl.lang.ir.geometry import SIDE_FACES, pushed_face
 from vkgl.lang.ir.nodes import Quantity, Tipping
 from vkgl.lang.ir.units import to_si
 
-SIDE_FACES = {"+x": (0, 1.0), "-x": (0, -1.0), "+y": (1, 1.0), "-y": (1, -1.0)}
 SAME_HEIGHT = 1e-4  # m: contact heights closer than this are one explored height (0.1 mm, as printed)
-
-
-def pushed_face(force: np.ndarray) -> str | None:
-    """The side face a push along `force` (body frame, into the body) presses, or None (the top, or no push)."""
-    d = np.asarray(force, dtype=float)
-    if not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0.0:
-        return None
-    axis = int(np.argmax(np.abs(d)))
-    if axis == 2:
-        return None
-    outward = -float(np.sign(d[axis]))
-    return next(face for face, (a, s) in SIDE_FACES.items() if a == axis and s == outward)
 
 
 def trial_height(trials: Trials, i: int) -> float:

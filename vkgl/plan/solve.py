@@ -53,7 +53,15 @@ def solve(
     result = search(problem, deadline=deadline, progress=progress)
     if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
         result = replace(result, reason=f"{result.reason}\n{hint}")
+    if result.status == "infeasible" and (tips := _tipping_hint(problem)):
+        result = replace(result, reason=f"{result.reason}\n{tips}")
     return _plan(problem, result, started)
+
+
+def _tipping_hint(problem: Problem) -> str:
+    """A line naming the affordances left out because they would tip their body, or ""."""
+    left = [t.why for b in problem.bodies.values() for t in b.too_high]
+    return "left out, as they would tip a body over: " + "; ".join(left) if left else ""
 
 
 def _unusable_tools_hint(problem: Problem) -> str:
@@ -125,6 +133,12 @@ def _hopeless(problem: Problem) -> str | None:
                     f"(x from {low[0]:.2f} to {high[0]:.2f} m, y from {low[1]:.2f} to {high[1]:.2f} m)"
                 )
         if not movers and not _at_goal(problem, goal):
+            if body.too_high:
+                return (
+                    f"no affordance moves {goal.body} without tipping it over: "
+                    + "; ".join(t.why for t in body.too_high)
+                    + " (explore it at lower contacts: `contacts on faces ... heights H`)"
+                )
             if body.affordances:
                 names = ", ".join(a.name for a in body.affordances)
                 return (

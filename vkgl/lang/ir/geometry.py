@@ -228,6 +228,22 @@ def face_line(mesh: trimesh.Trimesh, outward: np.ndarray, steps: int) -> tuple[n
     return direction, points
 
 
+SIDE_FACES = {"+x": (0, 1.0), "-x": (0, -1.0), "+y": (1, 1.0), "-y": (1, -1.0)}
+"""The side faces a push can tip a body from: (axis of the body frame, sign of the outward normal)."""
+
+
+def pushed_face(direction: np.ndarray) -> str | None:
+    """The side face a push along `direction` (body frame, into the body) presses, or None (the top, or none)."""
+    d = np.asarray(direction, dtype=float)
+    if not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0.0:
+        return None
+    axis = int(np.argmax(np.abs(d)))
+    if axis == 2:
+        return None
+    outward = -float(np.sign(d[axis]))
+    return next(face for face, (a, s) in SIDE_FACES.items() if a == axis and s == outward)
+
+
 def at_heights(mesh: trimesh.Trimesh, points: list[np.ndarray], heights: int) -> list[tuple[int, float, np.ndarray]]:
     """A side face's contact points (`face_line`) repeated at `heights` heights: (index along the line,
     height over the body's bottom, point), lowest height first.

@@ -42,6 +42,7 @@ from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
+from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
 from vkgl.robot import Arm
 
 DEFAULT_MAX_DEPTH = 6
@@ -68,6 +69,8 @@ class PlanBody:
     where its coordinate is 0 (where the scene places it: `rest` unless the
     scene starts it `open Q`). `outline`: the corners of its convex hull (body
     frame, k x 3), which must all stay over the table when it is moved.
+    `too_high`: the affordances left out because they push it where it tips
+    (`vkgl.plan.problem.tipping`), with the reason.
     """
 
     name: str
@@ -81,6 +84,7 @@ class PlanBody:
     joint_limits: tuple[float, float] | None = None
     joint_zero: np.ndarray | None = None
     outline: np.ndarray = field(default_factory=lambda: np.zeros((1, 3)))
+    too_high: tuple[TooHigh, ...] = ()
 
     def joint_state(self, pose: np.ndarray) -> float:
         """The coordinate of the physical joint at world `pose` (m or rad), 0 at `joint_zero`; the body needs a joint.
@@ -319,7 +323,8 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         )
     rest = scene_body_pose(scene, scene_body, body)
     yaw = math.atan2(rest[1, 0], rest[0, 0])
-    usable = tuple(a for a in program.affordances.get(body.name, []) if isinstance(a.action, FixedC))
+    fixed = tuple(a for a in program.affordances.get(body.name, []) if isinstance(a.action, FixedC))
+    usable, too_high = split_by_tipping(body, fixed, program.tipping.get(body.name, []))
     joint = body.joint
     return PlanBody(
         name=scene_body.name,
@@ -333,6 +338,7 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         joint_limits=None if joint is None else (joint.lower.value, joint.upper.value),
         joint_zero=None if joint is None else scene_body_anchor(scene, scene_body, body),
         outline=hull_corners(shape_vertices(body.shape)),
+        too_high=too_high,
     )
 
 

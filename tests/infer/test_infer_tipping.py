@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from vkgl.formats.trials import Trials
-from vkgl.infer.tipping import pushed_face, safe_heights, tipping_ir
+from vkgl.infer.tipping import safe_heights, tipping_ir
+from vkgl.lang.ir.geometry import pushed_face
 from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref
 from vkgl.lang.syntax.printer import print_module
 
