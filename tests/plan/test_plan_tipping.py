@@ -96,3 +96,18 @@ def test_a_body_on_a_joint_never_tips() -> None:
     affordances = tuple(program.affordances["Carton"])
     assert split_by_tipping(body, affordances, program.tipping["Carton"]) == (affordances, ())
     assert np.isclose(program.tipping["Carton"][0].height.value, 0.02)
+
+
+def test_the_stdlib_bodies_lose_no_affordance() -> None:
+    """No stdlib module has a `tips above` clause, so the paper's tasks plan with every affordance as before."""
+    from pathlib import Path
+
+    from vkgl.plan.problem.problem import build_problem
+
+    task = Path(__file__).resolve().parents[2] / "examples" / "tasks" / "e_rotate_stick_push.vkg"
+    program = vkgl.compile(task)
+    assert all(not clauses for clauses in program.tipping.values())
+    problem = build_problem(program, next(iter(program.tasks.values())))
+    for body in problem.bodies.values():
+        assert body.too_high == ()
+        assert len(body.affordances) == len(program.affordances[body.type.name])
