@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from vkgl.errors import InputError
 from vkgl.formats.trials import Trials
+from vkgl.infer.library import infer_library
 from vkgl.infer.tipping import safe_heights, tipping_ir
 from vkgl.lang.ir.geometry import pushed_face
 from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref
@@ -66,3 +68,8 @@ def test_the_pushed_face_comes_from_the_force_and_the_top_is_no_side_face() -> N
     assert pushed_face(np.array([0.0, 1.0, 0.0])) == "-y"
     assert pushed_face(np.array([0.0, 0.0, -1.0])) is None
     assert pushed_face(np.zeros(3)) is None
+
+
+def test_a_dataset_where_every_push_tipped_is_an_input_error_that_says_so() -> None:
+    with pytest.raises(InputError, match=r"every one of the 2 pushes tipped it over.*heights H"):
+        infer_library(dataset([("+x", 0.06, TIP), ("+x", 0.1, TIP)]), body_use="c.vkg", header="# test")

@@ -21,7 +21,7 @@ from vkgl.formats.infer_report import INFER_REPORT_FORMAT
 from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
-from vkgl.infer.tipping import tipping_ir
+from vkgl.infer.tipping import tipped, tipping_ir
 from vkgl.infer.trial import TrialInference, infer_trials
 from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module
@@ -122,6 +122,11 @@ def _require_usable(trials: Trials, results: list[TrialInference]) -> None:
     if len(trials) == 0:
         raise InputError(f"{trials.body}: the dataset has no trials")
     skipped = [r for r in results if r.skipped is not None]
+    if len(skipped) == len(results) and all(tipped(trials, i) for i in range(len(trials))):
+        raise InputError(
+            f"{trials.body}: every one of the {len(trials)} pushes tipped it over, so there is no affordance to "
+            "learn; push it lower: `contacts on faces ... heights H` explores H heights up each face"
+        )
     if len(skipped) == len(results):
         reasons = sorted({r.skipped for r in skipped if r.skipped})
         shown = "; ".join(reasons[:3]) + (f"; and {len(reasons) - 3} more" if len(reasons) > 3 else "")
