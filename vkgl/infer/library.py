@@ -10,6 +10,7 @@ printer) and the per-trial `vkg-infer-report/2` (`vkgl.formats.infer_report`).
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -22,7 +23,7 @@ from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference, infer_trials
-from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref, Use
+from vkgl.lang.ir.nodes import Affordance, AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module
 
 
@@ -43,12 +44,20 @@ class InferenceResult:
     groups: list[Group]
 
 
-def infer_library(trials: Trials, *, body_use: str, header: str, path: str = "<inferred>") -> InferenceResult:
+def infer_library(
+    trials: Trials,
+    *,
+    body_use: str,
+    header: str,
+    path: str = "<inferred>",
+    grasps: Sequence[Affordance] = (),
+) -> InferenceResult:
     """Infer the affordances of `trials.body` and print them as a module.
 
     `body_use` is what the module imports to know the body (`stdlib.bodies.block`,
     or a path ending in `.vkg`); `header` becomes its leading comment; `path` is
-    the module's path in the IR. Raises InputError when no trial can be used or
+    the module's path in the IR; `grasps` (`vkgl.infer.grasps.kept_grasps`) follow
+    the inferred affordances. Raises InputError when no trial can be used or
     when the body never moved.
     """
     results = infer_trials(trials)
@@ -63,7 +72,7 @@ def infer_library(trials: Trials, *, body_use: str, header: str, path: str = "<i
         path=path,
         doc=header,
         uses=[Use(target=body_use, by_path=body_use.endswith(".vkg"))],
-        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=[affordance_ir(g) for g in groups])],
+        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=[*(affordance_ir(g) for g in groups), *grasps])],
     )
     report = build_report(trials, results, groups)
     return InferenceResult(
