@@ -67,7 +67,21 @@ def grasp_candidates(body: Body, gripper: Gripper, settings: GraspSettings) -> l
                     pose = _effector_pose(part, centre, direction, along, pad_centre, pad_size)
                     named = name + (f"_{where}" if where else suffix)
                     found.append(GraspCandidate(named, pose, width, opening, approach))
-    return _unique(found)
+    return _unique(sorted(found, key=lambda c: _has_frame(body, parts, c)))
+
+
+def _has_frame(body: Body, parts: list[_Part], candidate: GraspCandidate) -> int:
+    """0 for a candidate on a part that holds a frame of the body (a handle, a knob: a place named for a
+    reason), else 1: those are tried first (the sort keeps the order within each)."""
+    point = candidate.pose[:3, 3]
+    for part in parts:
+        inside = np.all(np.abs(part.axes.T @ (point - part.centre)) <= part.extents / 2.0 + 0.02)
+        if inside and any(
+            np.all(np.abs(part.axes.T @ (f.pose.matrix()[:3, 3] - part.centre)) <= part.extents / 2.0 + ON_PART)
+            for f in body.frames
+        ):
+            return 0
+    return 1
 
 
 def _centres(body: Body, part: _Part, direction: np.ndarray, closing: np.ndarray) -> list[tuple[str, np.ndarray]]:
@@ -75,6 +89,8 @@ def _centres(body: Body, part: _Part, direction: np.ndarray, closing: np.ndarray
     `handle`), moved onto the part's middle across the pads and along the fingers."""
     across = np.cross(closing, direction)
     out: list[tuple[str, np.ndarray]] = [("", part.centre)]
+    if abs(float(across @ part.axes[:, int(np.argmax(part.extents))])) < 1 - 1e-6:
+        return out  # a frame says where along the part's length to hold it: only when the pads slide along that
     for frame in body.frames:
         point = frame.pose.matrix()[:3, 3]
         local = np.abs(part.axes.T @ (point - part.centre))

@@ -17,9 +17,12 @@ table there, the trial is `blocked` and does not run. Otherwise:
    its hinge by the angle that moves the grasp point that far), on a
    minimum-jerk profile over MOVE_TIME, then holds still for REST_TIME.
 
-The slip is the largest distance, over steps 3-4, between where two points of
-the body (the grasp point and the body's origin) are in the hand and where
-they were at step 3: contact and friction alone hold the body (no weld). A
+The slip is the largest distance, over steps 3-4, between where points of the
+body near the grasp (the pads' middle, and SLIP_ARM from it across the pads
+and along the fingers: a body turning in the hand slips there too) are in the
+hand and where they were at step 3: contact and friction alone hold the body
+(no weld). Points far from the grasp are not used: a door held at its handle
+turns about the hinge however firmly it is held. A
 trial ends early once the slip passes GIVE_UP (the body is gone), or a smaller
 limit the caller gives (the slip past which the grasp will not be kept anyway).
 """
@@ -47,6 +50,7 @@ MOVE_TIME = 0.4  # s for the lift or the pull (10 cm: 0.47 m/s at most, 3.6 m/s^
 REST_TIME = 0.1  # s
 GIVE_UP = 0.02  # m of slip: the body has left the hand
 OVERLAP = 2e-4  # m: the open hand overlapping something deeper than this has no room
+SLIP_ARM = 0.02  # m from the middle of the pads to the points whose slip is measured
 
 
 def run_grasp_trial(
@@ -74,12 +78,13 @@ def run_grasp_trial(
     if _overlaps(world, hand):
         return GraspTrial(index, blocked=True)
     path = _path(body, node, start, lift)
-    grasp_point = candidate.pose[:3, 3]
-    return _run(world, hand, node, start, path, grasp_point, index, min(give_up, GIVE_UP))
+    return _run(world, hand, node, start, path, candidate.pose, index, min(give_up, GIVE_UP))
 
 
 def _overlaps(world: Any, hand: SimHand) -> bool:
-    detector = world.getConstraintSolver().getCollisionDetector()
+    # FCL for this one geometric question: ODE's detector (the world's) answers group queries made outside a
+    # simulation step with nothing at all
+    detector = dart.collision.FCLCollisionDetector()
     mine = detector.createCollisionGroup()
     mine.addShapeFramesOf(hand.skeleton)
     others = detector.createCollisionGroup()
@@ -130,7 +135,7 @@ def _run(
     node: Any,
     start: np.ndarray,
     path: Any,
-    grasp_point: np.ndarray,
+    grasp: np.ndarray,
     index: int,
     give_up: float,
 ) -> GraspTrial:
@@ -150,7 +155,7 @@ def _run(
     for _ in range(round(HOLD_TIME / dt)):
         hand.drive(start, still)
         world.step()
-    points = np.array([[*grasp_point, 1.0], [0.0, 0.0, 0.0, 1.0]]).T  # body frame, homogeneous
+    points = _slip_points(grasp, hand.gripper.pad_box()[0])
     reference = _in_hand(hand, node, points)
     begin = np.asarray(node.getWorldTransform().matrix(), dtype=float)[:3, 3]
     slip = 0.0
@@ -165,6 +170,14 @@ def _run(
             break
     end = np.asarray(node.getWorldTransform().matrix(), dtype=float)[:3, 3]
     return GraspTrial(index, slip=slip, moved=float(np.linalg.norm(end - begin)))
+
+
+def _slip_points(grasp: np.ndarray, pad_middle: np.ndarray) -> np.ndarray:
+    """Where slip is measured (4 x 5, body frame, homogeneous): the middle of the pads and SLIP_ARM from it
+    either way across the pads and along the fingers, so that the body turning in the hand counts too."""
+    centre = grasp @ np.array([*pad_middle, 1.0])
+    arms = [grasp[:3, 0] * SLIP_ARM, -grasp[:3, 0] * SLIP_ARM, grasp[:3, 2] * SLIP_ARM, -grasp[:3, 2] * SLIP_ARM]
+    return np.column_stack([centre, *(centre + np.append(a, 0.0) for a in arms)])
 
 
 def _in_hand(hand: SimHand, node: Any, points: np.ndarray) -> np.ndarray:
