@@ -2,7 +2,7 @@
 (`vkgl.sim.grasp.trial`), the hand a little off its aim after the first trial.
 
 Candidates on a part that holds a frame of the body (a handle, a knob) come
-first; trying stops once MAX_GRASPS candidates have held. The offsets are seeded (`seed`, the candidate's number, the trial's number):
+XX
 the same body and seed give the same trials. A candidate whose first trial
 finds no room for the hand is not tried again, nor is one once a trial of it
 slipped past the policy's `slip` (it will not be kept: the rest would cost
