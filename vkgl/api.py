@@ -213,7 +213,7 @@ def learn_grasps(body: Body, *, seed: int = 0) -> tuple[GraspTrials, list[Afford
 
     Returns the trials and the kept grasps' affordances (none for `explore grasps { approach none }`).
     """
-    from vkgl.infer.grasps import kept_grasps
+    from vkgl.infer.grasps.kept import kept_grasps
     from vkgl.sim.grasp.run import try_grasps
 
     trials = try_grasps(body, seed=seed)

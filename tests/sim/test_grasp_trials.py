@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from vkgl.api import learn_grasps
-from vkgl.infer.grasps import grasp_ir
+from vkgl.infer.grasps.kept import grasp_ir
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.grasps import GraspSettings
 from vkgl.lang.syntax.parser import parse_module

@@ -1,8 +1,8 @@
 """What grasp trials hand to inference: the candidates tried and, per trial, how far the body slipped.
 
 `vkgc learn` tries a body's grasp candidates in DART (`vkgl.sim.grasp`) and
-keeps those that held (`vkgl.infer.grasps`); these records are what passes
-between the two (in memory: no file format), and what `vkgl.infer.grasps`
+keeps those that held (`vkgl.infer.grasps.kept`); these records are what passes
+between the two (in memory: no file format), and what `vkgl.infer.grasps.kept`
 states in the learned module's `evidence ... slip`.
 """
 

@@ -56,7 +56,7 @@ def infer_library(
 
     `body_use` is what the module imports to know the body (`stdlib.bodies.block`,
     or a path ending in `.vkg`); `header` becomes its leading comment; `path` is
-    the module's path in the IR; `grasps` (`vkgl.infer.grasps.kept_grasps`) follow
+    the module's path in the IR; `grasps` (`vkgl.infer.grasps.kept.kept_grasps`) follow
     the inferred affordances. Raises InputError when no trial can be used or
     when the body never moved.
     """
