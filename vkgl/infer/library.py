@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.formats.grasp_trials import GraspTrials
 from vkgl.formats.infer_report import INFER_REPORT_FORMAT
 from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
@@ -77,6 +78,32 @@ def infer_library(
     report = build_report(trials, results, groups)
     return InferenceResult(
         body=trials.body, module=module, source=print_module(module), report=report, trials=results, groups=groups
+    )
+
+
+def grasp_library(
+    trials: GraspTrials, grasps: Sequence[Affordance], *, body_use: str, header: str, path: str = "<inferred>"
+) -> InferenceResult:
+    """The module of a body learned for its grasps alone (it has no `explore` block): `grasps` as its affordances.
+
+    Raises InputError when no grasp held, saying what became of the candidates.
+    """
+    if not grasps:
+        blocked = len({t.candidate for t in trials.trials if t.blocked})
+        raise InputError(
+            f"{trials.body}: has no `explore` block and none of its {len(trials.candidates)} grasp candidates held "
+            f"({blocked} left the open hand no room; wider than the hand's opening is no candidate): add an "
+            "`explore` block to learn how it moves when pushed, or an `explore grasps` block with another force"
+        )
+    module = Module(
+        path=path,
+        doc=header,
+        uses=[Use(target=body_use, by_path=body_use.endswith(".vkg"))],
+        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=list(grasps))],
+    )
+    report = {"format": INFER_REPORT_FORMAT, "body": trials.body, "trials": [], "affordances": []}
+    return InferenceResult(
+        body=trials.body, module=module, source=print_module(module), report=report, trials=[], groups=[]
     )
 
 
