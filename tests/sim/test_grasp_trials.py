@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vkgl.api import learn_grasps
 from vkgl.infer.grasps.kept import grasp_ir
@@ -63,8 +65,8 @@ def test_the_same_body_gives_the_same_grasps() -> None:
 
 def test_a_grasp_from_the_side_reads_back_as_its_frame() -> None:
     cube = _body("body Cube { shape box (5, 5, 5) cm mass 0.2 kg }")
-    settings = GraspSettings(approaches=("side",))
-    for candidate in grasp_candidates(cube, gripper(panda_urdf()), settings):
+    side_only = GraspSettings(approaches=("side",))
+    for candidate in grasp_candidates(cube, gripper(panda_urdf()), side_only):
         written = grasp_ir(candidate, 20.0).pose.matrix()
         assert np.abs(written - candidate.pose).max() < 1e-6, candidate.name
         if abs(candidate.pose[2, 1]) < 1e-9:  # closing level: the hand's x axis up, above the pads, clear of the table
@@ -75,3 +77,19 @@ def test_approach_none_learns_no_grasps() -> None:
     cube = _body("body Cube { shape box (5, 5, 5) cm mass 0.2 kg explore grasps { approach none } }")
     trials, kept = learn_grasps(cube)
     assert trials.candidates == [] and kept == []
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.tuples(*[st.integers(min_value=5, max_value=150)] * 3))
+def test_every_candidate_fits_the_hand_and_puts_the_pads_across_the_box(size_mm: tuple[int, int, int]) -> None:
+    box = _body(f"body B {{ shape box ({size_mm[0]}, {size_mm[1]}, {size_mm[2]}) mm mass 0.2 kg }}")
+    hand = gripper(panda_urdf())
+    pad_middle = np.append(hand.pad_box()[0], 1.0)
+    for candidate in grasp_candidates(box, hand, GraspSettings()):
+        closing = candidate.pose[:3, 1]
+        across = int(np.argmax(np.abs(closing)))
+        assert candidate.width == pytest.approx(size_mm[across] / 1000.0) and candidate.width <= 0.07 + 1e-12
+        assert candidate.opening <= hand.max_opening + 1e-12
+        middle = (candidate.pose @ pad_middle)[:3]
+        assert abs(middle[across]) < 1e-9  # the pads centred across the box
+        assert np.all(np.abs(middle) <= np.array(size_mm) / 2000.0 + 0.015)  # and on it, within half a pad
