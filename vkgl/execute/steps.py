@@ -12,7 +12,9 @@ from the step's `op` and the affordance's motion:
   straight up from a hook behind a handle's bar, or back out the way it
   came from the side of a bar);
 - grasp (add, free motion, e.g. Stick.wield): the path comes down onto the
-  tool's grasp frame; hold the tool;
+  tool's grasp frame; hold the tool, with the grip of the fingers' friction
+  (`vkgl.execute.grip`: a load beyond it breaks the grip, a slip beyond the
+  tolerance fails the step);
 - release (remove of a grasp): lower the tool onto the table and let go (the
   next step's path lifts the hand).
 
@@ -27,6 +29,7 @@ import numpy as np
 from vkgl.errors import InputError, SimulationError
 from vkgl.execute import effector_path as paths
 from vkgl.execute.arm_moves import ArmMoves
+from vkgl.execute.grip.model import grip_for
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
@@ -86,6 +89,7 @@ class StepKinds:
     def run_step(self, index: int, step: PlanStepRecord) -> None:
         """Carry out step `index` (from 1) of a plan. Raises ArmStuck if the arm cannot follow the path."""
         label = f"step {index}"
+        self.sim.grip.begin_step()
         self.sim.planned = {**self.sim.planned, **step.poses_start}
         if step.op == "add" and step.body not in self.sim.nodes:
             raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
@@ -100,6 +104,7 @@ class StepKinds:
         else:
             self.push_direction = None  # the path was the retreat out of the contact
         self.sim.planned = {**self.sim.planned, **step.poses_end}
+        self.sim.grip.end_step()  # a grip that broke in the step fails it
 
     def _push(self, step: PlanStepRecord, label: str) -> None:
         body_start, body_end = step.poses_start[step.body], step.poses_end[step.body]
@@ -178,6 +183,7 @@ class StepKinds:
             raise SimulationError(f"{label}: the robot already holds {self.sim.holding()}")
         _, node = self.sim.nodes[tool]
         self.sim.arm.grasp(tool, self.sim.nodes[tool][0], node)
+        self.sim.grip.hold(tool, node, grip_for(self._affordance(step, label).action, self.sim.types[tool].friction))
         self.grasp_planned = self._action_pose(step, label)
 
     def _release(self, step: PlanStepRecord, label: str) -> None:
@@ -208,6 +214,7 @@ class StepKinds:
         low = paths.at_height(start, self.sim.table_z + drop) if start[2, 3] > self.sim.table_z + drop else start
         self.moves.run([paths.line("release", start, low, paths.APPROACH_SPEED)], label)
         self.sim.arm.release()
+        self.sim.grip.let_go()
         self.grasp_planned = None
         self.moves.run([paths.hold("settle", low, SETTLE)], label)
         if back_up and float(np.abs(before - self.sim.arm.q).max()) > 1e-9:

@@ -17,9 +17,11 @@ What touches the world:
   point: a point pushing a flat face is unstable (the face turns away from
   it), the pad of a real gripper is not;
 - a held tool: the tool's own DART body, switched to a kinematic joint that
-  follows the effector frame rigidly while held (the grasp does not slip), and
-  switched back to a free, dynamic body when released (the arm passes
-  through it until the open hand has left its grip).
+  follows the effector frame rigidly while the grip holds it, and switched back
+  to a free, dynamic body when released (the arm passes through it until the
+  open hand has left its grip) or when the load on it exceeds what the
+  fingers' friction carries (`break_grip`, decided by
+  `vkgl.execute.grip.watch`: then it slips, and physics says where it goes).
 
 The arm's links (their URDF collision shapes) touch the bodies too, but not
 the table (the base stands on it) or a tool they hold.
@@ -209,6 +211,17 @@ class WorldArm:
         joint.setActuatorType(dart.dynamics.ActuatorType.FORCE)
         joint.setCommands(np.zeros(6))
         self.held.skeleton.setVelocities(np.zeros(self.held.skeleton.getNumDofs()))
+        self._letting_go.append(self.held.body_node)
+        self.held = None
+
+    def break_grip(self) -> None:
+        """The grip gave way (the load exceeded what the fingers' friction carries): the tool is let go of
+        moving as it moves, a free dynamic body again, and the arm passes through it until it has left it."""
+        if self.held is None:
+            return
+        joint = self.held.skeleton.getRootJoint()
+        joint.setActuatorType(dart.dynamics.ActuatorType.FORCE)
+        joint.setCommands(np.zeros(6))
         self._letting_go.append(self.held.body_node)
         self.held = None
 
