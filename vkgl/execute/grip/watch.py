@@ -2,10 +2,11 @@
 
 `GripWatch` is told when the hand takes a tool (`hold`) and lets go of it
 (`let_go`). While it holds, after every physics step it adds up the normal
-contact forces other bodies exert on the tool, and every control period it turns their mean, the tool's weight and
-its inertia into the load the grip must carry (about the effector frame's
-origin, in its axes), averages it over the last 0.1 s (`LOAD_WINDOW_PERIODS`) and compares it with what the fingers' friction carries
-(`vkgl.execute.grip.model.Grip.usage`). Past 1 the grip breaks: the tool is let
+contact forces other bodies exert on the tool, and every control period it
+turns their mean, the tool's weight and its inertia into the load the grip
+must carry (about the effector frame's origin, in its axes), averages it over
+the last 0.1 s (`LOAD_WINDOW_PERIODS`) and compares it with what the fingers'
+friction carries (`vkgl.execute.grip.model.Grip.usage`). Past 1 the grip breaks: the tool is let
 go of where it is, moving as it moves, and physics decides where it goes.
 
 Slip, measured every control period, is how far the effector frame has moved
@@ -36,7 +37,6 @@ from vkgl.execute.grip.model import SLIP_ANGLE_TOLERANCE, SLIP_TOLERANCE, Grip
 from vkgl.execute.world_arm import ArmStuck, WorldArm
 from vkgl.formats.execution_report import GripReport
 from vkgl.sim.world import GRAVITY
-
 
 LOAD_WINDOW_PERIODS = 5
 """Control periods (0.1 s) over which the load on the grip is averaged before it is compared with what the grip
