@@ -192,8 +192,13 @@ class StepKinds:
         self._lower_and_release(label, back_up=True)
 
     def put_down(self, label: str) -> None:
-        """Lower the held tool onto the table and let go of it; then lift the empty hand."""
+        """Lower the held tool onto the table and let go of it; then lift the empty hand. A hand still around a
+        tool that slipped out of its grip is lifted clear of it (a re-solve plans the arm from where it stands)."""
         if self.sim.arm.held is None:
+            if self.sim.arm.leaving_a_tool:
+                self.moves.straight(
+                    "release", (STANDOFF + LIFT) * np.array([0.0, 0.0, 1.0]), paths.APPROACH_SPEED, label
+                )
             return
         self.let_go(label)
         self._lower_and_release(label)

@@ -225,6 +225,11 @@ class WorldArm:
         self._letting_go.append(self.held.body_node)
         self.held = None
 
+    @property
+    def leaving_a_tool(self) -> bool:
+        """Whether the open hand is still around a tool it let go of (or that slipped out of its grip)."""
+        return bool(self._letting_go)
+
     def update_letting_go(self) -> None:
         """Let the arm touch again the tools it let go of and no longer overlaps (called every control period)."""
         for node in list(self._letting_go):

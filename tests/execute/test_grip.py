@@ -1,0 +1,100 @@
+"""A held tool is held by the fingers' friction: its slip is reported, a grip too weak for the load breaks and
+fails the step (exit 5), and the closed loop grasps again.
+
+The plans are scripted (`plan_script`) so that these tests do not depend on the
+search; the physics, the grip's load and the slip are real. A weak grip is made
+by lowering the fingers' force (`vkgl.execute.grip.model.GRIP_FORCE`, the force
+of a tool held by a `fixed` action) so far that the stick's own weight, held at
+its end, needs more torque than the pads' friction carries.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+from plan_script import scripted_plan
+
+from vkgl.execute.closed_loop import execute
+from vkgl.execute.grip import model
+from vkgl.execute.grip.model import Grip, grip_for
+from vkgl.execute.resolving import Attempts
+from vkgl.formats.plan import PlanDocument
+from vkgl.lang.compiler import compile_file
+from vkgl.lang.ir.program import Program
+
+TASK = "b_stick_push"
+GRASP = "add Stick.wield stick arm.fingertip"
+WEAK = 2.0  # N: the stick's weight at 15 cm needs 0.147 N m; 2 x 0.5 x 2 N over a 1 cm pad carries 0.013 N m
+
+
+@pytest.fixture(scope="module")
+def program() -> Program:
+    return compile_file(str(EXAMPLES / "tasks" / f"{TASK}.vkg"))
+
+
+def test_the_grip_carries_two_mu_f_and_its_torsional_friction():
+    grip = Grip(force=70.0, friction=0.5)
+    assert grip.max_force == pytest.approx(70.0)
+    assert grip.max_torque == pytest.approx(70.0 * 0.01 * 2 / 3)
+    # force along the closing axis (y) and torque about x and z are the fingers' own, not friction's
+    assert grip.usage(np.array([0.0, 500.0, 0.0]), np.array([9.0, 0.0, 9.0])) == 0.0
+    assert grip.usage(np.array([35.0, 0.0, 0.0]), np.zeros(3)) == pytest.approx(0.5)
+    assert grip.usage(np.zeros(3), np.array([0.0, -grip.max_torque, 0.0])) == pytest.approx(1.0)
+
+
+def test_a_fixed_action_grips_with_the_pandas_force_and_the_smaller_friction(program):
+    action = next(a for a in program.affordances["Stick"] if a.name == "wield").action
+    grip = grip_for(action, program.bodies["Stick"].friction)
+    assert grip.force == model.GRIP_FORCE and grip.friction == pytest.approx(0.5)
+    assert grip_for(action, 2.0).friction == model.PAD_FRICTION  # the pads' 1.0 when the tool's is higher
+
+
+def test_a_held_sticks_slip_and_load_are_reported(program):
+    plan = scripted_plan(program, TASK, [GRASP, "remove Stick.wield stick arm.fingertip"])
+    report = execute(program, TASK, plan)
+    release = report.steps[1]
+    assert release.grip is not None and release.grip.tool == "stick" and not release.grip.broke
+    assert release.grip.slip < 0.001
+    # lowered onto the table, the grip carries the stick's weight 15 cm from its centre: 0.147 N m of 0.467
+    assert 0.25 < release.grip.peak_load < 0.45
+    assert "grip on stick: slip" in report.text()
+    data = report.to_json()
+    assert data["format"] == "vkg-execution/5" and data["steps"][1]["grip"]["tool"] == "stick"
+
+
+def test_a_grip_too_weak_for_the_load_breaks_and_fails_the_step(program, monkeypatch):
+    monkeypatch.setattr(model, "GRIP_FORCE", WEAK)
+    plan = scripted_plan(program, TASK, [GRASP, "add Block.push_center_px block stick.tip 0.25"])
+    report = execute(program, TASK, plan)
+    assert report.status == "failed", report.text()
+    assert "slipped" in report.reason and "the grip broke" in report.reason
+    grip = report.steps[-1].grip
+    assert grip is not None and grip.broke and grip.peak_load > 1.0
+    assert grip.slip > model.SLIP_TOLERANCE or grip.slip_angle > model.SLIP_ANGLE_TOLERANCE
+
+
+def test_replanning_grasps_the_tool_again(program, monkeypatch):
+    """The first grasp is weak (a greasy handle), the re-solved plan grasps the stick again and holds it."""
+    grips = [WEAK]
+    real = grip_for
+
+    def weak_first(action, friction):
+        grip = real(action, friction)
+        return Grip(grips.pop(), grip.friction) if grips else grip
+
+    monkeypatch.setattr("vkgl.execute.steps.grip_for", weak_first)
+    resolved: list[PlanDocument] = []
+
+    def regrasp(observed: Program, task: str, attempts: Attempts) -> PlanDocument:
+        assert attempts.failed and "slipped" in attempts.failed[0].why
+        resolved.append(scripted_plan(observed, task, [GRASP]))
+        return resolved[-1]
+
+    plan = scripted_plan(program, TASK, [GRASP, "add Block.push_center_px block stick.tip 0.25"])
+    report = execute(program, TASK, plan, replan=True, resolve=regrasp, max_replans=1)
+    assert len(resolved) == 1 and report.resolves[0].outcome == "new plan"
+    again = [s for s in report.steps if s.plan == 1]
+    assert again and again[0].title.startswith("add Stick.wield")
+    assert again[0].grip is not None and not again[0].grip.broke, report.text()
+    assert report.status == "missed" and "gave up after 1 replan" in report.reason  # the new plan only grasps
