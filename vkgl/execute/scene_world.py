@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError, SimulationError
+from vkgl.execute.grip.fingers import Fingers
 from vkgl.execute.grip.watch import GripWatch
 from vkgl.execute.world_arm import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
 from vkgl.formats.execution_report import Frames
@@ -71,6 +72,7 @@ class SceneWorld:
             table=self.table,
         )
         self.grip = GripWatch(self.arm)  # the load on the grip and the slip of a held tool
+        self.fingers = Fingers(self.arm)  # the hand's finger joints, if its URDF has them
         self.meshes = {name: body_mesh(body) for name, body in self.types.items()}
         self.skeleton_names = {skeleton.getName(): name for name, (skeleton, _) in self.nodes.items()}
         self.guarded = False  # True while moving through free space: touching a body there is a failure

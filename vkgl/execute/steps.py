@@ -29,6 +29,7 @@ import numpy as np
 from vkgl.errors import InputError, SimulationError
 from vkgl.execute import effector_path as paths
 from vkgl.execute.arm_moves import ArmMoves
+from vkgl.execute.grip.fingers import FINGER_CLEARANCE, TOUCH_GAP, width_across_grip
 from vkgl.execute.grip.model import grip_for
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
@@ -50,6 +51,7 @@ class StepKinds:
         self.push_direction: np.ndarray | None = None  # x axis of the pushing frame while in contact
         self.way_in: np.ndarray | None = None  # world: the last move of the step's planned approach
         self.leaving: tuple[WayOut, np.ndarray | None] = ("back", None)  # how `let_go` leaves the contact
+        self.tool_width = 0.0  # m across the grip of the tool being grasped or held
 
     def _frame_of(self, body_type: Body, frame: str, where: str) -> np.ndarray:
         found = body_type.frame(frame)
@@ -94,7 +96,13 @@ class StepKinds:
         if step.op == "add" and step.body not in self.sim.nodes:
             raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
         # the fingertip pushes; an open gripper closing around a tool, or a hand holding one, does not
-        self.sim.arm.fingertip_collides(self.sim.arm.held is None and not (step.motion == "free" and step.op == "add"))
+        grasping = step.motion == "free" and step.op == "add"
+        self.sim.arm.fingertip_collides(self.sim.arm.held is None and not grasping)
+        if grasping:  # the hand comes down onto the tool with its fingers open clear of the tool's faces
+            self.tool_width = self._width(step, label)
+            self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)
+        elif self.sim.arm.held is None:  # closed fingers, the fingertip pad in front of them, push
+            self._fingers(0.0)
         self.moves.follow_path(step.path, label)
         self.way_in = _way_in(self.sim, step)
         if step.motion == "free":
@@ -182,9 +190,24 @@ class StepKinds:
         if self.sim.holding() is not None:
             raise SimulationError(f"{label}: the robot already holds {self.sim.holding()}")
         _, node = self.sim.nodes[tool]
+        self._fingers(self.tool_width / 2 + TOUCH_GAP)  # the pads close onto the tool's faces
         self.sim.arm.grasp(tool, self.sim.nodes[tool][0], node)
         self.sim.grip.hold(tool, node, grip_for(self._affordance(step, label).action, self.sim.types[tool].friction))
         self.grasp_planned = self._action_pose(step, label)
+
+    def _width(self, step: PlanStepRecord, label: str) -> float:
+        """The tool's width across the grip: the grasp's stated `width`, else measured on the tool's shape where
+        the action holds it."""
+        action = self._affordance(step, label).action
+        width = getattr(action, "width", None)
+        if width is not None:
+            return float(width)
+        measured = width_across_grip(self.sim.meshes[step.body], self._action_pose(step, label))
+        return 0.0 if measured is None else measured
+
+    def _fingers(self, each: float) -> None:
+        """Open or close the fingers to `each` m, the world running."""
+        self.sim.fingers.move(each, self.sim.advance)
 
     def _release(self, step: PlanStepRecord, label: str) -> None:
         # the plan lets go where the hand is and lifts from there: the open hand goes back up the way it came
@@ -220,6 +243,7 @@ class StepKinds:
         self.moves.run([paths.line("release", start, low, paths.APPROACH_SPEED)], label)
         self.sim.arm.release()
         self.sim.grip.let_go()
+        self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)  # the fingers open off the tool's faces
         self.grasp_planned = None
         self.moves.run([paths.hold("settle", low, SETTLE)], label)
         if back_up and float(np.abs(before - self.sim.arm.q).max()) > 1e-9:
