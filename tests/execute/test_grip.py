@@ -98,3 +98,15 @@ def test_replanning_grasps_the_tool_again(program, monkeypatch):
     assert again and again[0].title.startswith("add Stick.wield")
     assert again[0].grip is not None and not again[0].grip.broke, report.text()
     assert report.status == "missed" and "gave up after 1 replan" in report.reason  # the new plan only grasps
+
+
+def test_vkgc_exits_5_when_the_held_tool_slips(monkeypatch, capsys):
+    from vkgl.cli import main
+    from vkgl.cli.exit_codes import EXIT_NOT_REACHED
+
+    monkeypatch.setattr(model, "GRIP_FORCE", WEAK)
+    code = main(["solve", str(EXAMPLES / "tasks" / f"{TASK}.vkg"), "--execute"])
+    out = capsys.readouterr().out
+    assert code == EXIT_NOT_REACHED
+    failed = [line for line in out.splitlines() if line.startswith("failed:")]
+    assert failed and "stick slipped" in failed[0] and "the grip broke" in failed[0]
