@@ -110,3 +110,28 @@ def test_vkgc_exits_5_when_the_held_tool_slips(monkeypatch, capsys):
     assert code == EXIT_NOT_REACHED
     failed = [line for line in out.splitlines() if line.startswith("failed:")]
     assert failed and "stick slipped" in failed[0] and "the grip broke" in failed[0]
+
+
+def test_a_grasp_action_grips_with_its_stated_force_and_width():
+    from vkgl.api import compile_source
+
+    program = compile_source(
+        "body Carton {\n    shape box (6, 6, 12) cm\n    mass 0.3 kg\n}\n"
+        "affordances Carton {\n    affordance grasp_top_y {\n"
+        "        action grasp at (0.6, 0, 3.2) cm yaw 0deg width 6 cm force 20 N\n"
+        "        motion free\n    }\n}\n"
+    )
+    action = program.affordances["Carton"][0].action
+    assert grip_for(action, None) == Grip(force=20.0, friction=0.5)
+    assert action.width == pytest.approx(0.06)  # what the fingers close to (vkgl.execute.steps)
+
+
+def test_the_width_across_the_grip_is_measured_on_the_tools_shape(program):
+    from vkgl.execute.grip.fingers import width_across_grip
+    from vkgl.lang.ir.geometry import body_mesh
+
+    grasp = np.eye(4)
+    grasp[0, 3] = -0.15  # the stick's handle
+    assert width_across_grip(body_mesh(program.bodies["Stick"]), grasp) == pytest.approx(0.02)
+    hook_grasp = grasp.copy()
+    assert width_across_grip(body_mesh(program.bodies["Hook"]), hook_grasp) == pytest.approx(0.02)

@@ -27,6 +27,9 @@ FINGER_SPEED = 0.05
 FINGER_CLEARANCE = 0.01
 """m between each open finger's pad and the tool's face as the hand comes down onto it."""
 
+PAD_SETBACK = 0.006
+"""m the Panda's closed pads are centred behind the effector frame's origin along its x (stdlib/robots/panda.urdf)."""
+
 TOUCH_GAP = 0.0005
 """m left between a closed pad and the tool's face: kinematic pads pressed into the free tool would shove it."""
 
@@ -70,12 +73,12 @@ class Fingers:
 
 def width_across_grip(mesh: trimesh.Trimesh, grasp: np.ndarray, reach: float = 0.03) -> float | None:
     """The tool's width along the effector frame's y (where the fingers close) at the grasp: the extent of its
-    section by the plane through the effector frame's origin normal to its x, within `reach` of the origin
+    section by the plane through the pads' centre normal to the effector frame's x, within `reach` of the origin
     along z (the pads' length). `grasp` is the effector frame in the tool's frame; None if the plane misses."""
     to_effector = np.linalg.inv(grasp)
     local = mesh.copy()
     local.apply_transform(to_effector)
-    lines = trimesh.intersections.mesh_plane(local, plane_normal=[1.0, 0.0, 0.0], plane_origin=[0.0, 0.0, 0.0])
+    lines = trimesh.intersections.mesh_plane(local, plane_normal=[1.0, 0.0, 0.0], plane_origin=[-PAD_SETBACK, 0.0, 0.0])
     points = np.asarray(lines, dtype=float).reshape(-1, 3)
     points = points[np.abs(points[:, 2]) <= reach]
     if len(points) == 0:
