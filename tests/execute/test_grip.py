@@ -135,3 +135,21 @@ def test_the_width_across_the_grip_is_measured_on_the_tools_shape(program):
     assert width_across_grip(body_mesh(program.bodies["Stick"]), grasp) == pytest.approx(0.02)
     hook_grasp = grasp.copy()
     assert width_across_grip(body_mesh(program.bodies["Hook"]), hook_grasp) == pytest.approx(0.02)
+
+
+def test_the_fingers_close_onto_the_tool_and_open_to_let_go(program):
+    from vkgl.execute.grip.fingers import FINGER_CLEARANCE, TOUCH_GAP
+    from vkgl.execute.replay import Replay
+
+    plan = scripted_plan(program, TASK, [GRASP, "remove Stick.wield stick arm.fingertip"])
+    replay = Replay(program, program.scenes[program.task(TASK).scene.name], plan.robot, record=False)
+    fingers = replay.sim.fingers
+    assert [j.getName() for j in fingers.joints] == ["panda_finger_joint1", "panda_finger_joint2"]
+    assert fingers.opening == 0.0  # closed behind the fingertip pad
+    where = replay.poses()["stick"]
+    replay.run_step(1, plan.steps[0])
+    assert fingers.opening == pytest.approx(0.01 + TOUCH_GAP, abs=1e-4)  # half the stick's 2 cm, both sides
+    assert np.abs(replay.poses()["stick"] - where).max() < 1e-4  # the pads closed without shoving it
+    replay.run_step(2, plan.steps[1])
+    assert fingers.opening == pytest.approx(0.01 + FINGER_CLEARANCE, abs=1e-4)
+    assert replay.holding() is None
