@@ -96,26 +96,30 @@ class StepKinds:
         self.sim.planned = {**self.sim.planned, **step.poses_start}
         if step.op == "add" and step.body not in self.sim.nodes:
             raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
-        # the fingertip pushes; an open gripper closing around a tool, or a hand holding one, does not
-        grasping = step.motion == "free" and step.op == "add"
-        self.sim.arm.fingertip_collides(self.sim.arm.held is None and not grasping)
+        # the fingertip pushes; an open gripper closing around a tool or a handle, or a hand holding one, does not
+        handle = self._affordance(step, label).action.type == "grasp" and step.motion in ("prismatic", "revolute")
+        grasping = step.op == "add" and (step.motion == "free" or handle)
+        if step.op == "remove" and handle:
+            self._let_go_of_handle()  # before the planned retreat out of the grip
+        self.sim.arm.fingertip_collides(self.sim.arm.held is None and self.sim.arm.handle is None and not grasping)
         if grasping:  # the hand comes down onto the tool with its fingers open clear of the tool's faces
             self.tool_width = self._width(step, label)
             self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)
-        elif self.sim.arm.held is None:  # closed fingers, the fingertip pad in front of them, push
+        elif self.sim.arm.held is None and self.sim.arm.handle is None:  # closed fingers behind the pad push
             self._fingers(0.0)
         self.moves.follow_path(step.path, label)
         self.way_in = _way_in(self.sim, step)
         if step.motion == "free":
             (self._grasp if step.op == "add" else self._release)(step, label)
         elif step.op == "add":
-            self._push(step, label)
+            self._push(step, label, handle=handle)
         else:
             self.push_direction = None  # the path was the retreat out of the contact
         self.sim.planned = {**self.sim.planned, **step.poses_end}
         self.sim.grip.end_step()  # a grip that broke in the step fails it
 
-    def _push(self, step: PlanStepRecord, label: str) -> None:
+    def _push(self, step: PlanStepRecord, label: str, *, handle: bool = False) -> None:
+        """The body's planned motion, the hand pushing it (the fingertip, a held tool) or holding its handle."""
         body_start, body_end = step.poses_start[step.body], step.poses_end[step.body]
         pusher = body_start @ self._action_pose(step, label)
         wanted = self._hand_from_pusher(step, pusher, label)
@@ -147,6 +151,12 @@ class StepKinds:
             else self.moves.motion_chain(push, [step.q_start, step.q_end])
         )
         self.push_direction = direction
+        if handle:  # the fingers close on the handle where the path brought them
+            self._fingers(self.tool_width / 2 + TOUCH_GAP)
+            _, node = self.sim.nodes[step.body]
+            self.sim.arm.hold_handle(step.body, node)
+            action = self._affordance(step, label).action
+            self.sim.grip.hold(step.body, node, grip_for(action, self.sim.types[step.body].friction), jointed=True)
         # the rule the planner checked for leaving this contact, from the way its approach came in
         self.leaving = ("back", None) if self.way_in is None else (way_out(self.way_in, direction), self.way_in)
         self.moves.run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
@@ -163,6 +173,7 @@ class StepKinds:
         into the contact from above (a hook behind a handle's bar: backing off would put the hand into the body
         it pulled); back out the way it came, then lift, when it came from elsewhere (from the side of a
         handle's bar). Nothing if not in contact."""
+        self._let_go_of_handle()
         if self.push_direction is None:
             return
         up = np.array([0.0, 0.0, 1.0])
@@ -205,6 +216,14 @@ class StepKinds:
             return float(width)
         measured = width_across_grip(self.sim.meshes[step.body], self._action_pose(step, label))
         return 0.0 if measured is None else measured
+
+    def _let_go_of_handle(self) -> None:
+        """Open the fingers off a handle the hand holds (nothing if none)."""
+        if self.sim.arm.handle is None:
+            return
+        self.sim.arm.let_go_of_handle()
+        self.sim.grip.let_go()
+        self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)
 
     def _fingers(self, each: float) -> None:
         """Open or close the fingers to `each` m, the world running."""

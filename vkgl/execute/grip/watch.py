@@ -59,6 +59,7 @@ class _Held:
     grip: Grip
     grasp: np.ndarray  # effector frame in the tool's frame at the grasp
     mass: float
+    jointed: bool = False  # a body on a physical joint held by its handle
     broken: str = ""  # why the grip broke, once it has
     raised: bool = False  # the failure has been raised
 
@@ -72,16 +73,19 @@ class GripWatch:
         self._forces: list[np.ndarray] = []  # this control period's physics steps: contact force on the tool (world)
         self._torques: list[np.ndarray] = []  # and its moment about the tool's centre of mass
         self._velocity: np.ndarray | None = None  # the tool's centre of mass velocity at the last period's end
+        self._joint_speed: float | None = None  # a held handle's body: its joint's speed at the last step
         steps = max(1, round(LOAD_WINDOW / arm.world.getTimeStep()))
         self._window: deque[tuple[float, np.ndarray, np.ndarray]] = deque(maxlen=steps)  # (usage, force, torque)
         self.report: GripReport | None = None  # the current step's
 
     # ------------------------------------------------------------ hand events
 
-    def hold(self, name: str, node: Any, grip: Grip) -> None:
-        """The hand has just taken tool `name` (its body node `node`) with `grip`."""
+    def hold(self, name: str, node: Any, grip: Grip, *, jointed: bool = False) -> None:
+        """The hand has just taken tool `name` (its body node `node`) with `grip`; `jointed`: a body on a
+        physical joint held by its handle."""
         grasp = np.linalg.inv(node.getWorldTransform().matrix()) @ self.arm.effector_pose()
-        self.held = _Held(name, node, node.getSkeleton().getName(), grip, grasp, float(node.getMass()))
+        self.held = _Held(name, node, node.getSkeleton().getName(), grip, grasp, float(node.getMass()), jointed)
+        self._joint_speed = None
         self._reset_period()
         self._velocity = None
         self._window.clear()
@@ -113,6 +117,9 @@ class GripWatch:
         h = self.held
         if h is None or h.broken:
             return
+        if h.jointed:
+            self._handle_load(h, world.getTimeStep())
+            return
         com = h.node.getCOM()
         total, moment = np.zeros(3), np.zeros(3)  # contact force on the tool (world), its moment about the com
         result = world.getLastCollisionResult()
@@ -131,6 +138,27 @@ class GripWatch:
         self._forces.append(total)
         self._torques.append(moment)
 
+    def _handle_load(self, h: _Held, dt: float) -> None:
+        """The force the grip exerts on a body on a joint in the step just taken: the generalised force its joint
+        needed (its inertia, gravity along the joint, the joint's damping and Coulomb friction) at the grip's
+        point, the smallest force that gives it (F = tau J / |J|^2 with J the point's velocity per unit of the
+        joint's speed). What else touches the body is not counted."""
+        skeleton = h.node.getSkeleton()
+        joint = skeleton.getJoint(0)
+        speed = float(skeleton.getVelocity(0))
+        accel = 0.0 if self._joint_speed is None else (speed - self._joint_speed) / dt
+        self._joint_speed = speed
+        tau = float(skeleton.getMassMatrix()[0, 0]) * accel + float(skeleton.getCoriolisAndGravityForces()[0])
+        tau += float(joint.getDampingCoefficient(0)) * speed
+        if abs(speed) > 1e-4:
+            tau += float(joint.getCoulombFriction(0)) * np.sign(speed)
+        grip_point = np.linalg.inv(h.node.getWorldTransform().matrix()) @ self.arm.effector_pose()
+        jacobian = np.asarray(h.node.getLinearJacobian(grip_point[:3, 3]), dtype=float)[:, 0]
+        reach = float(jacobian @ jacobian)
+        force = tau * jacobian / reach if reach > 1e-12 else np.zeros(3)
+        self._forces.append(-force)  # stored as the opposite of a contact force on a tool: see `_check_load`
+        self._torques.append(np.zeros(3))
+
     def after_period(self, period: float) -> None:
         """At the end of a control period: the grip's load and the tool's slip; break, or fail the step."""
         h = self.held
@@ -147,12 +175,13 @@ class GripWatch:
         hand = self.arm.effector_pose()
         rotation = hand[:3, :3].T
         lever = h.node.getCOM() - hand[:3, 3]  # from the grip to the centre of mass
-        inertial = h.mass * (acceleration - np.asarray(GRAVITY))
+        # a handle's body: its joint carries its weight and its inertia is in the force already stored
+        inertial = np.zeros(3) if h.jointed else h.mass * (acceleration - np.asarray(GRAVITY))
         for contact_force, contact_torque in zip(self._forces, self._torques, strict=True):
             # what the grip must exert on the tool: m a minus everything else acting on it (contacts, weight);
             # its moment about the grip balances the contacts' about the centre of mass (the tool turns slowly)
             force = inertial - contact_force
-            torque = -contact_torque + np.cross(lever, force)
+            torque = -contact_torque + (np.zeros(3) if h.jointed else np.cross(lever, force))
             self._window.append((h.grip.usage(rotation @ force, rotation @ torque), force, torque))
         self._reset_period()
         if not self._window:
