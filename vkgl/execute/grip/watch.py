@@ -10,6 +10,11 @@ in its axes) and compares it with what the fingers' friction carries
 (`LOAD_WINDOW`) decides. Past 1 the grip breaks: the tool is let
 go of where it is, moving as it moves, and physics decides where it goes.
 
+A body on a physical joint held by its handle (`hold(..., jointed=True)`: a
+weld constraint holds it to the hand, `vkgl.execute.world_arm.WorldArm.
+hold_handle`) loads the grip with the force its joint needs to follow
+(`_handle_load`), not with contact forces.
+
 Slip, measured every control period, is how far the effector frame has moved
 on the tool since the grasp (m, and the angle it turned); past
 `SLIP_TOLERANCE` or `SLIP_ANGLE_TOLERANCE` the step fails (`GripSlipped`); a
