@@ -153,3 +153,39 @@ def test_the_fingers_close_onto_the_tool_and_open_to_let_go(program):
     replay.run_step(2, plan.steps[1])
     assert fingers.opening == pytest.approx(0.01 + FINGER_CLEARANCE, abs=1e-4)
     assert replay.holding() is None
+
+
+class _StillHand:
+    """Just what `GripWatch` asks of the arm: a world, an effector pose, a grip that can break."""
+
+    def __init__(self, world, pose):
+        self.world, self.pose, self.broke = world, pose, False
+
+    def effector_pose(self):
+        return self.pose
+
+    def break_grip(self):
+        self.broke = True
+
+
+def test_a_handle_loads_the_grip_with_what_its_joint_needs():
+    """The stdlib Drawer sliding open at 0.1 m/s on its joint (damping 4 N s/m, friction 1.5 N) needs 1.9 N
+    along its slide at the hand: what its handle's grip must carry (its weight is the joint's)."""
+    from vkgl.execute.grip.watch import GripWatch
+    from vkgl.sim import world as sim_world
+
+    program = compile_file(str(EXAMPLES / "tasks" / "g_open_drawer.vkg"))
+    world = sim_world.new_world()
+    skeleton, node = sim_world.add_body(world, "drawer", program.bodies["Drawer"], np.eye(4))
+    hand = np.eye(4)
+    hand[:3, 3] = node.getWorldTransform().translation() + [0.2, 0.0, 0.05]
+    watch = GripWatch(_StillHand(world, hand))
+    watch.hold("drawer", node, Grip(force=1.0, friction=0.5), jointed=True)  # carries 1 N in the pads' plane
+    skeleton.setVelocity(0, 0.1)
+    for _ in range(2):
+        world.step(False)
+        skeleton.setVelocity(0, 0.1)  # held at a steady speed, as the hand would
+        watch.after_physics_step(world)
+    watch.after_period(0.002)
+    assert watch.report is not None and watch.report.peak_load == pytest.approx(1.9, abs=0.05)  # of 2 x 0.5 x 1 N
+    assert watch.arm.broke and "a load of 1.9 N, 0.00 N m" in watch.report.broke
