@@ -6,7 +6,8 @@ For each task: solve it with the planner, replay the plan open loop
 (the plan as planned) and closed loop (re-solving when a body strays by more
 than half the tolerance), and print one Markdown table with the goal errors,
 the number of replans, the simulated duration and the wall time of the
-replay. `wall/sim` is the cost of the open-loop replay per simulated second
+replay, and the grip on a held tool (its peak load, the tool's largest slip
+in the hand). `wall/sim` is the cost of the open-loop replay per simulated second
 (the target is < 5 on 2 cores); re-solving time is reported apart.
 
 A second table does the same with a disturbed start: the block really lies
@@ -40,6 +41,17 @@ def _errors(report) -> str:
     pos = max((g.position_error or 0.0) for g in report.goals) * 100
     yaw = max(abs(np.degrees(g.yaw_error or 0.0)) for g in report.goals)
     return f"{pos:5.2f} cm {yaw:5.2f} deg"
+
+
+def _grip(report) -> str:
+    """The largest load on the grip of a held tool (the fraction of what the fingers' friction carries) and the
+    largest slip of the tool in the hand, over the steps; `-` without a tool."""
+    grips = [s.grip for s in report.steps if s.grip is not None]
+    if not grips:
+        return "-"
+    slip = max(g.slip for g in grips) * 1000
+    broke = " (broke)" if any(g.broke for g in grips) else ""
+    return f"{max(g.peak_load for g in grips) * 100:.0f} %, {slip:.2f} mm{broke}"
 
 
 def _plan(program, task: str):
@@ -92,7 +104,7 @@ def bench_task(
     plan = _plan(program, task.name)
     solve_s = time.perf_counter() - started
     if not plan.solved:
-        return [task.name, plan.status] + [""] * 8, [task.name, plan.status] + [""] * 8
+        return [task.name, plan.status] + [""] * 9, [task.name, plan.status] + [""] * 9
     rows = []
     for kind, world in (("", program), ("_disturbed", _disturbed(program, task.name, *disturb, joint))):
         opened = execute(world, task.name, plan, record=gif_dir is not None)
@@ -114,6 +126,7 @@ def bench_task(
                 str(closed.replans),
                 f"{closed.sim_time:.1f}",
                 f"{closed.wall_time - closed.solve_time:.1f} + {closed.solve_time:.1f}",
+                _grip(opened),
             ]
         )
     return rows[0], rows[1]
@@ -131,6 +144,7 @@ def _table(title: str, rows: list[list[str]]) -> None:
         "replans",
         "sim s",
         "wall s (+ solve s)",
+        "open loop: grip peak load, slip",
     ]
     print(f"\n{title}\n")
     print("| " + " | ".join(header) + " |")

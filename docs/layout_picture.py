@@ -79,7 +79,7 @@ FLOW = [
     ("the plan", "plan/result: Plan → text, vkg-plan/3, PNG", DATA),
     ("carry it out", "execute: scene world, the arm in it,\nsteps (motion/approach, moves)", STAGE),
     ("goal reached?", "execute/goal_checks; a re-solve\ngoes back to the driver (api)", STAGE),
-    ("report", "formats: vkg-execution/4, GIF", DATA),
+    ("report", "formats: vkg-execution/5, GIF", DATA),
 ]
 
 

@@ -64,7 +64,7 @@ def test_the_planned_push_reaches_the_goal_in_physics(open_loop, task_a):
     assert np.linalg.norm(report.final["block"][:2, 3] - start[:2, 3]) > 0.1
     assert len(report.steps) == len(plan.steps)
     assert report.text().splitlines()[-1].startswith("reached")
-    assert report.to_json()["format"] == "vkg-execution/4"
+    assert report.to_json()["format"] == "vkg-execution/5"
 
 
 def test_a_push_from_the_wrong_side_is_reported_as_not_reached(task_a):

@@ -43,5 +43,5 @@ def test_a_shoved_bystander_makes_the_execution_disturbed() -> None:
     assert "block2 ended" in report.reason and "from where the plan leaves it" in report.reason
     assert "DISTURBED: block2" in report.text()
     data = report.to_json()
-    assert data["format"] == "vkg-execution/4" and data["status"] == "disturbed"
+    assert data["format"] == "vkg-execution/5" and data["status"] == "disturbed"
     assert data["disturbed"][0]["body"] == "block2" and data["disturbed"][0]["position_error_m"] > 0.05

@@ -23,7 +23,7 @@ def test_solve_execute_replan_writes_the_report(tmp_path, capsys):
     assert "execution of a_push in DART, closed loop (replan):" in out
     assert any(line.startswith("reached:") for line in out.splitlines())
     data = json.loads(report.read_text())
-    assert data["format"] == "vkg-execution/4" and data["status"] == "reached" and data["closed_loop"]
+    assert data["format"] == "vkg-execution/5" and data["status"] == "reached" and data["closed_loop"]
 
 
 def test_an_animation_that_cannot_be_written_is_refused_before_executing(tmp_path, capsys):

@@ -92,7 +92,7 @@ def test_a_failing_plan_is_not_re_tried_identically(monkeypatch):
         assert not any(StepKey.of(s).repeats_failed(StepKey.of(plan.steps[0])) for s in later.steps)
     assert report.status == "reached", report.text()
     data = report.to_json()
-    assert data["format"] == "vkg-execution/4"
+    assert data["format"] == "vkg-execution/5"
     assert data["resolves"][0]["excluded"] == [{"plan": 0, "step": 1, "title": plan.steps[0].title(), "why": NO_IK}]
 
 

@@ -1,4 +1,4 @@
-"""`vkg-execution/4` (vkgl.formats.execution_report): written atomically, the same data as `to_json`."""
+"""`vkg-execution/5` (vkgl.formats.execution_report): written atomically, the same data as `to_json`."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ def test_write_puts_the_report_json_in_the_file_and_leaves_no_temporary(tmp_path
     assert [p.name for p in tmp_path.iterdir()] == ["run.json"]
     data = json.loads(path.read_text(encoding="utf-8"))
     assert data == json.loads(json.dumps(_report().to_json()))
-    assert data["format"] == "vkg-execution/4" and data["steps"][0]["step"].endswith("slide 15.0 cm")
+    assert data["format"] == "vkg-execution/5" and data["steps"][0]["step"].endswith("slide 15.0 cm")
     assert path.read_text(encoding="utf-8").endswith("}\n")
 
 

@@ -212,7 +212,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--animate", metavar="F.gif", help="write a top-view animation of the execution (implies --execute)")
     p.add_argument(
-        "--execution-json", metavar="F", help="write the execution report as vkg-execution/4 JSON (implies --execute)"
+        "--execution-json", metavar="F", help="write the execution report as vkg-execution/5 JSON (implies --execute)"
     )
     return parser
 

@@ -275,7 +275,7 @@ def _execute(args: argparse.Namespace, program: Any, plan: Any) -> bool:
     print(report.text())
     if args.execution_json:
         write_text(args.execution_json, json.dumps(report.to_json(), indent=1) + "\n")
-        print(f"{args.execution_json}: execution as vkg-execution/4")
+        print(f"{args.execution_json}: execution as vkg-execution/5")
     if args.animate:
         from vkgl.execute.animate import animate
 

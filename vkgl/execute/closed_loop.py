@@ -257,7 +257,9 @@ class _Loop:
         return None
 
     def _report(self, index: int, step: PlanStepRecord, deviations: list[Deviation]) -> None:
-        report = StepReport(self.plan_no, index, step.title(), self.replay.time, deviations)
+        report = StepReport(
+            self.plan_no, index, step.title(), self.replay.time, deviations, grip=self.replay.grip_report()
+        )
         self.reports.append(report)
         if self.on_step is not None:
             self.on_step(report)

@@ -14,6 +14,7 @@ The plan comes as a `vkgl.formats.plan.PlanDocument`; nothing here reads JSON.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 
 import numpy as np
@@ -22,7 +23,7 @@ from vkgl.execute.arm_moves import ArmMoves
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.steps import StepKinds
 from vkgl.execute.world_arm import ArmStuck
-from vkgl.formats.execution_report import Frames
+from vkgl.formats.execution_report import Frames, GripReport
 from vkgl.formats.plan import PlanRobot, PlanStepRecord
 from vkgl.lang.ir.nodes import Body, Scene
 from vkgl.lang.ir.program import Program
@@ -70,6 +71,11 @@ class Replay:
     def holding(self) -> str | None:
         """The name of the tool in the hand, if any."""
         return self.sim.holding()
+
+    def grip_report(self) -> GripReport | None:
+        """The grip on the tool held during the step just carried out (slip, load), None if no tool was held."""
+        report = self.sim.grip.report
+        return None if report is None else dataclasses.replace(report)
 
     def openings(self) -> dict[str, float]:
         """The coordinate of every body's physical joint now (m or rad, 0 where the scene places the body)."""

@@ -15,6 +15,8 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError, SimulationError
+from vkgl.execute.grip.fingers import Fingers
+from vkgl.execute.grip.watch import GripWatch
 from vkgl.execute.world_arm import FINGERTIP_RADIUS, ArmStuck, WorldArm, rx_pi
 from vkgl.formats.execution_report import Frames
 from vkgl.formats.plan import PlanRobot
@@ -69,6 +71,8 @@ class SceneWorld:
             np.asarray(self.arm_model.home, dtype=float),
             table=self.table,
         )
+        self.grip = GripWatch(self.arm)  # the load on the grip and the slip of a held tool
+        self.fingers = Fingers(self.arm)  # the hand's finger joints, if its URDF has them
         self.meshes = {name: body_mesh(body) for name, body in self.types.items()}
         self.skeleton_names = {skeleton.getName(): name for name, (skeleton, _) in self.nodes.items()}
         self.guarded = False  # True while moving through free space: touching a body there is a failure
@@ -115,11 +119,17 @@ class SceneWorld:
     # ------------------------------------------------------------ running
 
     def advance(self, n: int) -> None:
-        """Run `n` physics steps with the arm's current commands (recording frames, watching for touches)."""
+        """Run `n` physics steps with the arm's current commands (recording frames, watching for touches and
+        the grip on a held tool)."""
+        watching = self.grip.held is not None
         for _ in range(n):
             self.world.step(False)  # keep the arm's velocity commands for the whole control period
+            if watching:
+                self.grip.after_physics_step(self.world)
             if self.frames is not None and self.time >= self._next_frame - 1e-9:
                 self.record()
+        if watching:
+            self.grip.after_period(n * self.world.getTimeStep())  # may break the grip, or fail on a slip
         self.arm.update_letting_go()  # a tool let go of is touched again once the hand has left it
         if self.guarded:  # once per control period is enough to stop in time
             self._check_clear()

@@ -12,7 +12,9 @@ from the step's `op` and the affordance's motion:
   straight up from a hook behind a handle's bar, or back out the way it
   came from the side of a bar);
 - grasp (add, free motion, e.g. Stick.wield): the path comes down onto the
-  tool's grasp frame; hold the tool;
+  tool's grasp frame; hold the tool, with the grip of the fingers' friction
+  (`vkgl.execute.grip`: a load beyond it breaks the grip, a slip beyond the
+  tolerance fails the step);
 - release (remove of a grasp): lower the tool onto the table and let go (the
   next step's path lifts the hand).
 
@@ -27,6 +29,8 @@ import numpy as np
 from vkgl.errors import InputError, SimulationError
 from vkgl.execute import effector_path as paths
 from vkgl.execute.arm_moves import ArmMoves
+from vkgl.execute.grip.fingers import FINGER_CLEARANCE, TOUCH_GAP, width_across_grip
+from vkgl.execute.grip.model import grip_for
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
@@ -47,6 +51,7 @@ class StepKinds:
         self.push_direction: np.ndarray | None = None  # x axis of the pushing frame while in contact
         self.way_in: np.ndarray | None = None  # world: the last move of the step's planned approach
         self.leaving: tuple[WayOut, np.ndarray | None] = ("back", None)  # how `let_go` leaves the contact
+        self.tool_width = 0.0  # m across the grip of the tool being grasped or held
 
     def _frame_of(self, body_type: Body, frame: str, where: str) -> np.ndarray:
         found = body_type.frame(frame)
@@ -63,11 +68,12 @@ class StepKinds:
 
     def _action_pose(self, step: PlanStepRecord, label: str) -> np.ndarray:
         action = self._affordance(step, label).action
-        if not isinstance(action, FixedC):
+        if not isinstance(action, FixedC) and action.type != "grasp":  # a grasp is a pose too (the fingers hold it)
             raise SimulationError(
-                f"{label}: only fixed actions can be executed, {step.affordance} has a {action.type} action"
+                f"{label}: only fixed and grasp actions can be executed, {step.affordance} has a {action.type} action"
             )
-        return np.eye(4) if action.pose is None else action.pose.matrix()
+        pose = getattr(action, "pose", None)
+        return np.eye(4) if pose is None else pose.matrix()
 
     def _hand_from_pusher(self, step: PlanStepRecord, pusher_pose: np.ndarray, label: str) -> np.ndarray:
         """The effector pose that puts the pushing frame (fingertip or tool frame) at `pusher_pose`."""
@@ -86,22 +92,34 @@ class StepKinds:
     def run_step(self, index: int, step: PlanStepRecord) -> None:
         """Carry out step `index` (from 1) of a plan. Raises ArmStuck if the arm cannot follow the path."""
         label = f"step {index}"
+        self.sim.grip.begin_step()
         self.sim.planned = {**self.sim.planned, **step.poses_start}
         if step.op == "add" and step.body not in self.sim.nodes:
             raise InputError(f"{label}: no body `{step.body}` in scene {self.sim.scene.name}")
-        # the fingertip pushes; an open gripper closing around a tool, or a hand holding one, does not
-        self.sim.arm.fingertip_collides(self.sim.arm.held is None and not (step.motion == "free" and step.op == "add"))
+        # the fingertip pushes; an open gripper closing around a tool or a handle, or a hand holding one, does not
+        handle = self._affordance(step, label).action.type == "grasp" and step.motion in ("prismatic", "revolute")
+        grasping = step.op == "add" and (step.motion == "free" or handle)
+        if step.op == "remove" and handle:
+            self._let_go_of_handle()  # before the planned retreat out of the grip
+        self.sim.arm.fingertip_collides(self.sim.arm.held is None and self.sim.arm.handle is None and not grasping)
+        if grasping:  # the hand comes down onto the tool with its fingers open clear of the tool's faces
+            self.tool_width = self._width(step, label)
+            self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)
+        elif self.sim.arm.held is None and self.sim.arm.handle is None:  # closed fingers behind the pad push
+            self._fingers(0.0)
         self.moves.follow_path(step.path, label)
         self.way_in = _way_in(self.sim, step)
         if step.motion == "free":
             (self._grasp if step.op == "add" else self._release)(step, label)
         elif step.op == "add":
-            self._push(step, label)
+            self._push(step, label, handle=handle)
         else:
             self.push_direction = None  # the path was the retreat out of the contact
         self.sim.planned = {**self.sim.planned, **step.poses_end}
+        self.sim.grip.end_step()  # a grip that broke in the step fails it
 
-    def _push(self, step: PlanStepRecord, label: str) -> None:
+    def _push(self, step: PlanStepRecord, label: str, *, handle: bool = False) -> None:
+        """The body's planned motion, the hand pushing it (the fingertip, a held tool) or holding its handle."""
         body_start, body_end = step.poses_start[step.body], step.poses_end[step.body]
         pusher = body_start @ self._action_pose(step, label)
         wanted = self._hand_from_pusher(step, pusher, label)
@@ -133,6 +151,12 @@ class StepKinds:
             else self.moves.motion_chain(push, [step.q_start, step.q_end])
         )
         self.push_direction = direction
+        if handle:  # the fingers close on the handle where the path brought them
+            self._fingers(self.tool_width / 2 + TOUCH_GAP)
+            _, node = self.sim.nodes[step.body]
+            self.sim.arm.hold_handle(step.body, node)
+            action = self._affordance(step, label).action
+            self.sim.grip.hold(step.body, node, grip_for(action, self.sim.types[step.body].friction), jointed=True)
         # the rule the planner checked for leaving this contact, from the way its approach came in
         self.leaving = ("back", None) if self.way_in is None else (way_out(self.way_in, direction), self.way_in)
         self.moves.run([push], label, ghost=ghost, q_hint=chain[0], q_path=chain)
@@ -149,6 +173,7 @@ class StepKinds:
         into the contact from above (a hook behind a handle's bar: backing off would put the hand into the body
         it pulled); back out the way it came, then lift, when it came from elsewhere (from the side of a
         handle's bar). Nothing if not in contact."""
+        self._let_go_of_handle()
         if self.push_direction is None:
             return
         up = np.array([0.0, 0.0, 1.0])
@@ -177,8 +202,32 @@ class StepKinds:
         if self.sim.holding() is not None:
             raise SimulationError(f"{label}: the robot already holds {self.sim.holding()}")
         _, node = self.sim.nodes[tool]
+        self._fingers(self.tool_width / 2 + TOUCH_GAP)  # the pads close onto the tool's faces
         self.sim.arm.grasp(tool, self.sim.nodes[tool][0], node)
+        self.sim.grip.hold(tool, node, grip_for(self._affordance(step, label).action, self.sim.types[tool].friction))
         self.grasp_planned = self._action_pose(step, label)
+
+    def _width(self, step: PlanStepRecord, label: str) -> float:
+        """The tool's width across the grip: the grasp's stated `width`, else measured on the tool's shape where
+        the action holds it."""
+        action = self._affordance(step, label).action
+        width = getattr(action, "width", None)
+        if width is not None:
+            return float(width)
+        measured = width_across_grip(self.sim.meshes[step.body], self._action_pose(step, label))
+        return 0.0 if measured is None else measured
+
+    def _let_go_of_handle(self) -> None:
+        """Open the fingers off a handle the hand holds (nothing if none)."""
+        if self.sim.arm.handle is None:
+            return
+        self.sim.arm.let_go_of_handle()
+        self.sim.grip.let_go()
+        self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)
+
+    def _fingers(self, each: float) -> None:
+        """Open or close the fingers to `each` m, the world running."""
+        self.sim.fingers.move(each, self.sim.advance)
 
     def _release(self, step: PlanStepRecord, label: str) -> None:
         # the plan lets go where the hand is and lifts from there: the open hand goes back up the way it came
@@ -186,8 +235,13 @@ class StepKinds:
         self._lower_and_release(label, back_up=True)
 
     def put_down(self, label: str) -> None:
-        """Lower the held tool onto the table and let go of it; then lift the empty hand."""
+        """Lower the held tool onto the table and let go of it; then lift the empty hand. A hand still around a
+        tool that slipped out of its grip is lifted clear of it (a re-solve plans the arm from where it stands)."""
         if self.sim.arm.held is None:
+            if self.sim.arm.leaving_a_tool:
+                self.moves.straight(
+                    "release", (STANDOFF + LIFT) * np.array([0.0, 0.0, 1.0]), paths.APPROACH_SPEED, label
+                )
             return
         self.let_go(label)
         self._lower_and_release(label)
@@ -208,6 +262,8 @@ class StepKinds:
         low = paths.at_height(start, self.sim.table_z + drop) if start[2, 3] > self.sim.table_z + drop else start
         self.moves.run([paths.line("release", start, low, paths.APPROACH_SPEED)], label)
         self.sim.arm.release()
+        self.sim.grip.let_go()
+        self._fingers(self.tool_width / 2 + FINGER_CLEARANCE)  # the fingers open off the tool's faces
         self.grasp_planned = None
         self.moves.run([paths.hold("settle", low, SETTLE)], label)
         if back_up and float(np.abs(before - self.sim.arm.q).max()) > 1e-9:

@@ -17,9 +17,11 @@ What touches the world:
   point: a point pushing a flat face is unstable (the face turns away from
   it), the pad of a real gripper is not;
 - a held tool: the tool's own DART body, switched to a kinematic joint that
-  follows the effector frame rigidly while held (the grasp does not slip), and
-  switched back to a free, dynamic body when released (the arm passes
-  through it until the open hand has left its grip).
+  follows the effector frame rigidly while the grip holds it, and switched back
+  to a free, dynamic body when released (the arm passes through it until the
+  open hand has left its grip) or when the load on it exceeds what the
+  fingers' friction carries (`break_grip`, decided by
+  `vkgl.execute.grip.watch`: then it slips, and physics says where it goes).
 
 The arm's links (their URDF collision shapes) touch the bodies too, but not
 the table (the base stands on it) or a tool they hold.
@@ -101,6 +103,7 @@ class WorldArm:
             raise SimulationError(f"the robot's URDF has no joint(s) {', '.join(missing)}")
         self.dofs = [j.getIndexInSkeleton(0) for j in self.joints]
         self.held: HeldTool | None = None
+        self.handle: tuple[str, Any, Any] | None = None  # a body on a joint held by its handle: name, node, weld
         self.filter = _world_filter(world)
         self._letting_go: list[Any] = []  # body nodes of tools let go of that the hand has not yet left
         self._groups: dict[tuple[str, str], Any] = {}  # collision groups for `_overlaps`, made when first needed
@@ -219,6 +222,44 @@ class WorldArm:
         self.held.skeleton.setVelocities(np.zeros(self.held.skeleton.getNumDofs()))
         self._letting_go.append(self.held.body_node)
         self.held = None
+
+    def hold_handle(self, name: str, body_node: Any) -> None:
+        """Hold a body on a physical joint (a door, a drawer) by its handle where it is now: a DART weld
+        constraint between the hand and the body, which then follows the hand as far as its joint lets it."""
+        weld = dart.constraint.WeldJointConstraint(self.link, body_node)
+        self.world.getConstraintSolver().addConstraint(weld)
+        if not any(node is body_node for node in self._letting_go):
+            self._exclude(body_node, True)  # the fingers closed on the handle do not fight the weld
+        self._letting_go = [node for node in self._letting_go if node is not body_node]
+        self.handle = (name, body_node, weld)
+
+    def let_go_of_handle(self) -> None:
+        """Open the hand's hold on a handle: the weld is gone; the arm passes through the body until it has
+        left it."""
+        if self.handle is None:
+            return
+        _, body_node, weld = self.handle
+        self.world.getConstraintSolver().removeConstraint(weld)
+        self._letting_go.append(body_node)
+        self.handle = None
+
+    def break_grip(self) -> None:
+        """The grip gave way (the load exceeded what the fingers' friction carries): the tool is let go of
+        moving as it moves, a free dynamic body again (a handle's body stays on its joint), and the arm
+        passes through it until it has left it."""
+        self.let_go_of_handle()
+        if self.held is None:
+            return
+        joint = self.held.skeleton.getRootJoint()
+        joint.setActuatorType(dart.dynamics.ActuatorType.FORCE)
+        joint.setCommands(np.zeros(6))
+        self._letting_go.append(self.held.body_node)
+        self.held = None
+
+    @property
+    def leaving_a_tool(self) -> bool:
+        """Whether the open hand is still around a tool it let go of (or that slipped out of its grip)."""
+        return bool(self._letting_go)
 
     def update_letting_go(self) -> None:
         """Let the arm touch again the tools it let go of and no longer overlaps (called every control period)."""

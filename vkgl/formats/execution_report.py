@@ -1,7 +1,7 @@
 """What an execution in DART did: per step, real vs planned poses; at the end, the error to the goal.
 
 `ExecutionReport.text()` is what `vkgc solve --execute` prints;
-`ExecutionReport.to_json()` is the `vkg-execution/4` record of the same, and
+`ExecutionReport.to_json()` is the `vkg-execution/5` record of the same, and
 `write(path, report)` puts it in a file. A body on a physical joint is judged
 by its joint's coordinate (`Opening`): how far its slide or hinge is open.
 """
@@ -18,10 +18,11 @@ import numpy as np
 from vkgl.atomic import write_text
 from vkgl.se3 import yaw_of
 
-FORMAT = "vkg-execution/4"
+FORMAT = "vkg-execution/5"
 """Version 2 added the `disturbed` list and the status "disturbed" (a bystander moved); version 3 adds the
 `resolves` list (each re-solve: why, what it excluded, what it found); version 4 adds the joint coordinates of
-bodies on physical joints: `opening` of goals and of step deviations, and `final_openings` (docs/execution.md)."""
+bodies on physical joints: `opening` of goals and of step deviations, and `final_openings`; version 5 adds each
+step's `grip` (the held tool's slip in the hand and the load on the grip; docs/execution.md)."""
 
 
 def _planar(pose: np.ndarray) -> str:
@@ -121,6 +122,54 @@ class Deviation:
 
 
 @dataclass
+class GripReport:
+    """The grip on the tool in the hand during one step: what it carries, the most of that the load used, and how
+    far the tool slipped in the hand (from where it was grasped); `broke` says why the grip gave way, if it did."""
+
+    tool: str
+    force: float  # N each finger presses
+    friction: float  # the pads' friction on the tool
+    max_force: float  # N the grip carries in the pads' plane (2 mu F)
+    max_torque: float  # N m it carries about the pads' normal
+    peak_load: float = 0.0  # the largest fraction of that the load used (1 = all of it)
+    slip: float = 0.0  # m, the largest
+    slip_angle: float = 0.0  # rad, the largest
+    broke: str = ""
+
+    def note_load(self, usage: float) -> None:
+        """Keep the largest fraction of the grip a load used."""
+        self.peak_load = max(self.peak_load, usage)
+
+    def note_slip(self, slip: float, angle: float) -> None:
+        """Keep the largest slip (m) and turn (rad) of the tool in the hand."""
+        self.slip = max(self.slip, slip)
+        self.slip_angle = max(self.slip_angle, angle)
+
+    def text(self) -> str:
+        """One line: `grip on stick: slip 0.00 mm, 0.00 deg; load up to 12 % of 70.0 N, 0.47 N m (2 x 70 N, ...)`."""
+        head = (
+            f"grip on {self.tool}: slip {self.slip * 1000:.2f} mm, {np.degrees(self.slip_angle):.2f} deg; load up to "
+            f"{self.peak_load * 100:.0f} % of {self.max_force:.1f} N, {self.max_torque:.2f} N m "
+            f"(2 x {self.force:.0f} N, mu {self.friction:.2f})"
+        )
+        return f"{head}; BROKE: {self.broke}" if self.broke else head
+
+    def to_json(self) -> dict[str, Any]:
+        """As plain data (a step's `grip` in `vkg-execution/5`)."""
+        return {
+            "tool": self.tool,
+            "force_n": self.force,
+            "friction": self.friction,
+            "max_force_n": self.max_force,
+            "max_torque_nm": self.max_torque,
+            "peak_load": self.peak_load,
+            "slip_m": self.slip,
+            "slip_angle_rad": self.slip_angle,
+            "broke": self.broke,
+        }
+
+
+@dataclass
 class StepReport:
     """One executed plan step: which plan it came from and where the bodies ended."""
 
@@ -130,6 +179,7 @@ class StepReport:
     end_time: float
     deviations: list[Deviation] = field(default_factory=list)
     replan: str = ""  # set when the loop re-solved after this step: why, and what came of it
+    grip: GripReport | None = None  # the tool in the hand during the step, if any
 
 
 @dataclass
@@ -319,6 +369,8 @@ class ExecutionReport:
             for dev in step.deviations:
                 flag = f"  > {dev.limit_text()}" if dev.exceeded else ""
                 lines.append(f"      {dev.text()}{flag}")
+            if step.grip is not None:
+                lines.append(f"      {step.grip.text()}")
             if step.replan:
                 lines.append(f"    replan: {step.replan}")
         for goal in self.goals:
@@ -332,7 +384,7 @@ class ExecutionReport:
         return "\n".join(lines)
 
     def to_json(self) -> dict[str, Any]:
-        """The report as plain data (`vkg-execution/4`)."""
+        """The report as plain data (`vkg-execution/5`)."""
         return {
             "format": FORMAT,
             "task": self.task,
@@ -361,6 +413,7 @@ class ExecutionReport:
                         }
                         for d in s.deviations
                     },
+                    "grip": s.grip.to_json() if s.grip is not None else None,
                 }
                 for s in self.steps
             ],
@@ -392,5 +445,5 @@ class ExecutionReport:
 
 
 def write(path: str | Path, report: ExecutionReport) -> None:
-    """Write the report as `vkg-execution/4` JSON to `path`, atomically (temporary file, then renamed)."""
+    """Write the report as `vkg-execution/5` JSON to `path`, atomically (temporary file, then renamed)."""
     write_text(path, json.dumps(report.to_json(), indent=1) + "\n")
