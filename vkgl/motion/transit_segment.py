@@ -11,7 +11,6 @@ limits scaled by `TRANSIT_SPEED_SCALE` (`vkgl.motion.timing`).
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Iterator, Mapping
 
 import numpy as np
@@ -19,7 +18,7 @@ import numpy as np
 from vkgl.formats.plan import ArmSegment
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.density import edge_resolution, link_reach
-from vkgl.motion.timing import time_path, velocity_limits
+from vkgl.motion.timing import arm_velocity_limits, time_path
 from vkgl.motion.transit import TransitFailure, plan_transit
 from vkgl.robot import Arm
 
@@ -98,14 +97,9 @@ def tool_reach(collision: ArmCollision, held: Held) -> float:
     return float(np.linalg.norm(held.in_hand[:3, 3]) + radius)
 
 
-@functools.cache
-def _velocity_of(urdf: str, joints: tuple[str, ...]) -> np.ndarray:
-    return velocity_limits(urdf, list(joints))
-
-
 def _velocity(arm: Arm) -> np.ndarray:
     """The arm's joint velocity limits from its URDF (rad/s), read once per URDF."""
-    return _velocity_of(str(arm.urdf), tuple(arm.joint_names))
+    return arm_velocity_limits(arm)
 
 
 __all__ = ["TRANSIT_SPEED_SCALE", "TRANSIT_TIME_LIMIT", "VIA_HEIGHTS", "over", "tool_reach", "transit_segment"]

@@ -46,6 +46,7 @@ from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, approach_poses, follow_poses
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT, WayOut, way_out
+from vkgl.motion.timing import arm_velocity_limits, straight_times
 from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
@@ -313,10 +314,11 @@ class StraightMoves:
         return None
 
     def straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
-        """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`."""
-        count = len(joints) - 1
-        times = np.linspace(0.0, max(length / CARTESIAN_SPEED, 1e-3), count + 1) if count else np.zeros(1)
-        return ArmSegment(phase, times, np.asarray(joints, dtype=float))
+        """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`
+        where every joint stays within its share of its velocity limit (`vkgl.motion.timing.straight_times`)."""
+        joints = np.asarray(joints, dtype=float)
+        times = straight_times(joints, length, CARTESIAN_SPEED, arm_velocity_limits(self.problem.arm))
+        return ArmSegment(phase, times, joints)
 
 
 __all__ = [
