@@ -34,8 +34,17 @@ from vkgl.plan.problem.problem import Problem, collision_scene
 from vkgl.plan.problem.rejection import Kind, Rejection
 
 TRANSIT_CLEARANCE = 0.01
-"""m: a transit keeps the arm and a held tool at least this far from every body (the physics' contacts have
-margins, and the bodies are not exactly where the plan has them)."""
+"""m: a transit of the bare arm keeps it at least this far from every body (the physics' contacts have margins,
+and the bodies are not exactly where the plan has them)."""
+
+HELD_TRANSIT_CLEARANCE = 0.003
+"""m: with a tool in the hand every body, the tool too, is grown by this for transits, so that (less the 1 mm
+tolerance of a touch) the tool keeps 5 mm from every other body, the links 2 mm. The transit is checked every 1 cm
+of the tool's travel (`vkgl.motion.density`): a point between two samples is within 5 mm of one of them, so
+samples 5 mm clear keep the tool clear in between. A tool works close to bodies (the hook's stand-off 1 cm from
+the Block it is to pull in task c), so not `TRANSIT_CLEARANCE`; but not nothing: execution fails a transit on any
+touch, and with the exact geometry (and its tolerance) gen3_027's hook ended its transit 1 mm into a Block's
+corner."""
 
 
 class GeometryCheck:
@@ -47,6 +56,7 @@ class GeometryCheck:
         self._scene: CollisionScene | None = None
         self._arm: ArmCollision | None = None
         self._transit: ArmCollision | None = None
+        self._held_transit: ArmCollision | None = None
         self.queries = 0
 
     @property
@@ -65,10 +75,14 @@ class GeometryCheck:
         return self._transit
 
     def transit_space(self, held: Held | None) -> ArmCollision:
-        """What a transit's configurations must be free in: `transit_collision` for the bare arm; a held tool
-        works close to the body it acts on (a hook's shaft along the block it pulls), so with one the exact
-        geometry (`arm_collision`)."""
-        return self.transit_collision if held is None else self.arm_collision
+        """What a transit's configurations must be free in: `transit_collision` for the bare arm; with a held tool,
+        which works closer to bodies, the bodies grown by `HELD_TRANSIT_CLEARANCE`."""
+        if held is None:
+            return self.transit_collision
+        if self._held_transit is None:
+            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE)
+            self._held_transit = ArmCollision(grown, self.problem.arm)
+        return self._held_transit
 
     @property
     def arm_collision(self) -> ArmCollision:
