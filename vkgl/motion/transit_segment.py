@@ -17,7 +17,7 @@ import numpy as np
 
 from vkgl.formats.plan import ArmSegment
 from vkgl.motion.arm_collision import ArmCollision, Held
-from vkgl.motion.density import edge_resolution, link_reach
+from vkgl.motion.density import DEFAULT_TOLERANCE, edge_resolution, link_reach
 from vkgl.motion.timing import arm_velocity_limits, time_path
 from vkgl.motion.transit import TransitFailure, plan_transit
 from vkgl.robot import Arm
@@ -28,6 +28,12 @@ TRANSIT_SPEED_SCALE = 0.35
 TRANSIT_TIME_LIMIT = 5.0
 """s: the clock's bound on OMPL's search for one transit (less when the search's deadline is nearer); its budget
 of validity checks (`vkgl.motion.transit.SEARCH_CHECKS`) normally ends a failing search first, deterministically."""
+
+HELD_TOLERANCE = 0.004
+"""m: with a tool in the hand no point of the arm or the tool moves more than this between two checked
+configurations (without one, `vkgl.motion.density.DEFAULT_TOLERANCE`, 1 cm, as the bare arm keeps 1 cm from
+every body): the planner keeps a held tool 2 mm clear of the bodies it does not work on, so samples 4 mm apart
+keep the line between them clear."""
 
 VIA_HEIGHTS = (0.1, 0.2)
 """m: before OMPL is asked, a transit tries going this high over what lies between its ends."""
@@ -54,7 +60,8 @@ def transit_segment(
     advance = (collision.clearance(held), link_reach(arm, reach))
     found = plan_transit(
         start, goal, valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
-        resolution=edge_resolution(arm, tool_reach=reach), via=_over_when_asked(arm, start, goal), advance=advance,
+        resolution=edge_resolution(arm, DEFAULT_TOLERANCE if held is None else HELD_TOLERANCE, reach),
+        via=_over_when_asked(arm, start, goal), advance=advance,
     )  # fmt: skip
     if isinstance(found, TransitFailure):
         return found
@@ -102,4 +109,12 @@ def _velocity(arm: Arm) -> np.ndarray:
     return arm_velocity_limits(arm)
 
 
-__all__ = ["TRANSIT_SPEED_SCALE", "TRANSIT_TIME_LIMIT", "VIA_HEIGHTS", "over", "tool_reach", "transit_segment"]
+__all__ = [
+    "HELD_TOLERANCE",
+    "TRANSIT_SPEED_SCALE",
+    "TRANSIT_TIME_LIMIT",
+    "VIA_HEIGHTS",
+    "over",
+    "tool_reach",
+    "transit_segment",
+]

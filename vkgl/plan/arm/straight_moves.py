@@ -174,7 +174,7 @@ class StraightMoves:
             why = f"{label}: the straight approach into the contact is blocked: {clash[0]}"
             return Rejection(Kind.APPROACH, why, 1.0), clash[1]
         # the transit planned later must end here: with room to spare, or another way in is tried
-        space = self.geometry.transit_space(state.held)
+        space = self.geometry.transit_space(state.held, step.body)
         clash = self.first_overlap(joints[:1], step.poses_start, state.held, set(), collision=space)
         if clash is not None:
             why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash[0]}"

@@ -38,13 +38,14 @@ TRANSIT_CLEARANCE = 0.01
 and the bodies are not exactly where the plan has them)."""
 
 HELD_TRANSIT_CLEARANCE = 0.003
-"""m: with a tool in the hand every body, the tool too, is grown by this for transits, so that (less the 1 mm
-tolerance of a touch) the tool keeps 5 mm from every other body, the links 2 mm. The transit is checked every 1 cm
-of the tool's travel (`vkgl.motion.density`): a point between two samples is within 5 mm of one of them, so
-samples 5 mm clear keep the tool clear in between. A tool works close to bodies (the hook's stand-off 1 cm from
-the Block it is to pull in task c), so not `TRANSIT_CLEARANCE`; but not nothing: execution fails a transit on any
-touch, and with the exact geometry (and its tolerance) gen3_027's hook ended its transit 1 mm into a Block's
-corner."""
+"""m: with a tool in the hand the bodies are grown by this for transits, but for the tool itself and the body the
+transit leads to (the tool works close to it: the hook's stand-off 1 cm from the Block it is to pull in task c),
+so that, less the 1 mm tolerance of a touch, the tool and the links keep 2 mm from every other body; no more: a
+tool's stand-off may be tight beside another body (the hook from the side of a Drawer's bar, 3 mm below a ledge:
+tests/execute/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
+(`vkgl.motion.transit_segment`), so the line between two samples 2 mm clear stays clear, and execution fails a
+transit on any touch. With the exact geometry (and its tolerance) gen3_027's hook ended its transit 1 mm into the
+corner of a Block beside its next contact."""
 
 
 class GeometryCheck:
@@ -56,7 +57,7 @@ class GeometryCheck:
         self._scene: CollisionScene | None = None
         self._arm: ArmCollision | None = None
         self._transit: ArmCollision | None = None
-        self._held_transit: ArmCollision | None = None
+        self._held_transit: dict[tuple[str, str | None], ArmCollision] = {}
         self.queries = 0
 
     @property
@@ -74,15 +75,18 @@ class GeometryCheck:
             self._transit = ArmCollision(grown, self.problem.arm)
         return self._transit
 
-    def transit_space(self, held: Held | None) -> ArmCollision:
-        """What a transit's configurations must be free in: `transit_collision` for the bare arm; with a held tool,
-        which works closer to bodies, the bodies grown by `HELD_TRANSIT_CLEARANCE`."""
+    def transit_space(self, held: Held | None, toward: str | None = None) -> ArmCollision:
+        """What the configurations of a transit to a contact with `toward` must be free in: `transit_collision`
+        for the bare arm; with a held tool, the bodies grown by `HELD_TRANSIT_CLEARANCE`, but the tool and
+        `toward`."""
         if held is None:
             return self.transit_collision
-        if self._held_transit is None:
-            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE)
-            self._held_transit = ArmCollision(grown, self.problem.arm)
-        return self._held_transit
+        key = (held.body, toward)
+        if key not in self._held_transit:
+            exact = {held.body} | ({toward} if toward is not None else set())
+            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact=exact)
+            self._held_transit[key] = ArmCollision(grown, self.problem.arm)
+        return self._held_transit[key]
 
     @property
     def arm_collision(self) -> ArmCollision:
