@@ -102,7 +102,8 @@ class WorldArm:
         self.dofs = [j.getIndexInSkeleton(0) for j in self.joints]
         # DART holds a VELOCITY actuator to its joint's velocity limit (the URDF's): a command beyond it is not
         # carried out in full, so `_command` asks no more than this
-        self.speed_limit = np.abs(np.asarray(skeleton.getVelocityUpperLimits(), dtype=float)[self.dofs])
+        limits = np.abs(np.asarray(skeleton.getVelocityUpperLimits(), dtype=float)[self.dofs])
+        self.speed_limit = np.where(limits > 0.0, limits, np.inf)  # a URDF without a (positive) limit: none
         self.held: HeldTool | None = None
         self.filter = _world_filter(world)
         self._letting_go: list[Any] = []  # body nodes of tools let go of that the hand has not yet left
