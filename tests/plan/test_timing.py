@@ -114,5 +114,5 @@ def test_a_straight_move_slows_where_a_joint_would_pass_its_velocity_limit() -> 
 def test_a_regular_straight_move_keeps_its_cartesian_speed() -> None:
     limits = velocity_limits(URDF, JOINTS)
     joints = PATH[0] + np.linspace(0.0, 1.0, 9)[:, None] * 0.01  # 0.01 rad per joint over 4 cm
-    assert np.allclose(straight_times(joints, 0.04, 0.03, limits), np.linspace(0.0, 0.04 / 0.03, 9))
+    assert np.allclose(straight_times(joints, 0.04, 0.03, limits), np.linspace(0.0, 0.04 / 0.03, 9), rtol=0, atol=1e-12)
     assert straight_times(joints[:1], 0.0, 0.03, limits).tolist() == [0.0]

@@ -94,9 +94,11 @@ def straight_times(
     count = len(points) - 1
     if count < 1:
         return np.zeros(1)
-    cartesian = max(length / speed, 1e-3) / count
+    total = max(length / speed, 1e-3)
+    cartesian = total / count
     spans = np.maximum(cartesian, _full_speed_durations(points, np.asarray(velocity, dtype=float) * scale))
-    return np.concatenate([[0.0], np.cumsum(spans)])
+    # evenly spaced at `speed`, plus what the joints' limits add: where they add nothing, exactly evenly spaced
+    return np.linspace(0.0, total, count + 1) + np.concatenate([[0.0], np.cumsum(spans - cartesian)])
 
 
 @dataclass(frozen=True)
