@@ -26,3 +26,20 @@ def test_the_hand_does_not_sweep_a_bystander_while_it_pushes(tmp_path: Path) -> 
     for name in ("target", "clutter1", "clutter2"):  # every body where the plan leaves it
         off = np.linalg.norm(report.final[name][:2, 3] - plan.final[name][:2, 3])
         assert off < 0.01, f"{name} is {off * 100:.1f} cm from where the plan leaves it"
+
+
+def test_leaving_a_hook_pull_near_the_base_does_not_throw_the_cube(tmp_path: Path) -> None:
+    # gen5_007: the hook pulls a cube 37.7 cm to within 0.02 cm of the plan, and the plan ends in that contact.
+    # Letting go at the end, the 4 cm lift of the held hook beside the base turned joint 5 by 1.1 rad: timed by
+    # its length alone, 6.8 rad/s, past the joint's limit, so DART held the arm back while the hook was driven
+    # where the commanded joints put the hand; 5.4 cm and 17 deg apart, the hook snapped back into the hand in
+    # one control period and threw the cube 139 cm, off the table
+    spec = task_spec(5, 7)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name)
+    assert plan.status == "solved", plan.reason
+    assert plan.steps[-1].op == "add" and plan.steps[-1].effector == "hook.tip"  # it ends pulling with the hook
+    report = vkgl.execute(program, spec.name, plan)
+    assert report.status == "reached", report.reason
+    off = np.linalg.norm(report.final["target"][:2, 3] - plan.final["target"][:2, 3])
+    assert off < 0.005, f"the cube ends {off * 100:.1f} cm from where the plan leaves it"

@@ -38,6 +38,16 @@ def test_touching_is_allowed_and_penetration_beyond_the_tolerance_is_not(gap: fl
     assert bool(found) is overlaps
 
 
+def test_a_margin_grows_every_body_but_those_kept_exact() -> None:
+    shapes = {"a": box(0.1, 0.1, 0.1), "b": box(0.1, 0.1, 0.1), "c": box(0.1, 0.1, 0.1)}
+    poses = {"a": pose(0, 0, 0), "b": pose(0.105, 0, 0), "c": pose(-0.105, 0, 0)}  # 5 mm gaps either side of a
+    assert CollisionScene(shapes).overlap(poses) == []
+    grown = CollisionScene(shapes, margin=0.003)  # 6 mm of growth across each gap: 1 mm deep
+    assert {frozenset((c.body_a, c.body_b)) for c in grown.overlap(poses)} == {pair("a", "b"), pair("a", "c")}
+    kept = CollisionScene(shapes, margin=0.003, exact=["b"])  # b keeps its size: 3 mm across its gap
+    assert {frozenset((c.body_a, c.body_b)) for c in kept.overlap(poses)} == {pair("a", "c")}
+
+
 def test_ignored_pairs_may_overlap() -> None:
     scene = CollisionScene({"a": box(0.1, 0.1, 0.1), "b": box(0.1, 0.1, 0.1), "c": box(0.1, 0.1, 0.1)})
     poses = {"a": pose(0, 0, 0), "b": pose(0.05, 0, 0), "c": pose(0.0, 0.05, 0)}

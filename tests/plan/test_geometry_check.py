@@ -9,11 +9,16 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 from conftest import EXAMPLES
+from generated_tasks import fixture_library, task_spec, write_task
 from plan_geometry import check_plan
 
 import vkgl
+from vkgl.motion.arm_collision import ArmCollision, Held
+from vkgl.motion.collision import CollisionScene
+from vkgl.motion.density import edge_resolution, pieces
 
 SCENE = """
 use stdlib.robots.panda
@@ -136,3 +141,33 @@ def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_a
     assert [s["body"] for s in steps] == ["block2", "block2", "block"]  # the same sequence, other values
     assert refused and steps[0]["value"] > refused[0][0] + 0.05  # pushed farther aside than the refused values
     assert check_plan(program, "through", plan.to_json()) == []
+
+
+def test_a_held_tools_transits_keep_clear_of_every_body(tmp_path: Path) -> None:
+    # gen3_027: the hook's transit to its second contact ended with its shaft 1 mm into the corner of a Block
+    # beside it: transits with a tool in the hand were checked against the exact geometry, whose 1 mm tolerance let
+    # it pass, and execution fails a transit on any touch. Checked here with no tolerance at all, every 2 mm of
+    # travel of any point of the arm or the tool: they touch nothing on any transit
+    spec = task_spec(3, 27)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name)
+    assert plan.status == "solved", plan.reason
+    scene = program.scenes[program.task(spec.name).scene.name]
+    shapes = {b.name: program.bodies[b.type.name].shape for b in scene.bodies}
+    exact = ArmCollision(CollisionScene.from_scene(scene, shapes, tol=0.0), plan.problem.arm)
+    held: Held | None = None
+    transits = 0
+    for k, step in enumerate(plan.steps, start=1):
+        for segment in step.path:
+            if segment.phase == "transit" and held is not None:
+                transits += 1
+                exact.scene.place(step.poses_start)
+                step_rad = edge_resolution(plan.problem.arm, tolerance=0.002, tool_reach=0.4)
+                for a, b in zip(segment.joints[:-1], segment.joints[1:], strict=True):
+                    for s in np.linspace(0.0, 1.0, pieces(a, b, step_rad) + 1):
+                        found = exact.overlap(a + (b - a) * s, held=held)
+                        assert not found, f"step {k}'s transit: {found[0].body_a} touches {found[0].body_b}"
+        if step.motion == "free":  # a grasp puts the tool in the hand, its release takes it out
+            in_hand = np.linalg.inv(plan.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
+            held = Held(step.body, in_hand) if step.op == "add" else None
+    assert transits >= 1  # the plan carries the hook from one contact to the next

@@ -106,6 +106,7 @@ class ArmMoves:
         `track`, else nothing is done and False is returned.
         """
         from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, follow_poses
+        from vkgl.motion.timing import arm_velocity_limits, straight_times
 
         start = self.sim.arm.effector_pose()
         length = float(np.linalg.norm(shift))
@@ -126,7 +127,8 @@ class ArmMoves:
         joints = chain.joints.copy()
         joints[0] = self.sim.arm.q
         self.sim.label = f"{label} {phase}"
-        times = np.linspace(0.0, max(length / speed, 1e-3), len(joints))
+        # at `speed`, slower where a joint would pass its share of its velocity limit (near a singularity)
+        times = straight_times(joints, length, speed, arm_velocity_limits(self.sim.arm_model))
         self.sim.arm.follow_joints(joints, times, lambda n, s: self.sim.advance(n))
         return True
 

@@ -80,6 +80,7 @@ class CollisionScene:
         tol: float = TOUCH_TOL,
         margin: float = 0.0,
         lifts: Mapping[str, float] | None = None,
+        exact: Iterable[str] = (),
     ) -> None:
         """Bodies named by `shapes` (IR shapes, body frame).
 
@@ -90,7 +91,8 @@ class CollisionScene:
         A table too, when `table_center` and `table_size` (x, y) are given.
         `margin` (m) grows every box and cylinder of the bodies (not the table)
         by that much on each side: a scene in which "free" means at least that
-        clear of them (meshes keep their size).
+        clear of them (meshes keep their size); the bodies named in `exact` keep
+        their own size.
         """
         if TABLE in shapes:
             raise ValueError(f"a body may not be called `{TABLE}` in a collision scene: that name is the table's")
@@ -107,10 +109,10 @@ class CollisionScene:
         self._placed: dict[str, bytes] = {}
         self.lifts = {name: float(lift) for name, lift in (lifts or {}).items() if lift}
         self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
+        kept = set(exact)
         for name, shape in shapes.items():
-            parts = (
-                [(_grown(part, margin), local) for part, local in dart_shapes(shape)] if margin else dart_shapes(shape)
-            )
+            grow = margin if name not in kept else 0.0
+            parts = [(_grown(part, grow), local) for part, local in dart_shapes(shape)] if grow else dart_shapes(shape)
             # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
             self._add(name, parts, _extent(shape) * 1.005 + tol + self.lifts.get(name, 0.0))
             self._support[name] = [_support(part, local, shape) for part, local in parts]

@@ -11,15 +11,14 @@ limits scaled by `TRANSIT_SPEED_SCALE` (`vkgl.motion.timing`).
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Iterator, Mapping
 
 import numpy as np
 
 from vkgl.formats.plan import ArmSegment
 from vkgl.motion.arm_collision import ArmCollision, Held
-from vkgl.motion.density import edge_resolution, link_reach
-from vkgl.motion.timing import time_path, velocity_limits
+from vkgl.motion.density import DEFAULT_TOLERANCE, edge_resolution, link_reach
+from vkgl.motion.timing import arm_velocity_limits, time_path
 from vkgl.motion.transit import TransitFailure, plan_transit
 from vkgl.robot import Arm
 
@@ -29,6 +28,12 @@ TRANSIT_SPEED_SCALE = 0.35
 TRANSIT_TIME_LIMIT = 5.0
 """s: the clock's bound on OMPL's search for one transit (less when the search's deadline is nearer); its budget
 of validity checks (`vkgl.motion.transit.SEARCH_CHECKS`) normally ends a failing search first, deterministically."""
+
+HELD_TOLERANCE = 0.004
+"""m: with a tool in the hand no point of the arm or the tool moves more than this between two checked
+configurations (without one, `vkgl.motion.density.DEFAULT_TOLERANCE`, 1 cm, as the bare arm keeps 1 cm from
+every body): the planner keeps a held tool 2 mm clear of the bodies it does not work on, so samples 4 mm apart
+keep the line between them clear."""
 
 VIA_HEIGHTS = (0.1, 0.2)
 """m: before OMPL is asked, a transit tries going this high over what lies between its ends."""
@@ -55,7 +60,8 @@ def transit_segment(
     advance = (collision.clearance(held), link_reach(arm, reach))
     found = plan_transit(
         start, goal, valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
-        resolution=edge_resolution(arm, tool_reach=reach), via=_over_when_asked(arm, start, goal), advance=advance,
+        resolution=edge_resolution(arm, DEFAULT_TOLERANCE if held is None else HELD_TOLERANCE, reach),
+        via=_over_when_asked(arm, start, goal), advance=advance,
     )  # fmt: skip
     if isinstance(found, TransitFailure):
         return found
@@ -98,14 +104,17 @@ def tool_reach(collision: ArmCollision, held: Held) -> float:
     return float(np.linalg.norm(held.in_hand[:3, 3]) + radius)
 
 
-@functools.cache
-def _velocity_of(urdf: str, joints: tuple[str, ...]) -> np.ndarray:
-    return velocity_limits(urdf, list(joints))
-
-
 def _velocity(arm: Arm) -> np.ndarray:
     """The arm's joint velocity limits from its URDF (rad/s), read once per URDF."""
-    return _velocity_of(str(arm.urdf), tuple(arm.joint_names))
+    return arm_velocity_limits(arm)
 
 
-__all__ = ["TRANSIT_SPEED_SCALE", "TRANSIT_TIME_LIMIT", "VIA_HEIGHTS", "over", "tool_reach", "transit_segment"]
+__all__ = [
+    "HELD_TOLERANCE",
+    "TRANSIT_SPEED_SCALE",
+    "TRANSIT_TIME_LIMIT",
+    "VIA_HEIGHTS",
+    "over",
+    "tool_reach",
+    "transit_segment",
+]

@@ -67,7 +67,8 @@ StepT = TypeVar("StepT", bound=PlanStepRecord)
 @dataclass(frozen=True)
 class PendingTransit:
     """A transit the first stage left to plan: into `steps[step].path` at `at`, from `start` to `goal` (joints),
-    with the bodies at `poses` and `held` in the hand; `label` names the step in a rejection."""
+    with the bodies at `poses` and `held` in the hand, toward a contact with `body`; `label` names the step in a
+    rejection."""
 
     step: int
     at: int
@@ -76,6 +77,7 @@ class PendingTransit:
     poses: Mapping[str, np.ndarray]
     held: Held | None
     label: str
+    body: str | None = None
 
 
 @dataclass(frozen=True)
@@ -279,7 +281,7 @@ class ArmPathPlanner:
         if isinstance(approach, Rejection):
             return approach
         transit = PendingTransit(
-            k - 1, len(segments), state.q.copy(), approach.pre_contact, step.poses_start, state.held, label
+            k - 1, len(segments), state.q.copy(), approach.pre_contact, step.poses_start, state.held, label, step.body
         )
         segments.append(approach.segment)
         if step.motion != "free":
@@ -297,7 +299,7 @@ class ArmPathPlanner:
             limit = max(0.05, min(limit, deadline - time.perf_counter()))
         self.transit_count += 1
         held = transit.held
-        collision = self.geometry.transit_space(held)
+        collision = self.geometry.transit_space(held, transit.body)
         began = time.perf_counter()
         try:
             found = transit_segment(

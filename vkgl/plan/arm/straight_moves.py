@@ -46,6 +46,7 @@ from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import APPROACH_STEP, CartesianFailure, approach_poses, follow_poses
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT, WayOut, way_out
+from vkgl.motion.timing import arm_velocity_limits, straight_times
 from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
@@ -173,7 +174,7 @@ class StraightMoves:
             why = f"{label}: the straight approach into the contact is blocked: {clash[0]}"
             return Rejection(Kind.APPROACH, why, 1.0), clash[1]
         # the transit planned later must end here: with room to spare, or another way in is tried
-        space = self.geometry.transit_space(state.held)
+        space = self.geometry.transit_space(state.held, step.body)
         clash = self.first_overlap(joints[:1], step.poses_start, state.held, set(), collision=space)
         if clash is not None:
             why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash[0]}"
@@ -313,10 +314,11 @@ class StraightMoves:
         return None
 
     def straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
-        """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`."""
-        count = len(joints) - 1
-        times = np.linspace(0.0, max(length / CARTESIAN_SPEED, 1e-3), count + 1) if count else np.zeros(1)
-        return ArmSegment(phase, times, np.asarray(joints, dtype=float))
+        """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`
+        where every joint stays within its share of its velocity limit (`vkgl.motion.timing.straight_times`)."""
+        joints = np.asarray(joints, dtype=float)
+        times = straight_times(joints, length, CARTESIAN_SPEED, arm_velocity_limits(self.problem.arm))
+        return ArmSegment(phase, times, joints)
 
 
 __all__ = [

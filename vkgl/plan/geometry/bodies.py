@@ -34,8 +34,18 @@ from vkgl.plan.problem.problem import Problem, collision_scene
 from vkgl.plan.problem.rejection import Kind, Rejection
 
 TRANSIT_CLEARANCE = 0.01
-"""m: a transit keeps the arm and a held tool at least this far from every body (the physics' contacts have
-margins, and the bodies are not exactly where the plan has them)."""
+"""m: a transit of the bare arm keeps it at least this far from every body (the physics' contacts have margins,
+and the bodies are not exactly where the plan has them)."""
+
+HELD_TRANSIT_CLEARANCE = 0.003
+"""m: with a tool in the hand the bodies are grown by this for transits, but for the tool itself and the body the
+transit leads to (the tool works close to it: the hook's stand-off 1 cm from the Block it is to pull in task c),
+so that, less the 1 mm tolerance of a touch, the tool and the links keep 2 mm from every other body; no more: a
+tool's stand-off may be tight beside another body (the hook from the side of a Drawer's bar, 3 mm below a ledge:
+tests/execute/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
+(`vkgl.motion.transit_segment`), so the line between two samples 2 mm clear stays clear, and execution fails a
+transit on any touch. With the exact geometry (and its tolerance) gen3_027's hook ended its transit 1 mm into the
+corner of a Block beside its next contact."""
 
 
 class GeometryCheck:
@@ -47,6 +57,7 @@ class GeometryCheck:
         self._scene: CollisionScene | None = None
         self._arm: ArmCollision | None = None
         self._transit: ArmCollision | None = None
+        self._held_transit: dict[tuple[str, str | None], ArmCollision] = {}
         self.queries = 0
 
     @property
@@ -64,11 +75,18 @@ class GeometryCheck:
             self._transit = ArmCollision(grown, self.problem.arm)
         return self._transit
 
-    def transit_space(self, held: Held | None) -> ArmCollision:
-        """What a transit's configurations must be free in: `transit_collision` for the bare arm; a held tool
-        works close to the body it acts on (a hook's shaft along the block it pulls), so with one the exact
-        geometry (`arm_collision`)."""
-        return self.transit_collision if held is None else self.arm_collision
+    def transit_space(self, held: Held | None, toward: str | None = None) -> ArmCollision:
+        """What the configurations of a transit to a contact with `toward` must be free in: `transit_collision`
+        for the bare arm; with a held tool, the bodies grown by `HELD_TRANSIT_CLEARANCE`, but the tool and
+        `toward`."""
+        if held is None:
+            return self.transit_collision
+        key = (held.body, toward)
+        if key not in self._held_transit:
+            exact = {held.body} | ({toward} if toward is not None else set())
+            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact=exact)
+            self._held_transit[key] = ArmCollision(grown, self.problem.arm)
+        return self._held_transit[key]
 
     @property
     def arm_collision(self) -> ArmCollision:

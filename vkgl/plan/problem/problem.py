@@ -10,7 +10,7 @@ feasibility checks never look at the IR again.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -422,8 +422,11 @@ def _keep_out_spec(task: Task, keep: KeepOut, bodies: dict[str, PlanBody]) -> Ke
     return KeepOutSpec(keep.region.points(), keep.body.name if keep.body is not None else None, keep.region.words())
 
 
-def collision_scene(problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0) -> CollisionScene:
-    """The collision scene of `problem`: its bodies' shapes and its table (if the scene has one).
+def collision_scene(
+    problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0, exact: Iterable[str] = ()
+) -> CollisionScene:
+    """The collision scene of `problem`: its bodies' shapes (grown by `margin`, but those named in `exact`) and its
+    table (if the scene has one).
 
     A body on a physical joint is where the simulator hangs it: `JOINT_LIFT` above its planned pose.
     """
@@ -437,4 +440,5 @@ def collision_scene(problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.
         tol=tol,
         margin=margin,
         lifts=lifts,
+        exact=exact,
     )
