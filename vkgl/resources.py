@@ -6,7 +6,8 @@ source checkout (editable install, tests) they are at the repository root.
 The cache folder holds what is worth computing once per machine rather than
 once per process: the arm's reach (`vkgl.formats.reach_cache`), the grammar's
 LALR tables (`vkgl.lang.syntax.tables`) and the URDFs DART has loaded
-(`vkgl.lang.checks.urdf`), so that `vkgc check` starts fast. It is
+(`vkgl.lang.checks.urdf`), so that `vkgc check` starts fast, and the bodies'
+convex hulls (`vkgl.plan.problem.hulls`), so that `vkgc solve` needs no SciPy. It is
 `$VKGL_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgl`, else `~/.cache/vkgl`;
 `VKGL_CACHE_DIR=off` turns it off. The cache is only a speed-up: a file that cannot be read or written is
 ignored, never an error, and every file names what it was computed from.

@@ -14,11 +14,11 @@ from collections.abc import Callable, Iterable, Iterator
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.robot.kinematics import Chain
 from vkgl.robot.optimise import Objective, slsqp
 from vkgl.robot.pose_error import ANGLE_TOL, POSITION_TOL, angle_error, orientation_residual, position_error
+from vkgl.rotations import matrix_rotvec, yaw_matrix
 
 LENGTH_SCALE = 0.1
 """m: one radian of orientation error weighs like this much position error in the IK cost."""
@@ -121,7 +121,7 @@ class InverseKinematics:
         if rotation is not None:
             pose, jac = self.chain.pose_and_jacobian(seed)
             # the rotation still missing, projected on the last joint's axis, is what that joint can add
-            missing = Rotation.from_matrix(rotation @ pose[:3, :3].T).as_rotvec()
+            missing = matrix_rotvec(rotation @ pose[:3, :3].T)
             seed[-1] = _wrapped(seed[-1] + float(missing @ jac[:3, -1]), lower[-1], upper[-1])
         return seed
 
@@ -132,7 +132,7 @@ class InverseKinematics:
         first, then `home` turned toward the target, then, if `thorough`, the
         other seeds of `solve`.
         """
-        rotation = Rotation.from_euler("z", azimuth).as_matrix()
+        rotation = np.array(yaw_matrix(azimuth))
 
         def solve(radius: float, warm: list[np.ndarray], thorough: bool = False) -> np.ndarray | None:
             local = np.eye(4)

@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from vkgl.lang.ir.rotations import Matrix3, rpy_matrix, yaw_matrix
 from vkgl.lang.ir.units import measured_repr
+from vkgl.rotations import Matrix3, rpy_matrix, yaw_matrix
 
 if TYPE_CHECKING:  # numpy and SciPy are imported where numbers are wanted: `vkgc check` needs no SciPy
     import numpy as np
