@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from scipy.spatial import ConvexHull, QhullError
 
 from vkgl.plan.problem import hulls
-from vkgl.plan.problem.hulls import hull_corner_points, hull_vertices
+from vkgl.plan.problem.hulls import hull_vertices, outline_corners
 
 
 @pytest.fixture
@@ -72,11 +72,34 @@ def test_without_a_cache_folder_the_hull_is_computed(monkeypatch: pytest.MonkeyP
     assert np.array_equal(hull_vertices(points), ConvexHull(points).vertices)
 
 
-def test_flat_points_raise_as_qhull_does_and_count_whole_as_corners(cache: Path) -> None:
+def _outline(vertices: np.ndarray) -> np.ndarray:
+    """What the planner took as an outline before the cache: Qhull's corners of the unique points."""
+    unique = np.unique(vertices, axis=0)
+    try:
+        return unique[ConvexHull(unique).vertices]
+    except (QhullError, ValueError):
+        return unique
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(min_value=0, max_value=2**32 - 1), st.integers(min_value=4, max_value=40))
+def test_an_outline_is_qhulls_corners_of_the_unique_points_computed_and_read_back(seed: int, count: int) -> None:
+    points = np.round(_points(seed, count), 1)  # rounded: some points repeat
+    points = np.vstack([points, points[: count // 2]])
+    expected = _outline(points)
+    computed, kept = outline_corners(points), outline_corners(points)  # the second from the cache folder
+    assert np.array_equal(computed, expected) and computed.dtype == expected.dtype
+    assert np.array_equal(kept, expected) and kept.shape == expected.shape
+
+
+def test_flat_points_raise_as_qhull_does_and_are_a_whole_outline(cache: Path) -> None:
     flat = np.c_[_points(4, 10)[:, :2], np.zeros(10)]
     with pytest.raises(QhullError):
         hull_vertices(flat)
-    assert np.array_equal(hull_corner_points(flat), flat)
+    assert np.array_equal(outline_corners(flat), np.unique(flat, axis=0))
+    assert np.array_equal(outline_corners(flat[:2]), np.unique(flat[:2], axis=0))  # too few for Qhull
     assert list(cache.glob("hull-*.json")) == []  # only hulls that exist are kept
     box = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 2.0) for z in (0.0, 3.0)] + [[0.5, 1.0, 1.5]])
-    assert np.array_equal(hull_corner_points(box), box[:8])
+    assert np.array_equal(outline_corners(box), box[:8])
+    assert np.array_equal(outline_corners(box), box[:8])  # read back
+    assert len(list(cache.glob("hull-*.json"))) == 1

@@ -41,7 +41,7 @@ from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
-from vkgl.plan.problem.hulls import hull_corner_points, hull_vertices
+from vkgl.plan.problem.hulls import hull_vertices, outline_corners
 from vkgl.robot import Arm
 
 DEFAULT_MAX_DEPTH = 6
@@ -338,7 +338,7 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
 
 def hull_corners(vertices: np.ndarray) -> np.ndarray:
     """The vertices of the convex hull of `vertices` (k x 3): what can first pass a table's edge."""
-    return hull_corner_points(np.unique(np.asarray(vertices, dtype=float), axis=0))  # flat: every point counts
+    return outline_corners(vertices)  # flat: every point counts
 
 
 def action_pose(affordance: Affordance) -> np.ndarray:
