@@ -33,7 +33,6 @@ import hashlib
 import importlib.util
 import os
 import pickle
-import stat
 import sys
 import threading
 from collections import OrderedDict
@@ -44,7 +43,7 @@ from typing import Any
 from vkgl.atomic import write_bytes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
-from vkgl.resources import cache_folder, grammar_path
+from vkgl.resources import cache_folder, grammar_path, read_cache_file
 
 _FORMAT = "vkg-parse-cache/1"  # part of the key: a new way of keeping parses forgets the old files
 MAX_CHARS = 200_000
@@ -122,15 +121,15 @@ def _load(text: str, path: str) -> _Parsed | None:
     entry = _entry(path)
     if entry is None:
         return None
+    raw = read_cache_file(entry, MAX_BYTES)
+    if raw is None:
+        return None
+    first, _, payload = raw.partition(b"\n")
+    if first != _key(text, path).encode("ascii"):
+        return None
     try:
-        found = os.stat(entry)
-        if not stat.S_ISREG(found.st_mode) or found.st_size > MAX_BYTES:
-            return None
-        with entry.open("rb") as stream:
-            if stream.readline().rstrip(b"\n") != _key(text, path).encode("ascii"):
-                return None
-            parsed = pickle.load(stream)
-    except Exception:  # missing, unreadable, torn, or pickled by another pydantic: parse instead
+        parsed = pickle.loads(payload)
+    except Exception:  # torn, or pickled by another pydantic: parse instead
         return None
     return parsed if _is_parse(parsed) else None
 

@@ -29,7 +29,6 @@ import hashlib
 import importlib.util
 import json
 import os
-import stat
 from collections.abc import Callable
 from functools import lru_cache
 from pathlib import Path
@@ -39,7 +38,7 @@ import numpy as np
 
 from vkgl.atomic import write_text
 from vkgl.errors import InputError
-from vkgl.resources import cache_folder
+from vkgl.resources import cache_folder, read_cache_file
 
 CACHE_FORMAT = "vkg-hull-cache/1"
 MAX_BYTES = 1024 * 1024
@@ -157,11 +156,12 @@ def _load(key: str, kind: str) -> Any:
     path = _file(key)
     if path is None:
         return None
+    raw = read_cache_file(path, MAX_BYTES)
+    if raw is None:
+        return None
     try:
-        if not stat.S_ISREG(os.stat(path).st_mode) or os.stat(path).st_size > MAX_BYTES:
-            return None
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
+        data = json.loads(raw.decode("utf-8"))
+    except (ValueError, RecursionError):  # UnicodeDecodeError is a ValueError
         return None
     if not isinstance(data, dict) or data.get("format") != CACHE_FORMAT or data.get("key") != key:
         return None
