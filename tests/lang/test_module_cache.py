@@ -90,10 +90,12 @@ def test_an_edited_module_is_parsed_again_and_replaces_its_parse(
 def test_other_code_reads_none_of_the_parses_back(cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     _compiled(TASK)
     _forget()
+    kept = set(cache.glob("parse-*.pickle"))
     monkeypatch.setattr(module_cache, "code_identity", lambda: "the front end, edited")
     parsed = _parses(monkeypatch)
     _compiled(TASK)
     assert any(p.endswith("b_stick_push.vkg") for p in parsed) and any("stdlib" in p for p in parsed)
+    assert set(cache.glob("parse-*.pickle")) == kept  # the new parses replace the old ones
 
 
 @pytest.mark.parametrize("damage", ["garbage", "torn", "first-line", "other-type"])

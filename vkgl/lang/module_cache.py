@@ -9,9 +9,9 @@ file read from disk (`vkgl.lang.resolve`: its IR module and diagnostics; a
 compilation needs no comments) is kept in the cache folder
 (`vkgl.resources.cache_folder`) and read back while none of them changed:
 
-- one file per shown path and code (`parse-<hash>.pickle`), so editing a
-  module replaces its parse rather than adding one, and the folder holds at
-  most one parse per module file checked;
+- one file per shown path (`parse-<hash>.pickle`), so editing a module, or
+  the front end's code, replaces its parse rather than adding one: the folder
+  holds at most one parse per module file checked;
 - its first line is the hash of everything the parse depends on: the text,
   the shown path, the code (every module of `vkgl/lang` with
   `vkgl/errors.py`, `vkgl/rotations.py` and the grammar, by path, size and
@@ -161,7 +161,7 @@ def _entry(path: str) -> Path | None:
     folder = cache_folder()
     if folder is None:
         return None
-    name = hashlib.sha256(f"{_FORMAT}\0{code_identity()}\0{path}".encode()).hexdigest()[:32]
+    name = hashlib.sha256(f"{_FORMAT}\0{path}".encode("utf-8", "surrogatepass")).hexdigest()[:32]
     return folder / f"parse-{name}.pickle"
 
 
