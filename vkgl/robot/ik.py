@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -52,11 +53,16 @@ class InverseKinematics:
         self.chain = chain
         self.home = home
         self.anchor, self.radius = chain.reach_bound()
-        self.random_seeds = np.random.default_rng(0).uniform(
-            chain.lower, chain.upper, (RANDOM_SEEDS, len(chain.joint_names))
-        )
         home_point = chain.pose_and_jacobian(home)[0][:3, 3]
         self._home_azimuth = math.atan2(home_point[1], home_point[0])
+
+    @cached_property
+    def random_seeds(self) -> np.ndarray:
+        """RANDOM_SEEDS x n joint vectors drawn uniformly within the limits, the same on every run; drawn when
+        first wanted (most IK succeeds from `home`, and numpy's random module costs a solve's start)."""
+        return np.random.default_rng(0).uniform(
+            self.chain.lower, self.chain.upper, (RANDOM_SEEDS, len(self.chain.joint_names))
+        )
 
     def solve(
         self, local: np.ndarray, q0: np.ndarray | None = None, *, yaw_free: bool = False, tol: float = 1e-4
@@ -68,7 +74,7 @@ class InverseKinematics:
 
     def _seeds(self, local: np.ndarray, q0: np.ndarray | None, yaw_free: bool) -> Iterator[np.ndarray]:
         """`q0` (if given), `home` aimed at `local`, `home`, the random seeds: made only when tried (the first
-        one usually solves, and aiming costs a SciPy rotation)."""
+        one usually solves)."""
         if q0 is not None:
             yield q0
         yield self.aimed_home(local[:3, 3], None if yaw_free else local[:3, :3])
