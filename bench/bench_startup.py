@@ -16,8 +16,9 @@ DART, NLopt and OMPL it loaded (none, since docs/internals.md "Start-up time").
 
 Every process runs as an installed `vkgc` would: bytecode is written and
 reused (PYTHONDONTWRITEBYTECODE is dropped), and the cache folder (the
-grammar's tables, DART's verdicts on URDFs, the arm's reach) is a fresh one
-that one untimed run of each command fills first. The first line of the
+grammar's tables, the parses of module files, DART's verdicts on URDFs, the
+bodies' hulls, the arm's reach) is a fresh one that one untimed run of each
+command fills first. The first line of the
 table is that cold first `check`. On a busy machine wall times grow with the
 load and CPU times much less: compare the CPU column with `python -c pass`'s
 when the wall times look wrong.

@@ -29,10 +29,8 @@ import enum
 import errno
 import os
 import re
-import secrets
 import stat
 import sys
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -132,6 +130,8 @@ def writing(path: str | Path) -> Iterator[Path]:
                 os.fsync(stream.fileno())
             _commit(temporary, target)
         return
+    import tempfile  # here: `vkgc check` writes nothing once its caches are kept, and starts without it
+
     with _temporary_beside(Path(tempfile.gettempdir()) / Path(path).name, suffix) as temporary:
         yield temporary
         data = temporary.read_bytes()
@@ -152,6 +152,8 @@ def _temporary_beside(target: Path, suffix: str = "") -> Iterator[Path]:
 
     `suffix` ends the name (ffmpeg chooses the container by it).
     """
+    import secrets  # here, as tempfile above
+
     name = f".{target.name[:_NAME_ROOM]}.{os.getpid()}.{secrets.token_hex(4)}.tmp{suffix[:16]}"
     temporary = target.parent / name
     _IN_FLIGHT.add(str(temporary))

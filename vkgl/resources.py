@@ -6,7 +6,8 @@ source checkout (editable install, tests) they are at the repository root.
 The cache folder holds what is worth computing once per machine rather than
 once per process: the arm's reach (`vkgl.formats.reach_cache`), the grammar's
 LALR tables (`vkgl.lang.syntax.tables`) and the URDFs DART has loaded
-(`vkgl.lang.checks.urdf`), so that `vkgc check` starts fast. It is
+(`vkgl.lang.checks.urdf`), so that `vkgc check` starts fast, and the bodies'
+convex hulls (`vkgl.plan.problem.hulls`), so that `vkgc solve` needs no SciPy. It is
 `$VKGL_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgl`, else `~/.cache/vkgl`;
 `VKGL_CACHE_DIR=off` turns it off. The cache is only a speed-up: a file that cannot be read or written is
 ignored, never an error, and every file names what it was computed from.
@@ -15,6 +16,7 @@ ignored, never an error, and every file names what it was computed from.
 from __future__ import annotations
 
 import os
+import stat
 from pathlib import Path
 
 CACHE_ENV = "VKGL_CACHE_DIR"
@@ -48,3 +50,31 @@ def cache_folder() -> Path | None:
         return None if chosen == CACHE_OFF else Path(chosen)
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "vkgl"
+
+
+def read_cache_file(path: Path, limit: int) -> bytes | None:
+    """The bytes of the cache file `path` if it is a regular file of at most `limit` bytes, else None (missing,
+    unreadable, too large, or not a regular file: a FIFO or a device in its place). Never blocks, never reads
+    more than `limit` + 1 bytes."""
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        fd = os.open(path, flags)  # non-blocking: opening a FIFO does not wait for a writer
+    except OSError:
+        return None
+    try:
+        info = os.fstat(fd)  # of what was opened, not of what the name pointed to a moment before
+        if not stat.S_ISREG(info.st_mode) or info.st_size > limit:
+            return None
+        chunks: list[bytes] = []
+        size = 0
+        while size <= limit:
+            chunk = os.read(fd, limit + 1 - size)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks) if size <= limit else None
+    except OSError:
+        return None
+    finally:
+        os.close(fd)

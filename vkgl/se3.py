@@ -1,6 +1,6 @@
 """Pose helpers shared by every stage: the heading of a pose, angle wrapping, and screw motions.
 
-Small on purpose (numpy and scipy's Rotation), so that the planner, the
+Small on purpose (numpy and `vkgl.rotations`, SciPy's rotations without importing SciPy), so that the planner, the
 executor and the formats agree on what "yaw" means and on how a body's
 planned motion is interpolated (along its screw axis) without importing each
 other.
@@ -13,7 +13,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
+
+from vkgl.rotations import matrix_rotvec, rotvec_matrices, rotvec_matrix
 
 
 def yaw_of(pose: Any) -> float:
@@ -40,7 +41,7 @@ class ScrewMotion:
 
     `at(s)` is the motion carried out to the fraction s: the interpolation
     along the screw axis (Chasles), straight for a translation and circular
-    for a rotation about a fixed axis. (Closed form with scipy's Rotation
+    for a rotation about a fixed axis. (Closed form with rotation vectors
     rather than a 4x4 matrix exponential: cheaper, and free of BLAS threads
     competing with the simulator.)
     """
@@ -51,7 +52,7 @@ class ScrewMotion:
 
     def at(self, s: float = 1.0) -> np.ndarray:
         """The 4x4 world-frame motion after the fraction `s` of it."""
-        rotation = Rotation.from_rotvec(s * self.rotvec).as_matrix()
+        rotation = np.array(rotvec_matrix(*(s * self.rotvec).tolist()))
         motion = np.eye(4)
         motion[:3, :3] = rotation
         motion[:3, 3] = self.point - rotation @ self.point + s * self.slide
@@ -60,7 +61,7 @@ class ScrewMotion:
     def along(self, fractions: np.ndarray) -> np.ndarray:
         """`at(s)` for each s of `fractions` (k), as k x 4 x 4: one rotation call for all of them."""
         fractions = np.asarray(fractions, dtype=float)
-        rotations = Rotation.from_rotvec(np.outer(fractions, self.rotvec)).as_matrix()
+        rotations = rotvec_matrices(np.outer(fractions, self.rotvec))
         motions = np.tile(np.eye(4), (len(fractions), 1, 1))
         motions[:, :3, :3] = rotations
         motions[:, :3, 3] = self.point - rotations @ self.point + np.outer(fractions, self.slide)
@@ -74,7 +75,7 @@ def screw_motion(body_start: np.ndarray, body_end: np.ndarray) -> ScrewMotion:
     along a line for a prismatic affordance, about its axis for a revolute one.
     """
     motion = body_end @ np.linalg.inv(body_start)
-    rotvec = Rotation.from_matrix(motion[:3, :3]).as_rotvec()
+    rotvec = matrix_rotvec(motion[:3, :3])
     angle = float(np.linalg.norm(rotvec))
     t = motion[:3, 3]
     if angle < 1e-9:

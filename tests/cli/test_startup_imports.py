@@ -1,4 +1,4 @@
-"""`vkgc check`, `fmt` and `lsp` load no back end: neither SciPy, DART, NLopt nor OMPL.
+"""`vkgc check`, `fmt` and `lsp` load no back end: neither SciPy, DART, NLopt nor OMPL; `vkgc solve` no SciPy.
 
 Their start is most of their time (docs/internals.md, "Start-up time"): importing SciPy's
 rotations alone took longer than a whole `vkgc check` may. Each case runs in a fresh process and
@@ -54,3 +54,13 @@ def test_check_imports_no_back_end_once_the_urdf_is_known(tmp_path: Path) -> Non
 def test_fmt_and_the_language_server_import_no_back_end(code: str, tmp_path: Path) -> None:
     _heavy_modules(CHECK, tmp_path)  # DART has seen the arm's URDF
     assert _heavy_modules(code, tmp_path) == set()
+
+
+SOLVE = f"from vkgl.cli import main; assert main(['solve', {str(TASK)!r}]) == 0"
+
+
+def test_solve_imports_no_scipy_once_its_hulls_are_known(tmp_path: Path) -> None:
+    """`vkgc solve` computes its rotations without SciPy (vkgl.rotations) and reads the bodies' hulls back from
+    the cache folder (vkgl.plan.problem.hulls): from the second solve of a task on, SciPy is not imported."""
+    _heavy_modules(SOLVE, tmp_path)  # the first computes the hulls with Qhull (and the arm's reach)
+    assert "scipy" not in _heavy_modules(SOLVE, tmp_path)

@@ -21,7 +21,7 @@ from pathlib import Path
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.syntax.parser import parse_collecting
+from vkgl.lang.module_cache import parse_file_text
 from vkgl.lang.syntax.sources import foreign_link, read_source
 from vkgl.resources import stdlib_dir
 
@@ -89,6 +89,13 @@ def load_source(text: str, name: str, base_dir: str | Path | None = None) -> Loa
     return loaded
 
 
+def _parse(text: str, path: str) -> tuple[ir.Module | None, list[Diagnostic]]:
+    from vkgl.lang.syntax.parser import parse_collecting  # Lark: only when a text is parsed
+
+    module, _, diagnostics = parse_collecting(text, path)
+    return module, diagnostics
+
+
 class _Loader:
     def __init__(self, loaded: LoadedProgram) -> None:
         self.out = loaded
@@ -111,12 +118,17 @@ class _Loader:
         source = self._read(path, shown, via)
         if source is None:
             return None
-        return self.load_text(source, shown, real, stack)
+        return self.load_text(source, shown, real, stack, from_file=True)
 
-    def load_text(self, source: str, shown: str, real: Path, stack: list[Path] | None = None) -> str | None:
-        """Parse `source` as the module `shown` found at `real` (which need not exist) and load its imports."""
+    def load_text(
+        self, source: str, shown: str, real: Path, stack: list[Path] | None = None, *, from_file: bool = False
+    ) -> str | None:
+        """Parse `source` as the module `shown` found at `real` (which need not exist) and load its imports.
+
+        The parse of a file's text (`from_file`) may be read back from the cache folder (vkgl.lang.module_cache).
+        """
         stack = stack or []
-        module, _, diagnostics = parse_collecting(source, shown)
+        module, diagnostics = parse_file_text(source, shown) if from_file else _parse(source, shown)
         self.out.sources[shown] = source
         self.out.diagnostics.extend(diagnostics)
         if module is None:

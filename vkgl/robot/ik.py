@@ -11,14 +11,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator
+from functools import cached_property
 from typing import Any
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.robot.kinematics import Chain
 from vkgl.robot.optimise import Objective, slsqp
 from vkgl.robot.pose_error import ANGLE_TOL, POSITION_TOL, angle_error, orientation_residual, position_error
+from vkgl.rotations import matrix_rotvec, yaw_matrix
 
 LENGTH_SCALE = 0.1
 """m: one radian of orientation error weighs like this much position error in the IK cost."""
@@ -52,11 +53,16 @@ class InverseKinematics:
         self.chain = chain
         self.home = home
         self.anchor, self.radius = chain.reach_bound()
-        self.random_seeds = np.random.default_rng(0).uniform(
-            chain.lower, chain.upper, (RANDOM_SEEDS, len(chain.joint_names))
-        )
         home_point = chain.pose_and_jacobian(home)[0][:3, 3]
         self._home_azimuth = math.atan2(home_point[1], home_point[0])
+
+    @cached_property
+    def random_seeds(self) -> np.ndarray:
+        """RANDOM_SEEDS x n joint vectors drawn uniformly within the limits, the same on every run; drawn when
+        first wanted (most IK succeeds from `home`, and numpy's random module costs a solve's start)."""
+        return np.random.default_rng(0).uniform(
+            self.chain.lower, self.chain.upper, (RANDOM_SEEDS, len(self.chain.joint_names))
+        )
 
     def solve(
         self, local: np.ndarray, q0: np.ndarray | None = None, *, yaw_free: bool = False, tol: float = 1e-4
@@ -68,7 +74,7 @@ class InverseKinematics:
 
     def _seeds(self, local: np.ndarray, q0: np.ndarray | None, yaw_free: bool) -> Iterator[np.ndarray]:
         """`q0` (if given), `home` aimed at `local`, `home`, the random seeds: made only when tried (the first
-        one usually solves, and aiming costs a SciPy rotation)."""
+        one usually solves)."""
         if q0 is not None:
             yield q0
         yield self.aimed_home(local[:3, 3], None if yaw_free else local[:3, :3])
@@ -121,7 +127,7 @@ class InverseKinematics:
         if rotation is not None:
             pose, jac = self.chain.pose_and_jacobian(seed)
             # the rotation still missing, projected on the last joint's axis, is what that joint can add
-            missing = Rotation.from_matrix(rotation @ pose[:3, :3].T).as_rotvec()
+            missing = matrix_rotvec(rotation @ pose[:3, :3].T)
             seed[-1] = _wrapped(seed[-1] + float(missing @ jac[:3, -1]), lower[-1], upper[-1])
         return seed
 
@@ -132,7 +138,7 @@ class InverseKinematics:
         first, then `home` turned toward the target, then, if `thorough`, the
         other seeds of `solve`.
         """
-        rotation = Rotation.from_euler("z", azimuth).as_matrix()
+        rotation = np.array(yaw_matrix(azimuth))
 
         def solve(radius: float, warm: list[np.ndarray], thorough: bool = False) -> np.ndarray | None:
             local = np.eye(4)

@@ -12,7 +12,8 @@ clear in physics.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
+
+from vkgl.rotations import axis_matrix
 
 FINGERTIP_RADIUS = 0.005
 """m: the fingertip's (and the pad's) radius."""
@@ -25,7 +26,7 @@ def pad_pose() -> np.ndarray:
     """The pad capsule's frame in the effector frame: centred `FINGERTIP_RADIUS` behind the origin, its axis
     (DART's capsule axis, z) along the effector frame's y."""
     pose = np.eye(4)
-    pose[:3, :3] = Rotation.from_euler("x", np.pi / 2).as_matrix()
+    pose[:3, :3] = axis_matrix(0, np.pi / 2)
     pose[0, 3] = -FINGERTIP_RADIUS
     return pose
 

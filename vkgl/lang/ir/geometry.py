@@ -29,7 +29,7 @@ from vkgl.lang.ir.nodes import (
     Shape,
     UnionShape,
 )
-from vkgl.lang.ir.rotations import rotvec_matrix
+from vkgl.rotations import matrix_rotvec, rotvec_matrix, yawed_points
 
 if TYPE_CHECKING:
     import trimesh
@@ -139,9 +139,7 @@ def body_mesh(body: Body) -> trimesh.Trimesh:
 
 def resting_height(body: Body, yaw: float, table_top: float) -> float:
     """The z of the body frame when the body, turned by `yaw`, rests on a table top at `table_top`."""
-    from scipy.spatial.transform import Rotation  # the planner's and simulator's, never the checker's
-
-    rotated = Rotation.from_euler("z", yaw).apply(shape_vertices(body.shape).copy())  # SciPy wants it writeable
+    rotated = yawed_points(yaw, shape_vertices(body.shape))
     return float(table_top - rotated[:, 2].min())
 
 
@@ -314,9 +312,7 @@ def joint_coordinate(kind: str, axis: np.ndarray, rest: np.ndarray, pose: np.nda
     """
     if kind == "prismatic":
         return float(axis @ (rest[:3, :3].T @ (pose[:3, 3] - rest[:3, 3])))
-    from scipy.spatial.transform import Rotation  # the planner's and executor's, never the checker's
-
-    return float(axis @ Rotation.from_matrix(rest[:3, :3].T @ pose[:3, :3]).as_rotvec())
+    return float(axis @ matrix_rotvec(rest[:3, :3].T @ pose[:3, :3]))
 
 
 def joint_pose(joint: Joint, rest: np.ndarray, value: float) -> np.ndarray:

@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from vkgl.lang.ir.rotations import Matrix3, rpy_matrix, yaw_matrix
 from vkgl.lang.ir.units import measured_repr
+from vkgl.rotations import Matrix3, rpy_matrix, yaw_matrix
 
 if TYPE_CHECKING:  # numpy and SciPy are imported where numbers are wanted: `vkgc check` needs no SciPy
     import numpy as np
@@ -43,10 +43,27 @@ class Node(BaseModel):
         # Spans are where a node was written, not what it means.
         if not isinstance(other, Node) or type(self) is not type(other):
             return NotImplemented
-        return self.model_dump() == other.model_dump()
+        return meaning(self) == meaning(other)
 
     def __hash__(self) -> int:
-        return hash(repr(self.model_dump()))
+        return hash(repr(meaning(self)))
+
+
+def meaning(value: object) -> object:
+    """`value.model_dump()` for a model (every field but the excluded spans, nested models as dicts), without
+    pydantic's serializer: the first dump of a class builds its schema and its validator, which looks for
+    pydantic plugins among every installed package (tens of milliseconds of a `vkgc solve`, which hashes
+    shapes to cache their vertices)."""
+    if isinstance(value, BaseModel):
+        fields = type(value).model_fields
+        return {name: meaning(getattr(value, name)) for name, field in fields.items() if not field.exclude}
+    if isinstance(value, list):
+        return [meaning(item) for item in value]
+    if isinstance(value, tuple):
+        return tuple(meaning(item) for item in value)
+    if isinstance(value, dict):
+        return {key: meaning(item) for key, item in value.items()}
+    return value
 
 
 # ---------------------------------------------------------------- values

@@ -12,9 +12,8 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
-from lark import Token
 from pydantic import BaseModel
 
 from vkgl.lang.diagnostics import codes
@@ -23,6 +22,9 @@ from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.limits import COUNTS, MAX_COUNT_DIGITS
 from vkgl.lang.ir.units import ARTICLE_NAME, SI_UNIT, dimension_of, to_si, unit_list
+
+if TYPE_CHECKING:  # Lark is imported by the parser, only when a text is parsed (vkgl.lang.module_cache)
+    from lark import Token
 
 _N = TypeVar("_N", bound=BaseModel)
 

@@ -38,7 +38,6 @@ from dataclasses import dataclass, replace
 from typing import Generic, TypeVar
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import CartesianFailure, follow_poses
@@ -50,6 +49,7 @@ from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.robot.pad import FINGERTIP_RADIUS
+from vkgl.rotations import axis_matrix
 from vkgl.se3 import screw_motion
 
 CHAIN_SPACING = 0.01
@@ -353,7 +353,7 @@ def _pitched_back(angle: float) -> np.ndarray:
     """The effector frame turned by `angle` about the pad's axis (the frame's y through the pad's centre),
     leaning the hand away from the face it pushes (the frame's z toward -x)."""
     about = np.eye(4)
-    about[:3, :3] = Rotation.from_euler("y", -angle).as_matrix()
+    about[:3, :3] = axis_matrix(1, -angle)
     to_axis = np.eye(4)
     to_axis[0, 3] = -FINGERTIP_RADIUS
     return to_axis @ about @ np.linalg.inv(to_axis)

@@ -18,11 +18,11 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, motion_type
 from vkgl.plan.problem.problem import Problem
+from vkgl.rotations import rotvec_matrices, yaw_matrix
 
 PRISMATIC_MAX = 2.0
 """m: the longest slide of one mode (beyond any table the examples use)."""
@@ -117,7 +117,7 @@ def put_down(pose: np.ndarray, rest_z: float) -> np.ndarray:
     """`pose` lowered onto the table: same x, y and heading, level, its frame at `rest_z`."""
     out = np.eye(4)
     yaw = math.atan2(pose[1, 0], pose[0, 0])
-    out[:3, :3] = Rotation.from_euler("z", yaw).as_matrix()
+    out[:3, :3] = yaw_matrix(yaw)
     out[:3, 3] = (pose[0, 3], pose[1, 3], rest_z)
     return out
 
@@ -185,7 +185,7 @@ def _motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
         m[:, 0, 0] = m[:, 1, 1] = m[:, 2, 2] = 1.0
         m[:, :3, 3] = np.outer(values, axis)
         return m
-    rotations = Rotation.from_rotvec(np.outer(values, axis)).as_matrix()
+    rotations = rotvec_matrices(np.outer(values, axis))
     m[:, :3, :3] = rotations
     m[:, :3, 3] = center - rotations @ center
     return m

@@ -14,7 +14,6 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial import ConvexHull
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.geometry import (
@@ -42,6 +41,7 @@ from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.avoid import Avoid
+from vkgl.plan.problem.hulls import hull_vertices, outline_corners
 from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
 from vkgl.robot import Arm
 
@@ -344,13 +344,7 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
 
 def hull_corners(vertices: np.ndarray) -> np.ndarray:
     """The vertices of the convex hull of `vertices` (k x 3): what can first pass a table's edge."""
-    from scipy.spatial import ConvexHull, QhullError
-
-    points = np.unique(np.asarray(vertices, dtype=float), axis=0)
-    try:
-        return points[ConvexHull(points).vertices]
-    except (QhullError, ValueError):  # flat or degenerate: every point counts
-        return points
+    return outline_corners(vertices)  # flat: every point counts
 
 
 def action_pose(affordance: Affordance) -> np.ndarray:
@@ -413,7 +407,7 @@ def _goal_spec(task: Task, goal: Goal, bodies: dict[str, PlanBody]) -> GoalSpec:
 
 def _hull_points(body: Body) -> np.ndarray:
     points = shape_vertices(body.shape)
-    return points[ConvexHull(points).vertices] if len(points) > 4 else points
+    return points[hull_vertices(points)] if len(points) > 4 else points
 
 
 def _keep_out_spec(task: Task, keep: KeepOut, bodies: dict[str, PlanBody]) -> KeepOutSpec:

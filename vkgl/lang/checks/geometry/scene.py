@@ -50,7 +50,7 @@ from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.geometry import joint_pose, lifted
 from vkgl.lang.ir.program import Program
-from vkgl.lang.ir.rotations import yaw_matrix
+from vkgl.rotations import yaw_matrix
 
 EDGE = 0.001
 """m: a body may pass the table's edge this much."""

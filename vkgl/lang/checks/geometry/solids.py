@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.rotations import rpy_matrix, yaw_matrix
+from vkgl.rotations import rpy_matrix, yaw_matrix
 
 CYLINDER_SIDES = 64
 BASE_RADIUS = 0.10
