@@ -17,6 +17,7 @@ from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.nodes import SLOT_FRAME
 from vkgl.lang.ir.regions import Region
 from vkgl.lang.ir.units import SI_UNIT, dimension_of
+from vkgl.lang.syntax.builder_families import FamilyBuilder
 from vkgl.lang.syntax.builder_tasks import TaskBuilder
 from vkgl.lang.syntax.values import INVALID, Item, RawPose, RawQ, RawVec, new_node
 
@@ -37,7 +38,7 @@ def _union_depth(shape: Any) -> int:
     return 0
 
 
-class Builder(TaskBuilder):
+class Builder(TaskBuilder, FamilyBuilder):
     """Builds the IR nodes of one file bottom-up; collects (does not raise) diagnostics about units and statements.
 
     Each grammar rule has a method of the same name taking (meta, children)
@@ -317,6 +318,7 @@ class Builder(TaskBuilder):
             name=str(name),
             action=fields.get("action", new_node(ir.FreeC)),
             motion=fields.get("motion", new_node(ir.FreeC)),
+            family=fields.get("family"),
             evidence=fields.get("evidence"),
             span=self.span(meta),
         )
