@@ -363,6 +363,7 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
 )
 
 # contact families (E46x): registered after the physical codes
+# isort: split
 from vkgl.lang.diagnostics.codes_families import (  # noqa: E402
     FAMILY_OFF_THE_FACE,
     FAMILY_WITHOUT_CONTACT,
