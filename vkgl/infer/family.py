@@ -96,12 +96,13 @@ def _pivot_spread(offsets: np.ndarray, moves: np.ndarray) -> float | None:
 
 def _direction_spread(members: list[TrialInference], kept: TrialInference) -> float | None:
     """RMS angle (rad) between the members' slide directions and the representative's."""
-    reference = np.asarray(kept.motion.params["axis"], dtype=float)  # type: ignore[union-attr]
+    assert kept.motion is not None
+    reference = np.asarray(kept.motion.params["axis"], dtype=np.float64)
     angles = []
     for r in members:
         if r is kept:
             continue
-        axis = np.asarray(r.motion.params["axis"], dtype=float)  # type: ignore[union-attr]
+        assert r.motion is not None
+        axis = np.asarray(r.motion.params["axis"], dtype=np.float64)
         angles.append(float(np.arccos(np.clip(axis @ reference, -1.0, 1.0))))
     return float(np.sqrt(np.mean(np.square(angles)))) if angles else None
-
