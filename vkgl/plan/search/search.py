@@ -26,6 +26,7 @@ poses with the values at zero), so no work is repeated along a branch.
 from __future__ import annotations
 
 import heapq
+import itertools
 import math
 import sys
 import time
@@ -44,6 +45,7 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
+from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import (
     Counters,
     JointSolution,
@@ -220,17 +222,20 @@ def _check(
         stats.reject(solution, label)
         return None
     stats.geometry_checks += 1
-    clash = checks.geometry.bodies(seq.graphs, solution.traces)
+    named = solution.sequence or seq  # with the families' members the optimiser chose named
+    clash = checks.geometry.bodies(named.graphs, solution.traces)
     candidates = (
-        iter([solution])
+        iter([(named, solution)])
         if clash is None
-        else _clear_of_each_other(problem, seq, solution, stats, deadline, checks.geometry)
+        else ((named, s) for s in _clear_of_each_other(problem, named, solution, stats, deadline, checks.geometry))
     )
+    if seq.offsets:  # the contacts elsewhere along their faces, when these fail
+        candidates = itertools.chain(candidates, _at_other_contacts(problem, seq, stats, deadline, checks.geometry))
     first: Rejection | None = None
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
     try:
-        for candidate in candidates:
-            found = _arm_checks(problem, seq, candidate, stats, deadline, checks, reached)
+        for named, candidate in candidates:
+            found = _arm_checks(problem, named, candidate, stats, deadline, checks, reached)
             if not isinstance(found, Rejection):
                 return found
             first = first or found
@@ -286,6 +291,18 @@ def _clear_of_each_other(
         stats.geometry_checks += 1
         if geometry.bodies(seq.graphs, other.traces) is None:
             yield other
+
+
+def _at_other_contacts(
+    problem: Problem, seq: Sequence, stats: SearchStats, deadline: float, geometry: GeometryCheck
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """Solutions of `seq` with its families' contacts pinned elsewhere (`other_contacts`) whose bodies pass clear
+    of one another, each with its named sequence."""
+    for other in other_contacts(problem, seq, deadline, stats.work):
+        named = other.sequence or seq
+        stats.geometry_checks += 1
+        if geometry.bodies(named.graphs, other.traces) is None:
+            yield named, other
 
 
 def _straight_paths(
