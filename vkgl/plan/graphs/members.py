@@ -38,9 +38,18 @@ def family_vectors(affordance: Affordance) -> tuple[np.ndarray, np.ndarray | Non
 
 
 def has_family(problem: Problem, body: str, name: str) -> bool:
-    """Whether the affordance's contact may move along its face (a band wider than a point)."""
-    lower, upper = offset_bounds(problem.affordance(body, name))
-    return upper > lower
+    """Whether the planner may move the affordance's contact along its face: a turn whose band is wider than a
+    point.
+
+    A slide's family is not used (yet): it was learned from exploration's force-limited pushes, which DART's
+    friction holds straight off the centre, but the arm pushes by position, and that push turns the body
+    (the stdlib Block pushed 10 cm by the arm 1.1, 2.2 and 3.3 cm off its centre turned 2, 17 and 24 deg;
+    docs/planning.md, "Contacts along a face"). A turn's member executes as predicted (7.7 cm off the
+    centre, between two explored contacts: 1.5 deg off over a 20 deg turn).
+    """
+    affordance = problem.affordance(body, name)
+    lower, upper = offset_bounds(affordance)
+    return upper > lower and isinstance(affordance.motion, RevoluteC)
 
 
 def action_at(problem: Problem, body: str, name: str, offset: float) -> np.ndarray:
