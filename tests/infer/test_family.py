@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vkgl.infer.family import fit_family
+from vkgl.infer.faces.family import fit_family
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference
 from vkgl.lang.ir.families import at_offset, offset_bounds

@@ -37,7 +37,7 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.formats.trials import Trials
 from vkgl.infer.data import EdgeData, edge_data, trial_edges
-from vkgl.infer.family import FamilyFit, fit_family
+from vkgl.infer.faces.family import FamilyFit, fit_family
 from vkgl.infer.select import EdgeInference, infer_edge
 from vkgl.infer.trial import TrialInference
 from vkgl.lang.ir.nodes import (
@@ -80,7 +80,7 @@ class Group:
     key: tuple = field(default_factory=tuple)
     state_range: tuple[float, float] | None = None  # the motion's states over all members (m or rad)
     still_moving: bool = False  # the member that went furthest was still moving when its trial ended
-    family: FamilyFit | None = None  # where along the face the contact may be (vkgl/infer/family.py)
+    family: FamilyFit | None = None  # where along the face the contact may be (vkgl/infer/faces/family.py)
 
     @property
     def open_range(self) -> bool:

@@ -56,11 +56,6 @@ ASIDE_BEYOND = (0.0, 0.5, 1.0)
 (`clearing.cleared_values`), then that value plus these fractions of what is left of its range: farther aside,
 for when the arm cannot carry the first (`task_space_alternatives`)."""
 
-MOVED_CONTACT_HELPS = (Kind.REACH,)
-"""The rejections of a sequence at its written contacts after which the task space tries again with the contacts
-free along their families: moving a contact along a face moves the hand (a slide is the same at every offset,
-a turn's pivot drifts by millimetres), so it can bring the hand into the arm's reach and little else."""
-
 FD_STEP = 1e-7
 """Step of the forward-difference gradients (m or rad)."""
 
@@ -268,14 +263,13 @@ def task_space(
 ) -> TaskSolution | Rejection:
     """Motion values for `seq` that reach the goal inside every constraint (NLopt SLSQP), or why not.
 
-    The contacts' offsets along their families' faces (`seq.offsets`) are variables too, each within its band:
-    first pinned at 0 (the affordances as written: a contact moves only when that helps), then free; `offsets`
-    pins them instead. A solution that moved a contact comes with its sequence rewritten to the members' names
-    (`TaskSolution.sequence`) and the motion values alone.
+    The contacts' offsets along their families (`seq.offsets`) are variables too: pinned at 0 (as written)
+    first, then, after a rejection for the hand's reach (what moving a contact changes), free within their bands;
+    `offsets` pins them. A solution that moved a contact comes with its sequence renamed (`materialise`).
     """
     if seq.offsets and offsets is None:
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
-        if not isinstance(written, Rejection) or written.kind not in MOVED_CONTACT_HELPS:
+        if not isinstance(written, Rejection) or written.kind is not Kind.REACH:
             return written
     start = closed_form(problem, seq)
     if isinstance(start, Rejection):
