@@ -75,7 +75,7 @@ def test_the_task_space_keeps_the_written_contact_when_it_reaches_the_goal(probl
     assert solution.sequence is None and len(solution.values) == len(seq.variables)
 
 
-def test_other_contacts_pin_the_turn_at_its_bands_end(problem):
+def test_other_contacts_pin_the_turn_at_its_bands_far_end(problem):
     seq = _sequence(problem, Action("add", TURN), Action("remove", TURN), Action("add", SLIDE))
     found = next(other_contacts(problem, seq, deadline=float("inf")))
     assert found.sequence is not None

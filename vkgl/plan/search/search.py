@@ -31,7 +31,7 @@ import math
 import sys
 import time
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -229,8 +229,9 @@ def _check(
         if clash is None
         else ((named, s) for s in _clear_of_each_other(problem, named, solution, stats, deadline, checks.geometry))
     )
-    if seq.offsets:  # the contacts elsewhere along their faces, when these fail
-        candidates = itertools.chain(candidates, _at_other_contacts(problem, seq, stats, deadline, checks.geometry))
+    if seq.offsets:  # the contacts elsewhere along their faces, when the arm cannot approach these
+        others = _at_other_contacts(problem, seq, stats, deadline, checks.geometry)
+        candidates = itertools.chain(candidates, _if_unapproachable(lambda: first, others))
     first: Rejection | None = None
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
     try:
@@ -291,6 +292,19 @@ def _clear_of_each_other(
         stats.geometry_checks += 1
         if geometry.bodies(seq.graphs, other.traces) is None:
             yield other
+
+
+def _if_unapproachable(
+    rejection: Callable[[], Rejection | None], candidates: Iterator[tuple[Sequence, TaskSolution]]
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """`candidates`, only while the first rejection (`rejection()`, read when each is asked for) is an approach:
+    moving a contact along its face changes where the arm comes in, and little else (a turn's pivot moves by
+    millimetres); trying other contacts after any failure doubled the time of deep searches."""
+    while (found := rejection()) is not None and found.kind is Kind.APPROACH:
+        try:
+            yield next(candidates)
+        except StopIteration:
+            return
 
 
 def _at_other_contacts(
