@@ -49,3 +49,16 @@ def test_hovers_and_completion_show_goals_regions_keep_outs_and_placements_as_wr
     assert "- `keep out region (0.1, 0.2) to (0.3, 0.4) m`" in shown and "- `keep drawer out of tray`" in shown
     words = {c.label for c in candidates(None, "    goal ")}
     assert {"moved", "turned", "by", "in", "region", "polygon", "keep", "out", "of"} <= words
+
+
+def test_an_affordances_hover_shows_its_family() -> None:
+    from vkgl.editor.hover import affordance_hover
+
+    block = parse_module(
+        "affordances Block { affordance turn { action fixed at (-5, 6.56, 0) cm yaw 0deg "
+        "motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) "
+        "family along (0, 1, 0) from 0 to 2.22 cm drift (0.136, 0, 0) sigma 0.3 cm } }",
+        "block.vkg",
+    ).decls[0]
+    text = affordance_hover(block.affordances[0], "Block")
+    assert "- contact anywhere along the face: `family along (0, 1, 0) from 0 to 2.22 cm drift (0.136, 0, 0)" in text
