@@ -69,3 +69,16 @@ def test_a_grasp_and_its_slip_on_hover() -> None:
     shown = affordance_hover(block.affordances[0], "Carton")
     assert "action `grasp at (0.6, 0, 3.2) cm yaw 0deg width 6 cm force 20 N`" in shown
     assert "posterior 1, slip 0.4 mm" in shown
+
+
+def test_an_affordances_hover_shows_its_family() -> None:
+    from vkgl.editor.hover import affordance_hover
+
+    block = parse_module(
+        "affordances Block { affordance turn { action fixed at (-5, 6.56, 0) cm yaw 0deg "
+        "motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) "
+        "family along (0, 1, 0) from 0 to 2.22 cm drift (0.136, 0, 0) sigma 0.3 cm } }",
+        "block.vkg",
+    ).decls[0]
+    text = affordance_hover(block.affordances[0], "Block")
+    assert "- contact anywhere along the face: `family along (0, 1, 0) from 0 to 2.22 cm drift (0.136, 0, 0)" in text

@@ -7,8 +7,8 @@ import pytest
 
 from vkgl.errors import InputError
 from vkgl.formats.trials import Trials
+from vkgl.infer.faces.tipping import safe_heights, tipping_ir
 from vkgl.infer.library import infer_library
-from vkgl.infer.tipping import safe_heights, tipping_ir
 from vkgl.lang.ir.geometry import pushed_face
 from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref
 from vkgl.lang.syntax.printer import print_module

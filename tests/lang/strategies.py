@@ -366,6 +366,22 @@ def evidences() -> st.SearchStrategy[ir.Evidence]:
     )
 
 
+def families() -> st.SearchStrategy[ir.Family]:
+    """`family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`, bounds in one unit or each in its own."""
+
+    def family(lower_unit: str, upper_unit: str) -> st.SearchStrategy[ir.Family]:
+        return st.builds(
+            ir.Family,
+            along=vectors(None, 3),
+            lower=st.builds(ir.Quantity, value=si_values(lower_unit), unit=st.just(lower_unit)),
+            upper=st.builds(ir.Quantity, value=si_values(upper_unit), unit=st.just(upper_unit)),
+            drift=st.none() | vectors(None, 3),
+            sigma=st.none() | quantities("length") | quantities("angle"),
+        )
+
+    return st.tuples(units("length"), units("length")).flatmap(lambda us: family(*us))
+
+
 def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
     evidence = evidences()
     affordance = st.builds(
@@ -373,6 +389,7 @@ def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
         name=names(),
         action=constraints(),
         motion=constraints(ranged=True),
+        family=st.none() | families(),
         evidence=st.none() | evidence,
     )
     tipping = st.builds(

@@ -49,8 +49,7 @@ def check_plan(program: Program, plan_json: dict[str, Any]) -> list[str]:
         for q in (step["q_start"], step["q_end"]):
             if np.any(np.array(q) < fk.lower - 1e-9) or np.any(np.array(q) > fk.upper + 1e-9):
                 problems.append(f"step {k}: joints outside the URDF limits")
-        type_name, _, aff_name = step["affordance"].partition(".")
-        aff = next(a for a in program.affordances[type_name] if a.name == aff_name)
+        aff = _affordance(program, step["affordance"])
         action = aff.action.pose.matrix() if isinstance(aff.action, FixedC) and aff.action.pose else np.eye(4)
         problems += _check_step(k, step, aff, action, start, end, held, types, fk, robot_effector)
         for name in poses:
@@ -187,3 +186,26 @@ def _check_joint_goals(
         if abs(state - goal.opening.value) > goal.opening_tolerance():
             out.append(f"{name} opens {state:.4f}, not {goal.opening.value:.4f} within {goal.opening_tolerance()}")
     return out
+
+
+def _affordance(program: Program, dotted: str) -> Any:
+    """The affordance a step names: `Type.name`, or `Type.name@+1.25cm`, the member of `name`'s family at that
+    offset, recomposed here (docs/language.md, "Families"): the action's position moved along the family's
+    direction, a turn's pivot by the offset times its drift."""
+    type_name, _, name = dotted.partition(".")
+    base, mark, rest = name.partition("@")
+    aff = next(a for a in program.affordances[type_name] if a.name == base)
+    if not mark:
+        return aff
+    offset = float(rest.removesuffix("cm")) / 100.0
+    family = aff.family
+    assert family is not None and family.lower.value - 5e-5 <= offset <= family.upper.value + 5e-5, dotted
+    along = np.array(family.along.values) / np.linalg.norm(family.along.values)
+    pose = aff.action.pose
+    position = pose.position.model_copy(update={"values": tuple(np.array(pose.position.values) + offset * along)})
+    action = aff.action.model_copy(update={"pose": pose.model_copy(update={"position": position})})
+    motion = aff.motion
+    if family.drift is not None and motion.type == "revolute":
+        center = tuple(np.array(motion.center.values) + offset * np.array(family.drift.values))
+        motion = motion.model_copy(update={"center": motion.center.model_copy(update={"values": center})})
+    return aff.model_copy(update={"action": action, "motion": motion})

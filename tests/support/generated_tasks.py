@@ -43,6 +43,8 @@ GAP = 0.015  # m: the least gap between two bodies at the start
 NEAR_RADIUS = (0.35, 0.72)  # m from the arm's base: inside the fingertip's reach (0.09 to 0.80 m)
 FAR_RADIUS = (0.86, 0.98)  # m: beyond the fingertip's reach
 SOLVE_TIMEOUT_S = 20
+LEARNED_MODULES = "+families"
+"""What inference writes into modules beyond its report (part of the cache key): `family` lines."""
 SLIDE_SECONDS = 17  # s of the generated bodies' `explore slides` trials: the stdlib Block's (it slides 49 cm)
 
 
@@ -102,11 +104,12 @@ class BodyType:
         """The key of the learned-affordance cache: a hash of the body's source and of what inference writes.
 
         `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
-        `range ... open`), so a cache learned by an older inference is not reused.
+        `range ... open`), so a cache learned by an older inference is not reused;
+        `LEARNED_MODULES` with what it writes into modules only (`family` lines).
         """
         from vkgl.formats.infer_report import INFER_REPORT_FORMAT
 
-        return hashlib.sha256((self.source() + INFER_REPORT_FORMAT).encode()).hexdigest()[:16]
+        return hashlib.sha256((self.source() + INFER_REPORT_FORMAT + LEARNED_MODULES).encode()).hexdigest()[:16]
 
 
 GENERATED_TYPES = (

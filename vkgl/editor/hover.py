@@ -17,6 +17,7 @@ from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.units import DIMENSION, SI_UNIT, to_si
 from vkgl.lang.syntax.printer import (
     constraint_text,
+    family_text,
     format_number,
     goal_text,
     joint_text,
@@ -133,6 +134,8 @@ def affordance_hover(affordance: ir.Affordance, body: str) -> str:
         f"- motion `{constraint_text(affordance.motion)}`",
         f"- action `{constraint_text(affordance.action)}`",
     ]
+    if affordance.family is not None:
+        lines.append(f"- contact anywhere along the face: `{family_text(affordance.family)}`")
     evidence = affordance.evidence
     if evidence is not None:
         lines.append(

@@ -34,6 +34,7 @@ from vkgl.execute.grip.model import grip_for
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
 from vkgl.formats.plan import PlanStepRecord
+from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import Affordance, Body, FixedC
 from vkgl.motion.moves import LIFT, STANDOFF, WayOut, way_out
 
@@ -61,9 +62,12 @@ class StepKinds:
 
     def _affordance(self, step: PlanStepRecord, label: str) -> Affordance:
         type_name, _, name = step.affordance.partition(".")
-        for aff in self.sim.program.affordances.get(type_name, []):
-            if aff.name == name:
-                return aff
+        try:  # the affordance, or a member of its family: `push@+3.12cm`
+            found = find_member(self.sim.program.affordances.get(type_name, []), name)
+        except ValueError as exc:
+            raise InputError(f"{label}: {exc}") from None
+        if found is not None:
+            return found
         raise InputError(f"{label}: the program has no affordance {step.affordance}")
 
     def _action_pose(self, step: PlanStepRecord, label: str) -> np.ndarray:

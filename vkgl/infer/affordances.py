@@ -37,11 +37,13 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.formats.trials import Trials
 from vkgl.infer.data import EdgeData, edge_data, trial_edges
+from vkgl.infer.faces.family import FamilyFit, fit_family
 from vkgl.infer.select import EdgeInference, infer_edge
 from vkgl.infer.trial import TrialInference
 from vkgl.lang.ir.nodes import (
     Affordance,
     Evidence,
+    Family,
     FixedC,
     FreeC,
     MotionRange,
@@ -78,6 +80,7 @@ class Group:
     key: tuple = field(default_factory=tuple)
     state_range: tuple[float, float] | None = None  # the motion's states over all members (m or rad)
     still_moving: bool = False  # the member that went furthest was still moving when its trial ended
+    family: FamilyFit | None = None  # where along the face the contact may be (vkgl/infer/faces/family.py)
 
     @property
     def open_range(self) -> bool:
@@ -199,9 +202,16 @@ def _push_groups(pushes: list[TrialInference]) -> list[Group]:
                 key=(label, place_of[best.index], action_type, motion_type, sense, kind),
                 state_range=_state_range(members),
                 still_moving=_still_moving(members),
+                family=None if kind == "pull" else _family(members, best),
             )
         )
     return groups
+
+
+def _family(members: list[TrialInference], best: TrialInference) -> FamilyFit | None:
+    """The group's family along its face (None for one contact, or when the push direction is unknown)."""
+    ok = np.all(np.isfinite(best.force)) and np.linalg.norm(best.force) > 0
+    return fit_family(members, best, _left_of(best.force)) if ok else None
 
 
 def _still_moving(members: list[TrialInference]) -> bool:
@@ -364,7 +374,27 @@ def affordance_ir(g: Group) -> Affordance:
     action = constraint_ir(g.action) if g.action is not None else FixedC()
     evidence = Evidence(trials=len(g.members), loglik=_round(g.loglik, 1), posterior=_round(g.posterior, 3))
     motion = constraint_ir(g.motion, g.state_range, open_range=g.open_range)
-    return Affordance(name=g.name, action=action, motion=motion, evidence=evidence)
+    family = _family_ir(g.family) if g.family is not None and isinstance(action, FixedC) else None
+    return Affordance(name=g.name, action=action, motion=motion, family=family, evidence=evidence)
+
+
+def _family_ir(f: FamilyFit) -> Family:
+    """The family rounded for reading: offsets to 0.01 cm (inwards: never wider than explored), drift to 1e-3,
+    sigma to 0.01 cm (a turn's pivot) or 0.01 deg (a slide's direction)."""
+    lower = math.ceil(round(100.0 * f.lower * 100.0, 6)) / 100.0
+    upper = math.floor(round(100.0 * f.upper * 100.0, 6)) / 100.0
+    sigma = None
+    if f.sigma is not None:
+        unit = "cm" if f.drift is not None else "deg"
+        shown = 100.0 * f.sigma if unit == "cm" else math.degrees(f.sigma)
+        sigma = Quantity(value=_si(shown, 2, unit), unit=unit)
+    return Family(
+        along=_direction_ir(f.along),
+        lower=Quantity(value=_si(lower, 2, "cm"), unit="cm"),
+        upper=Quantity(value=_si(upper, 2, "cm"), unit="cm"),
+        drift=None if f.drift is None else Vector(values=tuple(_si(float(x), 3, "") for x in f.drift), unit=""),
+        sigma=sigma,
+    )
 
 
 def constraint_ir(

@@ -22,8 +22,8 @@ from vkgl.formats.grasp_trials import GraspTrials
 from vkgl.formats.infer_report import INFER_REPORT_FORMAT
 from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
+from vkgl.infer.faces.tipping import tipped, tipping_ir
 from vkgl.infer.select import EdgeInference
-from vkgl.infer.tipping import tipped, tipping_ir
 from vkgl.infer.trial import TrialInference, infer_trials
 from vkgl.lang.ir.nodes import Affordance, AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module

@@ -24,6 +24,7 @@ from vkgl.lang.checks.context import (
     unknown_frame,
     where_declared,
 )
+from vkgl.lang.checks.families import check_family
 from vkgl.lang.checks.geometry.placement import place_relative_bodies
 from vkgl.lang.checks.geometry.regions import check_regions
 from vkgl.lang.checks.geometry.relative import place_relative_goals
@@ -136,6 +137,7 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
                 check_direction(constraint.axis, "an axis", ctx)
         _check_motion_range(affordance.motion, ctx)
         check_grasp_affordance(affordance, ctx)
+        check_family(affordance, ctx)
         evidence = affordance.evidence
         if evidence is not None:
             check_evidence_ranges(evidence, ctx)

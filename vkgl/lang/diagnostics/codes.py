@@ -366,6 +366,14 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
 # grasps (E46x): registered after the codes above
 # isort: split
 from vkgl.lang.diagnostics.codes_grasps import GRASP_NOT_ACTION, GRASP_WIDTH_OUT_OF_HAND, UNKNOWN_APPROACH  # noqa: E402
+# contact families (E47x): registered after the physical codes
+# isort: split
+from vkgl.lang.diagnostics.codes_families import (  # noqa: E402
+    FAMILY_OFF_THE_FACE,
+    FAMILY_WITHOUT_CONTACT,
+    FAMILY_WITHOUT_ITS_CONTACT,
+    FAMILY_WRONG_SPREAD,
+)
 
 # modules and files (E5xx), warnings (W6xx): registered after the codes above, in this order
 # isort: split
@@ -393,6 +401,10 @@ __all__ = [
     "CONTACT_OFF_SURFACE",
     "COUNT_OUT_OF_RANGE",
     "DUPLICATE_NAME",
+    "FAMILY_OFF_THE_FACE",
+    "FAMILY_WITHOUT_CONTACT",
+    "FAMILY_WITHOUT_ITS_CONTACT",
+    "FAMILY_WRONG_SPREAD",
     "FLOATING_BODY",
     "GOAL_IN_FIXED_BODY",
     "GOAL_IN_ROBOT_BASE",

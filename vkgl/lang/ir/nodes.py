@@ -245,12 +245,31 @@ class Evidence(Node):
     slip_unit: str = Field(default="mm", exclude=True, repr=False)
 
 
+class Family(Node):
+    """`family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`: the contacts of an affordance along its face.
+
+    The contact may be the action's pose moved by `s * along` for any offset `s` in
+    [lower, upper] (SI m; 0, the action's own contact, lies inside). A slide is the
+    same at every offset; a turn's pivot moves by `s * drift` (dimensionless:
+    metres of pivot per metre of offset). `sigma`: the spread of what the explored
+    contacts did about that model (a length for a turn's pivot, an angle for a
+    slide's direction); None when not known. docs/language.md, "Families".
+    """
+
+    along: Vector
+    lower: Quantity
+    upper: Quantity
+    drift: Vector | None = None
+    sigma: Quantity | None = None
+
+
 class Affordance(Node):
-    """`affordance NAME { action C; motion C; [evidence ...] }`."""
+    """`affordance NAME { action C; motion C; [family ...] [evidence ...] }`."""
 
     name: str
     action: Constraint
     motion: Constraint
+    family: Family | None = None
     evidence: Evidence | None = None
 
 

@@ -27,6 +27,7 @@ from vkgl.lang.ir.nodes import (
     Correspondences,
     CylinderShape,
     Explore,
+    Family,
     FixedC,
     FreeC,
     GraspC,
@@ -221,6 +222,8 @@ class _Layout:
     def affordance_items(self, k: int, a: Affordance) -> None:
         self.add(k, "action " + constraint_text(a.action), _line_of(a.action.span))
         self.add(k, "motion " + constraint_text(a.motion), _line_of(a.motion.span))
+        if a.family is not None:
+            self.add(k, family_text(a.family), _line_of(a.family.span))
         if a.evidence is not None:
             ev = a.evidence
             text = (
@@ -310,6 +313,16 @@ def range_text(r: MotionRange | None) -> str:
     lower = format_scaled(r.lower.value, r.lower.unit) if r.lower.unit == r.upper.unit else None
     text = f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
     return text + " open" if r.open else text
+
+
+def family_text(f: Family) -> str:
+    """`family along V from LO to HI UNIT [drift V] [sigma Q]` (one unit written once when both bounds have it)."""
+    lower = format_scaled(f.lower.value, f.lower.unit) if f.lower.unit == f.upper.unit else None
+    text = f"family along {vector_text(f.along)} from {lower if lower is not None else quantity_text(f.lower)}"
+    text += f" to {quantity_text(f.upper)}"
+    if f.drift is not None:
+        text += " drift " + vector_text(f.drift)
+    return text if f.sigma is None else text + " sigma " + quantity_text(f.sigma)
 
 
 def joint_text(j: Joint) -> str:

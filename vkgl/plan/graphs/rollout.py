@@ -19,8 +19,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from vkgl.lang.ir.families import member_name, offset_bounds
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, motion_type
+from vkgl.plan.graphs.members import action_at, has_family, pivot_shift
 from vkgl.plan.problem.problem import Problem
 from vkgl.rotations import rotvec_matrices, yaw_matrix
 
@@ -39,12 +41,16 @@ class Sequence:
     engagement's body during that mode. `dependent`: bodies whose current pose
     depends on some motion value (the others are where the rollout with all
     values 0 puts them, exactly). `zero_poses`: the poses after the last mode
-    with every value 0.
+    with every value 0. `offsets[j] = (mode, engagement)`: the engagement
+    added at the transition into that mode has a family, and task-space
+    value `len(variables) + j` is its contact's offset along the face (m);
+    a rollout given only the motion values puts every offset at 0.
     """
 
     actions: tuple[Action, ...] = ()
     graphs: tuple[KGraph, ...] = (g0(),)
     variables: tuple[tuple[int, Engagement], ...] = ()
+    offsets: tuple[tuple[int, Engagement], ...] = ()
     dependent: frozenset[str] = frozenset()
     zero_poses: dict[str, np.ndarray] = field(default_factory=dict, compare=False)
 
@@ -93,24 +99,31 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
                 tool = problem.effector(other.effector).tool
                 if tool is not None and other.body == engaged.body:
                     dependent.add(tool)
-    child = Sequence(seq.actions + (action,), seq.graphs + (graph,), tuple(variables), frozenset(dependent), poses)
+    offsets = seq.offsets
+    if action.op == "add" and has_family(problem, e.body, e.affordance):
+        offsets += ((mode, e),)
+    child = Sequence(
+        seq.actions + (action,), seq.graphs + (graph,), tuple(variables), offsets, frozenset(dependent), poses
+    )
     return child, hand
 
 
-def _transition(problem: Problem, poses: dict[str, np.ndarray], action: Action) -> None:
-    """Apply what happens at a transition: a tool jumps to its contact; a released tool is put down."""
+def _transition(problem: Problem, poses: dict[str, np.ndarray], action: Action, offset: float = 0.0) -> None:
+    """Apply what happens at a transition: a tool jumps to its contact (at `offset` along a family); a released
+    tool is put down."""
     e = action.engagement
     tool = problem.effector(e.effector).tool
     if action.op == "add" and tool is not None:
-        poses[tool] = tool_pose_on(problem, e, poses[e.body])
+        poses[tool] = tool_pose_on(problem, e, poses[e.body], offset)
     elif action.op == "remove" and motion_type(problem, e) == "free":
         poses[e.body] = put_down(poses[e.body], problem.bodies[e.body].rest_z)
 
 
-def tool_pose_on(problem: Problem, engagement: Engagement, target_pose: np.ndarray) -> np.ndarray:
-    """Where a tool is when its frame enacts `engagement` on a target at `target_pose`."""
+def tool_pose_on(problem: Problem, engagement: Engagement, target_pose: np.ndarray, offset: float = 0.0) -> np.ndarray:
+    """Where a tool is when its frame enacts `engagement` (at `offset` along its family) on a target at
+    `target_pose`."""
     effector = problem.effector(engagement.effector)
-    return target_pose @ problem.action(engagement.body, engagement.affordance) @ effector.frame_inverse
+    return target_pose @ action_at(problem, engagement.body, engagement.affordance, offset) @ effector.frame_inverse
 
 
 def put_down(pose: np.ndarray, rest_z: float) -> np.ndarray:
@@ -122,8 +135,11 @@ def put_down(pose: np.ndarray, rest_z: float) -> np.ndarray:
     return out
 
 
-def hand_chain(problem: Problem, graph: KGraph, engagement: Engagement) -> tuple[np.ndarray, bool] | None:
-    """The robot effector's pose in the target body's frame while `engagement` holds, and whether its yaw is free.
+def hand_chain(
+    problem: Problem, graph: KGraph, engagement: Engagement, offset: float = 0.0
+) -> tuple[np.ndarray, bool] | None:
+    """The robot effector's pose in the target body's frame while `engagement` holds (at `offset` along its
+    family), and whether its yaw is free.
 
     The robot's own effector: the action pose (a round fingertip pushes the
     same at any yaw, so yaw is free unless it grasps). A tool frame: the
@@ -131,7 +147,7 @@ def hand_chain(problem: Problem, graph: KGraph, engagement: Engagement) -> tuple
     the tool (exact pose). None when the tool is not held.
     """
     effector = problem.effector(engagement.effector)
-    action = problem.action(engagement.body, engagement.affordance)
+    action = action_at(problem, engagement.body, engagement.affordance, offset)
     if effector.tool is None:
         return action, motion_type(problem, engagement) != "free"
     held = graph.engaging(effector.tool)
@@ -177,8 +193,19 @@ def motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
     return m
 
 
-def _motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
+def member_motions(problem: Problem, engagement: Engagement, offset: float, values: np.ndarray) -> np.ndarray:
+    """`motion_matrices` of an engagement's motion at `offset` along its family (a turn's pivot moved)."""
+    motion = problem.affordance(engagement.body, engagement.affordance).motion
+    shift = pivot_shift(problem, engagement.body, engagement.affordance, offset)
+    if shift is None:
+        return motion_matrices(motion, values)
+    return _motion_matrices(motion, values, shift)
+
+
+def _motion_matrices(constraint: object, values: np.ndarray, shift: np.ndarray | None = None) -> np.ndarray:
     axis, center = unit_axis_and_center(constraint)
+    if center is not None and shift is not None:
+        center = center + shift
     m = np.zeros((len(values), 4, 4))
     m[:, 3, 3] = 1.0
     if center is None:  # prismatic (or anything that does not move: axis zero)
@@ -231,12 +258,40 @@ def value_bounds(constraint: object) -> tuple[float, float]:
     return min(max(0.0, bounds.lower.value), upper), upper
 
 
-def bounds(problem: Problem, seq: Sequence) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds of the sequence's motion values (`value_bounds` of each one's motion)."""
+def bounds(problem: Problem, seq: Sequence, *, offsets: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of the sequence's motion values (`value_bounds` of each one's motion); with
+    `offsets`, followed by those of its contacts' offsets (each family's band)."""
     pairs = [value_bounds(problem.affordance(e.body, e.affordance).motion) for _, e in seq.variables]
+    if offsets:
+        pairs += [offset_bounds(problem.affordance(e.body, e.affordance)) for _, e in seq.offsets]
     lower = np.asarray([p[0] for p in pairs], dtype=float)
     upper = np.asarray([p[1] for p in pairs], dtype=float)
     return lower, upper
+
+
+def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Sequence, np.ndarray]:
+    """`seq` with each family engagement renamed to its member at the offset `values` gives it (to 0.01 cm,
+    `push_center_px@+3.12cm`), and the motion values alone: what every stage after the task space reads.
+
+    The engagement keeps its member's name from its ADD to its REMOVE. A sequence without offsets comes back
+    as it is.
+    """
+    n = len(seq.variables)
+    if not seq.offsets:
+        return seq, values[:n]
+    offset_of = {key: float(v) for key, v in zip(seq.offsets, values[n:])}
+    renamed: dict[Engagement, Engagement] = {}
+    out = start_sequence(problem)
+    for k, action in enumerate(seq.actions, start=1):
+        e = action.engagement
+        if action.op == "add" and (k, e) in offset_of:
+            name = member_name(e.affordance, offset_of[(k, e)])
+            renamed[e] = Engagement(e.effector, e.body, name)
+        member = renamed.get(e, e)
+        if action.op == "remove":
+            renamed.pop(e, None)
+        out, _ = extend(problem, out, Action(action.op, member))
+    return out, values[:n]
 
 
 class _Fractions(dict):
@@ -273,21 +328,28 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
     by_mode: dict[int, list[tuple[Engagement, float]]] = {}
     for (mode, e), v in zip(seq.variables, values):
         by_mode.setdefault(mode, []).append((e, float(v)))
+    offset_of = dict(zip(seq.offsets, (float(v) for v in values[len(seq.variables) :])))
+    live: dict[Engagement, float] = {}  # the offsets of the family engagements in force
     traces = []
     for k, graph in enumerate(seq.graphs):
         if k > 0:
-            _transition(problem, poses, seq.actions[k - 1])
+            action = seq.actions[k - 1]
+            if action.op == "add":
+                live[action.engagement] = offset_of.get((k, action.engagement), 0.0)
+            _transition(problem, poses, action, live.get(action.engagement, 0.0))
+            if action.op == "remove":
+                live.pop(action.engagement, None)
         start = dict(poses)
         moves = by_mode.get(k, [])
         paths = {}  # the body's motion at `samples` fractions of its value, for the hand path
         for e, v in moves:
-            paths[e] = motion_matrices(problem.affordance(e.body, e.affordance).motion, _FRACTIONS[samples] * v)
+            paths[e] = member_motions(problem, e, live.get(e, 0.0), _FRACTIONS[samples] * v)
             poses[e.body] = start[e.body] @ paths[e][-1]
         for e in graph.engaged:
             tool = problem.effector(e.effector).tool
             if tool is not None:
-                poses[tool] = tool_pose_on(problem, e, poses[e.body])
-        hand, yaw_free = _hand_path(problem, seq, k, start, paths)
+                poses[tool] = tool_pose_on(problem, e, poses[e.body], live.get(e, 0.0))
+        hand, yaw_free = _hand_path(problem, seq, k, start, paths, live)
         traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}))
     return traces
 
@@ -301,7 +363,12 @@ def acting_engagement(problem: Problem, graph: KGraph) -> Engagement | None:
 
 
 def _hand_path(
-    problem: Problem, seq: Sequence, k: int, start: dict[str, np.ndarray], paths: dict[Engagement, np.ndarray]
+    problem: Problem,
+    seq: Sequence,
+    k: int,
+    start: dict[str, np.ndarray],
+    paths: dict[Engagement, np.ndarray],
+    live: dict[Engagement, float],
 ) -> tuple[list[np.ndarray], bool]:
     """The hand's poses during mode k: along the motion of what it pushes, at a grasp, or none (free)."""
     graph = seq.graphs[k]
@@ -313,7 +380,7 @@ def _hand_path(
         just_grasped = k > 0 and seq.actions[k - 1].op == "add" and seq.actions[k - 1].engagement == holding
         grasp = problem.action(holding.body, holding.affordance)
         return ([start[holding.body] @ grasp] if just_grasped else []), False
-    chain, yaw_free = hand_chain(problem, graph, acting)  # type: ignore[misc]
+    chain, yaw_free = hand_chain(problem, graph, acting, live.get(acting, 0.0))  # type: ignore[misc]
     if acting not in paths:
         return [start[acting.body] @ chain], yaw_free
     return list(start[acting.body] @ paths[acting] @ chain), yaw_free

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.geometry import (
     JOINT_LIFT,
     joint_axis,
@@ -209,10 +210,14 @@ class Problem:
         return self._footprints[body]
 
     def affordance(self, body: str, name: str) -> Affordance:
-        """The affordance `name` of scene body `body`."""
+        """The affordance `name` of scene body `body`, or the member of a family that `name` names (`push@+3.12cm`,
+        `vkgl.lang.ir.families.find_member`)."""
         key = (body, name)
         if key not in self._affordances:  # looked up in every rollout: keep it a dict access
-            self._affordances[key] = next(a for a in self.bodies[body].affordances if a.name == name)
+            found = find_member(self.bodies[body].affordances, name)  # a family's member: `push@+3.12cm`
+            if found is None:
+                raise KeyError(f"{body} has no affordance {name}")
+            self._affordances[key] = found
         return self._affordances[key]
 
     def effector(self, name: str) -> EffectorSpec:

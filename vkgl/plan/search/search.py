@@ -26,11 +26,12 @@ poses with the values at zero), so no work is repeated along a branch.
 from __future__ import annotations
 
 import heapq
+import itertools
 import math
 import sys
 import time
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -44,6 +45,7 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
+from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import (
     Counters,
     JointSolution,
@@ -220,17 +222,21 @@ def _check(
         stats.reject(solution, label)
         return None
     stats.geometry_checks += 1
-    clash = checks.geometry.bodies(seq.graphs, solution.traces)
+    named = solution.sequence or seq  # with the families' members the optimiser chose named
+    clash = checks.geometry.bodies(named.graphs, solution.traces)
     candidates = (
-        iter([solution])
+        iter([(named, solution)])
         if clash is None
-        else _clear_of_each_other(problem, seq, solution, stats, deadline, checks.geometry)
+        else ((named, s) for s in _clear_of_each_other(problem, named, solution, stats, deadline, checks.geometry))
     )
+    if seq.offsets:  # the contacts elsewhere along their faces, when the arm cannot approach these
+        others = _at_other_contacts(problem, seq, stats, deadline, checks.geometry)
+        candidates = itertools.chain(candidates, _if_unapproachable(lambda: first, others))
     first: Rejection | None = None
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
     try:
-        for candidate in candidates:
-            found = _arm_checks(problem, seq, candidate, stats, deadline, checks, reached)
+        for named, candidate in candidates:
+            found = _arm_checks(problem, named, candidate, stats, deadline, checks, reached)
             if not isinstance(found, Rejection):
                 return found
             first = first or found
@@ -286,6 +292,31 @@ def _clear_of_each_other(
         stats.geometry_checks += 1
         if geometry.bodies(seq.graphs, other.traces) is None:
             yield other
+
+
+def _if_unapproachable(
+    rejection: Callable[[], Rejection | None], candidates: Iterator[tuple[Sequence, TaskSolution]]
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """`candidates`, only while the first rejection (`rejection()`, read when each is asked for) is an approach:
+    moving a contact along its face changes where the arm comes in, and little else (a turn's pivot moves by
+    millimetres); trying other contacts after any failure doubled the time of deep searches."""
+    while (found := rejection()) is not None and found.kind is Kind.APPROACH:
+        try:
+            yield next(candidates)
+        except StopIteration:
+            return
+
+
+def _at_other_contacts(
+    problem: Problem, seq: Sequence, stats: SearchStats, deadline: float, geometry: GeometryCheck
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """Solutions of `seq` with its families' contacts pinned elsewhere (`other_contacts`) whose bodies pass clear
+    of one another, each with its named sequence."""
+    for other in other_contacts(problem, seq, deadline, stats.work):
+        named = other.sequence or seq
+        stats.geometry_checks += 1
+        if geometry.bodies(named.graphs, other.traces) is None:
+            yield named, other
 
 
 def _straight_paths(

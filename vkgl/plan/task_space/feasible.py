@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
-from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.clearing import blockers, cleared_values
@@ -75,6 +75,7 @@ class TaskSolution:
     values: np.ndarray
     traces: list[ModeTrace]
     free: bool = False  # the goal leaves some value free: other solutions may exist (`task_space_alternatives`)
+    sequence: Sequence | None = None  # the sequence with its families' members named (`materialise`), if any
 
 
 # ---------------------------------------------------------------- task space
@@ -253,16 +254,33 @@ def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) 
 
 
 def task_space(
-    problem: Problem, seq: Sequence, deadline: float, counters: Counters | None = None
+    problem: Problem,
+    seq: Sequence,
+    deadline: float,
+    counters: Counters | None = None,
+    *,
+    offsets: np.ndarray | None = None,
 ) -> TaskSolution | Rejection:
-    """Motion values for `seq` that reach the goal inside every constraint (NLopt SLSQP), or why not."""
+    """Motion values for `seq` that reach the goal inside every constraint (NLopt SLSQP), or why not.
+
+    The contacts' offsets along their families (`seq.offsets`) are variables too: pinned at 0 (as written)
+    first, then, after a rejection for the hand's reach (what moving a contact changes), free within their bands;
+    `offsets` pins them. A solution that moved a contact comes with its sequence renamed (`materialise`).
+    """
+    if seq.offsets and offsets is None:
+        written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
+        if not isinstance(written, Rejection) or written.kind is not Kind.REACH:
+            return written
     start = closed_form(problem, seq)
     if isinstance(start, Rejection):
         return start
     guess, pinned = start
     evaluator = _Evaluator(problem, seq)
-    lower, upper = bounds(problem, seq)
-    guess = np.clip(guess, lower, upper)
+    lower, upper = bounds(problem, seq, offsets=True)
+    n = len(seq.variables)
+    if offsets is not None:
+        lower[n:] = upper[n:] = offsets
+    guess = np.clip(np.concatenate([guess, np.zeros(len(seq.offsets))]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
     for x0 in [guess, *([] if pinned else _restarts(lower, upper))]:
         if time.perf_counter() > deadline:
@@ -275,7 +293,9 @@ def task_space(
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
             x = _near_edge(problem, seq, evaluator, x)
-            return TaskSolution(x, rollout(problem, seq, x, JOINT_SAMPLES), free=not pinned)
+            named, values = materialise(problem, seq, x)
+            renamed = named if named.actions != seq.actions else None
+            return TaskSolution(values, rollout(problem, named, values, JOINT_SAMPLES), not pinned, renamed)
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)
@@ -295,7 +315,7 @@ def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
     tolerance is then left to the execution.
     """
     bodies = {goal.body for goal in problem.goals if goal.region is not None}
-    scaled = np.array([e.body in bodies for _, e in seq.variables], dtype=bool)
+    scaled = np.array([e.body in bodies for _, e in seq.variables] + [False] * len(seq.offsets), dtype=bool)
     if not scaled.any():
         return x
 

@@ -1,0 +1,89 @@
+"""One member of an affordance's contact family: the point affordance at a chosen offset along the face.
+
+`family along DIR from LO to HI UNIT [drift VEC] [sigma Q]` (docs/language.md,
+"Families") lets the contact be the action's pose moved by `s * DIR` for any
+offset `s` in [LO, HI]. `at_offset(affordance, s)` is that member as a plain
+affordance (no family): its action moved along the face; a slide unchanged; a
+turn about its pivot moved by `s * drift`. Offset 0 is the affordance itself.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+from vkgl.lang.ir.nodes import Affordance, FixedC, RevoluteC
+from vkgl.lang.ir.values import Vector
+
+
+def offset_bounds(affordance: Affordance) -> tuple[float, float]:
+    """The offsets (m) its contact may take: the family's band, or (0, 0) for a point affordance."""
+    family = affordance.family
+    return (0.0, 0.0) if family is None else (float(family.lower.value), float(family.upper.value))
+
+
+def at_offset(affordance: Affordance, offset: float) -> Affordance:
+    """The member of `affordance`'s family at `offset` (m along its direction), without a family.
+
+    Raises ValueError for an offset outside the band (or any but 0 without a family).
+    """
+    lower, upper = offset_bounds(affordance)
+    if not lower - 1e-12 <= offset <= upper + 1e-12:
+        raise ValueError(f"offset {offset:g} m is outside the family's band [{lower:g}, {upper:g}] m")
+    family = affordance.family
+    if family is None or offset == 0.0:
+        return affordance.model_copy(update={"family": None})
+    along = _unit(family.along.values)
+    action = affordance.action
+    if isinstance(action, FixedC) and action.pose is not None:
+        position = _moved(action.pose.position, along, offset)
+        action = action.model_copy(update={"pose": action.pose.model_copy(update={"position": position})})
+    motion = affordance.motion
+    if isinstance(motion, RevoluteC) and family.drift is not None:
+        motion = motion.model_copy(update={"center": _moved(motion.center, family.drift.values, offset)})
+    return affordance.model_copy(update={"action": action, "motion": motion, "family": None})
+
+
+def _unit(values: tuple[float, ...]) -> tuple[float, ...]:
+    length = math.sqrt(sum(v * v for v in values))
+    return tuple(v / length for v in values)
+
+
+def _moved(point: Vector, direction: tuple[float, ...], offset: float) -> Vector:
+    return point.model_copy(update={"values": tuple(p + offset * d for p, d in zip(point.values, direction))})
+
+
+MEMBER_MARK = "@"
+"""`push_center_px@+3.12cm`: the member of `push_center_px`'s family at offset +3.12 cm (how plans name it)."""
+
+
+def member_name(name: str, offset: float) -> str:
+    """The name of the member at `offset` (m), to 0.01 cm: `name@+3.12cm`; `name` itself at offset 0."""
+    text = f"{100.0 * offset:+.2f}"
+    return name if float(text) == 0.0 else f"{name}{MEMBER_MARK}{text}cm"
+
+
+def member_offset(name: str) -> tuple[str, float]:
+    """(the family's name, the offset in m) of a member's name; (name, 0) for a plain name.
+
+    Raises ValueError for a name with a mark but no `+N.NNcm` after it.
+    """
+    base, mark, rest = name.partition(MEMBER_MARK)
+    if not mark:
+        return name, 0.0
+    if not rest.endswith("cm"):
+        raise ValueError(f"`{name}` names no member of a family (write `NAME@+1.25cm`)")
+    return base, float(rest[:-2]) / 100.0
+
+
+def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | None:
+    """The affordance called `name` among `affordances`, or the member `name` names (`push@+3.12cm`), renamed so;
+    None when there is none (or the offset is outside the family's band by more than its rounding)."""
+    base, offset = member_offset(name)
+    found = next((a for a in affordances if a.name == base), None)
+    if found is None or base == name:
+        return found
+    lower, upper = offset_bounds(found)
+    if not lower - 5e-5 <= offset <= upper + 5e-5:  # names round offsets to 0.01 cm
+        return None
+    return at_offset(found, min(max(offset, lower), upper)).model_copy(update={"name": name})
