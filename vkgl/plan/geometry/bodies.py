@@ -97,7 +97,8 @@ class GeometryCheck:
                     return _rejection(found, f"at the {when} of mode {k}")
             through = self._tool_through(graph, trace.start)
             if through is not None:
-                return _rejection([through], f"at the start of mode {k} (a tool touches what it acts on at its tip only)")
+                where = f"at the start of mode {k} (a tool touches what it acts on at its tip only)"
+                return _rejection([through], where)
         return None
 
     def _tool_through(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
