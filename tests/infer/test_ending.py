@@ -73,3 +73,23 @@ def test_a_block_still_sliding_when_its_push_ended_gives_an_open_range_and_its_t
     turn_group, turn = found["turn_px_left"]
     assert isinstance(turn.motion, RevoluteC) and not turn.motion.range.open
     assert turn_group.still_moving  # it was still turning, but a turn's range stays closed (docs/inference.md)
+
+
+def test_a_heavy_slab_pushed_at_its_centre_for_three_seconds_gives_an_open_slide(tmp_path) -> None:
+    # a generated body of the physical bench (tests/support/generated_tasks.py, SlabW) and its short push grid:
+    # the centre push slides it 3.6 cm in 3 s, still sliding; inference once called that trial `fixed`
+    source = (
+        "body SlabW {\n    shape box (16, 30, 6) cm\n    mass 1.44 kg\n    friction 0.5\n"
+        "    explore pushes {\n        contacts on faces +x steps 3\n        force normal 1 N\n"
+        "        duration 3 s\n    }\n}\n"
+    )
+    (tmp_path / "slabw.vkg").write_text(source, encoding="utf-8")
+    body = compile_file(str(tmp_path / "slabw.vkg")).bodies["SlabW"]
+    specs = [s for s in plan_trials(body) if abs(s.contact[1]) < 1e-9]
+    trials = assemble(body.name, specs, [run_trial(s, 0) for s in specs])
+    result = infer_library(trials, body_use="body.vkg", header="test")
+    found = {g.name: (g, a) for g, a in zip(result.groups, result.module.decls[0].affordances)}  # type: ignore[union-attr]
+    group, affordance = found["push_center_nx"]  # the +x face's push goes along -x
+    assert isinstance(affordance.motion, PrismaticC) and affordance.motion.range.open
+    assert 0.03 < affordance.motion.range.upper.value < 0.045
+    assert group.still_moving

@@ -127,3 +127,31 @@ def test_posterior_is_a_distribution_over_the_four_types() -> None:
     assert set(edge.posterior) == {"fixed", "prismatic", "revolute", "free"}
     assert sum(edge.posterior.values()) == pytest.approx(1.0)
     assert all(0.0 <= p <= 1.0 for p in edge.posterior.values())
+
+
+def _steady_slide(length: float, seconds: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
+    """Poses of a body slid `length` m along x at a steady speed for `seconds` s, at 50 Hz; and the times."""
+    t = np.arange(0.0, seconds + 1e-9, 0.02)
+    T = np.tile(np.eye(4), (len(t), 1, 1))
+    T[:, 0, 3] = length * t / seconds
+    return T, t
+
+
+def test_a_slide_of_three_tolerances_is_not_fixed() -> None:
+    # a 16 x 30 x 6 cm slab pushed with 1 N slides 3.7 cm in 3 s; its state costs the prismatic model more
+    # nats than its residuals cost the at-rest one, so by the scores alone the body stayed where it was ...
+    poses, t = _steady_slide(0.03)
+    data = _edge(poses, 0.0002, np.deg2rad(0.05))
+    assert infer_edge(data, relative=True).type == "fixed"
+    # ... but its pose ended 3 tolerances from its start: it moved, and the slide is the MAP motion
+    edge = infer_edge(data, relative=True, t=t)
+    assert edge.type == "prismatic" and edge.posterior["fixed"] == 0.0
+    assert edge.params["axis"] @ np.array([1.0, 0.0, 0.0]) > 0.999
+    assert edge.best.states[-1] == pytest.approx(0.03, abs=0.002)
+
+
+def test_a_body_that_stays_within_its_tolerance_is_still_fixed() -> None:
+    poses, t = _steady_slide(0.0)
+    assert infer_edge(_edge(poses, 0.003, np.deg2rad(1.0)), relative=True, t=t).type == "fixed"
+    creep, t = _steady_slide(0.012)  # a 1.2 cm creep ends inside twice the 1 cm tolerance
+    assert infer_edge(_edge(creep, 0.0002), relative=True, t=t).type == "fixed"

@@ -96,3 +96,76 @@ def test_a_body_in_the_way_is_pushed_just_out_of_the_path_not_a_fraction_of_its_
     block_half_width = np.ptp(footprint(problem, "block", problem.bodies["block"].rest)[:, 1]) / 2
     gap = min(abs(block2[:, 1] - block_path_y).min() - block_half_width, 1.0)
     assert MARGIN - 0.002 <= gap <= MARGIN + 0.02, gap
+
+
+SHORT_SLIDES = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.affordances.block
+
+body Crate {
+    shape box (10, 10, 5) cm
+    mass 0.3 kg
+}
+
+affordances Crate {
+    affordance push_center_ny {
+        action fixed at (0, 5, 0) cm yaw -90deg
+        motion prismatic along (0, -1, 0) from (0, 0, 0) cm range 0 to 12 cm
+    }
+}
+
+scene short {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.4, 0) m yaw 0deg
+    crate : Crate on table at (0.6, 0.03) m yaw 0deg
+}
+
+task through {
+    scene short
+    goal block at (0.7, 0) m within 1 cm
+}
+"""
+
+
+def test_a_blocker_moved_twice_goes_all_the_way_first_when_one_motion_cannot_clear_the_path() -> None:
+    """The crate slides at most 12 cm a contact and must go 20 cm aside (out of the 20 cm wide corridor of the
+    block, with the margin): with two pushes of it before the block's, the first goes its whole range and the
+    second the rest; one push alone clears nothing."""
+    import time
+
+    from vkgl.plan.graphs.graph import Action, Engagement
+    from vkgl.plan.graphs.rollout import extend, start_sequence
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.task_space.clearing import cleared_values
+    from vkgl.plan.task_space.feasible import TaskSolution, bounds, task_space
+
+    program = vkgl.compile_source(SHORT_SLIDES, "short.vkg", base_dir=_EMPTY)
+    problem = build_problem(program, program.tasks["through"] if isinstance(program.tasks, dict) else program.tasks[0])
+
+    def sequence(pushes: int):
+        seq = start_sequence(problem)
+        crate = Engagement("arm.fingertip", "crate", "push_center_ny")
+        for _ in range(pushes):
+            for op in ("add", "remove"):
+                seq, _ = extend(problem, seq, Action(op, crate))
+        seq, _ = extend(problem, seq, Action("add", Engagement("arm.fingertip", "block", "push_center_px")))
+        return seq
+
+    for pushes, expect_clear in ((1, False), (2, True)):
+        seq = sequence(pushes)
+        found = task_space(problem, seq, time.perf_counter() + 30)
+        assert isinstance(found, TaskSolution), found
+        lower, upper = bounds(problem, seq)
+        cleared = cleared_values(problem, seq, found.values, found.traces, lower, upper)
+        if not expect_clear:
+            assert cleared is None
+            continue
+        assert cleared is not None
+        first, second = cleared[0], cleared[1]
+        assert first == upper[0] == 0.12  # the whole range
+        assert 0.0 < second < upper[1]
+        # the crate ends just clear: its +y face (0.03 + 0.05 - moved) MARGIN below the corridor's edge at -0.10
+        face = 0.03 + 0.05 - (first + second)
+        assert -0.10 - MARGIN - 0.01 <= face <= -0.10 - MARGIN + 0.003, face

@@ -171,3 +171,35 @@ def test_a_held_tools_transits_keep_clear_of_every_body(tmp_path: Path) -> None:
             in_hand = np.linalg.inv(plan.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
             held = Held(step.body, in_hand) if step.op == "add" else None
     assert transits >= 1  # the plan carries the hook from one contact to the next
+
+
+def test_a_tool_touches_the_body_it_acts_on_at_its_tip_and_never_passes_through_it() -> None:
+    """The hook pulling the block may overlap it where its tip touches (at most the tool's 2 cm thickness); the
+    same hook 8 cm nearer the base, its cross-piece inside the block, is rejected before joint space."""
+    from vkgl.plan.geometry.bodies import GeometryCheck
+    from vkgl.plan.graphs.graph import Engagement, KGraph
+    from vkgl.plan.graphs.rollout import ModeTrace
+
+    program = vkgl.compile(EXAMPLES / "tasks" / "c_hook_pull.vkg")
+    plan = vkgl.solve(program)
+    assert plan.status == "solved" and plan.problem is not None, plan.reason
+    grasp, pull = plan.steps
+    graph = KGraph(
+        (
+            Engagement(grasp.effector, grasp.body, grasp.affordance.split(".")[-1]),
+            Engagement(pull.effector, pull.body, pull.affordance.split(".")[-1]),
+        )
+    )
+    check = GeometryCheck(plan.problem)
+
+    def clash(shift: np.ndarray) -> str | None:
+        poses = {name: pose.copy() for name, pose in pull.poses_start.items()}
+        poses["hook"][:3, 3] += shift
+        rejection = check.bodies([graph], [ModeTrace(poses, poses, [], False, {})])
+        return None if rejection is None else rejection.why
+
+    assert clash(np.zeros(3)) is None
+    toward_base = -pull.poses_start["block"][:3, 3] / np.linalg.norm(pull.poses_start["block"][:3, 3])
+    toward_base[2] = 0.0
+    why = clash(0.08 * toward_base)
+    assert why is not None and "hook would pass through block" in why and "at its tip only" in why, why

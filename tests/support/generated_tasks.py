@@ -104,12 +104,15 @@ class BodyType:
         """The key of the learned-affordance cache: a hash of the body's source and of what inference writes.
 
         `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
-        `range ... open`), so a cache learned by an older inference is not reused;
-        `LEARNED_MODULES` with what it writes into modules only (`family` lines).
+        `range ... open`), `INFERENCE_REVISION` with what it makes of the same
+        trials, `LEARNED_MODULES` with what it writes into modules only (`family` lines), so a cache learned
+        by an older inference is not reused.
         """
         from vkgl.formats.infer_report import INFER_REPORT_FORMAT
+        from vkgl.infer.library import INFERENCE_REVISION
 
-        return hashlib.sha256((self.source() + INFER_REPORT_FORMAT + LEARNED_MODULES).encode()).hexdigest()[:16]
+        key = f"{self.source()}{INFER_REPORT_FORMAT}{LEARNED_MODULES} inference {INFERENCE_REVISION}"
+        return hashlib.sha256(key.encode()).hexdigest()[:16]
 
 
 GENERATED_TYPES = (

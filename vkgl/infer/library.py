@@ -28,6 +28,10 @@ from vkgl.infer.trial import TrialInference, infer_trials
 from vkgl.lang.ir.nodes import Affordance, AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module
 
+INFERENCE_REVISION = 2
+"""Bumped when inference writes other affordances from the same trials, so that caches of learned modules keyed
+on it are learned again (2: a body whose pose ended off its start is not `fixed`, docs/inference.md)."""
+
 
 @dataclass
 class InferenceResult:

@@ -6,6 +6,14 @@ pose costs 6, a prismatic or revolute joint a few parameters plus one state
 per sample, free motion six states per sample. So sliding is never "free":
 a constrained model wins whenever it explains the samples to within a couple
 of noise sigmas. The types' prior is uniform beyond that.
+
+One exception, for a motion edge: `fixed` there is the sharp hypothesis "the
+body stayed where it started", and a body whose pose ended more than
+`AT_REST_TOLERANCES` tolerances from its start (`moved_off_start`) is not at
+rest, whatever the scores say. Without it a slide of a few tolerances is
+called fixed: the per-sample state of the prismatic model costs 1/2 log(n)
+nats a sample, more than a residual of 3 tolerances costs the at-rest model
+(a 16 x 30 x 6 cm slab pushed 3.7 cm in 3 s: fixed 2430, prismatic 2369).
 """
 
 from __future__ import annotations
@@ -16,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from vkgl.infer.data import EdgeData
+from vkgl.infer.ending import END_WINDOW
 from vkgl.infer.models import (
     TYPES,
     ModelFit,
@@ -26,6 +35,16 @@ from vkgl.infer.models import (
     score_bound,
     start_frame,
 )
+
+AT_REST_TOLERANCES = 2.0
+"""A body whose pose ended more than this many tolerances (`sigma_p`, `sigma_r`) from its start moved.
+
+Under the at-rest model each sample's position error is the tolerance's 3-d
+Gaussian, beyond 2 sigma with probability 0.26; the test asks that of the
+median of the trial's last `END_WINDOW` (at least half of its samples), so a
+body at rest fails it with probability below 1 % for 25 independent samples
+(docs/inference.md, "Did the body move?", has the measured displacements).
+"""
 
 PRUNE_MARGIN = 30.0
 REFINE_MARGIN = 10.0
@@ -66,7 +85,7 @@ def posterior(scores: dict[str, float]) -> dict[str, float]:
     return {k: float(v) for k, v in zip(TYPES, prob)}
 
 
-def infer_edge(data: EdgeData, *, relative: bool) -> EdgeInference:
+def infer_edge(data: EdgeData, *, relative: bool, t: np.ndarray | None = None) -> EdgeInference:
     """Fit the models to `data` and pick the MAP type.
 
     `relative`: the edge is a motion relative to its first sample, so the
@@ -78,6 +97,9 @@ def infer_edge(data: EdgeData, *, relative: bool) -> EdgeInference:
     score cannot exceed a perfect fit minus its penalty, and when that bound is
     far below the best score so far (the edge barely moves) the bound stands
     in for its score (its posterior is then an upper bound, ~0).
+
+    `t`: the samples' times (s) of a motion edge; with them a body that moved
+    off its start (`moved_off_start`) cannot be `fixed` (its posterior is 0).
     """
     fits = {kind: fit_model(kind, data, relative=relative) for kind in ("fixed", "prismatic", "free")}
     _share_independence(fits, data)
@@ -90,11 +112,31 @@ def infer_edge(data: EdgeData, *, relative: bool) -> EdgeInference:
             fits["revolute"] = refine_revolute(fits["revolute"], data)
             _share_independence(fits, data)
     scores = {kind: fits[kind].score if kind in fits else bound for kind in TYPES}
+    if relative and t is not None and moved_off_start(data, t):
+        scores["fixed"] = -np.inf
     post = posterior(scores)
-    best_type = max(fits, key=lambda k: (post[k], -TYPES.index(k)))
+    best_type = max((k for k in fits if np.isfinite(scores[k])), key=lambda k: (post[k], -TYPES.index(k)))
     best = fits[best_type]
     params = express_in(best, start_frame(best, data)) if relative else dict(best.params)
     return EdgeInference(type=best_type, posterior=post, fits=fits, params=params)
+
+
+def moved_off_start(data: EdgeData, t: np.ndarray) -> bool:
+    """Whether a relative motion ended off its start: the median over its last `END_WINDOW` of the position's
+    distance from the start beyond `AT_REST_TOLERANCES` x `sigma_p`, or of the orientation's angle beyond that
+    many `sigma_r` (the start: the median of the first plausible samples, the at-rest model's own pose)."""
+    if data.n < 2 or len(t) != data.n:
+        return False
+    start = fit_model("fixed", data, relative=True)
+    end = np.asarray(t) >= float(t[-1]) - END_WINDOW
+    off = np.linalg.norm(data.p[end] - start.pred_p[0], axis=1)
+    if float(np.median(off)) > AT_REST_TOLERANCES * data.sigma_p:
+        return True
+    turned = end & data.has_rot
+    if not turned.any():
+        return False
+    angles = (start.pred_rot[0].inv() * data.rot[np.flatnonzero(turned)]).magnitude()
+    return bool(float(np.median(angles)) > AT_REST_TOLERANCES * data.sigma_r)
 
 
 def _share_independence(fits: dict[str, ModelFit], data: EdgeData) -> None:

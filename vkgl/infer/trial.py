@@ -56,7 +56,7 @@ def infer_trial(trials: Trials, i: int) -> TrialInference:
         result.skipped = str(exc)
         return result
     result.samples = edges.samples
-    result.motion = infer_edge(edges.motion, relative=True)
+    result.motion = infer_edge(edges.motion, relative=True, t=edges.t)
     if result.motion.type in ("prismatic", "revolute"):
         result.ending = motion_ending(edges.t, result.motion.best.states)
     if edges.action is not None:

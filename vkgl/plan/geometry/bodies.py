@@ -9,7 +9,8 @@ for the arm once joint space found its configurations (`arm`):
 - no body a keep-out region of the task applies to entering it along its motion
   (`vkgl.plan.geometry.keep_out`);
 - every mode's start and end poses free of overlap (a tool and the body it
-  acts on may touch; a released tool must land clear of the others);
+  acts on may touch, by no more than the tool's thickness: `_tool_through`;
+  a released tool must land clear of the others);
 - the arm's links at the configurations inverse kinematics returned, and a
   held tool in its hand, against the bodies and the table (the body the hand
   touches excepted).
@@ -58,6 +59,7 @@ class GeometryCheck:
         self._arm: ArmCollision | None = None
         self._transit: ArmCollision | None = None
         self._held_transit: dict[tuple[str, str | None], ArmCollision] = {}
+        self._thicknesses: dict[str, float] = {}
         self.queries = 0
 
     @property
@@ -111,7 +113,37 @@ class GeometryCheck:
                 found = self.scene.overlap(poses, ignore=allowed)
                 if found:
                     return _rejection(found, f"at the {when} of mode {k}")
+            through = self._tool_through(graph, trace.start)
+            if through is not None:
+                where = f"at the start of mode {k} (a tool touches what it acts on at its tip only)"
+                return _rejection([through], where)
         return None
+
+    def _tool_through(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
+        """The overlap of a tool with the body it acts on deeper than the tool's thickness, or None.
+
+        At a contact the tool's frame lies on the body's face, so the tool overlaps it by at most its own
+        thickness (its part's half width where the frame sits at the part's centre: the Stick's and Hook's
+        tips, 1 cm; the Hook behind the Drawer's round bar, 1.4 cm); deeper, another part of the tool (a
+        hook's shaft) passes through the body, which the arm's approach would find only after joint space.
+        Checked at the mode's start: the tool and the body move together through the mode."""
+        acting = [(tool, e.body) for e in graph.engaged if (tool := self.problem.effector(e.effector).tool)]
+        if not acting:
+            return None
+        self.scene.place(poses)
+        for tool, body in acting:
+            self.queries += 1
+            found = self.scene.collide(self.scene.group([tool]), self.scene.group([body]))
+            deepest = max(found, key=lambda c: c.depth, default=None)
+            if deepest is not None and deepest.depth > self._thickness(tool):
+                return deepest
+        return None
+
+    def _thickness(self, tool: str) -> float:
+        """The least width of any part of `tool` (m): how deep its tip may sit in what it acts on."""
+        if tool not in self._thicknesses:
+            self._thicknesses[tool] = min(2.0 * float(half.min()) for _, half in self.scene.part_boxes_local(tool))
+        return self._thicknesses[tool]
 
     def arm(self, graphs: Iterable[KGraph], traces: list[ModeTrace], q_start: list, q_end: list) -> Rejection | None:
         """Why the arm (or a tool in its hand) would hit a body or the table at its configurations, or None."""

@@ -21,7 +21,10 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    `ceil((ψ - t_ψ) / θmax)` turning modes; when some turn's axis is not
    vertical every turn counts as half a turn (one mode could give any heading). No
    turning affordance and a heading off by more than its tolerance: never
-   (`inf`). A prismatic joint's opening moves by at most the slide per mode
+   (`inf`). Likewise a body whose every moving affordance slides it along
+   one axis of its frame keeps its heading and its origin on the world line
+   through its rest pose along that axis: a goal position farther from that
+   line than its tolerance is never reached (`inf`). A prismatic joint's opening moves by at most the slide per mode
    (`|axis · joint_axis| <= 1`); a hinge's opening counts one mode. `N_b` is
    the largest of these (a mode may serve several at once).
 2. **Moving modes still to come**: `m_b = max(0, N_b - k_b)` where `k_b` counts
@@ -162,6 +165,9 @@ def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[A
         if far.needed > _SLACK:
             step, name = max(((_translation(a), a.name) for a in movers), default=(0.0, ""))
             parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
+            off = _off_its_line(rest, goal, movers)
+            if off is not None and off - goal.tol_position > _SLACK:
+                parts.append((math.inf, _off_line_words(body, movers, _Gap(off, goal.tol_position, "cm"))))
     if goal.yaw is not None:
         turn = _Gap(abs(wrap_angle(yaw_of(rest) - goal.yaw)), goal.tol_yaw, "deg")
         if turn.needed > _SLACK:
@@ -222,6 +228,38 @@ def _no_turn(body: PlanBody, gap: _Gap) -> str:
         f"{body.name}'s heading is {gap.words(gap.distance)} from its goal (within {gap.words(gap.tolerance)} "
         f"wanted) and no affordance of {body.type.name} turns it ({names}): no sequence of any length reaches "
         f"that heading"
+    )
+
+
+def _off_its_line(rest: np.ndarray, goal: GoalSpec, movers: list[Affordance]) -> float | None:
+    """How far the goal position lies from the one line a body that only slides along one axis can be on (m), or
+    None when its motions span more than a line (a turn, or slides along two axes).
+
+    Slides keep the heading, and only a body's own affordances move it, so a body whose every moving
+    affordance slides along one axis of its frame keeps its origin on the world line through where it rests
+    along that axis, whatever the sequence."""
+    if not movers or any(a.motion.type != "prismatic" for a in movers):
+        return None
+    axes = [unit_axis_and_center(a.motion)[0] for a in movers]
+    if any(abs(float(np.dot(axes[0], other))) < 1.0 - 1e-9 for other in axes[1:]):
+        return None
+    assert goal.position is not None
+    dims = len(goal.position)
+    origin, direction = rest[:dims, 3], (rest[:3, :3] @ axes[0])[:dims]
+    offset = np.asarray(goal.position, dtype=float) - origin
+    length = float(np.linalg.norm(direction))
+    if length < 1e-9:  # a vertical slide: the position in these dimensions never changes
+        return float(np.linalg.norm(offset))
+    along = direction / length
+    return float(np.linalg.norm(offset - np.dot(offset, along) * along))
+
+
+def _off_line_words(body: PlanBody, movers: list[Affordance], gap: _Gap) -> str:
+    names = ", ".join(a.name for a in movers)
+    return (
+        f"{body.name}'s goal position lies {gap.words(gap.distance)} off the line it slides on (within "
+        f"{gap.words(gap.tolerance)} wanted), and every affordance of {body.type.name} that moves it slides it "
+        f"along that line ({names}): no sequence of any length reaches that position"
     )
 
 

@@ -159,7 +159,11 @@ def cleared_values(
     problem: Problem, seq: Sequence, values: np.ndarray, traces: list[ModeTrace], lower: np.ndarray, upper: np.ndarray
 ) -> np.ndarray | None:
     """`values` with every blocker's value replaced by the smallest that clears the later motions' corridors
-    (`traces`: the rollout of `values`); None when some blocker cannot clear them or there is none."""
+    (`traces`: the rollout of `values`); None when some blocker cannot clear them or there is none.
+
+    A blocker whose whole range does not clear them goes to the end of its range when the sequence moves the
+    same body again later (a Block turned twice, 25 deg at most each: the first turn all the way, the second as
+    far as the rest needs); otherwise nothing clears it."""
     found = blockers(problem, seq)
     if not found:
         return None
@@ -172,9 +176,12 @@ def cleared_values(
         if not ways:
             continue
         start = traces[blocker.mode].start[body]
-        value = clearing_value(problem, blocker, start, ways, float(lower[blocker.index]), float(upper[blocker.index]))
+        low, high = float(lower[blocker.index]), float(upper[blocker.index])
+        value = clearing_value(problem, blocker, start, ways, low, high)
         if value is None:
-            return None
+            if not any(later.engagement.body == body for later in found[k + 1 :]):
+                return None
+            value = high  # as far as this motion goes: a later motion of the same body takes it the rest of the way
         out[blocker.index] = value
     return out
 
