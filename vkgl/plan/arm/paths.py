@@ -45,6 +45,8 @@ from vkgl.motion.approach import CartesianFailure, follow_poses
 from vkgl.motion.arm_collision import Held
 from vkgl.motion.transit import TransitFailure
 from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
+from vkgl.motion.moves import GRASP_STANDOFF
+from vkgl.plan.arm.approaches import DOWN
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
@@ -121,7 +123,10 @@ class ArmPathPlanner:
             pending: list[PendingTransit] = []
             for k, step in enumerate(steps, start=1):
                 following = steps[k] if k < len(steps) else None
-                planned = self._planned_step(k, step, state, last=following is None, following=following)
+                previous = steps[k - 2] if k > 1 else None
+                planned = self._planned_step(
+                    k, step, state, last=following is None, following=following, places=_places(step, previous)
+                )
                 if isinstance(planned, Rejection):
                     return planned
                 found, transit = planned
@@ -145,18 +150,26 @@ class ArmPathPlanner:
         return steps
 
     def _planned_step(
-        self, k: int, step: StepT, state: ArmState, *, last: bool = False, following: PlanStepRecord | None = None
+        self,
+        k: int,
+        step: StepT,
+        state: ArmState,
+        *,
+        last: bool = False,
+        following: PlanStepRecord | None = None,
+        places: bool = False,
     ) -> tuple[StepT, PendingTransit | None] | Rejection:
         """The step with its straight moves and the transit it needs; a contact tries each arm configuration
         that carries its motion in turn, until one can be approached (and, for the `last` step, left again).
-        A release happens where the arm is (its `q_start`/`q_end` become those joints)."""
+        A release happens where the arm is (its `q_start`/`q_end` become those joints), unless it `places` a
+        carried body: then its path carries the body to its place first (`q_start`, as the search solved it)."""
         if step.op != "add" or step.motion == "free":
             q_before = state.q
-            found = self._step(k, step, state, releases_next=_releases(following, state.held))
+            found = self._step(k, step, state, releases_next=_releases(following, state.held), places=places)
             if isinstance(found, Rejection):
                 return found
             segments, transit = found
-            if step.op == "remove" and step.motion == "free":
+            if step.op == "remove" and step.motion == "free" and not places:
                 return replace(step, path=segments, q_start=q_before, q_end=q_before), transit
             return replace(step, path=segments), transit
         label = f"step {k} ({step.title()})"
@@ -252,9 +265,10 @@ class ArmPathPlanner:
     # ------------------------------------------------------------ step kinds
 
     def _step(
-        self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False
+        self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False, places: bool = False
     ) -> tuple[tuple[ArmSegment, ...], PendingTransit | None] | Rejection:
-        """The step's straight moves from where `state` has the arm, and the transit before its approach."""
+        """The step's straight moves from where `state` has the arm, and the transit before its approach (for
+        a step that `places` a carried body, the transit with the body in the hand, then down onto its place)."""
         label = f"step {k} ({step.title()})"
         segments: list[ArmSegment] = []
         if state.lift:
@@ -272,6 +286,8 @@ class ArmPathPlanner:
             if isinstance(retreat, Rejection):
                 return retreat
             return (*segments, retreat), None
+        if step.op == "remove" and places:
+            return self._place(k, step, state, segments, label)
         if step.op == "remove":  # a release: the tool stays where the plan put it; the hand lifts next
             state.held, state.lift = None, True
             return tuple(segments), None
@@ -289,6 +305,20 @@ class ArmPathPlanner:
             state.held, state.lift = Held(step.body, in_hand), True
         state.q = np.asarray(step.q_end, dtype=float)
         return tuple(segments), transit
+
+    def _place(
+        self, k: int, step: PlanStepRecord, state: ArmState, segments: list[ArmSegment], label: str
+    ) -> tuple[tuple[ArmSegment, ...], PendingTransit | None] | Rejection:
+        """A carried body set down: the transit with it in the hand (lifted clear: over the others when they
+        are in the way) to above its place, then straight down onto it (`GRASP_STANDOFF`, after the held
+        body's `TOOL_DESCENT`), where the hand lets go and lifts next."""
+        down = self.moves.approach(step, state, f"{label}, setting {step.body} down", DOWN, GRASP_STANDOFF)
+        if isinstance(down, Rejection):
+            return down
+        transit = PendingTransit(k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label)
+        state.held, state.lift = None, True
+        state.q = np.asarray(step.q_start, dtype=float)
+        return (*segments, down.segment), transit
 
     def _transit(self, transit: PendingTransit, deadline: float | None) -> ArmSegment | Rejection:
         """`transit` planned, or why it cannot be (naming what blocks one of its ends when one is blocked)."""
@@ -334,6 +364,20 @@ class _ClosestMiss:
     def note(self, rank: tuple[int, float], words: str) -> None:
         if self.rank is None or rank > self.rank:
             self.rank, self.words = rank, words
+
+
+def _places(step: PlanStepRecord, previous: PlanStepRecord | None) -> bool:
+    """Whether `step` lets go of a body carried since the step before grasped it (pick and place: the search
+    lets go of a tool it has just grasped never, `vkgl.plan.graphs.graph.successors`)."""
+    return (
+        previous is not None
+        and step.op == "remove"
+        and step.motion == "free"
+        and previous.op == "add"
+        and previous.motion == "free"
+        and previous.body == step.body
+        and previous.effector == step.effector
+    )
 
 
 def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:

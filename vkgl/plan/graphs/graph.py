@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vkgl.lang.ir.nodes import Constraint
+from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.problem import Problem
 
 WORLD = "world"
@@ -113,8 +114,10 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
       motion has a `range`: then one mode may not move it that far, and a
       longer motion is several contacts in a row.
     REMOVE an engagement when no tool frame of the target acts (a tool in use
-    stays in the hand), and not a grasp just added (picking a tool up and
-    putting it back down changes nothing).
+    stays in the hand), and not a grasp of a tool just added (picking a tool
+    up and putting it back down changes nothing); a grasp of any other free
+    body may be let go of at once: pick and place, the body carried in between
+    and set down where task space decides (`vkgl.plan.graphs.carry`).
     """
     out = []
     for effector in problem.effectors:
@@ -132,7 +135,8 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
     for e in graph.engaged:
         if _tool_busy(problem, graph, e.body):
             continue
-        if last is not None and last.op == "add" and last.engagement == e and motion_type(problem, e) == "free":
+        just_grasped = last is not None and last.op == "add" and last.engagement == e
+        if just_grasped and motion_type(problem, e) == "free" and not carriable(problem, e.body):
             continue
         out.append(Action("remove", e))
     return out

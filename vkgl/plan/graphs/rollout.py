@@ -21,6 +21,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
+from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, motion_type
 from vkgl.plan.problem.problem import Problem
 
@@ -39,7 +40,9 @@ class Sequence:
     engagement's body during that mode. `dependent`: bodies whose current pose
     depends on some motion value (the others are where the rollout with all
     values 0 puts them, exactly). `zero_poses`: the poses after the last mode
-    with every value 0.
+    with every value 0. `carries[j] = (mode, grasp)`: the grasped body is
+    carried during that mode and set down where values
+    `len(variables) + 3 j .. + 3` put it (`vkgl.plan.graphs.carry`).
     """
 
     actions: tuple[Action, ...] = ()
@@ -47,6 +50,12 @@ class Sequence:
     variables: tuple[tuple[int, Engagement], ...] = ()
     dependent: frozenset[str] = frozenset()
     zero_poses: dict[str, np.ndarray] = field(default_factory=dict, compare=False)
+    carries: tuple[tuple[int, Engagement], ...] = ()
+
+    @property
+    def size(self) -> int:
+        """How many values the sequence has: its motion values, then three per carry."""
+        return len(self.variables) + CARRY_VALUES * len(self.carries)
 
     @property
     def depth(self) -> int:
@@ -84,6 +93,10 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
     hand = None
     if action.op == "add" and e.body not in dependent:
         hand = hand_pose_at(problem, graph, poses, action.engagement)
+    carries = seq.carries
+    if is_carry(problem, seq, action):
+        carries += ((mode - 1, e),)
+        dependent.add(e.body)
     variables = list(seq.variables)
     for engaged in graph.engaged:
         if motion_type(problem, engaged) in ("prismatic", "revolute"):
@@ -93,8 +106,25 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
                 tool = problem.effector(other.effector).tool
                 if tool is not None and other.body == engaged.body:
                     dependent.add(tool)
-    child = Sequence(seq.actions + (action,), seq.graphs + (graph,), tuple(variables), frozenset(dependent), poses)
+    child = Sequence(
+        seq.actions + (action,), seq.graphs + (graph,), tuple(variables), frozenset(dependent), poses, carries
+    )
     return child, hand
+
+
+def is_carry(problem: Problem, seq: Sequence, action: Action) -> bool:
+    """Whether `action` lets go of a body grasped by the action just before it (pick and place): the body is
+    carried in between and set down where the carry's values put it."""
+    e = action.engagement
+    last = seq.last
+    return (
+        action.op == "remove"
+        and last is not None
+        and last.op == "add"
+        and last.engagement == e
+        and motion_type(problem, e) == "free"
+        and carriable(problem, e.body)
+    )
 
 
 def _transition(problem: Problem, poses: dict[str, np.ndarray], action: Action) -> None:
@@ -236,7 +266,8 @@ def bounds(problem: Problem, seq: Sequence) -> tuple[np.ndarray, np.ndarray]:
     pairs = [value_bounds(problem.affordance(e.body, e.affordance).motion) for _, e in seq.variables]
     lower = np.asarray([p[0] for p in pairs], dtype=float)
     upper = np.asarray([p[1] for p in pairs], dtype=float)
-    return lower, upper
+    carry_low, carry_high = carry_bounds(len(seq.carries))
+    return np.concatenate([lower, carry_low]), np.concatenate([upper, carry_high])
 
 
 class _Fractions(dict):
@@ -257,7 +288,9 @@ class ModeTrace:
     `hand`: the hand's world poses at evenly spaced fractions of the mode's
     motion (one pose when it only touches at the start, e.g. a grasp; empty
     when the hand is free); `yaw_free`: whether only its position and z axis
-    matter; `values`: the motion value of each engagement of the mode.
+    matter; `values`: the motion value of each engagement of the mode;
+    `carried`: the grasps whose bodies the hand carries during the mode, with
+    their carry values (dx, dy, dyaw).
     """
 
     start: dict[str, np.ndarray]
@@ -265,6 +298,12 @@ class ModeTrace:
     hand: list[np.ndarray]
     yaw_free: bool
     values: dict[Engagement, float]
+    carried: dict[Engagement, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def moved(self) -> set[str]:
+        """The bodies the mode moves: by a motion value, or carried."""
+        return {e.body for e in self.values} | {e.body for e in self.carried}
 
 
 def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 5) -> list[ModeTrace]:
@@ -273,6 +312,10 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
     by_mode: dict[int, list[tuple[Engagement, float]]] = {}
     for (mode, e), v in zip(seq.variables, values):
         by_mode.setdefault(mode, []).append((e, float(v)))
+    carry_values = np.asarray(values[len(seq.variables) :], dtype=float).reshape(-1, CARRY_VALUES)
+    carries: dict[int, dict[Engagement, np.ndarray]] = {}
+    for (mode, e), c in zip(seq.carries, carry_values):
+        carries.setdefault(mode, {})[e] = c
     traces = []
     for k, graph in enumerate(seq.graphs):
         if k > 0:
@@ -283,13 +326,29 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
         for e, v in moves:
             paths[e] = motion_matrices(problem.affordance(e.body, e.affordance).motion, _FRACTIONS[samples] * v)
             poses[e.body] = start[e.body] @ paths[e][-1]
+        carried = carries.get(k, {})
+        for e, c in carried.items():
+            poses[e.body] = carried_pose(start[e.body], c)
         for e in graph.engaged:
             tool = problem.effector(e.effector).tool
             if tool is not None:
                 poses[tool] = tool_pose_on(problem, e, poses[e.body])
-        hand, yaw_free = _hand_path(problem, seq, k, start, paths)
-        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}))
+        if carried:
+            hand, yaw_free = _carry_hand_path(problem, carried, start, poses), False
+        else:
+            hand, yaw_free = _hand_path(problem, seq, k, start, paths)
+        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, dict(carried)))
     return traces
+
+
+def _carry_hand_path(
+    problem: Problem, carried: dict[Engagement, np.ndarray], start: dict[str, np.ndarray], end: dict[str, np.ndarray]
+) -> list[np.ndarray]:
+    """The hand while it carries a body: at the grasp where the body is picked up and where it is set down (the
+    way between is lifted over the other bodies, planned with the arm's paths)."""
+    (e,) = carried  # one hand, one grasp
+    grasp = problem.action(e.body, e.affordance)
+    return [start[e.body] @ grasp, end[e.body] @ grasp]
 
 
 def acting_engagement(problem: Problem, graph: KGraph) -> Engagement | None:

@@ -179,9 +179,12 @@ def _push(
 
 
 def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
-    """Whether the last mode of `seq` moves a body that a goal names."""
+    """Whether the last mode of `seq` moves a body that a goal names, or its last action sets one down that
+    the mode before carried."""
     mode = seq.depth - 1
     goal_bodies = {g.body for g in problem.goals}
+    if any(m == mode - 1 and e.body in goal_bodies for m, e in seq.carries):
+        return True
     return any(m == mode and e.body in goal_bodies for m, e in seq.variables)
 
 

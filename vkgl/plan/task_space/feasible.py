@@ -32,6 +32,7 @@ from vkgl.lang.ir.regions import footprint, overlap_depth
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import closed_form
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
@@ -89,7 +90,7 @@ class _Evaluator:
     def __init__(self, problem: Problem, seq: Sequence) -> None:
         self.problem, self.seq = problem, seq
         self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
-        self.last_x = np.zeros(len(seq.variables))
+        self.last_x = np.zeros(seq.size)
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(goal residuals scaled by their tolerances, constraint values <= 0 when satisfied)."""
@@ -172,7 +173,7 @@ def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
     hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
     out = list(reach_violations(problem, np.array(hands))) if hands else []
     for trace in traces:
-        for name in {e.body for e in trace.values}:
+        for name in trace.moved:
             out.extend(_stay_constraints(problem, name, trace.end[name]))
             out.extend(_keep_out_depths(problem, name, trace.end[name]))
     return np.asarray(out if out else [-1.0], dtype=float)
@@ -260,6 +261,9 @@ def task_space(
     if isinstance(start, Rejection):
         return start
     guess, pinned = start
+    if seq.carries:
+        carry_guess, carry_pinned = carry_start(problem, seq, guess)
+        guess, pinned = np.concatenate([guess, carry_guess]), pinned and carry_pinned
     evaluator = _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq)
     guess = np.clip(guess, lower, upper)
@@ -295,7 +299,7 @@ def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
     tolerance is then left to the execution.
     """
     bodies = {goal.body for goal in problem.goals if goal.region is not None}
-    scaled = np.array([e.body in bodies for _, e in seq.variables], dtype=bool)
+    scaled = np.array([e.body in bodies for _, e in seq.variables] + [False] * (seq.size - len(seq.variables)))
     if not scaled.any():
         return x
 
@@ -400,12 +404,12 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
             if found is not None:
                 return found
     for trace in traces:  # a limit the optimiser ran into (or past) is what stopped it
-        for name in sorted({e.body for e in trace.values}):
+        for name in sorted(trace.moved):
             excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
             if excess > -1e-4:
                 return Rejection(Kind.TABLE, limit_words(problem, name, trace.end[name]), max(excess, 0.0))
     for trace in traces:  # a keep-out region the optimiser could not get out of
-        for name in sorted({e.body for e in trace.values}):
+        for name in sorted(trace.moved):
             points = footprint(problem.footprint_points(name), trace.end[name])
             for region in (k for k in problem.keep_out if k.applies_to(name)):
                 depth = overlap_depth(region.region, points)
