@@ -43,9 +43,9 @@ from scipy.spatial.transform import Rotation
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import CartesianFailure, follow_poses
 from vkgl.motion.arm_collision import Held
+from vkgl.motion.moves import GRASP_STANDOFF
 from vkgl.motion.transit import TransitFailure
 from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
-from vkgl.motion.moves import GRASP_STANDOFF
 from vkgl.plan.arm.approaches import DOWN
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
@@ -315,7 +315,9 @@ class ArmPathPlanner:
         down = self.moves.approach(step, state, f"{label}, setting {step.body} down", DOWN, GRASP_STANDOFF)
         if isinstance(down, Rejection):
             return down
-        transit = PendingTransit(k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label)
+        transit = PendingTransit(
+            k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label
+        )
         state.held, state.lift = None, True
         state.q = np.asarray(step.q_start, dtype=float)
         return (*segments, down.segment), transit

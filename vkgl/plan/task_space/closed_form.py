@@ -12,10 +12,8 @@ three facts of the model:
 - with the turns fixed, the position is affine in the slides, so non-negative
   least squares (scipy `nnls`) gives the closest reachable position.
 
-A carried goal body (`vkgl.plan.graphs.carry`) is set down anywhere: these
-facts do not bound it, and the optimiser decides (from `carry_start`).
-
-And one about the hand: when the last mode holds the hand on a goal body whose
+A carried goal body (`vkgl.plan.graphs.carry`) may be set down anywhere: the optimiser decides, from
+`carry_start`. And one about the hand: when the last mode holds the hand on a goal body whose
 goal fixes position and heading, the hand's final pose follows from the goal;
 if that is out of the arm's reach by more than the goal's tolerance can move
 it, nothing can help.
