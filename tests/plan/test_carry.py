@@ -21,6 +21,7 @@ from vkgl.lang.compiler import compile_file
 from vkgl.motion.collision import CollisionScene
 from vkgl.plan.graphs.graph import successors
 from vkgl.plan.graphs.rollout import extend, start_sequence
+from vkgl.plan.problem.avoid import Avoid, StepKey
 from vkgl.plan.problem.problem import build_problem, collision_scene
 
 CUBE = """
@@ -171,3 +172,17 @@ def test_over_a_wall_30_cm_tall_the_cube_is_carried_clear_or_the_plan_is_refused
         assert max(depths) <= 1e-3
     else:  # no way over it: said so, naming it
         assert "wall" in plan.reason, plan.reason
+
+
+def _key(op: str, x: float) -> StepKey:
+    pose = np.eye(4)
+    pose[:2, 3] = (x, 0.0)
+    return StepKey(op, "Cube.grasp_top", "cube", "arm.fingertip", "free", 0.0, {"cube": pose})
+
+
+def test_a_re_solve_excludes_the_same_carry_but_not_one_from_where_the_cube_really_lies():
+    tried = (_key("add", 0.40), _key("remove", 0.64))
+    avoid = Avoid(plans=(tried,))
+    assert avoid.rejection(list(tried)) is not None  # picked up and set down where the tried plan did
+    assert avoid.rejection([_key("add", 0.42), _key("remove", 0.64)]) is None  # the cube lies elsewhere
+    assert avoid.rejection([_key("add", 0.40), _key("remove", 0.60)]) is None  # set down elsewhere

@@ -217,7 +217,9 @@ class ArmPathPlanner:
         count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
         closest = _ClosestMiss()
         # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
-        for pitch in PITCHES if state.held is None else PITCHES[:1]:
+        # nor may a grasp lean: the fingers close on the handle as the grasp says
+        grasp = self.moves.grasps(step)
+        for pitch in PITCHES if state.held is None and not grasp else PITCHES[:1]:
             hand = upright @ _pitched_back(pitch)
             poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
             lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""

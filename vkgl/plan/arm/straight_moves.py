@@ -48,6 +48,7 @@ from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT, WayOut, way_out
 from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
 from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.graphs.graph import is_grasp
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
@@ -99,8 +100,10 @@ class StraightMoves:
         about the push, from the side along a handle's bar, higher and lower, shorter and longer stand-offs),
         in order; when none works, the reason says which were tried and which came closest.
         """
-        if step.motion == "free":  # a grasp
+        if step.motion == "free":  # a grasp of a free body: from above, as it lies
             return self.approach(step, state, label, DOWN, GRASP_STANDOFF)
+        if self.grasps(step):  # a handle's grasp: along the hand's axis (from the side for a bar held level)
+            return self.approach(step, state, label, self.hand_axis(step), GRASP_STANDOFF)
         push = self.push_direction(step, step.poses_start)
         tried: list[Way] = []
         closest: tuple[float, str] | None = None
@@ -150,7 +153,7 @@ class StraightMoves:
         self, step: PlanStepRecord, state: ArmState, label: str, direction: np.ndarray, standoff: float
     ) -> Approach | tuple[Rejection, float]:
         """`approach`, a failure with how far it missed: the overlap (m) of a blocked way, infinite otherwise."""
-        grasp = step.motion == "free"
+        grasp = self.grasps(step)
         contact = self.problem.arm.fk(step.q_start)
         poses = approach_poses(contact, standoff, APPROACH_STEP, direction)
         length = standoff
@@ -276,6 +279,16 @@ class StraightMoves:
             return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0), True
         state.q = joints[-1]
         return self.straight(phase, joints, length)
+
+    def grasps(self, step: PlanStepRecord) -> bool:
+        """Whether the step's contact is a grasp (`vkgl.plan.graphs.graph.is_grasp`): the fingers close on it."""
+        _, _, name = step.affordance.partition(".")
+        return is_grasp(self.problem, step.body, name)
+
+    def hand_axis(self, step: PlanStepRecord) -> np.ndarray:
+        """The world direction the hand points at the step's contact (the effector frame's -z: the frame's z is
+        up when the hand points down), the way it comes into a grasp."""
+        return -np.asarray(self.problem.arm.fk(step.q_start)[:3, 2], dtype=float)
 
     def push_direction(self, step: PlanStepRecord, poses: Mapping[str, np.ndarray]) -> np.ndarray:
         """The world direction the step's contact pushes along: the x axis of its action frame on the body."""

@@ -80,6 +80,15 @@ def motion_type(problem: Problem, engagement: Engagement) -> str:
     return problem.affordance(engagement.body, engagement.affordance).motion.type
 
 
+def is_grasp(problem: Problem, body: str, affordance: str) -> bool:
+    """Whether an affordance is enacted by the hand's fingers closing on the body: an `action grasp`, or any
+    action whose motion is `free` (a tool's `wield`, written `action fixed at ...` before grasps had their own
+    action). A grasp pins the hand's whole pose (its fingers close along one axis); a push leaves its yaw free.
+    A grasp whose motion is a joint's (a drawer's knob, a door's bar) moves the hand along the joint."""
+    aff = problem.affordance(body, affordance)
+    return aff.action.type == "grasp" or aff.motion.type == "free"
+
+
 def is_held(problem: Problem, graph: KGraph, tool: str) -> bool:
     """Whether `tool` is in the robot's hand: engaged by the robot's effector with a free motion."""
     e = graph.engaging(tool)

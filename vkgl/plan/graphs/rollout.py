@@ -22,7 +22,7 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
-from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, motion_type
+from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, is_grasp, motion_type
 from vkgl.plan.problem.problem import Problem
 
 PRISMATIC_MAX = 2.0
@@ -156,14 +156,14 @@ def hand_chain(problem: Problem, graph: KGraph, engagement: Engagement) -> tuple
     """The robot effector's pose in the target body's frame while `engagement` holds, and whether its yaw is free.
 
     The robot's own effector: the action pose (a round fingertip pushes the
-    same at any yaw, so yaw is free unless it grasps). A tool frame: the
+    same at any yaw, so yaw is free unless it grasps: `is_grasp`). A tool frame: the
     action, back to the tool's frame, then the grasp by which the hand holds
     the tool (exact pose). None when the tool is not held.
     """
     effector = problem.effector(engagement.effector)
     action = problem.action(engagement.body, engagement.affordance)
     if effector.tool is None:
-        return action, motion_type(problem, engagement) != "free"
+        return action, not is_grasp(problem, engagement.body, engagement.affordance)
     held = graph.engaging(effector.tool)
     if held is None:
         return None
