@@ -13,8 +13,9 @@ other bodies, carried in the hand along a collision-free transit, lowered
 onto its place) is the arm's business (`vkgl.plan.arm.paths`); task space
 only sees where it is picked up and where it is put down.
 
-A tool (a body some effector frame belongs to) is never carried this way: it is
-put down where it was used (`rollout._transition`).
+A tool (a body some effector frame belongs to, or whose type is explored held)
+is never carried this way: it is put down where it was used
+(`rollout._transition`).
 """
 
 from __future__ import annotations
@@ -33,9 +34,14 @@ CARRY_REACH = 2.0
 
 
 def carriable(problem: Problem, body: str) -> bool:
-    """Whether `body` may be carried and set down elsewhere: it is no tool (a tool is put down where it was used)
-    and has no physical joint (a handle on a drawer or a door moves along its joint, not freely)."""
-    if problem.bodies[body].joint is not None:
+    """Whether `body` may be carried and set down elsewhere: it is no tool (a body some effector frame belongs
+    to, or whose type is explored held, as the Stick is: a tool is put down where it was used, and a tool the
+    program gives no correspondence is no goal's way either) and has no physical joint (a handle on a drawer or
+    a door moves along its joint, not freely)."""
+    placed = problem.bodies[body]
+    if placed.joint is not None:
+        return False
+    if any(getattr(explore, "grasp", None) is not None for explore in placed.type.explores):
         return False
     return all(e.tool != body for e in problem.effectors)
 

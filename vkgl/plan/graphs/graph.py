@@ -8,7 +8,8 @@ an affordance of a target body). Its edges follow (paper §2.3):
   physical joint, which holds it at rest until something moves it);
 - the robot has a `free` edge to `world`;
 - each engagement adds an edge effector -> target with the action's type
-  (`fixed`): from the robot for its own effector, from the tool for a tool frame.
+  (`fixed`; a grasp holds its body rigidly: `fixed` too): from the robot for
+  its own effector, from the tool for a tool frame.
 
 `G0` has no engagement. `successors(G)` lists the ADDs and REMOVEs that the
 search may try from `G`, in a fixed order (ADDs by effector, body and
@@ -105,7 +106,8 @@ def edges(problem: Problem, graph: KGraph) -> list[tuple[str, str, str]]:
     out.append((problem.robot_name, WORLD, "free"))
     for e in graph.engaged:
         owner = problem.effector(e.effector).tool or problem.robot_name
-        out.append((owner, e.body, problem.affordance(e.body, e.affordance).action.type))
+        action = problem.affordance(e.body, e.affordance).action.type
+        out.append((owner, e.body, "fixed" if action == "grasp" else action))  # a grasp holds the body rigidly
     return out
 
 
