@@ -261,6 +261,19 @@ def explores() -> st.SearchStrategy[ir.Explore]:
     )
 
 
+def grasp_policies() -> st.SearchStrategy[ir.GraspPolicy]:
+    """`explore grasps { ... }` with any subset of its items (approaches: any names; the checker knows the words)."""
+    return st.builds(
+        ir.GraspPolicy,
+        approaches=st.none() | st.lists(names(), min_size=1, max_size=3),
+        max_width=st.none() | quantities("length"),
+        force=st.none() | quantities("force"),
+        lift=st.none() | quantities("length"),
+        slip=st.none() | quantities("length"),
+        trials=st.none() | counts(0, 1000),
+    )
+
+
 def bodies() -> st.SearchStrategy[ir.Body]:
     frame = st.builds(ir.Frame, name=names(), pose=poses())
     return st.builds(
@@ -272,6 +285,7 @@ def bodies() -> st.SearchStrategy[ir.Body]:
         frames=st.lists(frame, max_size=3),
         joint=st.none() | joints(),
         explores=st.lists(explores(), max_size=2),
+        grasps=st.none() | grasp_policies(),
     )
 
 
@@ -308,11 +322,44 @@ def constraints(ranged: bool = False) -> st.SearchStrategy[ir.Constraint]:
         st.builds(ir.PrismaticC, axis=vectors(None, 3), origin=st.none() | vectors("length", 3), range=slide_range),
         st.builds(ir.RevoluteC, center=vectors("length", 3), axis=vectors(None, 3), range=turn_range),
         st.builds(ir.FreeC),
+        grasps(),
+    )
+
+
+def grasps() -> st.SearchStrategy[ir.GraspC]:
+    """`grasp at POSE width W force F`, its width and force in any unit of theirs."""
+    return st.tuples(units("length"), units("force")).flatmap(
+        lambda us: st.builds(
+            ir.GraspC,
+            pose=poses(),
+            width=si_values(us[0]),
+            width_unit=st.just(us[0]),
+            force=si_values(us[1]),
+            force_unit=st.just(us[1]),
+        )
+    )
+
+
+def evidences() -> st.SearchStrategy[ir.Evidence]:
+    """`evidence trials N loglik L posterior P`, with a `slip` in any length unit or none."""
+    slips = units("length").flatmap(lambda u: st.tuples(si_values(u), st.just(u)))
+    return st.builds(
+        lambda trials, loglik, posterior, slip: ir.Evidence(
+            trials=trials,
+            loglik=loglik,
+            posterior=posterior,
+            slip=None if slip is None else slip[0],
+            slip_unit="mm" if slip is None else slip[1],
+        ),
+        counts(0, 1000),
+        plain_floats(),
+        plain_floats(),
+        st.none() | slips,
     )
 
 
 def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:
-    evidence = st.builds(ir.Evidence, trials=counts(0, 1000), loglik=plain_floats(), posterior=plain_floats())
+    evidence = evidences()
     affordance = st.builds(
         ir.Affordance,
         name=names(),

@@ -31,7 +31,7 @@ def setup(compiled):
 
 def test_the_links_are_the_urdfs_and_the_effector_is_where_fk_puts_it(setup) -> None:
     problem, arm, _ = setup
-    assert arm.links[0] == "panda_link0" and "panda_hand" in arm.links and len(arm.links) == 9
+    assert arm.links[0] == "panda_link0" and "panda_hand" in arm.links and len(arm.links) == 11
     q = problem.arm.home + 0.1
     arm.set_configuration(q)
     assert np.allclose(arm.effector_pose(), problem.arm.fk(q), atol=1e-9)

@@ -138,6 +138,7 @@ def affordance_hover(affordance: ir.Affordance, body: str) -> str:
         lines.append(
             f"- evidence: {evidence.trials} trials, loglik {format_number(evidence.loglik)}, "
             f"posterior {format_number(evidence.posterior)}"
+            + ("" if evidence.slip is None else f", slip {format_number(round(evidence.slip * 1000, 3))} mm")
         )
     else:
         lines.append("- evidence: none (written by hand)")

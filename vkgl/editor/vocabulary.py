@@ -39,6 +39,7 @@ TYPES: tuple[str, ...] = (
     "revolute",
     "fixed",
     "free",
+    "grasp",
 )
 
 NAME_PATTERN = r"[A-Za-z_][A-Za-z0-9_]*"

@@ -127,6 +127,14 @@ class WorldArm:
     def _make_kinematic(self) -> None:
         for joint in self.joints:
             joint.setActuatorType(dart.dynamics.ActuatorType.VELOCITY)
+        # the other joints with degrees of freedom (the Panda's fingers) hold still: a velocity of 0, not moved
+        # by contacts (a FORCE joint without gravity would be pushed open by whatever the fingers touch)
+        arm = set(self.arm.joint_names)
+        for i in range(self.skeleton.getNumJoints()):
+            joint = self.skeleton.getJoint(i)
+            if joint.getNumDofs() > 0 and joint.getName() not in arm and joint is not self.skeleton.getRootJoint():
+                joint.setActuatorType(dart.dynamics.ActuatorType.VELOCITY)
+                joint.setCommands(np.zeros(joint.getNumDofs()))
         self.skeleton.setGravity(np.zeros(3))
 
     def _add_fingertip(self) -> Any:

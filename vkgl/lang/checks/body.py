@@ -15,6 +15,7 @@ from typing import Any
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean, duplicates, shown, shown_vector
 from vkgl.lang.checks.explore import check_explore
+from vkgl.lang.checks.grasps import check_grasp_policy
 from vkgl.lang.checks.joints import check_joint_dynamics
 from vkgl.lang.checks.ranges import check_body_ranges
 from vkgl.lang.checks.urdf import urdf_links
@@ -48,6 +49,8 @@ def check_body(body: ir.Body, ctx: CheckContext) -> None:
     duplicates(body.explores, "exploration", ctx)
     for explore in body.explores:
         check_explore(explore, body, shape_ok, ctx)
+    if body.grasps is not None:
+        check_grasp_policy(body.grasps, ctx)
     check_body_ranges(body, ctx)
 
 

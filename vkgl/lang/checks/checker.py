@@ -28,6 +28,7 @@ from vkgl.lang.checks.geometry.placement import place_relative_bodies
 from vkgl.lang.checks.geometry.regions import check_regions
 from vkgl.lang.checks.geometry.relative import place_relative_goals
 from vkgl.lang.checks.geometry.scene import check_scenes
+from vkgl.lang.checks.grasps import check_grasp_affordance
 from vkgl.lang.checks.joints import check_joint_goals
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.diagnostics import codes
@@ -131,6 +132,7 @@ def _check_affordances(block: ir.AffordanceSet, ctx: CheckContext) -> None:
             if isinstance(constraint, (ir.PrismaticC, ir.RevoluteC)):
                 check_direction(constraint.axis, "an axis", ctx)
         _check_motion_range(affordance.motion, ctx)
+        check_grasp_affordance(affordance, ctx)
         evidence = affordance.evidence
         if evidence is not None:
             check_evidence_ranges(evidence, ctx)

@@ -281,7 +281,8 @@ NON_POSITIVE_VALUE = _code(
     "non-positive count, duration, force, timeout or tolerance",
     (
         "Counts (`steps`, direction grid sizes, `max_depth`), forces, durations, timeouts and goal tolerances"
-        " must be positive."
+        " must be positive; so must a grasp's `force` and, in `explore grasps`, `force`, `lift`, `slip` and "
+        "`trials`. The `slip` of an affordance's `evidence` is 0 or more."
     ),
 )
 POSTERIOR_OUT_OF_RANGE = _code(
@@ -343,6 +344,10 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
     START_PAST_JOINT_LIMIT,
 )
 
+# grasps (E46x): registered after the codes above
+# isort: split
+from vkgl.lang.diagnostics.codes_grasps import GRASP_NOT_ACTION, GRASP_WIDTH_OUT_OF_HAND, UNKNOWN_APPROACH  # noqa: E402
+
 # modules and files (E5xx), warnings (W6xx): registered after the codes above, in this order
 # isort: split
 from vkgl.lang.diagnostics.codes_files import (  # noqa: E402
@@ -374,6 +379,8 @@ __all__ = [
     "GOAL_IN_ROBOT_BASE",
     "GOAL_NOT_IN_SCENE",
     "GOAL_OFF_TABLE",
+    "GRASP_NOT_ACTION",
+    "GRASP_WIDTH_OUT_OF_HAND",
     "IMPORT_CYCLE",
     "JOINT_BODY_TOUCHES",
     "JOINT_GOAL_PAST_LIMIT",
@@ -423,6 +430,7 @@ __all__ = [
     "UNEXPECTED_TOKEN",
     "UNIT_ON_NUMBER",
     "UNIT_TWICE",
+    "UNKNOWN_APPROACH",
     "UNKNOWN_EFFECTOR",
     "UNKNOWN_FRAME",
     "UNKNOWN_LINK",

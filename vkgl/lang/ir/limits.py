@@ -40,6 +40,7 @@ STEPS = Limit(1, 100, "from 1 to 100")
 GRID = Limit(1, 15, "from 1 to 15")
 MAX_DEPTH = Limit(1, MAX_DEPTH_LIMIT, f"from 1 to {MAX_DEPTH_LIMIT}")
 TRIALS = Limit(0, 1_000_000, "from 0 to 1000000")
+GRASP_TRIALS = Limit(1, 20, "from 1 to 20")
 
 COUNTS = {"`steps`": STEPS, "a grid size": GRID, "`max_depth`": MAX_DEPTH, "`trials`": TRIALS}
 """The limit of each count, by the name the builder gives it in messages."""

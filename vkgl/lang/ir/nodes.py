@@ -14,7 +14,10 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-# The values (spans, the base node, quantities, vectors, poses, references) live in `values`; re-exported here.
+# The values (spans, the base node, quantities, vectors, poses, references) live in `values`, the grasps'
+# nodes in `grasps`; re-exported here.
+from vkgl.lang.ir.grasps import GraspC as GraspC
+from vkgl.lang.ir.grasps import GraspPolicy as GraspPolicy
 from vkgl.lang.ir.regions import KeepOut as KeepOut
 from vkgl.lang.ir.regions import Region as Region
 from vkgl.lang.ir.values import FrameRef as FrameRef
@@ -134,6 +137,7 @@ class Body(Node):
     frames: list[Frame] = Field(default_factory=list)
     joint: Joint | None = None
     explores: list[Explore] = Field(default_factory=list)
+    grasps: GraspPolicy | None = None  # `explore grasps { ... }`: which grasps `vkgc learn` tries
     name_span: Span | None = Field(default=None, exclude=True, repr=False)
     friction_span: Span | None = Field(default=None, exclude=True, repr=False)
 
@@ -223,15 +227,21 @@ class FreeC(Node):
     type: Literal["free"] = "free"
 
 
-Constraint = Annotated[FixedC | PrismaticC | RevoluteC | FreeC, Field(discriminator="type")]
+Constraint = Annotated[FixedC | PrismaticC | RevoluteC | FreeC | GraspC, Field(discriminator="type")]
 
 
 class Evidence(Node):
-    """`evidence trials N loglik L posterior P`: how an affordance was inferred."""
+    """`evidence trials N loglik L posterior P [slip Q]`: how an affordance was inferred.
+
+    `slip` (m, grasps): the largest slip of the body in the hand over the
+    trials; `slip_unit` is how it was written (display only).
+    """
 
     trials: int
     loglik: float
     posterior: float
+    slip: float | None = None
+    slip_unit: str = Field(default="mm", exclude=True, repr=False)
 
 
 class Affordance(Node):

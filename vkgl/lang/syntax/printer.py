@@ -29,12 +29,15 @@ from vkgl.lang.ir.nodes import (
     Explore,
     FixedC,
     FreeC,
+    GraspC,
+    GraspPolicy,
     Joint,
     MeshShape,
     Module,
     MotionRange,
     Placement,
     PrismaticC,
+    Quantity,
     RevoluteC,
     Robot,
     Scene,
@@ -158,6 +161,17 @@ class _Layout:
             self.add(k, "joint " + joint_text(b.joint), _line_of(b.joint.span))
         for e in b.explores:
             self.block(k, f"explore {e.name}", e.span, functools.partial(self.explore_items, e=e))
+        if b.grasps is not None:
+            self.block(k, "explore grasps", b.grasps.span, functools.partial(self.grasp_policy_items, g=b.grasps))
+
+    def grasp_policy_items(self, k: int, g: GraspPolicy) -> None:
+        if g.approaches is not None:
+            self.add(k, "approach " + ", ".join(g.approaches), keyword="approach", within=g.span)
+        for word, q in (("max_width", g.max_width), ("force", g.force), ("lift", g.lift), ("slip", g.slip)):
+            if q is not None:
+                self.add(k, f"{word} {quantity_text(q)}", _line_of(q.span))
+        if g.trials is not None:
+            self.add(k, f"trials {g.trials}", _line_of(g.trials_span))
 
     def shape(self, k: int, prefix: str, s: Shape, suffix: str = "", span: Span | None = None) -> None:
         anchor = _line_of(span if span is not None else s.span)
@@ -208,6 +222,8 @@ class _Layout:
             text = (
                 f"evidence trials {ev.trials} loglik {format_number(ev.loglik)} posterior {format_number(ev.posterior)}"
             )
+            if ev.slip is not None:
+                text += " slip " + quantity_text(Quantity(value=ev.slip, unit=ev.slip_unit))
             self.add(k, text, _line_of(ev.span))
 
     def correspondences(self, k: int, c: Correspondences) -> None:
@@ -265,9 +281,13 @@ def _simple_shape_text(s: Shape) -> str:
 
 
 def constraint_text(c: Constraint) -> str:
-    """`fixed [at POSE]`, `prismatic along V [from P]`, `revolute about P axis V` or `free`."""
+    """`fixed [at POSE]`, `prismatic along V [from P]`, `revolute about P axis V`, `free` or `grasp at POSE ...`."""
     if isinstance(c, FixedC):
         return "fixed" if c.pose is None else "fixed at " + pose_text(c.pose)
+    if isinstance(c, GraspC):
+        width = quantity_text(Quantity(value=c.width, unit=c.width_unit))
+        force = quantity_text(Quantity(value=c.force, unit=c.force_unit))
+        return f"grasp at {pose_text(c.pose)} width {width} force {force}"
     if isinstance(c, PrismaticC):
         text = "prismatic along " + vector_text(c.axis)
         text = text if c.origin is None else text + " from " + vector_text(c.origin)
