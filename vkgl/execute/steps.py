@@ -63,11 +63,12 @@ class StepKinds:
 
     def _action_pose(self, step: PlanStepRecord, label: str) -> np.ndarray:
         action = self._affordance(step, label).action
-        if not isinstance(action, FixedC):
+        if not isinstance(action, FixedC) and action.type != "grasp":  # a grasp is a pose too (the fingers hold it)
             raise SimulationError(
-                f"{label}: only fixed actions can be executed, {step.affordance} has a {action.type} action"
+                f"{label}: only fixed and grasp actions can be executed, {step.affordance} has a {action.type} action"
             )
-        return np.eye(4) if action.pose is None else action.pose.matrix()
+        pose = getattr(action, "pose", None)
+        return np.eye(4) if pose is None else pose.matrix()
 
     def _hand_from_pusher(self, step: PlanStepRecord, pusher_pose: np.ndarray, label: str) -> np.ndarray:
         """The effector pose that puts the pushing frame (fingertip or tool frame) at `pusher_pose`."""
