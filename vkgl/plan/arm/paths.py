@@ -239,9 +239,33 @@ class ArmPathPlanner:
                     closest.note((2, -clash[1]), lean + clash[0])
                     continue
                 yield chain.joints.copy()
+        if grasp:
+            yield from self._grasp_chains(step, state, poses, closest)
         yield Rejection(
             Kind.IK, f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0
         )
+
+    def _grasp_chains(
+        self, step: PlanStepRecord, state: ArmState, poses: list[np.ndarray], closest: _ClosestMiss
+    ) -> Iterator[np.ndarray]:
+        """More arm configurations for a grasped handle's motion (a door's arc turns the hand with it, which the
+        configuration at its start may not carry to its end): chains solved backwards from the motion's end,
+        from the arm's spread IK seeds, each kept when it carries the whole motion clear of the bodies."""
+        arm = self.problem.arm
+        for seed in arm.spread_seeds():
+            q_end = arm.ik(poses[-1], q0=seed)
+            if q_end is None:
+                continue
+            chain = follow_poses(arm, poses[::-1], q_end)
+            if isinstance(chain, CartesianFailure):
+                closest.note((1, chain.index / len(poses)), "solved from the end: " + chain.reason)
+                continue
+            joints = chain.joints[::-1].copy()
+            clash = self._contact_clash(step, state, joints)
+            if clash is not None:
+                closest.note((2, -clash[1]), clash[0])
+                continue
+            yield joints
 
     def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
         """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
@@ -250,6 +274,7 @@ class ArmPathPlanner:
         held = state.held
         if held is not None:
             held = Held(held.body, held.in_hand, frozenset({step.body}))
+        grasp = self.moves.grasps(step)
         fractions = np.linspace(0.0, 1.0, len(chain))
         moving = {
             name: screw_motion(pose, step.poses_end[name]).along(fractions) @ pose
@@ -258,6 +283,12 @@ class ArmPathPlanner:
         }
         for i, q in enumerate(chain):
             poses = {**step.poses_start, **{name: along[i] for name, along in moving.items()}}
+            if grasp:  # the fingers close on the body: only they may touch it
+                clash = self.moves.grasp_overlap(np.asarray([q]), poses, held, step.body)
+                if clash is not None:
+                    where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
+                    return f"{where} {clash[0]}", clash[1]
+                continue
             clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
                 where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"

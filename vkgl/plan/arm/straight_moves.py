@@ -201,13 +201,14 @@ class StraightMoves:
         after = ArmState(np.asarray(state.q, dtype=float).copy(), state.held, False)
         label, poses = f"{label}, at the end", step.poses_end
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        held = step.body if self.grasps(step) else None  # the opened fingers slide off the body they held
         if rule == "reverse" and way is not None:
-            out = self._move_away(after, -way, STANDOFF, poses, {step.body}, label, what)
+            out = self._move_away(after, -way, STANDOFF, poses, {step.body}, label, what, grasped=held)
         else:
             back = -self.push_direction(step, poses) if rule == "back" else -DOWN
-            out = self._move_away(after, back, STANDOFF, poses, {step.body}, label, what)
+            out = self._move_away(after, back, STANDOFF, poses, {step.body}, label, what, grasped=held)
             if isinstance(out, tuple) and not out[1]:  # no straight path back: execution goes up instead
-                out = self._move_away(after, -DOWN, STANDOFF, poses, {step.body}, label, what)
+                out = self._move_away(after, -DOWN, STANDOFF, poses, {step.body}, label, what, grasped=held)
         if isinstance(out, tuple):
             return out[0]
         lift = self.lift(after, poses, label)
@@ -224,15 +225,16 @@ class StraightMoves:
         rule, way = state.entered or ("back", None)
         state.entered = None
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        grasped = step.body if self.grasps(step) else None  # the opened fingers slide off the body they held
         if rule == "reverse" and way is not None:
-            reverse = self.move_away(state, -way, STANDOFF, poses, {step.body}, label, what)
+            reverse = self.move_away(state, -way, STANDOFF, poses, {step.body}, label, what, grasped=grasped)
             if not isinstance(reverse, Rejection):
                 return reverse
         away = -self.push_direction(step, poses)
-        first = self.move_away(state, away, STANDOFF, poses, {step.body}, label, what)
+        first = self.move_away(state, away, STANDOFF, poses, {step.body}, label, what, grasped=grasped)
         if not isinstance(first, Rejection):
             return first
-        above = self.move_away(state, -DOWN, STANDOFF, poses, {step.body}, label, what)
+        above = self.move_away(state, -DOWN, STANDOFF, poses, {step.body}, label, what, grasped=grasped)
         return first if isinstance(above, Rejection) else above
 
     def lift(self, state: ArmState, poses: Mapping[str, np.ndarray], label: str) -> ArmSegment | Rejection:
@@ -249,10 +251,13 @@ class StraightMoves:
         pad_may_touch: set[str],
         label: str,
         what: tuple[str, str, str],
+        *,
+        grasped: str | None = None,
     ) -> ArmSegment | Rejection:
         """A straight move of the hand by `length` along `way` from where the arm is; `what`: the segment's
-        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose."""
-        found = self._move_away(state, way, length, poses, pad_may_touch, label, what)
+        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose.
+        `grasped`: a body the fingers held (they may touch it, `grasp_overlap`)."""
+        found = self._move_away(state, way, length, poses, pad_may_touch, label, what, grasped=grasped)
         return found[0] if isinstance(found, tuple) else found
 
     def _move_away(
@@ -264,6 +269,8 @@ class StraightMoves:
         pad_may_touch: set[str],
         label: str,
         what: tuple[str, str, str],
+        *,
+        grasped: str | None = None,
     ) -> ArmSegment | tuple[Rejection, bool]:
         """`move_away`; a failure says whether the way was blocked (True) or had no straight IK path (False)."""
         phase, no_path, blocked = what
@@ -274,7 +281,10 @@ class StraightMoves:
             return Rejection(Kind.APPROACH, f"{label}: {no_path} ({path.reason})", 1.0), False
         joints = path.joints.copy()
         joints[0] = state.q
-        clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
+        if grasped is not None:
+            clash = self.grasp_overlap(joints[1:], poses, state.held, grasped)
+        else:
+            clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
         if clash is not None:
             return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0), True
         state.q = joints[-1]
@@ -324,6 +334,18 @@ class StraightMoves:
             what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
             return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm", deepest.depth
         return None
+
+    def grasp_overlap(
+        self, joints: np.ndarray, poses: Mapping[str, np.ndarray], held: Held | None, body: str
+    ) -> tuple[str, float] | None:
+        """`first_overlap` of a hand whose fingers close on `body`: the whole arm against everything else, and
+        the arm but its fingers (`GeometryCheck.palm_collision`) against `body` too."""
+        clash = self.first_overlap(joints, poses, held, {body})
+        if clash is not None:
+            return clash
+        palm = self.geometry.palm_collision
+        others = set(palm.scene.names) - {body}
+        return self.first_overlap(joints, poses, None, others, {body}, collision=palm)
 
     def straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
         """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`."""

@@ -47,6 +47,7 @@ class GeometryCheck:
         self._scene: CollisionScene | None = None
         self._arm: ArmCollision | None = None
         self._transit: ArmCollision | None = None
+        self._palm: ArmCollision | None = None
         self.queries = 0
 
     @property
@@ -69,6 +70,14 @@ class GeometryCheck:
         works close to the body it acts on (a hook's shaft along the block it pulls), so with one the exact
         geometry (`arm_collision`)."""
         return self.transit_collision if held is None else self.arm_collision
+
+    @property
+    def palm_collision(self) -> ArmCollision:
+        """The arm's links but the gripper's fingers against the scene: a grasp's hand checked against the body
+        its fingers close on (they may touch it; the palm and the rest may not)."""
+        if self._palm is None:
+            self._palm = ArmCollision(self.scene, self.problem.arm, skip_links=self.arm_collision.finger_links)
+        return self._palm
 
     @property
     def arm_collision(self) -> ArmCollision:
