@@ -303,7 +303,8 @@ class ModeTrace:
     @property
     def moved(self) -> set[str]:
         """The bodies the mode moves: by a motion value, or carried."""
-        return {e.body for e in self.values} | {e.body for e in self.carried}
+        moved = {e.body for e in self.values}
+        return moved | {e.body for e in self.carried} if self.carried else moved
 
 
 def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 5) -> list[ModeTrace]:
@@ -312,10 +313,11 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
     by_mode: dict[int, list[tuple[Engagement, float]]] = {}
     for (mode, e), v in zip(seq.variables, values):
         by_mode.setdefault(mode, []).append((e, float(v)))
-    carry_values = np.asarray(values[len(seq.variables) :], dtype=float).reshape(-1, CARRY_VALUES)
     carries: dict[int, dict[Engagement, np.ndarray]] = {}
-    for (mode, e), c in zip(seq.carries, carry_values):
-        carries.setdefault(mode, {})[e] = c
+    if seq.carries:  # (the optimiser's hot path: nothing to do for the sequences that carry nothing)
+        carry_values = np.asarray(values[len(seq.variables) :], dtype=float).reshape(-1, CARRY_VALUES)
+        for (mode, e), c in zip(seq.carries, carry_values):
+            carries.setdefault(mode, {})[e] = c
     traces = []
     for k, graph in enumerate(seq.graphs):
         if k > 0:
@@ -326,7 +328,7 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
         for e, v in moves:
             paths[e] = motion_matrices(problem.affordance(e.body, e.affordance).motion, _FRACTIONS[samples] * v)
             poses[e.body] = start[e.body] @ paths[e][-1]
-        carried = carries.get(k, {})
+        carried = carries.get(k, _NOTHING_CARRIED)
         for e, c in carried.items():
             poses[e.body] = carried_pose(start[e.body], c)
         for e in graph.engaged:
@@ -337,8 +339,12 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
             hand, yaw_free = _carry_hand_path(problem, carried, start, poses), False
         else:
             hand, yaw_free = _hand_path(problem, seq, k, start, paths)
-        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, dict(carried)))
+        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, carried))
     return traces
+
+
+_NOTHING_CARRIED: dict[Engagement, np.ndarray] = {}
+"""The `carried` of a mode that carries nothing (shared: never written to)."""
 
 
 def _carry_hand_path(
