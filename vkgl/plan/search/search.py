@@ -233,10 +233,11 @@ def _check(
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
     try:
         for candidate in candidates:
-            found = _arm_checks(problem, seq, candidate, stats, deadline, checks, reached)
-            if not isinstance(found, Rejection):
-                return found
-            first = first or found
+            for hold in _grasp_turns(seq, candidate):
+                found = _arm_checks(problem, seq, hold, stats, deadline, checks, reached)
+                if not isinstance(found, Rejection):
+                    return found
+                first = first or found
     finally:
         stats.joint_space_checks += int("joint space" in reached)
         stats.arm_path_checks += int("arm paths" in reached)
@@ -245,6 +246,20 @@ def _check(
     assert rejection is not None
     stats.reject(rejection, label)
     return None
+
+
+def _grasp_turns(seq: Sequence, solution: TaskSolution) -> Iterator[TaskSolution]:
+    """`solution`, then, when it carries a body, the same with the hand turned half a turn about its axis while
+    it carries: a parallel gripper's two fingers hold the body the same way, and the arm may reach the place
+    only so (its last wrist joint at a limit)."""
+    yield solution
+    if seq.carries:
+        turned = [replace(t, hand=[h @ HALF_TURN for h in t.hand]) if t.carried else t for t in solution.traces]
+        yield replace(solution, traces=turned)
+
+
+HALF_TURN = np.diag([-1.0, -1.0, 1.0, 1.0])
+"""The effector frame turned half a turn about its z axis (the hand's axis): the fingers' y axis reversed."""
 
 
 def _arm_checks(
