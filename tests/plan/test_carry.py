@@ -197,7 +197,7 @@ def test_a_place_the_wrist_reaches_only_with_the_hand_turned_half_a_turn_is_plan
     program = compile_file(str(write_carry_task(spec, tmp_path)))
     plan = vkgl.solve(program)
     assert plan.status == "solved", plan.reason
-    grasp, release = plan.steps
+    grasp, _ = plan.steps
     held = np.linalg.inv(grasp.poses_start["carton"]) @ plan.problem.arm.fk(grasp.q_start)
     written = plan.problem.action("carton", "grasp_top")
     assert np.allclose(held[:3, :3], written[:3, :3] @ np.diag([-1.0, -1.0, 1.0]), atol=0.02)  # turned
