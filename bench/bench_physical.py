@@ -103,10 +103,18 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
         result["execution"] = report.status
         result["reason"] = (report.reason or "").splitlines()[0] if report.reason else ""
         result["disturbed"] = _disturbed(plan_json, report.final)
+        result["slip_mm"] = _slip_mm(report)
     except Exception as exc:  # a benchmark reports every failure and goes on
         result["outcome"] = "error"
         result["reason"] = f"{type(exc).__name__}: {exc}".splitlines()[0]
     return result
+
+
+def _slip_mm(report: Any) -> float | None:
+    """The largest slip of a held body in the hand over the plan's steps (mm), when the executor measures it
+    (a step's `grip`, vkg-execution/5); None otherwise (an executor that welds what it holds)."""
+    slips = [step.grip.slip for step in report.steps if getattr(step, "grip", None) is not None]
+    return round(1000.0 * max(slips), 2) if slips else None
 
 
 def _resolved_deeper(program: Any, job: dict[str, Any], depth: int) -> dict[str, Any]:
@@ -216,6 +224,12 @@ def report_text(results: list[dict[str, Any]]) -> str:
             f"Transit planning, after the search (the candidates it found): median "
             f"{statistics.median(transit):.0f} ms per solved task (max {max(transit):.0f} ms)."
         )
+    slips = [r["slip_mm"] for r in results if r.get("slip_mm") is not None]
+    if slips:
+        parts.append(
+            f"Grasp slip (the largest of a held body in the hand, per task, {len(slips)} tasks measured): median "
+            f"{statistics.median(slips):.2f} mm, max {max(slips):.2f} mm."
+        )
     again = [r for r in results if r.get("missed")]
     if again:
         unsettled = [r["name"] for r in again if r["missed"]["status"] == "timeout"]
@@ -242,6 +256,8 @@ def progress_line(r: dict[str, Any]) -> str:
             outcome += " disturbed " + ",".join(r["disturbed"])
         if r["findings"]:
             outcome += f" | {len(r['findings'])} overlaps: {r['findings'][0]}"
+        if r.get("slip_mm") is not None:
+            outcome += f" slip {r['slip_mm']:.2f} mm"
     if r.get("missed"):
         outcome += f" [deeper: {r['missed']['status']} in {r['missed']['solve_s']}s]"
     if r.get("reason") and r.get("execution") != "reached":
