@@ -78,6 +78,7 @@ class PendingTransit:
     poses: Mapping[str, np.ndarray]
     held: Held | None
     label: str
+    clear: bool = False  # a carried body: kept `TRANSIT_CLEARANCE` from the others where it can be
 
 
 @dataclass(frozen=True)
@@ -349,7 +350,7 @@ class ArmPathPlanner:
         if isinstance(down, Rejection):
             return down
         transit = PendingTransit(
-            k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label
+            k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label, clear=True
         )
         state.held, state.lift = None, True
         state.q = np.asarray(step.q_start, dtype=float)
@@ -362,12 +363,19 @@ class ArmPathPlanner:
             limit = max(0.05, min(limit, deadline - time.perf_counter()))
         self.transit_count += 1
         held = transit.held
-        collision = self.geometry.transit_space(held)
+        spaces = [self.geometry.transit_space(held)]
+        if transit.clear:
+            # a carried body swings with the arm through free space: with room to spare from the others (the
+            # grown bodies), unless its ends lie closer than that (a neighbour beside where it is picked up)
+            spaces.insert(0, self.geometry.transit_collision)
         began = time.perf_counter()
         try:
-            found = transit_segment(
-                collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
-            )
+            for collision in spaces:
+                found = transit_segment(
+                    collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
+                )
+                if not isinstance(found, TransitFailure):
+                    break
         finally:
             self.transit_seconds += time.perf_counter() - began
         if isinstance(found, TransitFailure):
