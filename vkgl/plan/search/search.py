@@ -10,8 +10,9 @@ and the very one the paper's breadth-first search finds first; a sequence
 whose depth plus bound passes `max_depth` is never queued. What never loses a
 solution besides:
 
-- a sequence is only checked when its last mode moves a goal body: otherwise
-  its final poses are those of a shorter prefix, which was checked before;
+- a sequence is only checked when its last mode moves a goal body (or its last
+  action sets down a goal body the hand carried, `vkgl.plan.graphs.carry`):
+  otherwise its final poses are those of a shorter prefix, which was checked before;
   for the same reason the last level only generates such sequences;
 - a transition whose hand pose no motion value can change (e.g. touching a
   body still at rest, or grasping a tool where it lies) is checked against the
