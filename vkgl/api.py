@@ -27,10 +27,11 @@ if TYPE_CHECKING:
     from vkgl.execute.progress import Progress
     from vkgl.execute.resolving import Attempts
     from vkgl.formats.execution_report import ExecutionReport, Resolve, StepReport
+    from vkgl.formats.grasp_trials import GraspTrials
     from vkgl.formats.plan import PlanDocument
     from vkgl.formats.trials import Trials
     from vkgl.infer.library import InferenceResult
-    from vkgl.lang.ir.nodes import Body, Task
+    from vkgl.lang.ir.nodes import Affordance, Body, Task
     from vkgl.lang.ir.program import Program
     from vkgl.plan.problem.avoid import Avoid
     from vkgl.plan.result.plan import Plan
@@ -46,6 +47,7 @@ __all__ = [
     "explore",
     "infer",
     "learn",
+    "learn_grasps",
     "solve",
 ]
 
@@ -185,19 +187,37 @@ def explore(
 
 
 def infer(
-    trials: Trials, *, body_use: str | None = None, header: str | None = None, path: str = "<inferred>"
+    trials: Trials,
+    *,
+    body_use: str | None = None,
+    header: str | None = None,
+    path: str = "<inferred>",
+    grasps: Sequence[Affordance] = (),
 ) -> InferenceResult:
     """Infer the affordances of the explored body; the result holds the module's IR and source.
 
     `body_use` is what the generated module imports to know the body
-    (default `stdlib.bodies.<body>`); `header` its leading comment.
+    (default `stdlib.bodies.<body>`); `header` its leading comment; `grasps`
+    (the kept grasps, `learn_grasps`) are added after the inferred affordances.
     """
     from vkgl.infer.library import infer_library
 
     use = body_use or f"stdlib.bodies.{trials.body.lower()}"
     _check_use(use)
     text = header or f"Inferred from {len(trials)} trials. Do not edit."
-    return infer_library(trials, body_use=use, header=text, path=path)
+    return infer_library(trials, body_use=use, header=text, path=path, grasps=grasps)
+
+
+def learn_grasps(body: Body, *, seed: int = 0) -> tuple[GraspTrials, list[Affordance]]:
+    """Try `body`'s grasp candidates in DART and keep those that held (docs/inference.md, "Grasps").
+
+    Returns the trials and the kept grasps' affordances (none for `explore grasps { approach none }`).
+    """
+    from vkgl.infer.grasps.kept import kept_grasps
+    from vkgl.sim.grasp.run import try_grasps
+
+    trials = try_grasps(body, seed=seed)
+    return trials, kept_grasps(body, trials)
 
 
 _MODULE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*")
@@ -224,7 +244,10 @@ def learn(
     force: bool = False,
     runner: Runner | None = None,
 ) -> list[Path]:
-    """Explore and infer each body file's body; write `<body>.vkg` per body; return the written paths.
+    """Explore and infer each body file's body, and try its grasps; write `<body>.vkg` per body; return the paths.
+
+    A body without an `explore` block is learned for its grasps alone (an
+    InputError when none held).
 
     `body_files` are files or folders (each folder stands for its `*.vkg`
     files, in name order). `runner` runs the trials elsewhere (see `explore`).
@@ -249,26 +272,37 @@ def learn(
     written = []
     for source, target, destination in jobs_to_run:
         destination.parent.mkdir(parents=True, exist_ok=True)
-        trials = explore(target, seed=seed, jobs=jobs, progress=progress, runner=runner)
+        # a body without an `explore` block is learned for its grasps alone (a carton to pick up)
+        trials = explore(target, seed=seed, jobs=jobs, progress=progress, runner=runner) if target.explores else None
+        grasp_trials, grasps = learn_grasps(target, seed=seed)
         body_use, shown = body_import(source, destination)
-        header = _learn_header(body_use, shown, len(trials))
-        result = infer(trials, body_use=body_use, header=header, path=str(destination))
+        ran = sum(not t.blocked for t in grasp_trials.trials)
+        header = _learn_header(body_use, shown, 0 if trials is None else len(trials), ran)
+        if trials is None:
+            from vkgl.infer.library import grasp_library
+
+            _check_use(body_use)
+            result = grasp_library(grasp_trials, grasps, body_use=body_use, header=header, path=str(destination))
+        else:
+            result = infer(trials, body_use=body_use, header=header, path=str(destination), grasps=grasps)
         write_text(destination, result.source)
         written.append(destination)
     return written
 
 
-def _learn_header(body_use: str, shown: str, trials: int) -> str:
+def _learn_header(body_use: str, shown: str, trials: int, grasp_trials: int = 0) -> str:
     """The generated module's first line, naming the body file as a user can find it from anywhere.
 
     A stdlib body is named as `vkgc learn` is run on it from the repository root; any other body file by
-    its path relative to the generated module, said as such (not as a command line nobody typed).
+    its path relative to the generated module, said as such (not as a command line nobody typed). The
+    grasp trials that ran are counted apart (none: the line reads as before grasps were learned).
     """
+    parts = [f"{trials} trials"] if trials or not grasp_trials else []  # a body learned for its grasps alone: none
+    parts += [f"{grasp_trials} grasp trials"] if grasp_trials else []
+    counted = " and ".join(parts)
     if not body_use.endswith(".vkg"):  # a stdlib body, imported by dotted name
-        return f"Generated by `vkgc learn {shown}` from {trials} trials. Do not edit."
-    return (
-        f"Generated by `vkgc learn` from {trials} trials of the body file {shown} (relative to this file). Do not edit."
-    )
+        return f"Generated by `vkgc learn {shown}` from {counted}. Do not edit."
+    return f"Generated by `vkgc learn` from {counted} of the body file {shown} (relative to this file). Do not edit."
 
 
 def _body_files(paths: Sequence[str | os.PathLike[str]]) -> list[Path]:

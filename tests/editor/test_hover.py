@@ -49,3 +49,23 @@ def test_hovers_and_completion_show_goals_regions_keep_outs_and_placements_as_wr
     assert "- `keep out region (0.1, 0.2) to (0.3, 0.4) m`" in shown and "- `keep drawer out of tray`" in shown
     words = {c.label for c in candidates(None, "    goal ")}
     assert {"moved", "turned", "by", "in", "region", "polygon", "keep", "out", "of"} <= words
+
+
+def test_a_grasp_and_its_slip_on_hover() -> None:
+    from vkgl.editor.hover import affordance_hover
+    from vkgl.lang.ir import nodes as ir
+    from vkgl.lang.syntax.parser import parse_module
+
+    text = """affordances Carton {
+    affordance grasp_top_y {
+        action grasp at (0.6, 0, 3.2) cm yaw 0deg width 6 cm force 20 N
+        motion free
+        evidence trials 3 loglik 0 posterior 1 slip 0.4 mm
+    }
+}
+"""
+    (block,) = parse_module(text, "carton.vkg").decls
+    assert isinstance(block, ir.AffordanceSet)
+    shown = affordance_hover(block.affordances[0], "Carton")
+    assert "action `grasp at (0.6, 0, 3.2) cm yaw 0deg width 6 cm force 20 N`" in shown
+    assert "posterior 1, slip 0.4 mm" in shown

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from vkgl.api import learn
-from vkgl.lang.ir.nodes import FixedC, FreeC, PrismaticC, RevoluteC
+from vkgl.lang.ir.nodes import FixedC, FreeC, GraspC, PrismaticC, RevoluteC
 
 REPO = Path(__file__).resolve().parents[2]
 BODIES = REPO / "stdlib" / "bodies"
@@ -31,6 +31,11 @@ def _affordances(path: Path) -> dict:
     module = parse_module(path.read_text(encoding="utf-8"), str(path))
     (decl,) = module.decls
     return {a.name: a for a in decl.affordances}
+
+
+def _explored(path: Path) -> dict:
+    """The affordances inferred from exploration (the grasps, learned by trying them, left out)."""
+    return {name: a for name, a in _affordances(path).items() if not isinstance(a.action, GraspC)}
 
 
 def test_generated_modules_name_their_command_and_body(learned) -> None:
@@ -73,7 +78,7 @@ def _action_x(affordance) -> np.ndarray:
 
 
 def test_drawer_is_pulled_open_by_its_handle_and_pushed_shut_over_its_whole_slide(learned) -> None:
-    found = _affordances(learned["drawer"])
+    found = _explored(learned["drawer"])
     assert set(found) == {"pull_center_px", "pull_px_left", "push_center_nx"}
     pull, hook, push = found["pull_center_px"], found["pull_px_left"], found["push_center_nx"]
     assert _action_position(pull) == pytest.approx((0.19, 0, 0), abs=0.002)  # behind the handle's bar ...
@@ -90,7 +95,7 @@ def test_drawer_is_pulled_open_by_its_handle_and_pushed_shut_over_its_whole_slid
 
 
 def test_door_is_pulled_open_by_its_handle_and_pushed_shut_about_its_hinge(learned) -> None:
-    found = _affordances(learned["door"])
+    found = _explored(learned["door"])
     assert set(found) == {"pull_px_left", "turn_center_nx"}
     pull, push = found["pull_px_left"], found["turn_center_nx"]
     assert _action_position(pull) == pytest.approx((0.05, 0.135, 0.15), abs=0.006)  # behind the bar, between its posts
@@ -126,10 +131,35 @@ def test_committed_stdlib_is_what_learn_makes(learned) -> None:
     this test names the module, and the difference is one unit of a last printed digit.
     """
     committed = sorted(COMMITTED.glob("*.vkg"))
-    assert [p.stem for p in committed] == sorted(learned), "one generated module per stdlib body"
+    by_name = {written.name: written for written in learned.values()}  # `<body>.vkg`: knob_drawer.vkg's KnobDrawer
+    assert [p.name for p in committed] == sorted(by_name), "one generated module per stdlib body"
     for path in committed:
         assert path.read_text(encoding="utf-8").startswith(GENERATED_HEADER), f"{path} is not generated"
-        assert learned[path.stem].read_bytes() == path.read_bytes(), f"regenerate {path} with `vkgc learn`"
+        assert by_name[path.name].read_bytes() == path.read_bytes(), f"regenerate {path} with `vkgc learn`"
+
+
+def _grasps(path: Path) -> dict:
+    return {name: a for name, a in _affordances(path).items() if isinstance(a.action, GraspC)}
+
+
+def test_the_block_is_too_wide_to_grasp_and_the_stick_is_grasped_at_its_handle(learned) -> None:
+    assert _grasps(learned["block"]) == {}  # 10 x 20 x 5 cm: too wide from above, its 5 cm on the table
+    assert "and 0 grasp trials" not in learned["block"].read_text(encoding="utf-8")
+    handle = _grasps(learned["stick"])["grasp_top_y_handle"]
+    assert isinstance(handle.motion, FreeC)
+    assert handle.action.pose.position.values[0] == pytest.approx(-0.15 + 0.006, abs=1e-4)  # pads on the handle
+    assert handle.action.width == pytest.approx(0.02)
+
+
+@pytest.mark.parametrize("body", ["drawer", "door", "knob_drawer"])
+def test_handles_and_knobs_are_grasped_and_pulled_along_their_joint(learned, body) -> None:
+    grasps = _grasps(learned[body])
+    assert grasps, f"{body}: no grasp held"
+    joint = RevoluteC if body == "door" else PrismaticC
+    for grasp in grasps.values():
+        assert isinstance(grasp.motion, joint) and grasp.motion.range.lower.value == 0.0
+        assert grasp.evidence.trials == 3 and grasp.evidence.slip <= 0.005
+        assert grasp.action.width <= 0.03 + 1e-9  # across a bar (1 cm), an edge (2 cm) or the knob (3 cm)
 
 
 def test_a_user_library_layout(tmp_path) -> None:
@@ -200,11 +230,15 @@ def no_exploration(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         explored.append(body.name)
         return [None] * 3
 
-    def infer(trials, *, body_use, header, path):
+    def infer(trials, *, body_use, header, path, grasps=()):
         return SimpleNamespace(source=f"# {header}\nuse {body_use}\n")
+
+    def learn_grasps(body, **kwargs):
+        return SimpleNamespace(trials=[]), []
 
     monkeypatch.setattr("vkgl.api.explore", explore)
     monkeypatch.setattr("vkgl.api.infer", infer)
+    monkeypatch.setattr("vkgl.api.learn_grasps", learn_grasps)
     return explored
 
 
@@ -304,3 +338,26 @@ def test_an_interrupt_while_writing_leaves_no_temporary_file(
     with pytest.raises(Ended):
         learn(body, out_dir=out)
     assert left == []
+
+
+def test_a_body_without_exploration_is_learned_for_its_grasps_alone(tmp_path: Path) -> None:
+    """The new user's carton: nothing to push, only to pick up; `vkgc learn` needs no statement for that."""
+    body = tmp_path / "bodies" / "cube.vkg"
+    body.parent.mkdir()
+    body.write_text(
+        "body Cube {\n    shape box (5, 5, 5) cm\n    mass 0.2 kg\n    explore grasps { approach top trials 1 }\n}\n"
+    )
+    (written,) = learn([body], out_dir=tmp_path / "out")
+    text = written.read_text(encoding="utf-8")
+    assert text.startswith("# Generated by `vkgc learn` from 2 grasp trials of the body file ")
+    assert set(_grasps(written)) == {"grasp_top_x", "grasp_top_y"} == set(_affordances(written))
+
+
+def test_a_body_without_exploration_and_no_grasp_is_refused(tmp_path: Path) -> None:
+    from vkgl.errors import InputError
+
+    body = tmp_path / "crate.vkg"
+    body.write_text("body Crate {\n    shape box (10, 12, 9) cm\n    mass 1 kg\n}\n")
+    with pytest.raises(InputError, match="has no `explore` block and none of its 0 grasp candidates held"):
+        learn([body], out_dir=tmp_path / "out")
+    assert not (tmp_path / "out" / "crate.vkg").exists()

@@ -377,13 +377,13 @@ def constraint_ir(
     """
     params = edge.params
     if edge.type == "fixed":
-        return FixedC(pose=_pose_ir(np.asarray(params["pose"])))
+        return FixedC(pose=pose_ir(np.asarray(params["pose"])))
     if edge.type == "prismatic":
         bounds = range_ir(state_range, "cm", open_range=open_range) if state_range is not None else None
-        return PrismaticC(axis=_direction_ir(params["axis"]), origin=_point_ir(params["origin"]), range=bounds)
+        return PrismaticC(axis=direction_ir(params["axis"]), origin=point_ir(params["origin"]), range=bounds)
     if edge.type == "revolute":
         bounds = range_ir(state_range, "deg") if state_range is not None else None
-        return RevoluteC(center=_point_ir(params["center"]), axis=_direction_ir(params["axis"]), range=bounds)
+        return RevoluteC(center=point_ir(params["center"]), axis=direction_ir(params["axis"]), range=bounds)
     return FreeC()
 
 
@@ -405,23 +405,24 @@ def range_ir(state_range: tuple[float, float], unit: str, *, open_range: bool = 
     )
 
 
-def _pose_ir(T: np.ndarray) -> Pose:
+def pose_ir(T: np.ndarray) -> Pose:
+    """A 4x4 pose as IR: the position to 0.01 cm, a `yaw` when z stays up, else an `rpy`, to 0.1 deg."""
     roll, pitch, yaw = Rotation.from_matrix(T[:3, :3]).as_euler("xyz", degrees=True)
     if round(yaw, 1) <= -180.0:
         yaw += 360.0  # one way to write a half turn: 180deg
-    position = _point_ir(T[:3, 3])
+    position = point_ir(T[:3, 3])
     if max(abs(roll), abs(pitch)) < 1.0:  # degrees: the effector frame keeps z up
         return Pose(position=position, yaw=Quantity(value=_si(yaw, 1, "deg"), unit="deg"))
     values = tuple(_si(a, 1, "deg") for a in (roll, pitch, yaw))
     return Pose(position=position, rpy=Vector(values=values, unit="deg"))
 
 
-def _point_ir(p: Any) -> Vector:
+def point_ir(p: Any) -> Vector:
     """A point in cm, to 0.01 cm (0.1 mm)."""
     return Vector(values=tuple(_si(100.0 * float(x), 2, "cm") for x in p), unit="cm")
 
 
-def _direction_ir(a: Any) -> Vector:
+def direction_ir(a: Any) -> Vector:
     """A unit direction to three decimals."""
     a = np.asarray(a, dtype=float)
     a = a / np.linalg.norm(a)

@@ -10,6 +10,7 @@ printer) and the per-trial `vkg-infer-report/2` (`vkgl.formats.infer_report`).
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -17,12 +18,13 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.formats.grasp_trials import GraspTrials
 from vkgl.formats.infer_report import INFER_REPORT_FORMAT
 from vkgl.formats.trials import Trials
 from vkgl.infer.affordances import Group, affordance_ir, group_trials
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference, infer_trials
-from vkgl.lang.ir.nodes import AffordanceSet, Module, Ref, Use
+from vkgl.lang.ir.nodes import Affordance, AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module
 
 
@@ -43,12 +45,20 @@ class InferenceResult:
     groups: list[Group]
 
 
-def infer_library(trials: Trials, *, body_use: str, header: str, path: str = "<inferred>") -> InferenceResult:
+def infer_library(
+    trials: Trials,
+    *,
+    body_use: str,
+    header: str,
+    path: str = "<inferred>",
+    grasps: Sequence[Affordance] = (),
+) -> InferenceResult:
     """Infer the affordances of `trials.body` and print them as a module.
 
     `body_use` is what the module imports to know the body (`stdlib.bodies.block`,
     or a path ending in `.vkg`); `header` becomes its leading comment; `path` is
-    the module's path in the IR. Raises InputError when no trial can be used or
+    the module's path in the IR; `grasps` (`vkgl.infer.grasps.kept.kept_grasps`) follow
+    the inferred affordances. Raises InputError when no trial can be used or
     when the body never moved.
     """
     results = infer_trials(trials)
@@ -63,11 +73,37 @@ def infer_library(trials: Trials, *, body_use: str, header: str, path: str = "<i
         path=path,
         doc=header,
         uses=[Use(target=body_use, by_path=body_use.endswith(".vkg"))],
-        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=[affordance_ir(g) for g in groups])],
+        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=[*(affordance_ir(g) for g in groups), *grasps])],
     )
     report = build_report(trials, results, groups)
     return InferenceResult(
         body=trials.body, module=module, source=print_module(module), report=report, trials=results, groups=groups
+    )
+
+
+def grasp_library(
+    trials: GraspTrials, grasps: Sequence[Affordance], *, body_use: str, header: str, path: str = "<inferred>"
+) -> InferenceResult:
+    """The module of a body learned for its grasps alone (it has no `explore` block): `grasps` as its affordances.
+
+    Raises InputError when no grasp held, saying what became of the candidates.
+    """
+    if not grasps:
+        blocked = len({t.candidate for t in trials.trials if t.blocked})
+        raise InputError(
+            f"{trials.body}: has no `explore` block and none of its {len(trials.candidates)} grasp candidates held "
+            f"({blocked} left the open hand no room; wider than the hand's opening is no candidate): add an "
+            "`explore` block to learn how it moves when pushed, or an `explore grasps` block with another force"
+        )
+    module = Module(
+        path=path,
+        doc=header,
+        uses=[Use(target=body_use, by_path=body_use.endswith(".vkg"))],
+        decls=[AffordanceSet(body=Ref(name=trials.body), affordances=list(grasps))],
+    )
+    report = {"format": INFER_REPORT_FORMAT, "body": trials.body, "trials": [], "affordances": []}
+    return InferenceResult(
+        body=trials.body, module=module, source=print_module(module), report=report, trials=[], groups=[]
     )
 
 

@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Literal
 
 from pydantic import Field
@@ -60,4 +61,43 @@ class GraspPolicy(Node):
     trials_span: Span | None = Field(default=None, exclude=True, repr=False)
 
 
-__all__ = ["GRASP_APPROACHES", "HAND_OPENING", "NO_APPROACH", "GraspC", "GraspPolicy"]
+DEFAULT_MAX_WIDTH = 0.07
+"""m: the widest part tried without `max_width`: the hand's 8 cm less 5 mm of room on each side."""
+DEFAULT_FORCE = 20.0
+"""N: the closing force tried without `force`."""
+DEFAULT_LIFT = 0.10
+"""m: how far a free body is lifted (a handle pulled along its joint) without `lift`."""
+DEFAULT_SLIP = 0.005
+"""m: the most a body may move in the hand over a trial, without `slip`, for the grasp to be kept."""
+DEFAULT_TRIALS = 3
+"""Trials per grasp without `trials`."""
+
+
+@dataclass(frozen=True)
+class GraspSettings:
+    """What `vkgc learn` tries for a body: a `GraspPolicy` with the defaults filled in (SI)."""
+
+    approaches: tuple[str, ...] = GRASP_APPROACHES
+    max_width: float = DEFAULT_MAX_WIDTH
+    force: float = DEFAULT_FORCE
+    lift: float = DEFAULT_LIFT
+    slip: float = DEFAULT_SLIP
+    trials: int = DEFAULT_TRIALS
+
+    @classmethod
+    def of(cls, policy: GraspPolicy | None) -> GraspSettings:
+        """The settings of a body's `explore grasps` block (None: all defaults); `approach none` tries nothing."""
+        if policy is None:
+            return cls()
+        approaches = GRASP_APPROACHES if policy.approaches is None else tuple(policy.approaches)
+        return cls(
+            approaches=tuple(a for a in approaches if a != NO_APPROACH),
+            max_width=DEFAULT_MAX_WIDTH if policy.max_width is None else float(policy.max_width.value),
+            force=DEFAULT_FORCE if policy.force is None else float(policy.force.value),
+            lift=DEFAULT_LIFT if policy.lift is None else float(policy.lift.value),
+            slip=DEFAULT_SLIP if policy.slip is None else float(policy.slip.value),
+            trials=DEFAULT_TRIALS if policy.trials is None else int(policy.trials),
+        )
+
+
+__all__ = ["GRASP_APPROACHES", "HAND_OPENING", "NO_APPROACH", "GraspC", "GraspPolicy", "GraspSettings"]

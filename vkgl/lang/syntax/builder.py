@@ -364,19 +364,6 @@ class Builder(GraspBuilder):
     def free(self, meta: Any, children: list[Any]) -> ir.FreeC:
         return new_node(ir.FreeC, span=self.span(meta))
 
-    def evidence(self, meta: Any, children: list[Any]) -> Item:
-        trials, loglik, posterior, *slip = children
-        evidence = new_node(
-            ir.Evidence,
-            trials=self.integer(trials, "`trials`"),
-            loglik=self.number(loglik),
-            posterior=self.number(posterior),
-            slip=slip[0].value if slip else None,
-            slip_unit=slip[0].unit if slip else "mm",
-            span=self.span(meta),
-        )
-        return Item("evidence", evidence, self.span(meta))
-
     # ------------------------------------------------------------ correspondences
 
     def correspondences(self, meta: Any, children: list[Any]) -> ir.Correspondences:

@@ -1,4 +1,4 @@
-"""The builder's rules for grasps: `action grasp at POSE width W force F`, `slip` in evidence, `explore grasps`.
+"""The builder's rules for grasps: `action grasp at POSE width W force F`, evidence (with its `slip`), `explore grasps`.
 
 `GraspBuilder` holds the methods of these rules of grammar/vkg.lark; the
 `Builder` (vkgl/lang/syntax/builder.py) derives from it. Units are checked
@@ -34,6 +34,19 @@ class GraspBuilder(TaskBuilder):
             force_unit=force_q.unit,
             span=self.span(meta),
         )
+
+    def evidence(self, meta: Any, children: list[Any]) -> Item:
+        trials, loglik, posterior, *slip = children
+        evidence = new_node(
+            ir.Evidence,
+            trials=self.integer(trials, "`trials`"),
+            loglik=self.number(loglik),
+            posterior=self.number(posterior),
+            slip=slip[0].value if slip else None,
+            slip_unit=slip[0].unit if slip else "mm",
+            span=self.span(meta),
+        )
+        return Item("evidence", evidence, self.span(meta))
 
     def evidence_slip(self, meta: Any, children: list[Any]) -> ir.Quantity:
         return self.to_quantity(children[0], "length")
