@@ -17,8 +17,8 @@ from vkgl.plan.problem.problem import build_problem
 from vkgl.se3 import screw_motion
 
 TASKS = {  # task: (body, affordance, joint goal)
-    "o_open_door": ("door", "Door.grasp_bar", math.radians(60)),
-    "p_knob_drawer": ("drawer", "KnobDrawer.grasp_knob", 0.20),
+    "o_open_door": ("door", "Door.grasp_side_px_z_p3", math.radians(60)),
+    "p_knob_drawer": ("drawer", "KnobDrawer.grasp_top_y_p2", 0.20),
 }
 
 
@@ -53,18 +53,35 @@ def test_the_hand_holds_the_grasp_pose_rigidly_all_along_the_motion(plans, name)
         assert math.degrees(math.acos(min(1.0, cosine))) < 1.0  # yaw pinned, not leaned back
 
 
+DEEP = """
+use "{kitchen}"
+
+affordances Door {{
+    affordance grasp_bar {{
+        action grasp at ({x}, 14.1, 15) cm rpy (90, 0, 90) deg width 1 cm force 20 N
+        motion revolute about (0, -20, 0) cm axis (0, 0, -1) range 0 to 90deg
+    }}
+}}
+
+task deep {{
+    scene kitchen
+    goal door open 60deg within 3deg
+}}
+"""
+"""The Door's learned side grasp of its bar (`grasp_side_px_z_p3`), written in the task at depth `x` (cm)."""
+
+
 def test_a_grasp_with_the_palm_inside_the_door_is_refused(tmp_path):
-    # the same grasp 4 cm deeper: the fingertips would reach the door's board, the palm the bar; no plan
-    text = (EXAMPLES / "tasks" / "o_open_door.vkg").read_text(encoding="utf-8")
-    deeper = text.replace("grasp at (5, 14.1, 15) cm", "grasp at (1, 14.1, 15) cm").replace(
-        '"../scenes/kitchen.vkg"', f'"{EXAMPLES / "scenes" / "kitchen.vkg"}"'
-    )
-    assert deeper != text
-    path = tmp_path / "deep.vkg"
-    path.write_text(deeper, encoding="utf-8")
-    program = vkgl.compile(path)
-    plan = vkgl.solve(program)
-    assert plan.status == "infeasible", plan.text()
-    assert "panda_hand would overlap door" in plan.reason, plan.reason  # the palm, where the fingers may touch
+    # the learned grasp (the pads' ends at the bar's inner face, x = 5.3 cm) plans; 4 cm deeper the fingertips
+    # would reach the door's board and the palm the bar: no plan, and the palm is named
+    plans = {}
+    for x in (5.3, 1.3):
+        path = tmp_path / f"deep{x}.vkg"
+        path.write_text(DEEP.format(kitchen=EXAMPLES / "scenes" / "kitchen.vkg", x=x), encoding="utf-8")
+        program = vkgl.compile(path)
+        plans[x] = vkgl.solve(program)
+    assert plans[5.3].status == "solved", plans[5.3].reason
+    assert plans[1.3].status == "infeasible", plans[1.3].text()
+    assert "panda_hand would overlap door" in plans[1.3].reason, plans[1.3].reason
     problem = build_problem(program, program.task())
     assert is_grasp(problem, "door", "grasp_bar")
