@@ -3,9 +3,8 @@ it failed; what it rejected is counted as "excluded"."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import dataclasses
+from dataclasses import replace
 
 import numpy as np
 import pytest
