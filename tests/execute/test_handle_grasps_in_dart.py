@@ -1,15 +1,13 @@
-"""Grasped handles carried out in DART (tasks o and p): the shut Door follows the hand holding its bar along the
-60 deg arc, the KnobDrawer the hand holding its knob along its 20 cm slide, each within its goal's tolerance at
-the end of the step (what the plan promises while the hand holds the handle).
+"""Grasped handles carried out in DART (tasks o and p): the shut Door opened 60 deg by the hand holding its bar,
+the KnobDrawer pulled open 20 cm by the hand holding its knob, each reaching its goal, open loop.
 
-Not checked here: the goal after the hand lets go. The executor on this branch leaves a grasp as it leaves a
-push, backing out the way it came without opening the fingers, and drags the handle on (the door to about 65 deg,
-the drawer to about 23.5 cm): the fingers must open before the hand backs out of a grasp (the executor's
-fingers, branch grasp-exec).
+The fingers must hold the handle (the executor's finger grip, `vkgl.execute.grip`): an executor that only welds
+a free body it grasps does not hold a handle at all, and the door stays shut.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 
 import pytest
@@ -20,15 +18,21 @@ from vkgl.execute.closed_loop import execute
 
 TASKS = {"o_open_door": ("door", math.radians(3)), "p_knob_drawer": ("drawer", 0.01)}
 
+FINGERS_HOLD = importlib.util.find_spec("vkgl.execute.grip") is not None
+"""Whether the executor holds a grasp by the fingers' friction (`vkgl.execute.grip`, branch grasp-exec)."""
 
+
+@pytest.mark.skipif(not FINGERS_HOLD, reason="needs the executor's finger grip (vkgl.execute.grip) to hold a handle")
 @pytest.mark.parametrize("name", list(TASKS))
-def test_the_grasped_handle_follows_the_hand_along_its_joint(name) -> None:
+def test_the_grasped_handle_is_moved_to_its_goal(name) -> None:
     program = vkgl.compile(EXAMPLES / "tasks" / f"{name}.vkg")
     plan = vkgl.solve(program).document()
     report = execute(program, name, plan)
+    assert report.status == "reached", report.text()
     body, tolerance = TASKS[name]
     (step,) = report.steps
     (deviation,) = [d for d in step.deviations if d.body == body]
-    assert deviation.opening is not None, report.text()
-    assert abs(deviation.opening.error) < tolerance, report.text()
-    assert report.final_openings[body] >= deviation.opening.real - 1e-3  # the hand never pushed it back
+    assert deviation.opening is not None and abs(deviation.opening.error) < tolerance / 2, report.text()
+    (goal,) = report.goals
+    assert goal.opening is not None and abs(goal.opening.error) < tolerance / 2  # let go without dragging it on
+    assert not report.disturbed
