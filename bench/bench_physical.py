@@ -1,7 +1,7 @@
 """Benchmark: how often does a plan that `vkgc solve` calls solved work in physics, on generated tasks?
 
     python bench/bench_physical.py [--seed 1] [--count 50] [--jobs 2] [--timeout 20] [--short-pushes]
-                                   [--json results.json]
+                                   [--carry] [--json results.json]
 
 Generates `--count` tasks with `tests/support/generated_tasks.py` (bodies,
 scenes and goals nobody tuned the planner for; the generated bodies'
@@ -24,6 +24,10 @@ through bodies or the table), carry it out open loop in DART and classify it:
   (at most 12) and ten times the timeout, a plan is found (`--no-missed`
   skips these re-solves, for speed; a re-solve that times out counts as
   unsettled, listed under the tables).
+
+`--carry` runs the carry family instead (`tests/support/carry_tasks.py`): a
+body 4 to 8 cm wide that the hand can grasp, 1 to 3 Blocks lying across its
+way to a goal 22 to 40 cm off; its size classes are the body's width in cm.
 
 Prints one line per task as it finishes (stderr), then Markdown tables by
 target kind, size class, clutter count, reach and path, and the totals.
@@ -48,6 +52,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
+import carry_tasks  # noqa: E402
 import generated_tasks  # noqa: E402
 import plan_geometry  # noqa: E402
 
@@ -98,10 +103,18 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
         result["execution"] = report.status
         result["reason"] = (report.reason or "").splitlines()[0] if report.reason else ""
         result["disturbed"] = _disturbed(plan_json, report.final)
+        result["slip_mm"] = _slip_mm(report)
     except Exception as exc:  # a benchmark reports every failure and goes on
         result["outcome"] = "error"
         result["reason"] = f"{type(exc).__name__}: {exc}".splitlines()[0]
     return result
+
+
+def _slip_mm(report: Any) -> float | None:
+    """The largest slip of a held body in the hand over the plan's steps (mm), when the executor measures it
+    (a step's `grip`, vkg-execution/5); None otherwise (an executor that welds what it holds)."""
+    slips = [step.grip.slip for step in report.steps if getattr(step, "grip", None) is not None]
+    return round(1000.0 * max(slips), 2) if slips else None
 
 
 def _resolved_deeper(program: Any, job: dict[str, Any], depth: int) -> dict[str, Any]:
@@ -211,6 +224,12 @@ def report_text(results: list[dict[str, Any]]) -> str:
             f"Transit planning, after the search (the candidates it found): median "
             f"{statistics.median(transit):.0f} ms per solved task (max {max(transit):.0f} ms)."
         )
+    slips = [r["slip_mm"] for r in results if r.get("slip_mm") is not None]
+    if slips:
+        parts.append(
+            f"Grasp slip (the largest of a held body in the hand, per task, {len(slips)} tasks measured): median "
+            f"{statistics.median(slips):.2f} mm, max {max(slips):.2f} mm."
+        )
     again = [r for r in results if r.get("missed")]
     if again:
         unsettled = [r["name"] for r in again if r["missed"]["status"] == "timeout"]
@@ -237,6 +256,8 @@ def progress_line(r: dict[str, Any]) -> str:
             outcome += " disturbed " + ",".join(r["disturbed"])
         if r["findings"]:
             outcome += f" | {len(r['findings'])} overlaps: {r['findings'][0]}"
+        if r.get("slip_mm") is not None:
+            outcome += f" slip {r['slip_mm']:.2f} mm"
     if r.get("missed"):
         outcome += f" [deeper: {r['missed']['status']} in {r['missed']['solve_s']}s]"
     if r.get("reason") and r.get("execution") != "reached":
@@ -263,6 +284,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--no-missed", action="store_true", help='do not solve each "no plan" again deeper and longer (faster)'
     )
+    parser.add_argument("--carry", action="store_true", help="the carry family: graspable bodies, Blocks in their way")
     parser.add_argument("--json", type=Path, help="also write every task's result here")
     parser.add_argument("--from-json", type=Path, help="print the tables of a --json file again; run nothing")
     args = parser.parse_args(argv)
@@ -272,19 +294,18 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as scratch:
         out = args.out or Path(scratch)
         started = time.perf_counter()
-        tasks = generated_tasks.generate_tasks(
-            args.seed, args.count, out, cache=args.cache, jobs=args.jobs, long_slides=not args.short_pushes
-        )
-        print(f"generated {len(tasks)} tasks in {time.perf_counter() - started:.0f} s", file=sys.stderr)
+        if args.carry:
+            specs = [carry_tasks.carry_spec(args.seed, i) for i in range(args.count)]
+            generated = [(carry_tasks.write_carry_task(spec, out), spec.name, spec.metadata()) for spec in specs]
+        else:
+            tasks = generated_tasks.generate_tasks(
+                args.seed, args.count, out, cache=args.cache, jobs=args.jobs, long_slides=not args.short_pushes
+            )
+            generated = [(t.task_file, t.name, t.spec.metadata()) for t in tasks]
+        print(f"generated {len(generated)} tasks in {time.perf_counter() - started:.0f} s", file=sys.stderr)
         jobs = [
-            {
-                "task_file": str(t.task_file),
-                "name": t.name,
-                "timeout": args.timeout,
-                "missed": not args.no_missed,
-                "meta": t.spec.metadata(),
-            }
-            for t in tasks
+            {"task_file": str(path), "name": name, "timeout": args.timeout, "missed": not args.no_missed, "meta": meta}
+            for path, name, meta in generated
         ]
         results: list[dict[str, Any]] = []
         with ProcessPoolExecutor(max_workers=args.jobs, mp_context=get_context("spawn")) as pool:
@@ -296,7 +317,7 @@ def main(argv: list[str] | None = None) -> int:
         wall = time.perf_counter() - started
     if args.json:
         args.json.write_text(json.dumps(sorted(results, key=lambda r: r["index"]), indent=1) + "\n")
-    explored = ", short push grid only" if args.short_pushes else ""
+    explored = ", the carry family" if args.carry else ", short push grid only" if args.short_pushes else ""
     print(f"## bench_physical: seed {args.seed}, {args.count} tasks{explored}, {args.jobs} jobs, {wall:.0f} s wall\n")
     print(report_text(results))
     return 0

@@ -68,7 +68,7 @@ def _undocumented(version: str, keys: set[str]) -> list[str]:
     return sorted(k for k in keys if not named(k))
 
 
-NAMES = {"block", "stick", "hook", "drawer", "cabinet", "door", "cupboard"}
+NAMES = {"block", "stick", "hook", "drawer", "cabinet", "door", "cupboard", "cube", "left", "middle", "right"}
 """Body names of the example plans: keys of `poses_start`, `final`, ..., not fields."""
 
 

@@ -44,7 +44,7 @@ affordances Block {{
         action fixed at (-5, 6.56, 0) cm yaw 0deg
         motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to {turn} deg
     }}
-}}
+{grasp}}}
 
 scene s {{
     table size (1.6, 1.2) m at (0.5, 0, 0) m
@@ -59,7 +59,16 @@ DEPTH = 6
 """Graphs in the longest sequence enumerated (G0 included)."""
 
 
+GRASP = """    affordance grasp_top {
+        action fixed at (0, 0, 0) cm yaw 90deg
+        motion free
+    }
+"""
+"""A grasp of the block from above (its 10 cm across the fingers: the planner does not check widths)."""
+
+
 def _problem(tmp_path: Path, **fields: object) -> Problem:
+    fields.setdefault("grasp", "")
     path = tmp_path / "bound.vkg"
     path.write_text(PROGRAM.format(**fields), encoding="utf-8")
     program = compile_file(str(path))
@@ -78,7 +87,8 @@ def _children(problem: Problem, seq: Sequence) -> list[Sequence]:
 
 def _passes(problem: Problem, seq: Sequence) -> bool:
     mode = seq.depth - 1
-    if not any(m == mode and e.body == "block" for m, e in seq.variables):
+    carried = any(m == mode - 1 and e.body == "block" for m, e in seq.carries)
+    if not carried and not any(m == mode and e.body == "block" for m, e in seq.variables):
         return False  # ends where a shorter prefix ends: the search never checks it
     return not isinstance(task_space(problem, seq, math.inf, Counters()), Rejection)
 
@@ -103,8 +113,9 @@ def _remaining(problem: Problem, seq: Sequence, seen: list[tuple[Sequence, float
     slide=st.sampled_from([6, 10, 30]),
     turn=st.sampled_from([15, 25]),
     stick=st.booleans(),
+    grasp=st.booleans(),
 )
-def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, yaw, slide, turn, stick):
+def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, yaw, slide, turn, stick, grasp):
     problem = _problem(
         tmp_path,
         x=x,
@@ -114,6 +125,7 @@ def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, y
         slide=slide,
         turn=turn,
         stick="    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n" if stick else "",
+        grasp=GRASP if grasp else "",
     )
     bound = Bound(problem)
     seen: list[tuple[Sequence, float]] = []
@@ -150,11 +162,25 @@ def test_a_body_the_hand_cannot_reach_needs_the_grasp_of_a_tool_first(tmp_path):
     assert Bound(alone)(start_sequence(alone)) == math.inf  # nothing reaches it
 
 
+def test_a_block_the_hand_can_carry_needs_one_action_on_it_until_something_moves_it(tmp_path):
+    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw="", slide=8, turn=25, stick="", grasp=GRASP)
+    bound = Bound(problem)
+    root = start_sequence(problem)
+    assert bound(root) == 1  # a carry moves it any distance in one contact: only "something must touch it" holds
+    seen: list[tuple[Sequence, float]] = []
+    assert _remaining(problem, root, seen) == 2  # grasp, set down: four pushes and three breaks are not needed
+    grasped = next(c for c in _children(problem, root) if c.last.engagement.affordance == "grasp_top")
+    assert bound(grasped) == 1  # the REMOVE that sets it down
+    placed = next(c for c in _children(problem, grasped) if c.last.op == "remove")
+    assert placed.carries and bound(placed) == 0
+
+
 def test_a_heading_nothing_turns_is_never_reached_and_no_depth_is_suggested(tmp_path):
     path = tmp_path / "noturn.vkg"
-    start, end = PROGRAM.index("    affordance turn_left"), PROGRAM.index("}}\n}}\n") + 3
+    start, end = PROGRAM.index("    affordance turn_left"), PROGRAM.index("    }}\n{grasp}") + 7
     text = PROGRAM[:start] + PROGRAM[end:]  # the block only slides
-    path.write_text(text.format(x=0.45, gx=0.5, gy=0, yaw=" yaw 30deg", slide=10, stick=""), encoding="utf-8")
+    fields = {"x": 0.45, "gx": 0.5, "gy": 0, "yaw": " yaw 30deg", "slide": 10, "stick": "", "grasp": ""}
+    path.write_text(text.format(**fields), encoding="utf-8")
     program = compile_file(str(path))
     problem = build_problem(program, program.task())
     assert Bound(problem)(start_sequence(problem)) == math.inf

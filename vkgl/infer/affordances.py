@@ -389,7 +389,7 @@ def _family_ir(f: FamilyFit) -> Family:
         shown = 100.0 * f.sigma if unit == "cm" else math.degrees(f.sigma)
         sigma = Quantity(value=_si(shown, 2, unit), unit=unit)
     return Family(
-        along=_direction_ir(f.along),
+        along=direction_ir(f.along),
         lower=Quantity(value=_si(lower, 2, "cm"), unit="cm"),
         upper=Quantity(value=_si(upper, 2, "cm"), unit="cm"),
         drift=None if f.drift is None else Vector(values=tuple(_si(float(x), 3, "") for x in f.drift), unit=""),

@@ -74,6 +74,9 @@ class ArmCollision:
                 self.link_of[shape_node.getName()] = link
         self.links = tuple(dict.fromkeys(self.link_of.values()))
         """The links whose geometry is checked, root first."""
+        self.finger_links = _finger_links(self.skeleton, arm)
+        """The gripper's fingers: links moved by joints with degrees of freedom that are not the arm's (the
+        Panda's `panda_leftfinger`, `panda_rightfinger`). A grasp's check skips them on the body they close on."""
         # the fingertip pad (`vkgl.robot.pad`, welded to the effector link: `_collision_links`), in a group of
         # its own: the pad is what pushes, it may touch the body the hand acts on, and it is not checked while
         # the hand holds a tool (the executed arm's pad is then switched off too)
@@ -311,3 +314,14 @@ def _pad(link: Any, arm: Arm) -> Any:
     node = body.createShapeNode(dart.dynamics.CylinderShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH + 2 * FINGERTIP_RADIUS))
     node.createCollisionAspect()
     return node
+
+
+def _finger_links(skeleton: Any, arm: Arm) -> tuple[str, ...]:
+    """The child links of the skeleton's joints that move but are not the arm's (the gripper's fingers)."""
+    names = set(arm.joint_names)
+    out = []
+    for i in range(skeleton.getNumJoints()):
+        joint = skeleton.getJoint(i)
+        if joint.getNumDofs() > 0 and joint.getName() not in names and joint is not skeleton.getRootJoint():
+            out.append(joint.getChildBodyNode().getName())
+    return tuple(out)

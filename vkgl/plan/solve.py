@@ -16,6 +16,7 @@ import numpy as np
 
 from vkgl.lang.ir.nodes import Task
 from vkgl.lang.ir.program import Program
+from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
@@ -123,6 +124,8 @@ def _hopeless(problem: Problem) -> str | None:
             if not lower - tolerance <= state <= upper + tolerance:
                 return limit_words(problem, goal.body, body.rest, goal)
         movers = [a for a in body.affordances if a.motion.type in ("prismatic", "revolute")]
+        if carriable(problem, goal.body):  # a grasp of a body that is no tool carries it anywhere
+            movers += [a for a in body.affordances if a.motion.type == "free"]
         if goal.position is not None and problem.table_center is not None and body.on_table:
             low = problem.table_center - problem.table_size / 2  # type: ignore[operator]
             high = problem.table_center + problem.table_size / 2  # type: ignore[operator]
@@ -143,7 +146,7 @@ def _hopeless(problem: Problem) -> str | None:
                 names = ", ".join(a.name for a in body.affordances)
                 return (
                     f"no affordance moves {goal.body}: the affordances of {body.type.name} ({names}) only let "
-                    f"it be held or touched, not slid or turned to a goal"
+                    f"it be held or touched, not slid, turned or carried to a goal"
                 )
             return (
                 f"no affordance moves {goal.body}: its type {body.type.name} has no affordance in the program "

@@ -366,6 +366,7 @@ from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
 # grasps (E46x): registered after the codes above
 # isort: split
 from vkgl.lang.diagnostics.codes_grasps import GRASP_NOT_ACTION, GRASP_WIDTH_OUT_OF_HAND, UNKNOWN_APPROACH  # noqa: E402
+
 # contact families (E47x): registered after the physical codes
 # isort: split
 from vkgl.lang.diagnostics.codes_families import (  # noqa: E402

@@ -42,8 +42,10 @@ import numpy as np
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.approach import CartesianFailure, follow_poses
 from vkgl.motion.arm_collision import Held
+from vkgl.motion.moves import GRASP_STANDOFF
 from vkgl.motion.transit import TransitFailure
 from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
+from vkgl.plan.arm.approaches import DOWN
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
@@ -78,6 +80,7 @@ class PendingTransit:
     held: Held | None
     label: str
     body: str | None = None
+    clear: bool = False  # a carried body: kept `TRANSIT_CLEARANCE` from the others where it can be
 
 
 @dataclass(frozen=True)
@@ -123,7 +126,10 @@ class ArmPathPlanner:
             pending: list[PendingTransit] = []
             for k, step in enumerate(steps, start=1):
                 following = steps[k] if k < len(steps) else None
-                planned = self._planned_step(k, step, state, last=following is None, following=following)
+                previous = steps[k - 2] if k > 1 else None
+                planned = self._planned_step(
+                    k, step, state, last=following is None, following=following, places=_places(step, previous)
+                )
                 if isinstance(planned, Rejection):
                     return planned
                 found, transit = planned
@@ -147,18 +153,26 @@ class ArmPathPlanner:
         return steps
 
     def _planned_step(
-        self, k: int, step: StepT, state: ArmState, *, last: bool = False, following: PlanStepRecord | None = None
+        self,
+        k: int,
+        step: StepT,
+        state: ArmState,
+        *,
+        last: bool = False,
+        following: PlanStepRecord | None = None,
+        places: bool = False,
     ) -> tuple[StepT, PendingTransit | None] | Rejection:
         """The step with its straight moves and the transit it needs; a contact tries each arm configuration
         that carries its motion in turn, until one can be approached (and, for the `last` step, left again).
-        A release happens where the arm is (its `q_start`/`q_end` become those joints)."""
+        A release happens where the arm is (its `q_start`/`q_end` become those joints), unless it `places` a
+        carried body: then its path carries the body to its place first (`q_start`, as the search solved it)."""
         if step.op != "add" or step.motion == "free":
             q_before = state.q
-            found = self._step(k, step, state, releases_next=_releases(following, state.held))
+            found = self._step(k, step, state, releases_next=_releases(following, state.held), places=places)
             if isinstance(found, Rejection):
                 return found
             segments, transit = found
-            if step.op == "remove" and step.motion == "free":
+            if step.op == "remove" and step.motion == "free" and not places:
                 return replace(step, path=segments, q_start=q_before, q_end=q_before), transit
             return replace(step, path=segments), transit
         label = f"step {k} ({step.title()})"
@@ -206,7 +220,9 @@ class ArmPathPlanner:
         count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
         closest = _ClosestMiss()
         # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
-        for pitch in PITCHES if state.held is None else PITCHES[:1]:
+        # nor may a grasp lean: the fingers close on the handle as the grasp says
+        grasp = self.moves.grasps(step)
+        for pitch in PITCHES if state.held is None and not grasp else PITCHES[:1]:
             hand = upright @ _pitched_back(pitch)
             poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
             lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""
@@ -226,9 +242,33 @@ class ArmPathPlanner:
                     closest.note((2, -clash[1]), lean + clash[0])
                     continue
                 yield chain.joints.copy()
+        if grasp:
+            yield from self._grasp_chains(step, state, poses, closest)
         yield Rejection(
             Kind.IK, f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0
         )
+
+    def _grasp_chains(
+        self, step: PlanStepRecord, state: ArmState, poses: list[np.ndarray], closest: _ClosestMiss
+    ) -> Iterator[np.ndarray]:
+        """More arm configurations for a grasped handle's motion (a door's arc turns the hand with it, which the
+        configuration at its start may not carry to its end): chains solved backwards from the motion's end,
+        from the arm's spread IK seeds, each kept when it carries the whole motion clear of the bodies."""
+        arm = self.problem.arm
+        for seed in arm.spread_seeds():
+            q_end = arm.ik(poses[-1], q0=seed)
+            if q_end is None:
+                continue
+            chain = follow_poses(arm, poses[::-1], q_end)
+            if isinstance(chain, CartesianFailure):
+                closest.note((1, chain.index / len(poses)), "solved from the end: " + chain.reason)
+                continue
+            joints = chain.joints[::-1].copy()
+            clash = self._contact_clash(step, state, joints)
+            if clash is not None:
+                closest.note((2, -clash[1]), clash[0])
+                continue
+            yield joints
 
     def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
         """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
@@ -237,6 +277,7 @@ class ArmPathPlanner:
         held = state.held
         if held is not None:
             held = Held(held.body, held.in_hand, frozenset({step.body}))
+        grasp = self.moves.grasps(step)
         fractions = np.linspace(0.0, 1.0, len(chain))
         moving = {
             name: screw_motion(pose, step.poses_end[name]).along(fractions) @ pose
@@ -245,6 +286,12 @@ class ArmPathPlanner:
         }
         for i, q in enumerate(chain):
             poses = {**step.poses_start, **{name: along[i] for name, along in moving.items()}}
+            if grasp:  # the fingers close on the body: only they may touch it
+                clash = self.moves.grasp_overlap(np.asarray([q]), poses, held, step.body)
+                if clash is not None:
+                    where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
+                    return f"{where} {clash[0]}", clash[1]
+                continue
             clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
                 where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
@@ -254,9 +301,10 @@ class ArmPathPlanner:
     # ------------------------------------------------------------ step kinds
 
     def _step(
-        self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False
+        self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False, places: bool = False
     ) -> tuple[tuple[ArmSegment, ...], PendingTransit | None] | Rejection:
-        """The step's straight moves from where `state` has the arm, and the transit before its approach."""
+        """The step's straight moves from where `state` has the arm, and the transit before its approach (for
+        a step that `places` a carried body, the transit with the body in the hand, then down onto its place)."""
         label = f"step {k} ({step.title()})"
         segments: list[ArmSegment] = []
         if state.lift:
@@ -274,6 +322,8 @@ class ArmPathPlanner:
             if isinstance(retreat, Rejection):
                 return retreat
             return (*segments, retreat), None
+        if step.op == "remove" and places:
+            return self._place(k, step, state, segments, label)
         if step.op == "remove":  # a release: the tool stays where the plan put it; the hand lifts next
             state.held, state.lift = None, True
             return tuple(segments), None
@@ -292,6 +342,22 @@ class ArmPathPlanner:
         state.q = np.asarray(step.q_end, dtype=float)
         return tuple(segments), transit
 
+    def _place(
+        self, k: int, step: PlanStepRecord, state: ArmState, segments: list[ArmSegment], label: str
+    ) -> tuple[tuple[ArmSegment, ...], PendingTransit | None] | Rejection:
+        """A carried body set down: the transit with it in the hand (lifted clear: over the others when they
+        are in the way) to above its place, then straight down onto it (`GRASP_STANDOFF`, after the held
+        body's `TOOL_DESCENT`), where the hand lets go and lifts next."""
+        down = self.moves.approach(step, state, f"{label}, setting {step.body} down", DOWN, GRASP_STANDOFF)
+        if isinstance(down, Rejection):
+            return down
+        transit = PendingTransit(
+            k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label, clear=True
+        )
+        state.held, state.lift = None, True
+        state.q = np.asarray(step.q_start, dtype=float)
+        return (*segments, down.segment), transit
+
     def _transit(self, transit: PendingTransit, deadline: float | None) -> ArmSegment | Rejection:
         """`transit` planned, or why it cannot be (naming what blocks one of its ends when one is blocked)."""
         limit = TRANSIT_TIME_LIMIT
@@ -299,12 +365,19 @@ class ArmPathPlanner:
             limit = max(0.05, min(limit, deadline - time.perf_counter()))
         self.transit_count += 1
         held = transit.held
-        collision = self.geometry.transit_space(held, transit.body)
+        spaces = [self.geometry.transit_space(held, transit.body)]
+        if transit.clear:
+            # a carried body swings with the arm through free space: with room to spare from the others (the
+            # grown bodies), unless its ends lie closer than that (a neighbour beside where it is picked up)
+            spaces.insert(0, self.geometry.transit_collision)
         began = time.perf_counter()
         try:
-            found = transit_segment(
-                collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
-            )
+            for collision in spaces:
+                found = transit_segment(
+                    collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
+                )
+                if not isinstance(found, TransitFailure):
+                    break
         finally:
             self.transit_seconds += time.perf_counter() - began
         if isinstance(found, TransitFailure):
@@ -336,6 +409,20 @@ class _ClosestMiss:
     def note(self, rank: tuple[int, float], words: str) -> None:
         if self.rank is None or rank > self.rank:
             self.rank, self.words = rank, words
+
+
+def _places(step: PlanStepRecord, previous: PlanStepRecord | None) -> bool:
+    """Whether `step` lets go of a body carried since the step before grasped it (pick and place: the search
+    lets go of a tool it has just grasped never, `vkgl.plan.graphs.graph.successors`)."""
+    return (
+        previous is not None
+        and step.op == "remove"
+        and step.motion == "free"
+        and previous.op == "add"
+        and previous.motion == "free"
+        and previous.body == step.body
+        and previous.effector == step.effector
+    )
 
 
 def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:

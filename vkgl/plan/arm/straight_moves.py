@@ -49,6 +49,7 @@ from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, T
 from vkgl.motion.timing import arm_velocity_limits, straight_times
 from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
 from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.graphs.graph import is_grasp
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
@@ -100,8 +101,10 @@ class StraightMoves:
         about the push, from the side along a handle's bar, higher and lower, shorter and longer stand-offs),
         in order; when none works, the reason says which were tried and which came closest.
         """
-        if step.motion == "free":  # a grasp
+        if step.motion == "free":  # a grasp of a free body: from above, as it lies
             return self.approach(step, state, label, DOWN, GRASP_STANDOFF)
+        if self.grasps(step):  # a handle's grasp: along the hand's axis (from the side for a bar held level)
+            return self.approach(step, state, label, self.hand_axis(step), GRASP_STANDOFF)
         push = self.push_direction(step, step.poses_start)
         tried: list[Way] = []
         closest: tuple[float, str] | None = None
@@ -151,7 +154,7 @@ class StraightMoves:
         self, step: PlanStepRecord, state: ArmState, label: str, direction: np.ndarray, standoff: float
     ) -> Approach | tuple[Rejection, float]:
         """`approach`, a failure with how far it missed: the overlap (m) of a blocked way, infinite otherwise."""
-        grasp = step.motion == "free"
+        grasp = self.grasps(step)
         contact = self.problem.arm.fk(step.q_start)
         poses = approach_poses(contact, standoff, APPROACH_STEP, direction)
         length = standoff
@@ -199,13 +202,14 @@ class StraightMoves:
         after = ArmState(np.asarray(state.q, dtype=float).copy(), state.held, False)
         label, poses = f"{label}, at the end", step.poses_end
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        held = step.body if self.grasps(step) else None  # the opened fingers slide off the body they held
         if rule == "reverse" and way is not None:
-            out = self._move_away(after, -way, STANDOFF, poses, {step.body}, label, what)
+            out = self._move_away(after, -way, STANDOFF, poses, {step.body}, label, what, grasped=held)
         else:
             back = -self.push_direction(step, poses) if rule == "back" else -DOWN
-            out = self._move_away(after, back, STANDOFF, poses, {step.body}, label, what)
+            out = self._move_away(after, back, STANDOFF, poses, {step.body}, label, what, grasped=held)
             if isinstance(out, tuple) and not out[1]:  # no straight path back: execution goes up instead
-                out = self._move_away(after, -DOWN, STANDOFF, poses, {step.body}, label, what)
+                out = self._move_away(after, -DOWN, STANDOFF, poses, {step.body}, label, what, grasped=held)
         if isinstance(out, tuple):
             return out[0]
         lift = self.lift(after, poses, label)
@@ -222,15 +226,16 @@ class StraightMoves:
         rule, way = state.entered or ("back", None)
         state.entered = None
         what = ("retreat", "no straight retreat from the contact", "the straight retreat from the contact is blocked")
+        grasped = step.body if self.grasps(step) else None  # the opened fingers slide off the body they held
         if rule == "reverse" and way is not None:
-            reverse = self.move_away(state, -way, STANDOFF, poses, {step.body}, label, what)
+            reverse = self.move_away(state, -way, STANDOFF, poses, {step.body}, label, what, grasped=grasped)
             if not isinstance(reverse, Rejection):
                 return reverse
         away = -self.push_direction(step, poses)
-        first = self.move_away(state, away, STANDOFF, poses, {step.body}, label, what)
+        first = self.move_away(state, away, STANDOFF, poses, {step.body}, label, what, grasped=grasped)
         if not isinstance(first, Rejection):
             return first
-        above = self.move_away(state, -DOWN, STANDOFF, poses, {step.body}, label, what)
+        above = self.move_away(state, -DOWN, STANDOFF, poses, {step.body}, label, what, grasped=grasped)
         return first if isinstance(above, Rejection) else above
 
     def lift(self, state: ArmState, poses: Mapping[str, np.ndarray], label: str) -> ArmSegment | Rejection:
@@ -247,10 +252,13 @@ class StraightMoves:
         pad_may_touch: set[str],
         label: str,
         what: tuple[str, str, str],
+        *,
+        grasped: str | None = None,
     ) -> ArmSegment | Rejection:
         """A straight move of the hand by `length` along `way` from where the arm is; `what`: the segment's
-        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose."""
-        found = self._move_away(state, way, length, poses, pad_may_touch, label, what)
+        phase and the words for no IK path and for a blocked one. The arm's joints end at its last pose.
+        `grasped`: a body the fingers held (they may touch it, `grasp_overlap`)."""
+        found = self._move_away(state, way, length, poses, pad_may_touch, label, what, grasped=grasped)
         return found[0] if isinstance(found, tuple) else found
 
     def _move_away(
@@ -262,6 +270,8 @@ class StraightMoves:
         pad_may_touch: set[str],
         label: str,
         what: tuple[str, str, str],
+        *,
+        grasped: str | None = None,
     ) -> ArmSegment | tuple[Rejection, bool]:
         """`move_away`; a failure says whether the way was blocked (True) or had no straight IK path (False)."""
         phase, no_path, blocked = what
@@ -272,11 +282,24 @@ class StraightMoves:
             return Rejection(Kind.APPROACH, f"{label}: {no_path} ({path.reason})", 1.0), False
         joints = path.joints.copy()
         joints[0] = state.q
-        clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
+        if grasped is not None:
+            clash = self.grasp_overlap(joints[1:], poses, state.held, grasped)
+        else:
+            clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
         if clash is not None:
             return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0), True
         state.q = joints[-1]
         return self.straight(phase, joints, length)
+
+    def grasps(self, step: PlanStepRecord) -> bool:
+        """Whether the step's contact is a grasp (`vkgl.plan.graphs.graph.is_grasp`): the fingers close on it."""
+        _, _, name = step.affordance.partition(".")
+        return is_grasp(self.problem, step.body, name)
+
+    def hand_axis(self, step: PlanStepRecord) -> np.ndarray:
+        """The world direction the hand points at the step's contact (the effector frame's -z: the frame's z is
+        up when the hand points down), the way it comes into a grasp."""
+        return -np.asarray(self.problem.arm.fk(step.q_start)[:3, 2], dtype=float)
 
     def push_direction(self, step: PlanStepRecord, poses: Mapping[str, np.ndarray]) -> np.ndarray:
         """The world direction the step's contact pushes along: the x axis of its action frame on the body."""
@@ -312,6 +335,18 @@ class StraightMoves:
             what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
             return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm", deepest.depth
         return None
+
+    def grasp_overlap(
+        self, joints: np.ndarray, poses: Mapping[str, np.ndarray], held: Held | None, body: str
+    ) -> tuple[str, float] | None:
+        """`first_overlap` of a hand whose fingers close on `body`: the whole arm against everything else, and
+        the arm but its fingers (`GeometryCheck.palm_collision`) against `body` too."""
+        clash = self.first_overlap(joints, poses, held, {body})
+        if clash is not None:
+            return clash
+        palm = self.geometry.palm_collision
+        others = set(palm.scene.names) - {body}
+        return self.first_overlap(joints, poses, None, others, {body}, collision=palm)
 
     def straight(self, phase: str, joints: np.ndarray, length: float) -> ArmSegment:
         """A straight Cartesian move of `length` (m) through `joints` (evenly spaced poses), at `CARTESIAN_SPEED`

@@ -60,6 +60,7 @@ class GeometryCheck:
         self._transit: ArmCollision | None = None
         self._held_transit: dict[tuple[str, str | None], ArmCollision] = {}
         self._thicknesses: dict[str, float] = {}
+        self._palm: ArmCollision | None = None
         self.queries = 0
 
     @property
@@ -89,6 +90,14 @@ class GeometryCheck:
             grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact=exact)
             self._held_transit[key] = ArmCollision(grown, self.problem.arm)
         return self._held_transit[key]
+
+    @property
+    def palm_collision(self) -> ArmCollision:
+        """The arm's links but the gripper's fingers against the scene: a grasp's hand checked against the body
+        its fingers close on (they may touch it; the palm and the rest may not)."""
+        if self._palm is None:
+            self._palm = ArmCollision(self.scene, self.problem.arm, skip_links=self.arm_collision.finger_links)
+        return self._palm
 
     @property
     def arm_collision(self) -> ArmCollision:

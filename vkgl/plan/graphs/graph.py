@@ -8,7 +8,8 @@ an affordance of a target body). Its edges follow (paper §2.3):
   physical joint, which holds it at rest until something moves it);
 - the robot has a `free` edge to `world`;
 - each engagement adds an edge effector -> target with the action's type
-  (`fixed`): from the robot for its own effector, from the tool for a tool frame.
+  (`fixed`; a grasp holds its body rigidly: `fixed` too): from the robot for
+  its own effector, from the tool for a tool frame.
 
 `G0` has no engagement. `successors(G)` lists the ADDs and REMOVEs that the
 search may try from `G`, in a fixed order (ADDs by effector, body and
@@ -21,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vkgl.lang.ir.nodes import Constraint
+from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.problem import Problem
 
 WORLD = "world"
@@ -79,6 +81,15 @@ def motion_type(problem: Problem, engagement: Engagement) -> str:
     return problem.affordance(engagement.body, engagement.affordance).motion.type
 
 
+def is_grasp(problem: Problem, body: str, affordance: str) -> bool:
+    """Whether an affordance is enacted by the hand's fingers closing on the body: an `action grasp`, or any
+    action whose motion is `free` (a tool's `wield`, written `action fixed at ...` before grasps had their own
+    action). A grasp pins the hand's whole pose (its fingers close along one axis); a push leaves its yaw free.
+    A grasp whose motion is a joint's (a drawer's knob, a door's bar) moves the hand along the joint."""
+    aff = problem.affordance(body, affordance)
+    return aff.action.type == "grasp" or aff.motion.type == "free"
+
+
 def is_held(problem: Problem, graph: KGraph, tool: str) -> bool:
     """Whether `tool` is in the robot's hand: engaged by the robot's effector with a free motion."""
     e = graph.engaging(tool)
@@ -95,7 +106,8 @@ def edges(problem: Problem, graph: KGraph) -> list[tuple[str, str, str]]:
     out.append((problem.robot_name, WORLD, "free"))
     for e in graph.engaged:
         owner = problem.effector(e.effector).tool or problem.robot_name
-        out.append((owner, e.body, problem.affordance(e.body, e.affordance).action.type))
+        action = problem.affordance(e.body, e.affordance).action.type
+        out.append((owner, e.body, "fixed" if action == "grasp" else action))  # a grasp holds the body rigidly
     return out
 
 
@@ -113,8 +125,10 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
       motion has a `range`: then one mode may not move it that far, and a
       longer motion is several contacts in a row.
     REMOVE an engagement when no tool frame of the target acts (a tool in use
-    stays in the hand), and not a grasp just added (picking a tool up and
-    putting it back down changes nothing).
+    stays in the hand), and not a grasp of a tool just added (picking a tool
+    up and putting it back down changes nothing); a grasp of any other free
+    body may be let go of at once: pick and place, the body carried in between
+    and set down where task space decides (`vkgl.plan.graphs.carry`).
     """
     out = []
     for effector in problem.effectors:
@@ -132,7 +146,8 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
     for e in graph.engaged:
         if _tool_busy(problem, graph, e.body):
             continue
-        if last is not None and last.op == "add" and last.engagement == e and motion_type(problem, e) == "free":
+        just_grasped = last is not None and last.op == "add" and last.engagement == e
+        if just_grasped and motion_type(problem, e) == "free" and not carriable(problem, e.body):
             continue
         out.append(Action("remove", e))
     return out

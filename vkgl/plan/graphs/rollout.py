@@ -21,7 +21,8 @@ import numpy as np
 
 from vkgl.lang.ir.families import member_name, offset_bounds
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
-from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, motion_type
+from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
+from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, is_grasp, motion_type
 from vkgl.plan.graphs.members import action_at, has_family, pivot_shift
 from vkgl.plan.problem.problem import Problem
 from vkgl.rotations import rotvec_matrices, yaw_matrix
@@ -45,6 +46,9 @@ class Sequence:
     added at the transition into that mode has a family, and task-space
     value `len(variables) + j` is its contact's offset along the face (m);
     a rollout given only the motion values puts every offset at 0.
+    `carries[j] = (mode, grasp)`: the grasped body is carried during that
+    mode and set down where values `len(variables) + len(offsets) + 3 j ..
+    + 3` put it (`vkgl.plan.graphs.carry`).
     """
 
     actions: tuple[Action, ...] = ()
@@ -53,6 +57,12 @@ class Sequence:
     offsets: tuple[tuple[int, Engagement], ...] = ()
     dependent: frozenset[str] = frozenset()
     zero_poses: dict[str, np.ndarray] = field(default_factory=dict, compare=False)
+    carries: tuple[tuple[int, Engagement], ...] = ()
+
+    @property
+    def size(self) -> int:
+        """How many values the sequence has: its motion values, its contacts' offsets, then three per carry."""
+        return len(self.variables) + len(self.offsets) + CARRY_VALUES * len(self.carries)
 
     @property
     def depth(self) -> int:
@@ -90,6 +100,10 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
     hand = None
     if action.op == "add" and e.body not in dependent:
         hand = hand_pose_at(problem, graph, poses, action.engagement)
+    carries = seq.carries
+    if is_carry(problem, seq, action):
+        carries += ((mode - 1, e),)
+        dependent.add(e.body)
     variables = list(seq.variables)
     for engaged in graph.engaged:
         if motion_type(problem, engaged) in ("prismatic", "revolute"):
@@ -103,9 +117,24 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
     if action.op == "add" and has_family(problem, e.body, e.affordance):
         offsets += ((mode, e),)
     child = Sequence(
-        seq.actions + (action,), seq.graphs + (graph,), tuple(variables), offsets, frozenset(dependent), poses
+        seq.actions + (action,), seq.graphs + (graph,), tuple(variables), offsets, frozenset(dependent), poses, carries
     )
     return child, hand
+
+
+def is_carry(problem: Problem, seq: Sequence, action: Action) -> bool:
+    """Whether `action` lets go of a body grasped by the action just before it (pick and place): the body is
+    carried in between and set down where the carry's values put it."""
+    e = action.engagement
+    last = seq.last
+    return (
+        action.op == "remove"
+        and last is not None
+        and last.op == "add"
+        and last.engagement == e
+        and motion_type(problem, e) == "free"
+        and carriable(problem, e.body)
+    )
 
 
 def _transition(problem: Problem, poses: dict[str, np.ndarray], action: Action, offset: float = 0.0) -> None:
@@ -142,14 +171,14 @@ def hand_chain(
     family), and whether its yaw is free.
 
     The robot's own effector: the action pose (a round fingertip pushes the
-    same at any yaw, so yaw is free unless it grasps). A tool frame: the
+    same at any yaw, so yaw is free unless it grasps: `is_grasp`). A tool frame: the
     action, back to the tool's frame, then the grasp by which the hand holds
     the tool (exact pose). None when the tool is not held.
     """
     effector = problem.effector(engagement.effector)
     action = action_at(problem, engagement.body, engagement.affordance, offset)
     if effector.tool is None:
-        return action, motion_type(problem, engagement) != "free"
+        return action, not is_grasp(problem, engagement.body, engagement.affordance)
     held = graph.engaging(effector.tool)
     if held is None:
         return None
@@ -266,20 +295,23 @@ def bounds(problem: Problem, seq: Sequence, *, offsets: bool = False) -> tuple[n
         pairs += [offset_bounds(problem.affordance(e.body, e.affordance)) for _, e in seq.offsets]
     lower = np.asarray([p[0] for p in pairs], dtype=float)
     upper = np.asarray([p[1] for p in pairs], dtype=float)
-    return lower, upper
+    carry_low, carry_high = carry_bounds(len(seq.carries))
+    return np.concatenate([lower, carry_low]), np.concatenate([upper, carry_high])
 
 
 def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Sequence, np.ndarray]:
     """`seq` with each family engagement renamed to its member at the offset `values` gives it (to 0.01 cm,
-    `push_center_px@+3.12cm`), and the motion values alone: what every stage after the task space reads.
+    `push_center_px@+3.12cm`), and the values without the offsets (the motions, then the carries): what every
+    stage after the task space reads.
 
     The engagement keeps its member's name from its ADD to its REMOVE. A sequence without offsets comes back
     as it is.
     """
-    n = len(seq.variables)
+    n, m = len(seq.variables), len(seq.offsets)
+    kept = np.concatenate([values[:n], values[n + m :]])  # the motions and the carries
     if not seq.offsets:
-        return seq, values[:n]
-    offset_of = {key: float(v) for key, v in zip(seq.offsets, values[n:])}
+        return seq, kept
+    offset_of = {key: float(v) for key, v in zip(seq.offsets, values[n : n + m])}
     renamed: dict[Engagement, Engagement] = {}
     out = start_sequence(problem)
     for k, action in enumerate(seq.actions, start=1):
@@ -291,7 +323,7 @@ def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Se
         if action.op == "remove":
             renamed.pop(e, None)
         out, _ = extend(problem, out, Action(action.op, member))
-    return out, values[:n]
+    return out, kept
 
 
 class _Fractions(dict):
@@ -312,7 +344,9 @@ class ModeTrace:
     `hand`: the hand's world poses at evenly spaced fractions of the mode's
     motion (one pose when it only touches at the start, e.g. a grasp; empty
     when the hand is free); `yaw_free`: whether only its position and z axis
-    matter; `values`: the motion value of each engagement of the mode.
+    matter; `values`: the motion value of each engagement of the mode;
+    `carried`: the grasps whose bodies the hand carries during the mode, with
+    their carry values (dx, dy, dyaw).
     """
 
     start: dict[str, np.ndarray]
@@ -320,6 +354,13 @@ class ModeTrace:
     hand: list[np.ndarray]
     yaw_free: bool
     values: dict[Engagement, float]
+    carried: dict[Engagement, np.ndarray] = field(default_factory=dict)
+
+    @property
+    def moved(self) -> set[str]:
+        """The bodies the mode moves: by a motion value, or carried."""
+        moved = {e.body for e in self.values}
+        return moved | {e.body for e in self.carried} if self.carried else moved
 
 
 def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 5) -> list[ModeTrace]:
@@ -328,8 +369,15 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
     by_mode: dict[int, list[tuple[Engagement, float]]] = {}
     for (mode, e), v in zip(seq.variables, values):
         by_mode.setdefault(mode, []).append((e, float(v)))
-    offset_of = dict(zip(seq.offsets, (float(v) for v in values[len(seq.variables) :])))
+    # the values: motions, then the contacts' offsets (absent once `materialise` named the members), then carries
+    first_carry = len(values) - CARRY_VALUES * len(seq.carries)
+    offset_of = dict(zip(seq.offsets, (float(v) for v in values[len(seq.variables) : first_carry])))
     live: dict[Engagement, float] = {}  # the offsets of the family engagements in force
+    carries: dict[int, dict[Engagement, np.ndarray]] = {}
+    if seq.carries:  # (the optimiser's hot path: nothing to do for the sequences that carry nothing)
+        carry_values = np.asarray(values[first_carry:], dtype=float).reshape(-1, CARRY_VALUES)
+        for (mode, e), c in zip(seq.carries, carry_values):
+            carries.setdefault(mode, {})[e] = c
     traces = []
     for k, graph in enumerate(seq.graphs):
         if k > 0:
@@ -345,13 +393,33 @@ def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 
         for e, v in moves:
             paths[e] = member_motions(problem, e, live.get(e, 0.0), _FRACTIONS[samples] * v)
             poses[e.body] = start[e.body] @ paths[e][-1]
+        carried = carries.get(k, _NOTHING_CARRIED)
+        for e, c in carried.items():
+            poses[e.body] = carried_pose(start[e.body], c)
         for e in graph.engaged:
             tool = problem.effector(e.effector).tool
             if tool is not None:
                 poses[tool] = tool_pose_on(problem, e, poses[e.body], live.get(e, 0.0))
-        hand, yaw_free = _hand_path(problem, seq, k, start, paths, live)
-        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}))
+        if carried:
+            hand, yaw_free = _carry_hand_path(problem, carried, start, poses), False
+        else:
+            hand, yaw_free = _hand_path(problem, seq, k, start, paths, live)
+        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, carried))
     return traces
+
+
+_NOTHING_CARRIED: dict[Engagement, np.ndarray] = {}
+"""The `carried` of a mode that carries nothing (shared: never written to)."""
+
+
+def _carry_hand_path(
+    problem: Problem, carried: dict[Engagement, np.ndarray], start: dict[str, np.ndarray], end: dict[str, np.ndarray]
+) -> list[np.ndarray]:
+    """The hand while it carries a body: at the grasp where the body is picked up and where it is set down (the
+    way between is lifted over the other bodies, planned with the arm's paths)."""
+    (e,) = carried  # one hand, one grasp
+    grasp = problem.action(e.body, e.affordance)
+    return [start[e.body] @ grasp, end[e.body] @ grasp]
 
 
 def acting_engagement(problem: Problem, graph: KGraph) -> Engagement | None:

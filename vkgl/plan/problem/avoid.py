@@ -29,6 +29,10 @@ plan's reason and details). Two rules:
   within `VALUE_TOLERANCE` and every body at its start within
   `PLAN_TOLERANCE`. Steps that move nothing (a grasp, a let-go, a push by 0)
   do not make a plan different: padding a tried plan with them is the same plan.
+  A carry moves a body too (pick and place: a grasp, then the let-go that sets
+  the body down elsewhere, `vkgl.plan.graphs.carry`): the pair counts as one
+  motion, the same when both its steps are (picked up and set down at the
+  same poses).
 
 Keys are built from `vkg-plan/3` step records (`StepKey.of`), so what is
 avoided is said in the terms of the plans the executor carried out.
@@ -142,12 +146,41 @@ class Avoid:
             for failed in self.steps:
                 if step.repeats_failed(failed):
                     return Rejection(Kind.EXCLUDED, failed_words(k, step))
-        motions = [s for s in steps if s.moves]
+        motions = _motions(steps)
         for number, tried in enumerate(self.plans, start=1):
-            done = [s for s in tried if s.moves]
-            if len(done) == len(motions) and all(a.same_as(b) for a, b in zip(motions, done, strict=True)):
+            done = _motions(tried)
+            if len(done) == len(motions) and all(_same(a, b) for a, b in zip(motions, done, strict=True)):
                 return Rejection(Kind.EXCLUDED, f"does the same as the plan tried {_ordinal(number)}")
         return None
+
+
+def _motions(steps: Iterable[StepKey]) -> list[tuple[StepKey, ...]]:
+    """The motions of a plan, in order: each step that slides or turns a body, and each carry (the grasp and the
+    let-go that sets its body down elsewhere)."""
+    out: list[tuple[StepKey, ...]] = []
+    previous: StepKey | None = None
+    for step in steps:
+        if step.moves:
+            out.append((step,))
+        elif previous is not None and _carries(previous, step):
+            out.append((previous, step))
+        previous = step
+    return out
+
+
+def _carries(grasp: StepKey, release: StepKey) -> bool:
+    """Whether `release` sets down elsewhere the body `grasp` (the step before it) picked up."""
+    if (grasp.op, release.op, grasp.motion, release.motion) != ("add", "remove", "free", "free"):
+        return False
+    if grasp.transition[1:] != release.transition[1:]:
+        return False
+    picked, placed = grasp.start.get(grasp.body), release.start.get(release.body)
+    return picked is not None and placed is not None and not _close(picked, placed, PLAN_TOLERANCE)
+
+
+def _same(a: tuple[StepKey, ...], b: tuple[StepKey, ...]) -> bool:
+    """Whether two motions are the same: as many steps, each the same (`StepKey.same_as`)."""
+    return len(a) == len(b) and all(x.same_as(y) for x, y in zip(a, b, strict=True))
 
 
 def failed_words(k: int, step: StepKey) -> str:

@@ -328,7 +328,10 @@ def _plan_body(program: Program, scene: Scene, scene_body: SceneBody) -> PlanBod
         )
     rest = scene_body_pose(scene, scene_body, body)
     yaw = math.atan2(rest[1, 0], rest[0, 0])
-    fixed = tuple(a for a in program.affordances.get(body.name, []) if isinstance(a.action, FixedC))
+    # a fixed action (a push, a tool's wield) or a grasp: both put the effector at a pose on the body
+    fixed = tuple(
+        a for a in program.affordances.get(body.name, []) if isinstance(a.action, FixedC) or a.action.type == "grasp"
+    )
     usable, too_high = split_by_tipping(body, fixed, program.tipping.get(body.name, []))
     joint = body.joint
     return PlanBody(

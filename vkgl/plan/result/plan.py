@@ -6,7 +6,11 @@ body poses right after the transition, `poses_end` after the motion, and
 `q_start`/`q_end` the arm's joints there. Held tools move freely between steps
 (their world edge is free); everything else is continuous from one step to
 the next. A REMOVE step has value 0 and moves nothing, except that releasing
-a tool puts it down on the table.
+a tool puts it down on the table, and that letting go of a carried body (pick
+and place, `vkgl.plan.graphs.carry`) sets it down at its place: the grasp's
+step ends holding it where it was picked up, and the REMOVE step's
+`poses_start` has it at its place, where its path (lift, transit with the body
+in the hand, down onto the place) brings it before the hand lets go.
 """
 
 from __future__ import annotations
@@ -181,6 +185,12 @@ def plan_step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarr
     e = action.engagement
     aff = problem.affordance(e.body, e.affordance)
     value = trace.values.get(e, 0.0) if action.op == "add" else 0.0
+    poses_end = dict(trace.end)
+    if action.op == "add" and e in trace.carried:
+        # a grasp of a body that is carried: the step ends holding it where it was picked up; the carry and the
+        # place are the next step's (its path carries it there, then it lets go), as execution sees it
+        poses_end[e.body] = trace.start[e.body]
+        q_end = q_start
     return PlanStep(
         op=action.op,
         affordance=f"{problem.bodies[e.body].type.name}.{e.affordance}",
@@ -189,7 +199,7 @@ def plan_step(problem: Problem, action: Any, trace: ModeTrace, q_start: np.ndarr
         motion=aff.motion.type,
         value=float(max(0.0, value)),
         poses_start=dict(trace.start),
-        poses_end=dict(trace.end),
+        poses_end=poses_end,
         q_start=np.asarray(q_start, dtype=float),
         q_end=np.asarray(q_end, dtype=float),
         hand=list(trace.hand),

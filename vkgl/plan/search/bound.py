@@ -51,6 +51,19 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    target is a tool, not a goal body: it adds to the sum); with no tool at all,
    never.
 
+5. **A body the hand can carry.** A goal body with a `free` affordance that is
+   no tool (`vkgl.plan.graphs.carry.carriable`) may be grasped and set down
+   anywhere in one contact (`ADD` its grasp, `REMOVE` it: the carry's values
+   put it at any position and heading, `vkgl.plan.graphs.carry`), so parts 1
+   to 3 bound nothing for it: one mode may move it any distance. What stays
+   true: while nothing has moved it yet (it is not in `seq.dependent`, so it
+   lies exactly where `seq.zero_poses` has it) and a goal of it does not hold
+   there, some later action targets it (an ADD on it: a push, a grasp; or the
+   REMOVE that sets it down, when the hand holds it now): one action, counted
+   with the others (they target other bodies, or are a tool's grasp). A tool
+   is never set down elsewhere (it lies where it was used), so a goal on a
+   tool counts nothing.
+
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
 remaining depth: the best-first search that prunes at `depth + bound >
@@ -68,9 +81,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.nodes import Affordance
+from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.graphs.graph import KGraph, is_held, motion_type
 from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
+from vkgl.plan.task_space.feasible import goal_holds
 from vkgl.plan.task_space.workspace import unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -100,11 +115,13 @@ class Bound:
         self.tools = frozenset(tools)
         self.two_frames = any(tools.count(t) > 1 for t in self.tools)
         self.needs = [need for need in _needs(problem, self.tools) if need.modes > 0]
+        self.carried_goals = [g for g in problem.goals if _carriable_goal(problem, g.body, self.tools)]
 
     def __call__(self, seq: Sequence) -> float:
         """The fewest actions any feasible extension of `seq` adds (`inf`: none can reach the goal)."""
+        carries = self._carries(seq)
         if not self.needs:
-            return 0
+            return carries
         graph = seq.graphs[-1]
         remaining, actions, tool = 0.0, 0.0, False
         for need in self.needs:
@@ -125,7 +142,17 @@ class Bound:
             if not self.tools:
                 return math.inf
             actions += 1
-        return max(remaining, actions)
+        return max(remaining, actions + carries)
+
+    def _carries(self, seq: Sequence) -> int:
+        """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does
+        not hold where it lies."""
+        waiting = {
+            g.body
+            for g in self.carried_goals
+            if g.body not in seq.dependent and not goal_holds(self.problem, seq.zero_poses, [g])
+        }
+        return len(waiting)
 
     def explain(self) -> str:
         """Why the goal needs the graphs the bound gives at the start (empty when it gives none)."""
@@ -135,13 +162,21 @@ class Bound:
         return any(is_held(self.problem, graph, tool) for tool in self.tools)
 
 
+def _carriable_goal(problem: Problem, body: str, tools: frozenset[str]) -> bool:
+    """Whether a goal body can be carried (part 5): a grasp (`free` affordance) on a body that is no tool."""
+    plan_body = problem.bodies[body]
+    return (
+        body not in tools and carriable(problem, body) and any(a.motion.type == "free" for a in plan_body.affordances)
+    )
+
+
 def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
     """Per goal body, the moving modes its goals need (the largest over its goals) and whether only a tool can."""
     out: dict[str, BodyNeed] = {}
     for goal in problem.goals:
         body = problem.bodies[goal.body]
         if goal.body in tools or any(a.motion.type == "free" for a in body.affordances):
-            continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes
+            continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes (part 5)
         movers = _movers(body)
         modes, why = _goal_modes(problem, body, goal, movers)
         kept = out.get(goal.body)

@@ -10,8 +10,9 @@ and the very one the paper's breadth-first search finds first; a sequence
 whose depth plus bound passes `max_depth` is never queued. What never loses a
 solution besides:
 
-- a sequence is only checked when its last mode moves a goal body: otherwise
-  its final poses are those of a shorter prefix, which was checked before;
+- a sequence is only checked when its last mode moves a goal body (or its last
+  action sets down a goal body the hand carried, `vkgl.plan.graphs.carry`):
+  otherwise its final poses are those of a shorter prefix, which was checked before;
   for the same reason the last level only generates such sequences;
 - a transition whose hand pose no motion value can change (e.g. touching a
   body still at rest, or grasping a tool where it lies) is checked against the
@@ -46,15 +47,8 @@ from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
 from vkgl.plan.task_space.contacts import other_contacts
-from vkgl.plan.task_space.feasible import (
-    Counters,
-    JointSolution,
-    TaskSolution,
-    goal_holds,
-    joint_space,
-    task_space,
-    task_space_alternatives,
-)
+from vkgl.plan.task_space.feasible import Counters, TaskSolution, goal_holds, task_space, task_space_alternatives
+from vkgl.plan.task_space.joint_space import JointSolution, joint_space
 from vkgl.plan.task_space.workspace import unreachable
 
 
@@ -181,9 +175,12 @@ def _push(
 
 
 def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
-    """Whether the last mode of `seq` moves a body that a goal names."""
+    """Whether the last mode of `seq` moves a body that a goal names, or its last action sets one down that
+    the mode before carried."""
     mode = seq.depth - 1
     goal_bodies = {g.body for g in problem.goals}
+    if any(m == mode - 1 and e.body in goal_bodies for m, e in seq.carries):
+        return True
     return any(m == mode and e.body in goal_bodies for m, e in seq.variables)
 
 
@@ -236,10 +233,11 @@ def _check(
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
     try:
         for named, candidate in candidates:
-            found = _arm_checks(problem, named, candidate, stats, deadline, checks, reached)
-            if not isinstance(found, Rejection):
-                return found
-            first = first or found
+            for hold in _grasp_turns(named, candidate):
+                found = _arm_checks(problem, named, hold, stats, deadline, checks, reached)
+                if not isinstance(found, Rejection):
+                    return found
+                first = first or found
     finally:
         stats.joint_space_checks += int("joint space" in reached)
         stats.arm_path_checks += int("arm paths" in reached)
@@ -248,6 +246,20 @@ def _check(
     assert rejection is not None
     stats.reject(rejection, label)
     return None
+
+
+def _grasp_turns(seq: Sequence, solution: TaskSolution) -> Iterator[TaskSolution]:
+    """`solution`, then, when it carries a body, the same with the hand turned half a turn about its axis while
+    it carries: a parallel gripper's two fingers hold the body the same way, and the arm may reach the place
+    only so (its last wrist joint at a limit)."""
+    yield solution
+    if seq.carries:
+        turned = [replace(t, hand=[h @ HALF_TURN for h in t.hand]) if t.carried else t for t in solution.traces]
+        yield replace(solution, traces=turned)
+
+
+HALF_TURN = np.diag([-1.0, -1.0, 1.0, 1.0])
+"""The effector frame turned half a turn about its z axis (the hand's axis): the fingers' y axis reversed."""
 
 
 def _arm_checks(

@@ -12,7 +12,8 @@ three facts of the model:
 - with the turns fixed, the position is affine in the slides, so non-negative
   least squares (scipy `nnls`) gives the closest reachable position.
 
-And one about the hand: when the last mode holds the hand on a goal body whose
+A carried goal body (`vkgl.plan.graphs.carry`) may be set down anywhere: the optimiser decides, from
+`carry_start`. And one about the hand: when the last mode holds the hand on a goal body whose
 goal fixes position and heading, the hand's final pose follows from the goal;
 if that is out of the arm's reach by more than the goal's tolerance can move
 it, nothing can help.
@@ -68,6 +69,8 @@ def _goal_values(
     """Values of the goal body's motions that meet its goal (and whether they are unique), or a Rejection."""
     if goal.opening is not None:
         return _joint_goal_values(problem, seq, goal)
+    if any(e.body == goal.body for _, e in seq.carries):
+        return {}  # set down anywhere: the carry's start aims at the goal (`carry_start`), the optimiser decides
     own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
     turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
     slides = [i for i in own if i not in turns]

@@ -13,10 +13,7 @@ The optimiser is NLopt's SLSQP (gradient-based, finite-difference gradients)
 from that start and, when some value is not pinned by the goal, from
 deterministic restarts.
 
-Joint space (step 2): inverse kinematics of the arm (NLopt over the URDF's
-joints, DART forward kinematics, `Arm.ik`) at the start and end of every mode
-and at `JOINT_SAMPLES` points along each motion, each run warm-started from the
-previous solution so that the arm moves continuously.
+Joint space (step 2) is `vkgl.plan.task_space.joint_space`.
 """
 
 from __future__ import annotations
@@ -32,6 +29,7 @@ from vkgl.lang.ir.regions import footprint, overlap_depth
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import closed_form
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
@@ -90,7 +88,7 @@ class _Evaluator:
     def __init__(self, problem: Problem, seq: Sequence) -> None:
         self.problem, self.seq = problem, seq
         self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
-        self.last_x = np.zeros(len(seq.variables))
+        self.last_x = np.zeros(seq.size)
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(goal residuals scaled by their tolerances, constraint values <= 0 when satisfied)."""
@@ -173,7 +171,7 @@ def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
     hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
     out = list(reach_violations(problem, np.array(hands))) if hands else []
     for trace in traces:
-        for name in {e.body for e in trace.values}:
+        for name in trace.moved:
             out.extend(_stay_constraints(problem, name, trace.end[name]))
             out.extend(_keep_out_depths(problem, name, trace.end[name]))
     return np.asarray(out if out else [-1.0], dtype=float)
@@ -275,12 +273,16 @@ def task_space(
     if isinstance(start, Rejection):
         return start
     guess, pinned = start
+    carry_guess = np.zeros(0)
+    if seq.carries:
+        carry_guess, carry_pinned = carry_start(problem, seq, guess)
+        pinned = pinned and carry_pinned
     evaluator = _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq, offsets=True)
-    n = len(seq.variables)
+    n, m = len(seq.variables), len(seq.offsets)  # the values: motions, then offsets, then carries
     if offsets is not None:
-        lower[n:] = upper[n:] = offsets
-    guess = np.clip(np.concatenate([guess, np.zeros(len(seq.offsets))]), lower, upper)
+        lower[n : n + m] = upper[n : n + m] = offsets
+    guess = np.clip(np.concatenate([guess, np.zeros(m), carry_guess]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
     for x0 in [guess, *([] if pinned else _restarts(lower, upper))]:
         if time.perf_counter() > deadline:
@@ -315,7 +317,9 @@ def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
     tolerance is then left to the execution.
     """
     bodies = {goal.body for goal in problem.goals if goal.region is not None}
-    scaled = np.array([e.body in bodies for _, e in seq.variables] + [False] * len(seq.offsets), dtype=bool)
+    scaled = np.array(
+        [e.body in bodies for _, e in seq.variables] + [False] * (seq.size - len(seq.variables)), dtype=bool
+    )
     if not scaled.any():
         return x
 
@@ -420,12 +424,12 @@ def _why_not(problem: Problem, seq: Sequence, x: np.ndarray) -> Rejection:
             if found is not None:
                 return found
     for trace in traces:  # a limit the optimiser ran into (or past) is what stopped it
-        for name in sorted({e.body for e in trace.values}):
+        for name in sorted(trace.moved):
             excess = max(_stay_constraints(problem, name, trace.end[name]) or [-1.0])
             if excess > -1e-4:
                 return Rejection(Kind.TABLE, limit_words(problem, name, trace.end[name]), max(excess, 0.0))
     for trace in traces:  # a keep-out region the optimiser could not get out of
-        for name in sorted({e.body for e in trace.values}):
+        for name in sorted(trace.moved):
             points = footprint(problem.footprint_points(name), trace.end[name])
             for region in (k for k in problem.keep_out if k.applies_to(name)):
                 depth = overlap_depth(region.region, points)
@@ -447,54 +451,3 @@ def _at_range_ends(problem: Problem, seq: Sequence, x: np.ndarray) -> str:
             ended[name] = f"{math.degrees(top):.1f} deg" if motion.type == "revolute" else f"{top * 100:.1f} cm"
     parts = [f"{name} {limit}" for name, limit in ended.items()]
     return f" (at the end of the range it was explored over: {', '.join(parts)})" if parts else ""
-
-
-# ---------------------------------------------------------------- joint space
-
-
-@dataclass
-class JointSolution:
-    """Joint configurations of the arm at the start and end of every mode (None while nothing pins the hand)."""
-
-    q_start: list[np.ndarray]
-    q_end: list[np.ndarray]
-    ik_calls: int
-
-
-def joint_space(
-    problem: Problem,
-    solution: TaskSolution,
-    deadline: float,
-    counters: Counters | None = None,
-    *,
-    pin_yaw: bool = False,
-) -> JointSolution | Rejection:
-    """IK for every hand pose of the rollout, in order, each warm-started from the one before.
-
-    A fingertip's yaw about its push direction is free (the round fingertip pushes the same at any yaw);
-    with `pin_yaw` it is the action frame's, as the arm's paths pin it (`vkgl.plan.arm.paths`): the
-    hand then lies along the face it pushes, not across it (the search asks for that when the hand at
-    a free yaw hits something, such as the cabinet around a drawer's handle).
-    """
-    arm = problem.arm
-    q = arm.home.copy()
-    q_start: list[np.ndarray] = []
-    q_end: list[np.ndarray] = []
-    calls = 0
-    for k, trace in enumerate(solution.traces):
-        path = []
-        for pose in trace.hand:
-            if time.perf_counter() > deadline:
-                return Rejection(Kind.TIMEOUT, "ran out of time in inverse kinematics")
-            calls += 1
-            if counters is not None:
-                counters.ik_calls += 1
-            found = arm.ik(pose, q0=q, yaw_free=trace.yaw_free and not pin_yaw)
-            if found is None:
-                where = f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}, {pose[2, 3]:.3f}) m"
-                return Rejection(Kind.IK, f"no joint configuration puts the hand at {where} in mode {k}")
-            q = found
-            path.append(q)
-        q_start.append(path[0] if path else q)
-        q_end.append(q)
-    return JointSolution(q_start, q_end, calls)

@@ -1,0 +1,38 @@
+"""Grasped handles carried out in DART (tasks o and p): the shut Door opened 60 deg by the hand holding its bar,
+the KnobDrawer pulled open 20 cm by the hand holding its knob, each reaching its goal, open loop.
+
+The fingers must hold the handle (the executor's finger grip, `vkgl.execute.grip`): an executor that only welds
+a free body it grasps does not hold a handle at all, and the door stays shut.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+
+import pytest
+from conftest import EXAMPLES
+
+import vkgl
+from vkgl.execute.closed_loop import execute
+
+TASKS = {"o_open_door": ("door", math.radians(3)), "p_knob_drawer": ("drawer", 0.01)}
+
+FINGERS_HOLD = importlib.util.find_spec("vkgl.execute.grip") is not None
+"""Whether the executor holds a grasp by the fingers' friction (`vkgl.execute.grip`, branch grasp-exec)."""
+
+
+@pytest.mark.skipif(not FINGERS_HOLD, reason="needs the executor's finger grip (vkgl.execute.grip) to hold a handle")
+@pytest.mark.parametrize("name", list(TASKS))
+def test_the_grasped_handle_is_moved_to_its_goal(name) -> None:
+    program = vkgl.compile(EXAMPLES / "tasks" / f"{name}.vkg")
+    plan = vkgl.solve(program).document()
+    report = execute(program, name, plan)
+    assert report.status == "reached", report.text()
+    body, tolerance = TASKS[name]
+    (step,) = report.steps
+    (deviation,) = [d for d in step.deviations if d.body == body]
+    assert deviation.opening is not None and abs(deviation.opening.error) < tolerance / 2, report.text()
+    (goal,) = report.goals
+    assert goal.opening is not None and abs(goal.opening.error) < tolerance / 2  # let go without dragging it on
+    assert not report.disturbed
