@@ -27,15 +27,12 @@ from vkgl.lang.ir.nodes import (
     Correspondences,
     CylinderShape,
     Explore,
-    Family,
     FixedC,
     FreeC,
     GraspC,
     GraspPolicy,
-    Joint,
     MeshShape,
     Module,
-    MotionRange,
     Placement,
     PrismaticC,
     Quantity,
@@ -50,11 +47,12 @@ from vkgl.lang.ir.nodes import (
 )
 from vkgl.lang.syntax.printer_tasks import goal_text, keep_out_text, region_text, search_text
 from vkgl.lang.syntax.quantities import (
+    family_text,
     format_number,
-    format_scaled,
-    pair_text,
+    joint_text,
     pose_text,
     quantity_text,
+    range_text,
     string_text,
     vector_text,
 )
@@ -304,38 +302,6 @@ def constraint_text(c: Constraint) -> str:
     if isinstance(c, FreeC):
         return "free"
     raise TypeError(f"not a constraint: {type(c).__name__}")
-
-
-def range_text(r: MotionRange | None) -> str:
-    """` range 0 to 24 cm` (one unit written once when both bounds have it), ` ... open` when open, "" for none."""
-    if r is None:
-        return ""
-    lower = format_scaled(r.lower.value, r.lower.unit) if r.lower.unit == r.upper.unit else None
-    text = f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
-    return text + " open" if r.open else text
-
-
-def family_text(f: Family) -> str:
-    """`family along V from LO to HI UNIT [drift V] [sigma Q]` (one unit written once when both bounds have it)."""
-    lower = format_scaled(f.lower.value, f.lower.unit) if f.lower.unit == f.upper.unit else None
-    text = f"family along {vector_text(f.along)} from {lower if lower is not None else quantity_text(f.lower)}"
-    text += f" to {quantity_text(f.upper)}"
-    if f.drift is not None:
-        text += " drift " + vector_text(f.drift)
-    return text if f.sigma is None else text + " sigma " + quantity_text(f.sigma)
-
-
-def joint_text(j: Joint) -> str:
-    """`prismatic axis V [through P] limits (lo, hi) UNIT [damping Q] [friction Q]` (after `joint`)."""
-    text = f"{j.type} axis {vector_text(j.axis)}"
-    if j.through is not None:
-        text += " through " + vector_text(j.through)
-    text += " limits " + pair_text(j.lower, j.upper)
-    if j.damping is not None:
-        text += " damping " + quantity_text(j.damping)
-    if j.friction is not None:
-        text += " friction " + quantity_text(j.friction)
-    return text
 
 
 def layout(module: Module) -> list[Line]:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
-from vkgl.lang.ir.nodes import Pose, Quantity, Vector
+from vkgl.lang.ir.nodes import Family, Joint, MotionRange, Pose, Quantity, Vector
 from vkgl.lang.ir.units import DIMENSION, SCALE, SI_UNIT, to_si
 
 
@@ -197,3 +197,35 @@ def string_text(s: str) -> str:
     if any(ch in s for ch in '"\\\n\r'):
         raise ValueError(f"cannot write the string {s!r} as a VKG literal (quote, backslash or newline)")
     return f'"{s}"'
+
+
+def range_text(r: MotionRange | None) -> str:
+    """` range 0 to 24 cm` (one unit written once when both bounds have it), ` ... open` when open, "" for none."""
+    if r is None:
+        return ""
+    lower = format_scaled(r.lower.value, r.lower.unit) if r.lower.unit == r.upper.unit else None
+    text = f" range {lower if lower is not None else quantity_text(r.lower)} to {quantity_text(r.upper)}"
+    return text + " open" if r.open else text
+
+
+def family_text(f: Family) -> str:
+    """`family along V from LO to HI UNIT [drift V] [sigma Q]` (one unit written once when both bounds have it)."""
+    lower = format_scaled(f.lower.value, f.lower.unit) if f.lower.unit == f.upper.unit else None
+    text = f"family along {vector_text(f.along)} from {lower if lower is not None else quantity_text(f.lower)}"
+    text += f" to {quantity_text(f.upper)}"
+    if f.drift is not None:
+        text += " drift " + vector_text(f.drift)
+    return text if f.sigma is None else text + " sigma " + quantity_text(f.sigma)
+
+
+def joint_text(j: Joint) -> str:
+    """`prismatic axis V [through P] limits (lo, hi) UNIT [damping Q] [friction Q]` (after `joint`)."""
+    text = f"{j.type} axis {vector_text(j.axis)}"
+    if j.through is not None:
+        text += " through " + vector_text(j.through)
+    text += " limits " + pair_text(j.lower, j.upper)
+    if j.damping is not None:
+        text += " damping " + quantity_text(j.damping)
+    if j.friction is not None:
+        text += " friction " + quantity_text(j.friction)
+    return text
