@@ -214,11 +214,11 @@ def test_screening_rows_of_two_slides_gives_the_row_and_values_of_trying_every_r
 def test_a_position_off_the_one_line_a_body_slides_on_is_never_reached(tmp_path):
     # a cube of the physical bench learns slides along its x axis only (its end pushes slide it, never turn it)
     path = tmp_path / "line.vkg"
-    start, end = PROGRAM.index("    affordance turn_left"), PROGRAM.index("}}\n}}\n") + 3
+    start, end = PROGRAM.index("    affordance turn_left"), PROGRAM.index("{grasp}")
     text = PROGRAM[:start] + PROGRAM[end:]  # the block only slides, along its x axis
     reasons = {}
     for gy, reached in ((0.04, False), (0.005, True)):
-        path.write_text(text.format(x=0.45, gx=0.6, gy=gy, yaw="", slide=30, stick=""), encoding="utf-8")
+        path.write_text(text.format(x=0.45, gx=0.6, gy=gy, yaw="", slide=30, stick="", grasp=""), encoding="utf-8")
         program = compile_file(str(path))
         problem = build_problem(program, program.task())
         assert (Bound(problem)(start_sequence(problem)) == math.inf) is not reached
