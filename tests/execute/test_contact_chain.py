@@ -59,8 +59,8 @@ def test_a_hook_pull_ends_in_the_planned_configuration(monkeypatch):
     ends: list[tuple[np.ndarray, np.ndarray]] = []
     push = steps_module.StepKinds._push
 
-    def recorded(self, step, label):
-        push(self, step, label)
+    def recorded(self, step, label, **options):
+        push(self, step, label, **options)
         ends.append((self.sim.arm.q.copy(), np.asarray(step.q_end)))
 
     monkeypatch.setattr(steps_module.StepKinds, "_push", recorded)
