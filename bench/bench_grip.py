@@ -78,17 +78,17 @@ def _hand(world, hand_pose: np.ndarray, mu: float):
 
 def hold_stick(dt: float, force: float, mu: float, solver: str) -> dict[str, float]:
     """Grasp, lift, hold and carry the stdlib Stick with force-driven fingers; what DART did."""
+    import dartpy as dart
     from scipy.spatial.transform import Rotation
 
-    from vkgl.execute.scene_world import use_coulomb_friction
     from vkgl.execute.world_arm import drive_body
     from vkgl.lang.compiler import compile_file
     from vkgl.sim import world as sim_world
 
     stick = compile_file(str(REPO / "examples" / "tasks" / "b_stick_push.vkg")).bodies["Stick"]
-    world = sim_world.new_world(dt)
-    if solver == "nsgs":
-        use_coulomb_friction(world)
+    world = sim_world.new_world(dt)  # the friction cone (NSGS), as every world of the project
+    if solver != "nsgs":  # DART's default boxed LCP, for comparison
+        world.getConstraintSolver().setBoxedLcpSolver(dart.constraint.DantzigBoxedLcpSolver())
     sim_world.add_table(world)
     stick_pose = np.eye(4)
     stick_pose[2, 3] = 0.01

@@ -99,14 +99,19 @@ class BodyType:
         )
 
     def source_hash(self) -> str:
-        """The key of the learned-affordance cache: a hash of the body's source and of what inference writes.
+        """The key of the learned-affordance cache: a hash of the body's source, of what inference writes and of
+        the physics it was explored in.
 
         `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
-        `range ... open`), so a cache learned by an older inference is not reused.
+        `range ... open`) and `PHYSICS_REVISION` with what the DART worlds
+        simulate (revision 2: the friction cone), so a cache learned by an
+        older inference or under other physics is not reused.
         """
         from vkgl.formats.infer_report import INFER_REPORT_FORMAT
+        from vkgl.sim.world import PHYSICS_REVISION
 
-        return hashlib.sha256((self.source() + INFER_REPORT_FORMAT).encode()).hexdigest()[:16]
+        key = self.source() + INFER_REPORT_FORMAT + PHYSICS_REVISION
+        return hashlib.sha256(key.encode()).hexdigest()[:16]
 
 
 GENERATED_TYPES = (
