@@ -78,7 +78,6 @@ def _hand(world, hand_pose: np.ndarray, mu: float):
 
 def hold_stick(dt: float, force: float, mu: float, solver: str) -> dict[str, float]:
     """Grasp, lift, hold and carry the stdlib Stick with force-driven fingers; what DART did."""
-    import dartpy as dart
     from scipy.spatial.transform import Rotation
 
     from vkgl.execute.world_arm import drive_body
@@ -86,9 +85,8 @@ def hold_stick(dt: float, force: float, mu: float, solver: str) -> dict[str, flo
     from vkgl.sim import world as sim_world
 
     stick = compile_file(str(REPO / "examples" / "tasks" / "b_stick_push.vkg")).bodies["Stick"]
-    world = sim_world.new_world(dt)  # the friction cone (NSGS), as every world of the project
-    if solver != "nsgs":  # DART's default boxed LCP, for comparison
-        world.getConstraintSolver().setBoxedLcpSolver(dart.constraint.DantzigBoxedLcpSolver())
+    # the friction cone (NSGS) of every simulated scene, or the boxed LCP (Dantzig) of the grasp trials
+    world = sim_world.new_world(dt) if solver == "nsgs" else sim_world.new_grasp_world(dt)
     sim_world.add_table(world)
     stick_pose = np.eye(4)
     stick_pose[2, 3] = 0.01
