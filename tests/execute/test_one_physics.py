@@ -42,3 +42,14 @@ def test_exploration_and_execution_simulate_with_the_same_settings() -> None:
     assert explored["solver"] == "NsgsFrictionSolver"  # the friction cone, not the boxed LCP
     assert explored["friction"][0] == "Law.Coulomb"
     assert explored["collision_detector"] == "ode"
+
+
+def test_grasp_trials_differ_from_the_shared_physics_in_the_contact_solver_alone() -> None:
+    """The grasp trials keep DART's boxed LCP, whose finger contacts hold a tool (vkgl.sim.world.new_grasp_world);
+    everything else is the shared physics."""
+    shared = sim_world.solver_settings(sim_world.new_world())
+    grasp = sim_world.solver_settings(sim_world.new_grasp_world())
+    assert grasp["solver"] == "DantzigBoxedLcpSolver" and "friction" not in grasp
+    assert {k: v for k, v in grasp.items() if k != "solver"} == {
+        k: v for k, v in shared.items() if k not in ("solver", "friction")
+    }

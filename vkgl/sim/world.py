@@ -11,7 +11,8 @@ Choices (docs/exploration.md explains them):
 - contacts and joint limits by DART's friction-cone solver (NSGS, Coulomb law:
   `use_contact_solver`), in every world: exploration learns the models in the
   same physics that execution carries the plans out in (`PHYSICS_REVISION`
-  names it, so that nothing learned under another physics is reused);
+  names it, so that nothing learned under another physics is reused); grasp
+  trials alone keep DART's boxed LCP (`new_grasp_world` says why);
 - friction: DART pairs two surfaces with the smaller of their coefficients; the
   table's is 1.0, so a body slides on the table with exactly the coefficient it
   declares (`friction`, default 0.5).
@@ -45,7 +46,8 @@ TABLE_THICKNESS = 0.05  # m
 EXPLORATION_TABLE_SIZE = (2.0, 2.0)  # m, centred under the explored body
 JOINT_CLEARANCE = JOINT_LIFT  # m a jointed body is lifted so that it hangs on its joint (the planner's lift too)
 # What the worlds simulate, named: learned models depend on it, so caches of them are keyed by it. Bump it with any
-# change to `new_world`'s settings (revision 1 was DART's default boxed LCP, friction bounded along world x and y).
+# change to `new_world`'s or `new_grasp_world`'s settings (revision 1 explored pushes under DART's default boxed LCP,
+# friction bounded along world x and y).
 PHYSICS_REVISION = "vkgl-physics/2 (ODE contacts, NSGS Coulomb friction cone, 1 ms)"
 
 
