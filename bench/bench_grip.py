@@ -80,15 +80,13 @@ def hold_stick(dt: float, force: float, mu: float, solver: str) -> dict[str, flo
     """Grasp, lift, hold and carry the stdlib Stick with force-driven fingers; what DART did."""
     from scipy.spatial.transform import Rotation
 
-    from vkgl.execute.scene_world import use_coulomb_friction
     from vkgl.execute.world_arm import drive_body
     from vkgl.lang.compiler import compile_file
     from vkgl.sim import world as sim_world
 
     stick = compile_file(str(REPO / "examples" / "tasks" / "b_stick_push.vkg")).bodies["Stick"]
-    world = sim_world.new_world(dt)
-    if solver == "nsgs":
-        use_coulomb_friction(world)
+    # the friction cone (NSGS) of every simulated scene, or the boxed LCP (Dantzig) of the grasp trials
+    world = sim_world.new_world(dt) if solver == "nsgs" else sim_world.new_grasp_world(dt)
     sim_world.add_table(world)
     stick_pose = np.eye(4)
     stick_pose[2, 3] = 0.01

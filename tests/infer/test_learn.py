@@ -186,7 +186,7 @@ def test_learn_writes_each_affordances_explored_range(learned) -> None:
     for name in ("turn_px_left", "turn_px_right", "turn_nx_left", "turn_nx_right"):  # the 2 s pushes near the ends
         bounds = found[name].motion.range
         assert bounds.lower.value == 0.0 and bounds.upper.unit == "deg"
-        assert np.deg2rad(20.0) <= bounds.upper.value <= np.deg2rad(30.0)
+        assert np.deg2rad(20.0) <= bounds.upper.value <= np.deg2rad(35.0)  # 29.3-30.6 deg under the friction cone
     assert all(a.motion.range is not None for a in _affordances(learned["drawer"]).values())
     assert all(a.motion.range is not None for a in _affordances(learned["door"]).values())
 

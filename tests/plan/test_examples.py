@@ -184,4 +184,4 @@ def test_text_shows_the_graph_sequence(plans):
     assert "G0: block-world fixed" in text
     assert "step 1: add Block.turn_px_left on block with arm.fingertip: turn 20." in text
     assert "G1: block-world revolute" in text and "arm-block fixed" in text
-    assert "step 3: add Block.push_center_px on block with arm.fingertip: slide 10.0 cm" in text
+    assert "step 3: add Block.push_center_px on block with arm.fingertip: slide 8.8 cm" in text

@@ -75,9 +75,9 @@ def turn_task(tmp_path: Path, yaw_deg: float, max_depth: int) -> str:
 def test_a_60_degree_turn_of_the_block_is_repeated_turns_within_the_explored_range(tmp_path):
     plan = solve(turn_task(tmp_path, -60, 8))
     assert plan.status == "solved", plan.reason
-    explored = plan.problem.affordance("block", "turn_px_left").motion.range.upper.value  # learned: about 25 deg
+    explored = plan.problem.affordance("block", "turn_px_left").motion.range.upper.value  # learned: about 30 deg
     turns = [s for s in plan.steps if s.op == "add" and s.motion == "revolute"]
-    assert len(turns) >= 3
+    assert len(turns) >= math.ceil(math.radians(57.0) / explored) >= 2  # the least 57 deg can take
     assert all(0.0 <= s.value <= explored + 1e-9 for s in turns)
     assert math.degrees(sum(s.value for s in turns)) == pytest.approx(60.0, abs=3.0)
 
@@ -86,7 +86,7 @@ def test_a_turn_past_the_explored_range_is_infeasible_with_the_numbers(tmp_path)
     plan = solve(turn_task(tmp_path, -35, 2))
     assert plan.status == "infeasible"
     assert "block's heading is 35.0 deg from its goal (within 3.0 deg wanted)" in plan.reason
-    assert "turns it at most 25.0 deg per contact: at least 2 contacts: the goal needs at least 4 graphs" in plan.reason
+    assert "turns it at most 30.6 deg per contact: at least 2 contacts: the goal needs at least 4 graphs" in plan.reason
     single = solve(turn_task(tmp_path, -35, 4))  # deep enough for two turns: searched, and the turns are found
     assert single.status == "solved" and single.depth == 4, single.reason
 

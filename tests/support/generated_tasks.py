@@ -101,17 +101,20 @@ class BodyType:
         )
 
     def source_hash(self) -> str:
-        """The key of the learned-affordance cache: a hash of the body's source and of what inference writes.
+        """The key of the learned-affordance cache: a hash of the body's source, of what inference writes and of
+        the physics it was explored in.
 
         `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
         `range ... open`), `INFERENCE_REVISION` with what it makes of the same
-        trials, `LEARNED_MODULES` with what it writes into modules only (`family` lines), so a cache learned
-        by an older inference is not reused.
+        trials, `LEARNED_MODULES` with what it writes into modules only (`family` lines), and
+        `PHYSICS_REVISION` with what the DART worlds simulate (revision 2: the friction cone), so a cache
+        learned by an older inference or under other physics is not reused.
         """
         from vkgl.formats.infer_report import INFER_REPORT_FORMAT
         from vkgl.infer.library import INFERENCE_REVISION
+        from vkgl.sim.world import PHYSICS_REVISION
 
-        key = f"{self.source()}{INFER_REPORT_FORMAT}{LEARNED_MODULES} inference {INFERENCE_REVISION}"
+        key = f"{self.source()}{INFER_REPORT_FORMAT}{LEARNED_MODULES} inference {INFERENCE_REVISION}{PHYSICS_REVISION}"
         return hashlib.sha256(key.encode()).hexdigest()[:16]
 
 

@@ -40,8 +40,7 @@ class SceneWorld:
         self.scene = scene
         self.types: dict[str, Body] = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
         self.table_z = table_top(scene)
-        self.world = sim_world.new_world(TIME_STEP)
-        use_coulomb_friction(self.world)
+        self.world = sim_world.new_world(TIME_STEP)  # the physics exploration learned the models in
         self.table = sim_world.add_table(self.world, scene.table)[1] if scene.table is not None else None
         self.nodes: dict[str, tuple[Any, Any]] = {}
         self.anchors: dict[str, np.ndarray] = {}  # bodies on physical joints: where their coordinate is 0
@@ -193,24 +192,6 @@ class SceneWorld:
         return max(tops) + CLEARANCE + self.lowest_offset()
 
 
-def use_coulomb_friction(world: Any) -> None:
-    """Solve contacts with DART's friction-cone solver (NSGS, Coulomb law) instead of the boxed LCP.
-
-    The boxed LCP bounds friction separately along two fixed tangent axes
-    (world x and y on the table): a body pushed at an angle to them slides
-    along the nearer axis instead of the way it is pushed (a block pushed
-    10 cm along a heading of -20 deg ended 3.6 cm to the side). The cone
-    treats every direction alike.
-    """
-    import dartpy as dart
-
-    solver = dart.constraint.NsgsFrictionSolver()
-    options = dart.constraint.NsgsFrictionSolver.Options()
-    options.law = dart.constraint.NsgsFrictionSolver.Law.Coulomb
-    solver.setOptions(options)
-    world.getConstraintSolver().setBoxedLcpSolver(solver)
-
-
 def _skeleton_name(collision_object: Any) -> str:
     return collision_object.getShapeFrame().asShapeNode().getBodyNodePtr().getSkeleton().getName()
 
@@ -232,4 +213,4 @@ def _world_skeleton(arm: Any, robot_ir: Any) -> Any:
     return skeleton
 
 
-__all__ = ["CLEARANCE", "TIME_STEP", "SceneWorld", "use_coulomb_friction"]
+__all__ = ["CLEARANCE", "TIME_STEP", "SceneWorld"]

@@ -8,7 +8,11 @@ Choices (docs/exploration.md explains them):
 - collision detection by ODE's detector: it gives multi-point contact
   manifolds for box, cylinder and mesh pairs (DART's own detector and FCL let
   a cylinder sink into the table, see the docs);
-- contacts and joint limits by DART's boxed-LCP solver (Dantzig, PGS as fallback);
+- contacts and joint limits by DART's friction-cone solver (NSGS, Coulomb law:
+  `use_contact_solver`), in every world: exploration learns the models in the
+  same physics that execution carries the plans out in (`PHYSICS_REVISION`
+  names it, so that nothing learned under another physics is reused); grasp
+  trials alone keep DART's boxed LCP (`new_grasp_world` says why);
 - friction: DART pairs two surfaces with the smaller of their coefficients; the
   table's is 1.0, so a body slides on the table with exactly the coefficient it
   declares (`friction`, default 0.5).
@@ -41,16 +45,87 @@ TABLE_FRICTION = 1.0  # >= any sensible body coefficient: the body's own coeffic
 TABLE_THICKNESS = 0.05  # m
 EXPLORATION_TABLE_SIZE = (2.0, 2.0)  # m, centred under the explored body
 JOINT_CLEARANCE = JOINT_LIFT  # m a jointed body is lifted so that it hangs on its joint (the planner's lift too)
+# What the worlds simulate, named: learned models depend on it, so caches of them are keyed by it. Bump it with any
+# change to `new_world`'s or `new_grasp_world`'s settings (revision 1 explored pushes under DART's default boxed LCP,
+# friction bounded along world x and y).
+PHYSICS_REVISION = "vkgl-physics/2 (ODE contacts, NSGS Coulomb friction cone, 1 ms)"
 
 
 def new_world(time_step: float = TIME_STEP) -> Any:
-    """An empty DART world with the project's gravity, collision detector and constraint solver."""
+    """An empty DART world with the project's gravity, collision detector and contact solver (the cone)."""
+    world = _bare_world(time_step)
+    use_contact_solver(world)
+    return world
+
+
+def _bare_world(time_step: float) -> Any:
+    """An empty DART world with the project's time step, gravity and collision detector; DART's default
+    contact solver (the boxed LCP: Dantzig, PGS as fallback, one thread)."""
     world = dart.simulation.World()
     world.setTimeStep(time_step)
     world.setGravity(np.array(GRAVITY))
     world.setCollisionDetector(dart.collision.OdeCollisionDetector())
-    # The constraint solver is DART's default: boxed LCP, Dantzig with PGS as fallback, one thread.
     return world
+
+
+def use_contact_solver(world: Any) -> None:
+    """Solve contacts with DART's friction-cone solver (NSGS, Coulomb law) instead of its default boxed LCP.
+
+    The boxed LCP bounds friction separately along two fixed tangent axes
+    (world x and y on the table): a body pushed at an angle to them slides
+    along the nearer axis instead of the way it is pushed (a block pushed
+    10 cm along a heading of -20 deg ended 3.6 cm to the side), and a tall
+    crate pushed off its centre turns 11.7 deg where the cone turns it 35.
+    The cone treats every direction alike. Every world uses it (through
+    `new_world`): a model learned under one friction law and carried out
+    under another misses (docs/exploration.md, "The contact solver").
+    """
+    solver = dart.constraint.NsgsFrictionSolver()
+    options = dart.constraint.NsgsFrictionSolver.Options()
+    options.law = dart.constraint.NsgsFrictionSolver.Law.Coulomb
+    solver.setOptions(options)
+    world.getConstraintSolver().setBoxedLcpSolver(solver)
+
+
+def new_grasp_world(time_step: float = TIME_STEP) -> Any:
+    """`new_world` with DART's boxed LCP (Dantzig, PGS as fallback) for contacts: the world of a grasp trial.
+
+    Only here does a body rest on DART's contacts between two pressed fingers,
+    and the friction cone does not hold it there at a 1 ms step: the fingers
+    sink 3 mm into the stdlib Stick and it turns 16 deg in the grip under its
+    own weight, where the pads' friction carries 0.27 N m against its 0.15
+    (docs/execution.md, "The grip on a held tool"). Under the cone the stdlib
+    Hook kept none of its grasps (each slipped 5 mm on the 10 cm lift).
+    Execution does not hold a tool on DART's finger contacts either: it
+    models the pads' Coulomb friction (`vkgl.execute.grip`). Pushes, which
+    execution does simulate contact by contact, are explored in `new_world`.
+    """
+    return _bare_world(time_step)
+
+
+def solver_settings(world: Any) -> dict[str, object]:
+    """What a world simulates with, read back from DART: time step, gravity, collision detector, contact solvers.
+
+    Two worlds with equal settings simulate the same physics (the bodies in them aside).
+    """
+    solver = world.getConstraintSolver()
+    primary = solver.getBoxedLcpSolver()
+    secondary = solver.getSecondaryBoxedLcpSolver()
+    option = solver.getCollisionOption()
+    settings: dict[str, object] = {
+        "time_step": float(world.getTimeStep()),
+        "gravity": tuple(float(g) for g in world.getGravity()),
+        "collision_detector": world.getCollisionDetector().getType(),
+        "contacts": (bool(option.enableContact), int(option.maxNumContacts)),
+        "solver": primary.getType(),
+        "fallback": secondary.getType() if secondary is not None else None,
+        "split_impulse": bool(solver.isSplitImpulseEnabled()),
+        "threads": int(solver.getNumSimulationThreads()),
+    }
+    if isinstance(primary, dart.constraint.NsgsFrictionSolver):
+        options = primary.getOptions()
+        settings["friction"] = (str(options.law), int(options.maxSweeps), float(options.tolerance))
+    return settings
 
 
 def add_table(world: Any, table: Table | None = None) -> tuple[Any, Any]:

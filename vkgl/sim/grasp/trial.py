@@ -2,7 +2,9 @@
 body lifted (a free body) or pulled along its joint (a drawer, a door), its slip in the hand measured.
 
 The world is exploration's (`vkgl.sim.world`: 1 ms steps, ODE contacts,
-friction the smaller of the two surfaces'): a free body rests on the table, a
+friction the smaller of the two surfaces') with the boxed LCP, which holds a
+body between two pressed fingers where the friction cone lets it turn
+(`vkgl.sim.world.new_grasp_world`): a free body rests on the table, a
 body on a joint hangs on it at its lower limit. The hand (`vkgl.sim.grasp.hand`)
 starts at the candidate's pose, moved by the trial's `offset` (the hand never
 lands exactly where it aims), fingers open. If it overlaps the body or the
@@ -40,7 +42,7 @@ from vkgl.lang.ir.nodes import Body
 from vkgl.robot.gripper import Gripper
 from vkgl.shapes import translation
 from vkgl.sim.grasp.hand import SimHand
-from vkgl.sim.world import add_body, add_table, new_world
+from vkgl.sim.world import add_body, add_table, new_grasp_world
 
 SETTLE_TIME = 0.05  # s
 CLOSE_TIME = 0.4  # s: the widest opening closes in 0.1 s at the no-load speed
@@ -65,7 +67,7 @@ def run_grasp_trial(
 ) -> GraspTrial:
     """Try `candidate` (number `index`) on `body` once, the hand moved by `offset` (3, effector frame, m); the
     trial stops once the body has slipped more than `give_up` (m) or GIVE_UP, whichever is less."""
-    world = new_world()
+    world = new_grasp_world()
     if body.joint is None:
         add_table(world)
         rest = translation(np.array([0.0, 0.0, -float(shape_mesh(body.shape).bounds[0][2])]))
