@@ -86,7 +86,7 @@ def test_a_no_plan_reason_is_a_summary_line_and_an_indented_list(
     assert max(len(line) for line in lines) < 300  # no 600-character line
     # no depth hint: without a tool no longer sequence reaches the goal (the bound says so); the tools' hint last
     assert not [line for line in lines if "try --max-depth" in line]
-    assert lines[-2].startswith("    (22 sequences tried") and "W602" in lines[-1]
+    assert lines[-2].startswith("    (27 sequences tried") and "W602" in lines[-1]
 
 
 def test_the_reason_of_a_chain_puts_each_step_on_its_line() -> None:

@@ -75,10 +75,23 @@ def test_the_task_space_keeps_the_written_contact_when_it_reaches_the_goal(probl
     assert solution.sequence is None and len(solution.values) == len(seq.variables)
 
 
-def test_other_contacts_pin_the_turn_at_its_bands_far_end(problem):
+def test_other_contacts_pin_the_turn_at_its_bands_far_end(problem, monkeypatch):
+    import vkgl.plan.task_space.contacts as contacts
+
+    asked = []
+
+    def recorded(problem, seq, deadline, counters=None, *, offsets=None):
+        asked.append(offsets)
+        return task_space(problem, seq, deadline, counters, offsets=offsets)
+
+    monkeypatch.setattr(contacts, "task_space", recorded)
     seq = _sequence(problem, Action("add", TURN), Action("remove", TURN), Action("add", SLIDE))
-    found = next(other_contacts(problem, seq, deadline=float("inf")))
-    assert found.sequence is not None
-    names = [a.engagement.affordance for a in found.sequence.actions]
-    assert names == ["turn_px_left@+2.22cm", "turn_px_left@+2.22cm", "push_center_px"]
-    assert len(found.values) == len(found.sequence.variables) == 2
+    found = list(other_contacts(problem, seq, deadline=float("inf")))
+    family = problem.affordance("block", "turn_px_left").family
+    far = max((family.lower.value, family.upper.value), key=abs)
+    assert len(asked) == 1 and asked[0] == pytest.approx([far])  # the band's end farthest from the written contact
+    for solution in found:  # when the goal can be reached from there, the members are named at that end
+        assert solution.sequence is not None
+        names = [a.engagement.affordance for a in solution.sequence.actions]
+        assert names[0] == names[1] == f"turn_px_left@+{far * 100:.2f}cm" and names[2] == "push_center_px"
+        assert len(solution.values) == len(solution.sequence.variables) == 2
