@@ -24,7 +24,7 @@ from vkgl.errors import CompileError
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.syntax.build.builder import MAX_UNION_DEPTH, Builder
+from vkgl.lang.syntax.builders.builder import MAX_UNION_DEPTH, Builder
 from vkgl.lang.syntax.syntax_errors import syntax_diagnostics
 from vkgl.lang.syntax.tables import load_or_build
 from vkgl.lang.syntax.values import new_node

@@ -16,7 +16,7 @@ from lark import Token
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.units import ARTICLE_NAME, dimension_of
-from vkgl.lang.syntax.build.builder_regions import RegionBuilder
+from vkgl.lang.syntax.builders.builder_regions import RegionBuilder
 from vkgl.lang.syntax.values import INVALID, Item, RawQ, new_node
 
 OPENING_UNITS = "a length (`cm`) for a prismatic joint, an angle (`deg`) for a revolute one"

@@ -14,7 +14,7 @@ from typing import Any
 from lark import Token
 
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.syntax.build.builder_tasks import TaskBuilder
+from vkgl.lang.syntax.builders.builder_tasks import TaskBuilder
 from vkgl.lang.syntax.values import Item, new_node
 
 
