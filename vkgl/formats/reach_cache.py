@@ -30,14 +30,16 @@ from __future__ import annotations
 import json
 import math
 import os
-import stat
 from pathlib import Path
 
 from vkgl.atomic import Way, decide, write_text
 from vkgl.errors import InputError
 from vkgl.resources import CACHE_ENV as ENV_DIR
 from vkgl.resources import CACHE_OFF as OFF
-from vkgl.resources import cache_folder  # the one cache folder of vkgl (the grammar's tables are kept there too)
+from vkgl.resources import (  # the one cache folder of vkgl (the grammar's tables are kept there too)
+    cache_folder,
+    read_cache_file,
+)
 
 CACHE_FORMAT = "vkg-reach-cache/1"
 
@@ -103,21 +105,11 @@ def store(key: str, height: float, interval: tuple[float, float]) -> None:
 
 def _read_bounded(path: Path) -> str | None:
     """The text of `path` if it is a regular file of at most MAX_BYTES, else None. Never blocks, never reads more."""
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+    data = read_cache_file(path, MAX_BYTES)
     try:
-        fd = os.open(path, flags)  # non-blocking: opening a FIFO does not wait for a writer
-    except OSError:
+        return None if data is None else data.decode("utf-8")
+    except UnicodeDecodeError:
         return None
-    try:
-        info = os.fstat(fd)  # of what was opened, not of what the name pointed to a moment before
-        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_BYTES:
-            return None
-        data = os.read(fd, MAX_BYTES + 1)
-        return data.decode("utf-8") if len(data) <= MAX_BYTES else None
-    except (OSError, UnicodeDecodeError):
-        return None
-    finally:
-        os.close(fd)
 
 
 def _height(text: str) -> float | None:

@@ -34,8 +34,6 @@ import importlib.util
 import os
 import pickle
 import sys
-import threading
-from collections import OrderedDict
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -43,6 +41,7 @@ from typing import Any
 from vkgl.atomic import write_bytes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
+from vkgl.lang.syntax.parse_cache import ParseCache
 from vkgl.resources import cache_folder, grammar_path, read_cache_file
 
 _FORMAT = "vkg-parse-cache/1"  # part of the key: a new way of keeping parses forgets the old files
@@ -76,40 +75,7 @@ def parse_file_text(text: str, path: str) -> tuple[ir.Module | None, list[Diagno
     return module, list(kept)
 
 
-class _ReadBack:
-    """The parses read from the cache folder in this process, by (text, path), least recently used dropped
-    first beyond `budget` characters of text (an editor reads the modules a buffer uses again and again)."""
-
-    def __init__(self, budget: int) -> None:
-        self.budget = budget
-        self.chars = 0
-        self._entries: OrderedDict[tuple[str, str], _Parsed] = OrderedDict()
-        self._lock = threading.Lock()
-
-    def get(self, key: tuple[str, str]) -> _Parsed | None:
-        with self._lock:
-            found = self._entries.get(key)
-            if found is not None:
-                self._entries.move_to_end(key)
-            return found
-
-    def put(self, key: tuple[str, str], parsed: _Parsed) -> None:
-        with self._lock:
-            if key in self._entries:
-                return
-            self._entries[key] = parsed
-            self.chars += len(key[0]) + len(key[1])
-            while self.chars > self.budget:
-                (text, path), _ = self._entries.popitem(last=False)
-                self.chars -= len(text) + len(path)
-
-    def clear(self) -> None:
-        with self._lock:
-            self._entries.clear()
-            self.chars = 0
-
-
-_read_back = _ReadBack(4 * MAX_CHARS)
+_read_back: ParseCache[_Parsed] = ParseCache(4 * MAX_CHARS)  # parses read back, by (text, path)
 
 
 def forget_read_back() -> None:

@@ -13,7 +13,6 @@ from __future__ import annotations
 import gc
 import re
 import threading
-from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -25,6 +24,7 @@ from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.syntax.builders.builder import MAX_UNION_DEPTH, Builder
+from vkgl.lang.syntax.parse_cache import ParseCache
 from vkgl.lang.syntax.syntax_errors import syntax_diagnostics
 from vkgl.lang.syntax.tables import load_or_build
 from vkgl.lang.syntax.values import new_node
@@ -72,48 +72,7 @@ budget is never kept. The stdlib and the examples are about 20 K characters.
 _Parsed = tuple[ir.Module | None, tuple[Comment, ...], tuple[Diagnostic, ...]]
 
 
-class ParseCache:
-    """Parses by (text, path), least recently used dropped first, bounded by the characters of the texts kept."""
-
-    def __init__(self, budget: int) -> None:
-        self.budget = budget
-        self.chars = 0
-        self._entries: OrderedDict[tuple[str, str], _Parsed] = OrderedDict()
-        self._lock = threading.Lock()
-
-    def __len__(self) -> int:
-        return len(self._entries)
-
-    def get(self, key: tuple[str, str]) -> _Parsed | None:
-        """The parse of `key`, now the most recently used; None if it is not kept."""
-        with self._lock:
-            found = self._entries.get(key)
-            if found is not None:
-                self._entries.move_to_end(key)
-            return found
-
-    def put(self, key: tuple[str, str], parsed: _Parsed) -> None:
-        """Keep `parsed` (unless its text is too large to), dropping the least recently used beyond the budget."""
-        size = len(key[0]) + len(key[1])
-        if size > self.budget // 4:
-            return
-        with self._lock:
-            if key in self._entries:
-                return
-            self._entries[key] = parsed
-            self.chars += size
-            while self.chars > self.budget:
-                (text, path), _ = self._entries.popitem(last=False)
-                self.chars -= len(text) + len(path)
-
-    def clear(self) -> None:
-        """Drop every parse."""
-        with self._lock:
-            self._entries.clear()
-            self.chars = 0
-
-
-_cache = ParseCache(PARSE_CACHE_CHARS)
+_cache: ParseCache[_Parsed] = ParseCache(PARSE_CACHE_CHARS)
 
 
 def parse_cache() -> ParseCache:
