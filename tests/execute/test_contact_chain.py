@@ -1,4 +1,4 @@
-"""Execution follows the plan's contact chains (vkg-plan/3 `steps[k].contact`), and lets go of a tool where the
+"""Execution follows the plan's contact chains (`steps[k].contact`, vkg-plan/3 on), and lets go of a tool where the
 plan leaves it (in the plan; in physics see the note below).
 
 Before vkg-plan/3 the executor tracked a contact's motion by IK from the arm's

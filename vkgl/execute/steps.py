@@ -1,6 +1,6 @@
 """The kinds of plan step, carried out by the arm in the scene's world (`vkgl.execute.replay`).
 
-Every step first carries out its planned arm path (`step.path`, vkg-plan/3:
+Every step first carries out its planned arm path (`step.path`, vkg-plan/3 and later:
 lift, retreat, transit, approach; `ArmMoves.follow_path`), then its action,
 from the step's `op` and the affordance's motion:
 - push (add, prismatic/revolute): the path ends in contact; move the effector
@@ -148,7 +148,7 @@ class StepKinds:
             self.sim.planned = {**self.sim.planned, **{n: now @ step.poses_start[n] for n in moving}}
 
         push = paths.screw("motion", hand, motion)
-        # the plan's own chain (vkg-plan/3): the configuration the planner checked; older plans: solved here
+        # the plan's own chain (vkg-plan/3 and later): the configuration the planner checked; older plans: solved here
         chain = (
             list(step.contact)
             if step.contact is not None

@@ -1,4 +1,4 @@
-"""The `vkg-plan/3` document: the one definition of the plan format, its only reader and
+"""The `vkg-plan/4` document: the one definition of the plan format, its only reader and
 writer (`document`: the types; `writing`; `reading`).
 
 docs/formats.md is the contract. In memory a plan document is a tree of frozen
@@ -24,6 +24,7 @@ from vkgl.formats.plan.document import (
     OPS,
     PHASES,
     PLAN_FORMAT,
+    SAME_LAYOUT,
     STATUSES,
     ArmSegment,
     Edge,
@@ -42,6 +43,7 @@ __all__ = [
     "OPS",
     "PHASES",
     "PLAN_FORMAT",
+    "SAME_LAYOUT",
     "STATUSES",
     "ArmSegment",
     "Edge",
