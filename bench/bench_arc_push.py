@@ -63,12 +63,13 @@ def body_of(name: str) -> Body:
     return next(b for b in program.bodies.values() if b.name == name)
 
 
-def push(body: Body, offset: float, seed: int, angle: float = 0.0) -> np.ndarray:
-    """(n, 3) planar poses (x, y, yaw) of `body` pushed on its -x face at `offset` along y until TRAVEL, the push
-    `angle` (rad) from the face's inward normal towards +y (0: exploration's `force normal`)."""
+def push(body: Body, offset: float, seed: int, angle: float = 0.0, duration: float | None = None) -> np.ndarray:
+    """(n, 3) planar poses (x, y, yaw) of `body` pushed on its -x face at `offset` along y until TRAVEL (or for
+    `duration` s), the push `angle` (rad) from the face's inward normal towards +y (0: exploration's `force normal`)."""
     half = float(body.shape.size.array()[0]) / 2.0  # type: ignore[union-attr]
     limit = PUSH + 0.5 * body.mass.value * G  # friction 0.5, the generated bodies' and the Block's
-    duration = (TRAVEL + 0.01) / (NO_LOAD_SPEED * PUSH / limit) + 0.5  # the drive's speed against friction
+    if duration is None:
+        duration = (TRAVEL + 0.01) / (NO_LOAD_SPEED * PUSH / limit) + 0.5  # the drive's speed against friction
     spec = TrialSpec(
         0,
         body,
@@ -262,6 +263,19 @@ def _matrix_pose(matrix: np.ndarray) -> str:
     return _pose(np.array([matrix[0, 3], matrix[1, 3], math.atan2(matrix[1, 0], matrix[0, 0])]))
 
 
+def held_out(model: ArcModel, runs: dict[float, np.ndarray], words: str) -> int:
+    """Print `model`'s errors on the pushes at HELD offsets over CHECK_TRAVEL; how many are within 1 cm and 2 deg."""
+    kept = 0
+    for offset in HELD:
+        seen = at_travel(runs[offset], CHECK_TRAVEL)
+        # the turn predicted once the centre has come as far as DART's; the place predicted at DART's turn
+        turn = math.degrees(abs(seen[2] - model.pose_after(offset, float(np.linalg.norm(seen[:2])))[2]))
+        miss = float(np.linalg.norm(seen[:2] - arc_end(model.pivot(offset), float(seen[2]))[:2]))
+        kept += miss <= 0.01 and turn <= 2.0
+        print(f"  {words}held-out {100 * offset:4.2f} cm over 10 cm: {100 * miss:.2f} cm, {turn:.2f} deg")
+    return kept
+
+
 def measure(name: str, seeds: list[int], execute: bool) -> tuple[int, int, list[tuple[int | None, bool]]]:
     """Print one body's pushes, its held-out check and its goals; (held-out pushes within 1 cm and 2 deg, held,
     with `execute` each goal's (depth, reached in DART) when solved with one arc)."""
@@ -288,14 +302,12 @@ def measure(name: str, seeds: list[int], execute: bool) -> tuple[int, int, list[
     print(
         f"  model: r = {1e4 * model.a:.1f} cm^2 / d + {100 * model.b:.1f} cm, pivot {100 * model.along:+.1f} cm along"
     )
-    kept = 0
-    for offset in HELD:
-        seen = at_travel(runs[offset], CHECK_TRAVEL)
-        # the turn predicted once the centre has come as far as DART's; the place predicted at DART's turn
-        turn = math.degrees(abs(seen[2] - model.pose_after(offset, float(np.linalg.norm(seen[:2])))[2]))
-        miss = float(np.linalg.norm(seen[:2] - arc_end(model.pivot(offset), float(seen[2]))[:2]))
-        kept += miss <= 0.01 and turn <= 2.0
-        print(f"  held-out {100 * offset:4.2f} cm over 10 cm: {100 * miss:.2f} cm, {turn:.2f} deg")
+    kept = held_out(model, runs, "")
+    # What exploration's grid would see: the same offsets pushed as long as the body's `explore pushes` block
+    # pushes (2 s for the Block, 3 s for a generated type: 6 to 7 cm)
+    seconds = max(e.duration.value for e in body.explores if e.name == "pushes")  # type: ignore[attr-defined]
+    short = [pivot(push(body, offset, seeds[0], duration=seconds)[-1]) for offset in FIT]
+    held_out(ArcModel(list(FIT), short, half), runs, f"fitted on {seconds:g} s pushes, ")
     oblique_check(body, model, seeds[0])
     for dx, dyaw in GOALS:
         normal = best_arc(model, dx, dyaw, np.zeros(1))
