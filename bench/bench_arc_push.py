@@ -44,7 +44,7 @@ import vkgl  # noqa: E402
 from vkgl.lang.ir.nodes import Body  # noqa: E402
 from vkgl.sim.explore import G, run_trial  # noqa: E402
 from vkgl.sim.fingertip import NO_LOAD_SPEED  # noqa: E402
-from vkgl.sim.policy import TrialSpec  # noqa: E402
+from vkgl.sim.policy import TrialSpec, plan_trials  # noqa: E402
 
 FIT = (0.005, 0.01, 0.02)  # m: offsets the model is fitted on
 HELD = (0.003, 0.0075, 0.015)  # m: offsets it is checked on
@@ -308,6 +308,12 @@ def measure(name: str, seeds: list[int], execute: bool) -> tuple[int, int, list[
     seconds = max(e.duration.value for e in body.explores if e.name == "pushes")  # type: ignore[attr-defined]
     short = [pivot(push(body, offset, seeds[0], duration=seconds)[-1]) for offset in FIT]
     held_out(ArcModel(list(FIT), short, half), runs, f"fitted on {seconds:g} s pushes, ")
+    # ... and what the grid pushes today: its two off-centre points nearest the centre (9 points along the face)
+    pushes = [t for t in plan_trials(body) if t.policy == "pushes" and t.direction[0] > 0]  # the -x face's
+    grid = sorted(c for c in (float(t.contact[1]) for t in pushes) if c > 1e-6)[:2]
+    nearest = [pivot(push(body, offset, seeds[0], duration=seconds)[-1]) for offset in grid]
+    shown = " and ".join(f"{100 * c:.2f}" for c in grid)
+    held_out(ArcModel(grid, nearest, half), runs, f"fitted on the grid's {shown} cm, ")
     oblique_check(body, model, seeds[0])
     for dx, dyaw in GOALS:
         normal = best_arc(model, dx, dyaw, np.zeros(1))
