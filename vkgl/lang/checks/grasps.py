@@ -41,10 +41,13 @@ def check_grasp_affordance(affordance: ir.Affordance, ctx: CheckContext) -> None
 
 
 def _check_grasp(grasp: ir.GraspC, ctx: CheckContext) -> None:
-    width = ir.Quantity(value=grasp.width, unit=grasp.width_unit)
+    # model_construct: the values are typed already; validating would build Quantity's validator (and scan the
+    # installed packages for pydantic plugins), a tenth of a `vkgc check` whose scene has a grasp.
+    width = ir.Quantity.model_construct(value=grasp.width, unit=grasp.width_unit)
     if grasp.width <= 0 or grasp.width > HAND_OPENING:
         _width_error(width, "a grasp's width", ctx.narrow(grasp.span, r"width\s+(\S+)"), ctx)
-    force = ir.Quantity(value=grasp.force, unit=grasp.force_unit, span=ctx.narrow(grasp.span, r"force\s+(\S+)"))
+    force_span = ctx.narrow(grasp.span, r"force\s+(\S+)")
+    force = ir.Quantity.model_construct(value=grasp.force, unit=grasp.force_unit, span=force_span)
     if grasp.force <= 0:
         ctx.error(
             codes.NON_POSITIVE_VALUE,

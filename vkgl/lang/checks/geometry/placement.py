@@ -133,17 +133,20 @@ def _frame_pose(
 
 
 def _pose_node(pose: np.ndarray, span: ir.Span | None) -> ir.Pose:
-    """`pose` as an IR pose in metres, with a yaw when it only turns about z, else roll-pitch-yaw in radians."""
-    position = ir.Vector(values=tuple(float(v) for v in pose[:3, 3]), unit="m", span=span)
+    """`pose` as an IR pose in metres, with a yaw when it only turns about z, else roll-pitch-yaw in radians.
+
+    The nodes are made with `model_construct` (their values are floats already): validating them would build
+    pydantic's validators and scan every installed package for pydantic plugins, a tenth of a `vkgc check`."""
+    position = ir.Vector.model_construct(values=tuple(float(v) for v in pose[:3, 3]), unit="m", span=span)
     rotation = pose[:3, :3]
     if not np.all(np.isfinite(rotation)) or abs(rotation[2, 2] - 1.0) < 1e-12:
-        return ir.Pose(
-            position=position, yaw=ir.Quantity(value=math.atan2(rotation[1, 0], rotation[0, 0]), unit="rad"), span=span
-        )
+        yaw = ir.Quantity.model_construct(value=math.atan2(rotation[1, 0], rotation[0, 0]), unit="rad")
+        return ir.Pose.model_construct(position=position, yaw=yaw, span=span)
     from scipy.spatial.transform import Rotation  # only for hosts tilted off level: `vkgc check` stays light
 
     rpy = Rotation.from_matrix(rotation).as_euler("xyz")
-    return ir.Pose(position=position, rpy=ir.Vector(values=tuple(float(v) for v in rpy), unit="rad"), span=span)
+    rpy_node = ir.Vector.model_construct(values=tuple(float(v) for v in rpy), unit="rad")
+    return ir.Pose.model_construct(position=position, rpy=rpy_node, span=span)
 
 
 __all__ = ["place_relative_bodies"]

@@ -75,12 +75,16 @@ def _placed(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckContext)
             return goal
         moved = frame[:3, :3] @ np.r_[offset, np.zeros(3 - len(offset))]  # a 2-vector lies in the frame's x-y plane
         target = start[: len(offset), 3] + moved[: len(offset)]
-        update["position"] = ir.Vector(values=tuple(float(v) for v in target), unit="m", span=goal.moved_by.span)
+        # model_construct: floats already; validating would build pydantic's validators (and scan for plugins)
+        update["position"] = ir.Vector.model_construct(
+            values=tuple(float(v) for v in target), unit="m", span=goal.moved_by.span
+        )
     if goal.turned_by is not None:
         if not math.isfinite(goal.turned_by.value):
             return goal
         heading = math.atan2(start[1, 0], start[0, 0]) + goal.turned_by.value
-        update["yaw"] = ir.Quantity(value=math.remainder(heading, 2 * math.pi), unit="rad", span=goal.turned_by.span)
+        yaw = math.remainder(heading, 2 * math.pi)
+        update["yaw"] = ir.Quantity.model_construct(value=yaw, unit="rad", span=goal.turned_by.span)
     return goal.model_copy(update=update)
 
 

@@ -475,7 +475,8 @@ class Builder(GraspBuilder, FamilyBuilder):
 
     def _relative(self, meta: Any, head: list[Any], ref: ir.FrameRef, *, inside: bool) -> ir.SceneBody:
         """A scene body placed relative to another (`head`: its name, type and `open Q` if any)."""
-        origin = ir.Pose(position=ir.Vector(values=(0.0, 0.0, 0.0), unit="m"))  # the checker puts the world pose
+        zero = new_node(ir.Vector, values=(0.0, 0.0, 0.0), unit="m")
+        origin = new_node(ir.Pose, position=zero)  # the checker puts the world pose
         placement = new_node(ir.Placement, on_table=False, pose=origin, relative_to=ref, inside=inside, span=ref.span)
         return new_node(
             ir.SceneBody,
