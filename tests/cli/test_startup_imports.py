@@ -1,4 +1,5 @@
-"""`vkgc check`, `fmt` and `lsp` load no back end: neither SciPy, DART, NLopt nor OMPL; `vkgc solve` no SciPy.
+"""`vkgc check`, `fmt` and `lsp` load no back end: neither SciPy, DART, NLopt nor OMPL; `vkgc solve` no SciPy;
+`vkgc fmt` not even numpy (nothing it parses or prints computes with arrays).
 
 Their start is most of their time (docs/internals.md, "Start-up time"): importing SciPy's
 rotations alone took longer than a whole `vkgc check` may. Each case runs in a fresh process and
@@ -23,12 +24,17 @@ TASK = EXAMPLES / "tasks" / "b_stick_push.vkg"  # a scene, a robot with a URDF, 
 _REPORT = "import sys; print('heavy:', *sorted({m.split('.')[0] for m in sys.modules} & set(sys.argv[1].split(','))))"
 
 
-def _heavy_modules(code: str, cache: Path) -> set[str]:
-    """The heavy packages a fresh process running `code` (then the report) imported."""
+def _heavy_modules(code: str, cache: Path, packages: tuple[str, ...] = HEAVY) -> set[str]:
+    """Which of `packages` (the heavy ones by default) a fresh process running `code` (then the report) imported."""
     env = {**os.environ, "VKGL_CACHE_DIR": str(cache), "PYTHONPATH": str(REPO)}
     script = f"{code}\n{_REPORT}"
     result = subprocess.run(
-        [sys.executable, "-c", script, ",".join(HEAVY)], capture_output=True, text=True, cwd=REPO, env=env, timeout=120
+        [sys.executable, "-c", script, ",".join(packages)],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        env=env,
+        timeout=120,
     )
     assert result.returncode == 0, result.stderr[-2000:]
     report = [line for line in result.stdout.splitlines() if line.startswith("heavy:")]
@@ -54,6 +60,11 @@ def test_check_imports_no_back_end_once_the_urdf_is_known(tmp_path: Path) -> Non
 def test_fmt_and_the_language_server_import_no_back_end(code: str, tmp_path: Path) -> None:
     _heavy_modules(CHECK, tmp_path)  # DART has seen the arm's URDF
     assert _heavy_modules(code, tmp_path) == set()
+
+
+def test_fmt_imports_no_numpy(tmp_path: Path) -> None:
+    """numpy is a third of a fresh `vkgc fmt`'s instructions: the IR's regions import it when they compute."""
+    assert _heavy_modules(FMT, tmp_path, ("numpy",)) == set()
 
 
 SOLVE = f"from vkgl.cli import main; assert main(['solve', {str(TASK)!r}]) == 0"

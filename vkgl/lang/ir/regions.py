@@ -10,12 +10,14 @@ tasks (`goal B in R`) and the keep-out regions (`keep out R`) use them.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
-import numpy as np
 from pydantic import Field
 
 from vkgl.lang.ir.values import Node, Ref, Span, Vector
+
+if TYPE_CHECKING:  # numpy is imported where a region is computed with: `vkgc fmt` and scene-less checks need none
+    import numpy as np
 
 MIN_SIDE = 1e-3
 """m: a region narrower than a millimetre along some side is degenerate."""
@@ -36,6 +38,8 @@ class Region(Node):
 
     def points(self) -> np.ndarray:
         """The region's vertices (k x 2, m), counterclockwise."""
+        import numpy as np
+
         corners = np.array([c.values[:2] for c in self.corners], dtype=float).reshape(-1, 2)
         if self.kind == "box":
             (x0, y0), (x1, y1) = corners[0], corners[-1]
@@ -44,6 +48,8 @@ class Region(Node):
 
     def halfplanes(self) -> np.ndarray:
         """Rows `(nx, ny, d)` with unit outward normals: a point `p` is inside when `n . p <= d` for every row."""
+        import numpy as np
+
         points = self.points()
         edges = np.roll(points, -1, axis=0) - points
         normals = np.c_[edges[:, 1], -edges[:, 0]]
@@ -52,6 +58,8 @@ class Region(Node):
 
     def centre(self) -> np.ndarray:
         """The centroid of the region (m)."""
+        import numpy as np
+
         points = self.points()
         area = _signed_area(points)
         if abs(area) < 1e-12:
@@ -89,6 +97,8 @@ class KeepOut(Node):
 def region_problem(region: Region) -> str | None:
     """What makes `region` no region, or None: "swapped" corners, "flat", "few" vertices, "concave", "far" (a
     corner beyond `FAR`), or "reported" (a corner that is not two finite numbers: E204, E201, E208 say why)."""
+    import numpy as np
+
     if any(len(c.values) != 2 for c in region.corners):
         return "reported"
     corners = np.array([c.values for c in region.corners], dtype=float).reshape(-1, 2)
@@ -118,6 +128,8 @@ def region_problem(region: Region) -> str | None:
 
 def excess(halfplanes: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Per half-plane, how far the farthest of `points` (n x 2) lies outside it (m; <= 0 when all are inside)."""
+    import numpy as np
+
     return np.max(points @ halfplanes[:, :2].T - halfplanes[:, 2], axis=0)
 
 
@@ -127,6 +139,8 @@ def footprint(points: np.ndarray, pose: np.ndarray) -> np.ndarray:
 
 
 def _signed_area(points: np.ndarray) -> float:
+    import numpy as np
+
     nxt = np.roll(points, -1, axis=0)
     return float(np.sum(points[:, 0] * nxt[:, 1] - nxt[:, 0] * points[:, 1]) / 2)
 
@@ -141,6 +155,8 @@ def overlap_depth(region: np.ndarray, points: np.ndarray) -> float:
     overlap: the shortest push that separates them (m; <= 0 when they are apart, by the gap's width).
 
     Separating axes: the edge normals of both polygons (exact for convex polygons)."""
+    import numpy as np
+
     hull = convex_hull(points)
     axes = [_edge_normals(region), _edge_normals(hull)] if len(hull) > 2 else [_edge_normals(region)]
     normals = np.vstack(axes)
@@ -150,6 +166,8 @@ def overlap_depth(region: np.ndarray, points: np.ndarray) -> float:
 
 
 def _edge_normals(polygon: np.ndarray) -> np.ndarray:
+    import numpy as np
+
     edges = np.roll(polygon, -1, axis=0) - polygon
     normals = np.c_[edges[:, 1], -edges[:, 0]]
     lengths = np.linalg.norm(normals, axis=1, keepdims=True)
@@ -159,6 +177,8 @@ def _edge_normals(polygon: np.ndarray) -> np.ndarray:
 def convex_hull(points: np.ndarray) -> np.ndarray:
     """The convex hull of 2-d `points`, counterclockwise, without collinear points (Andrew's monotone chain: here
     rather than SciPy's Qhull, which `vkgc check` does not import)."""
+    import numpy as np
+
     ordered = sorted(set(map(tuple, np.round(points, 12))))
     if len(ordered) <= 2:
         return np.array(ordered, dtype=float).reshape(-1, 2)
