@@ -1,14 +1,22 @@
 """Benchmark: how fast `vkgc` starts, as whole processes, against the targets of issue 22.
 
-    python bench/bench_startup.py [--runs N]
+    python bench/bench_startup.py [--runs N] [--instructions]
 
 Prints two Markdown tables. The first: wall time (median of `--runs` runs,
 default 7) and CPU time (user + system, median) of `python -c pass` for scale,
 `vkgc --help`, `vkgc check` and `vkgc fmt --check` of an example and
-`vkgc solve examples/tasks/b_stick_push.vkg`, with the targets:
+`vkgc solve` of tasks a and b, with the targets:
 
 - `vkgc check` on an example: at most 0.2 s wall;
-- `vkgc solve b_stick_push.vkg`: at most 0.5 s wall.
+- `vkgc solve` of a paper task (a_push, b_stick_push): at most 0.5 s wall.
+
+With `--instructions` (needs valgrind) each command also runs once under
+`valgrind --tool=callgrind`: the instructions it executed (billions), which the
+load of a shared machine does not change, and the seconds they project to at
+`--rate` billion instructions per second (default 3.5: what this machine ran
+`vkgc check` at under a load of 14, CPU time over instructions; idle it runs
+faster, so the projection errs long. Measure the rate on an idle machine as
+the `vkgc check` row's instructions over its CPU time).
 
 The second: where `vkgc check`'s imports go, from `python -X importtime`
 (each module's own time, summed by top-level package), and which of SciPy,
@@ -30,6 +38,7 @@ import argparse
 import os
 import re
 import resource
+import shutil
 import statistics
 import subprocess
 import sys
@@ -67,10 +76,37 @@ def medians(argv: list[str], env: dict[str, str], runs: int) -> tuple[float, flo
     return statistics.median(t[0] for t in times), statistics.median(t[1] for t in times)
 
 
-def row(what: str, wall: float, cpu: float, target: float | None = None) -> str:
+def instructions(argv: list[str], env: dict[str, str]) -> float:
+    """Billions of instructions one process executes, counted by callgrind (the load does not change them)."""
+    with tempfile.TemporaryDirectory(prefix="vkgl-bench-callgrind-") as folder:
+        out = Path(folder) / "callgrind.out"
+        result = subprocess.run(
+            ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", *argv],
+            env=env,
+            cwd=REPO,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            text=True,
+            check=True,
+        )
+    found = re.search(r"Collected\s*:\s*(\d+)", result.stderr)
+    if found is None:
+        raise RuntimeError(f"callgrind printed no count: {result.stderr[-500:]}")
+    return int(found.group(1)) / 1e9
+
+
+def row(what: str, wall: float, cpu: float, target: float | None = None, counted: str = "") -> str:
     shown_target = "" if target is None else f"<= {target * 1000:.0f} ms"
     verdict = "" if target is None else ("ok" if wall <= target else "SLOW")
-    return f"| {what} | {wall * 1000:.0f} ms | {cpu * 1000:.0f} ms | {shown_target} | {verdict} |"
+    return f"| {what} | {wall * 1000:.0f} ms | {cpu * 1000:.0f} ms |{counted} {shown_target} | {verdict} |"
+
+
+def counted_cells(argv: list[str], env: dict[str, str], rate: float, target: float | None) -> str:
+    """The instructions and projected-seconds cells of a row (with the projection's verdict against `target`)."""
+    billions = instructions(argv, env)
+    projected = billions / rate
+    verdict = "" if target is None else (" ok" if projected <= target else " SLOW")
+    return f" {billions:.3f} G | {projected * 1000:.0f} ms{verdict} |"
 
 
 def import_breakdown(env: dict[str, str]) -> tuple[dict[str, float], set[str]]:
@@ -88,8 +124,12 @@ def import_breakdown(env: dict[str, str]) -> tuple[dict[str, float], set[str]]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--runs", type=int, default=7)
+    parser.add_argument("--instructions", action="store_true", help="also count instructions with callgrind")
+    parser.add_argument("--rate", type=float, default=3.5, help="billion instructions per second")
     args = parser.parse_args()
     runs = max(1, args.runs)
+    if args.instructions and shutil.which("valgrind") is None:
+        parser.error("--instructions needs valgrind on the PATH")
 
     python = [sys.executable]
     vkgc = [sys.executable, "-m", "vkgl.cli"]
@@ -99,6 +139,7 @@ def main() -> None:
         (f"`vkgc check {CHECKED}`", [*vkgc, "check", CHECKED], 0.2),
         (f"`vkgc fmt --check {CHECKED}`", [*vkgc, "fmt", "--check", CHECKED], None),
         ("`vkgc check examples/tasks/a_push.vkg`", [*vkgc, "check", "examples/tasks/a_push.vkg"], 0.2),
+        ("`vkgc solve examples/tasks/a_push.vkg`", [*vkgc, "solve", "examples/tasks/a_push.vkg"], 0.5),
         (f"`vkgc solve {CHECKED}`", [*vkgc, "solve", CHECKED], 0.5),
     ]
     with tempfile.TemporaryDirectory(prefix="vkgl-bench-cache-") as cache:
@@ -106,11 +147,14 @@ def main() -> None:
         cold = run_once([*vkgc, "check", CHECKED], env)  # writes bytecode, the grammar's tables, DART's verdict
         for _, argv, _ in commands:
             run_once(argv, env)  # the solve's reach cache too
-        print(f"| command ({runs} runs) | wall (median) | CPU (median) | target | |")
-        print("|---|---|---|---|---|")
-        print(row(f"first `vkgc check {CHECKED}` (cold cache folder)", *cold))
+        counted_head = f" instructions | projected at {args.rate:g} G/s |" if args.instructions else ""
+        print(f"| command ({runs} runs) | wall (median) | CPU (median) |{counted_head} target | |")
+        print("|---|---|---|" + ("---|---|" if args.instructions else "") + "---|---|")
+        blank = " | |" if args.instructions else ""
+        print(row(f"first `vkgc check {CHECKED}` (cold cache folder)", *cold, counted=blank))
         for what, argv, target in commands:
-            print(row(what, *medians(argv, env, runs), target))
+            counted = counted_cells(argv, env, args.rate, target) if args.instructions else ""
+            print(row(what, *medians(argv, env, runs), target, counted))
         print()
 
         totals, heavy = import_breakdown(env)
