@@ -63,7 +63,7 @@ def test_fmt_and_the_language_server_import_no_back_end(code: str, tmp_path: Pat
 
 
 def test_fmt_imports_no_numpy(tmp_path: Path) -> None:
-    """numpy is a third of a fresh `vkgc fmt`'s instructions: the IR's regions import it when they compute."""
+    """numpy was a fifth of a fresh `vkgc fmt`'s instructions: the IR's regions import it when they compute."""
     assert _heavy_modules(FMT, tmp_path, ("numpy",)) == set()
 
 
