@@ -223,4 +223,5 @@ def _rejection(found: list[Contact], where: str, *, bodies: Iterable[str] | None
         f"{what} would pass through {b} by {deepest.depth * 100:.1f} cm at ({at[0]:.2f}, {at[1]:.2f}, "
         f"{at[2]:.2f}) m {where}: {b} is in the way",
         float(deepest.depth),
+        (a, b),
     )

@@ -75,6 +75,7 @@ class Rejection:
     kind: Kind
     why: str
     excess: float = 0.0
+    between: tuple[str, ...] = ()  # a collision's two parts (bodies, or a body and an arm link), when known
 
 
 __all__ = ["Kind", "Rejection"]
