@@ -363,8 +363,10 @@ def _at_other_contacts(
 
 def _contact_failed(problem: Problem, first: Rejection | None, clash: Rejection | None) -> bool:
     """Whether the contacts are what failed: the arm's first rejection is an approach, or no candidate got to the
-    arm and the bodies' clash has a tool in it (a tool at its contact standing in a body beside the one it acts
-    on: a contact elsewhere along the face may stand clear of it)."""
+    arm and the bodies' clash is a tool placed in a body (`Rejection.between`: at its contact it stands in a body
+    beside the one it acts on; a contact elsewhere along the face may stand clear of it). A tool swept through a
+    body during a motion is not: with those too, two blocked tasks of the physical bench (gen1_001, gen1_013)
+    checked 12 and 42 % fewer sequences in 10 s of CPU than without other contacts for tools; as it is, 4 and 8 %."""
     if first is not None:
         return first.kind is Kind.APPROACH
     tools = {e.tool for e in problem.effectors if e.tool is not None}
