@@ -169,3 +169,75 @@ def test_a_blocker_moved_twice_goes_all_the_way_first_when_one_motion_cannot_cle
         # the crate ends just clear: its +y face (0.03 + 0.05 - moved) MARGIN below the corridor's edge at -0.10
         face = 0.03 + 0.05 - (first + second)
         assert -0.10 - MARGIN - 0.01 <= face <= -0.10 - MARGIN + 0.003, face
+
+
+ACROSS_THE_STICK = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.bodies.stick
+use stdlib.affordances.block
+use stdlib.affordances.stick
+use stdlib.tools
+
+body Cube {
+    shape box (8, 8, 8) cm
+    mass 0.256 kg
+    friction 0.5
+}
+
+affordances Cube {
+    affordance push_center_px {
+        action fixed at (-4, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 40 cm
+    }
+}
+
+scene beyond {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    cube : Cube on table at (0.6, 0) m yaw 0deg
+    wall : Block on table at (0.76, 0) m yaw 0deg
+    stick : Stick on table at (0.3, -0.4) m yaw 0deg
+}
+
+task across {
+    scene beyond
+    goal cube at (0.84, 0) m within 1 cm
+}
+"""
+
+
+def test_a_stick_that_would_stand_in_the_target_at_its_contact_tries_the_contact_elsewhere_along_the_face() -> None:
+    """The issue's Block lying across a cube's path beyond the fingertip: turned with the stick at its written
+    contact (4.34 cm off the face's centre), the stick would lie through the cube standing before that face.
+    The search then tries the contact at its family's far end (8.78 cm off the centre: the stick beside the
+    cube), and the sequence fails for what is left, the geometry of the turn: one turn about a point beyond the
+    Block's other end leaves that end in the cube's path."""
+    import time
+
+    from vkgl.plan.arm.paths import ArmPathPlanner
+    from vkgl.plan.geometry.bodies import GeometryCheck
+    from vkgl.plan.graphs.graph import Action, Engagement
+    from vkgl.plan.graphs.rollout import extend, start_sequence
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.search.search import SearchStats, _check, _Checks
+
+    program = vkgl.compile_source(ACROSS_THE_STICK, "across.vkg", base_dir=_EMPTY)
+    problem = build_problem(program, program.tasks["across"])
+    turn = Engagement("stick.tip", "wall", "turn_px_left")
+    seq = start_sequence(problem)
+    for action in (
+        Action("add", Engagement("arm.fingertip", "stick", "wield")),
+        Action("add", turn),
+        Action("remove", turn),
+        Action("add", Engagement("stick.tip", "cube", "push_center_px")),
+    ):
+        seq, _ = extend(problem, seq, action)
+    geometry = GeometryCheck(problem)
+    stats = SearchStats()
+    checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
+    assert _check(problem, seq, stats, time.perf_counter() + 60, checks) is None
+    ((_, _, why),) = stats.examples.values()
+    # not "cube would pass through stick ... at the start of mode 2" (the stick at the written contact), but the
+    # cube's own push (mode 4) through the end of the Block that the turn left in its path
+    assert why.startswith("cube would pass through wall") and "in mode 4" in why, why

@@ -113,7 +113,7 @@ class GeometryCheck:
             self.queries += 1
             found = sweep_mode(self.scene, self.problem, trace, allowed)
             if found:
-                return _rejection(found, f"in mode {k}, {_moving(self.problem, graph, trace)}")
+                return _rejection(found, f"in mode {k}, {_moving(self.problem, graph, trace)}", placed=False)
             kept_out = keep_out_rejection(self.problem, trace, f"in mode {k}, {_moving(self.problem, graph, trace)}")
             if kept_out is not None:
                 return kept_out
@@ -212,8 +212,12 @@ def _engagement_words(problem: Problem, e: Engagement, value: float) -> str:
     return f"{e.effector} moves {e.body} by {amount} ({problem.bodies[e.body].type.name}.{e.affordance})"
 
 
-def _rejection(found: list[Contact], where: str, *, bodies: Iterable[str] | None = None) -> Rejection:
-    """A collision rejection naming the deepest overlap; `bodies`: the scene's (other names are arm links)."""
+def _rejection(
+    found: list[Contact], where: str, *, bodies: Iterable[str] | None = None, placed: bool = True
+) -> Rejection:
+    """A collision rejection naming the deepest overlap; `bodies`: the scene's (other names are arm links);
+    `placed`: an overlap where the parts are placed (a mode's start or end), whose pair it records, not one swept
+    through during a motion."""
     deepest = max(found, key=lambda c: c.depth)
     a, b = deepest.body_a, deepest.body_b
     what = f"the arm's {a}" if bodies is not None and a not in set(bodies) else a
@@ -223,4 +227,5 @@ def _rejection(found: list[Contact], where: str, *, bodies: Iterable[str] | None
         f"{what} would pass through {b} by {deepest.depth * 100:.1f} cm at ({at[0]:.2f}, {at[1]:.2f}, "
         f"{at[2]:.2f}) m {where}: {b} is in the way",
         float(deepest.depth),
+        (a, b) if placed else (),
     )

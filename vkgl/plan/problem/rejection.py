@@ -75,6 +75,7 @@ class Rejection:
     kind: Kind
     why: str
     excess: float = 0.0
+    between: tuple[str, ...] = ()  # the two parts that overlap where they are placed (not swept into each other)
 
 
 __all__ = ["Kind", "Rejection"]
