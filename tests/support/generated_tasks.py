@@ -59,6 +59,7 @@ class BodyType:
     stdlib: bool = False
     parts: tuple[tuple[float, float, float, float], ...] = ()  # (cx, cy, sx, sy) boxes of a union, body frame
     long_slides: bool = True  # explored with the long `slides` pushes too; False: the short push grid only
+    slide_steps: int = 1  # points per face of the long `slides` pushes: 1, the centre; 5 adds pulls off it
 
     @property
     def mass(self) -> float:
@@ -90,7 +91,7 @@ class BodyType:
             f"    }}\n"
             + (
                 f"    explore slides {{\n"
-                f"        contacts on faces +x, -x steps 1\n"
+                f"        contacts on faces +x, -x steps {self.slide_steps}\n"
                 f"        force normal 1 N\n"
                 f"        duration {_num(SLIDE_SECONDS)} s\n"
                 f"    }}\n"
@@ -435,7 +436,12 @@ def bodies_source(types: list[BodyType]) -> str:
 
 
 def write_task(
-    spec: TaskSpec, folder: Path, library: dict[str, Path | None] | None = None, *, long_slides: bool = True
+    spec: TaskSpec,
+    folder: Path,
+    library: dict[str, Path | None] | None = None,
+    *,
+    long_slides: bool = True,
+    slide_steps: int = 1,
 ) -> Path:
     """Write the task's `.vkg` files into `folder`; return the task file.
 
@@ -443,10 +449,10 @@ def write_task(
     module (`learned_affordances`); without it `affordances.vkg` is not
     written (the scene still compiles, the task does not). `long_slides`:
     whether the bodies declare the long `explore slides` block (else the
-    short push grid only).
+    short push grid only); `slide_steps`: its points per face (`BodyType.slide_steps`).
     """
     folder.mkdir(parents=True, exist_ok=True)
-    types = [replace(t, long_slides=long_slides) for t in spec.generated_types()]
+    types = [replace(t, long_slides=long_slides, slide_steps=slide_steps) for t in spec.generated_types()]
     if types:
         (folder / "bodies.vkg").write_text(bodies_source(types), encoding="utf-8")
         if library is not None:
