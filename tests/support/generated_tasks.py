@@ -548,16 +548,26 @@ FIXTURES = Path(__file__).resolve().parents[1] / "bench" / "learned"
 """The tests' learned modules of the generated types, in the layout of `learned_affordances`'s cache."""
 
 
-def fixture_library() -> dict[str, Path | None]:
-    """Each generated type's learned module from the tests' fixtures (None: learning found no affordance); fails
-    saying how to refresh them when a type's source changed."""
+WIDE_TYPES = ("SlabW", "CrateM", "CrateT")
+"""The generated types 24 to 30 cm wide: the hook pulls them from 1.0 m off their far face's centre (its shaft
+would lie inside them at the centre), so their fixtures are also learned with `slide_steps` 5 (long turns)."""
+
+WIDE_SLIDE_STEPS = 5
+"""Long pushes at 5 points per face: the centre and 6 and 12 cm (4.8 and 9.6 cm on a 24 cm face) each side."""
+
+
+def fixture_library(names: tuple[str, ...] | None = None, *, slide_steps: int = 1) -> dict[str, Path | None]:
+    """Each generated type's learned module (`names`: those types only; `slide_steps`: explored with long pushes
+    at that many points per face) from the tests' fixtures (None: learning found no affordance); fails saying how
+    to refresh them when a type's source changed."""
     library: dict[str, Path | None] = {}
-    for body in GENERATED_TYPES:
+    for body in (replace(t, slide_steps=slide_steps) for t in GENERATED_TYPES if names is None or t.name in names):
         folder = FIXTURES / body.source_hash()
         assert folder.is_dir(), (
             f"no learned affordances of {body.name} for its current source under {FIXTURES}: refresh them with "
-            f'`python -c "import generated_tasks as g; from pathlib import Path; '
-            f"g.learned_affordances(list(g.GENERATED_TYPES), Path('{FIXTURES}'))\"` (PYTHONPATH=tests/support)"
+            f'`python -c "import generated_tasks as g; from dataclasses import replace; from pathlib import Path; '
+            f"g.learned_affordances([replace(t, slide_steps={slide_steps}) for t in g.GENERATED_TYPES], "
+            f"Path('{FIXTURES}'))\"` (PYTHONPATH=tests/support)"
         )
         assert (folder / "body.vkg").read_text(encoding="utf-8") == body.source()
         module = folder / f"{body.name.lower()}.vkg"
