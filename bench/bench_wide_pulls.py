@@ -7,15 +7,19 @@ CrateM (20 x 30 x 18 cm) and CrateT (16 x 24 x 25 cm) of tests/support/generated
 pushes at 5 points of each face (`slide_steps` 5: their learned fixtures are in tests/bench/learned/), each
 alone with the stdlib Stick and Hook on the tabletop of the generated tasks.
 
-Goals follow the generated `far-pull` family: a start 0.95 to 1.0 m from the arm's base (bearing within 25 deg,
-yaw a multiple of 5 deg within 30 deg), the goal 20 to 30 cm back along the body's -x axis, either with the
-heading kept (within 3 deg; `kept`) or with the heading free and the direction turned 10 to 30 deg to the body's
-+y side (`free+`, where the hook's pull turns it) or -y side (`free-`). Each is solved (`vkgl.solve`, default
-depth 6, `--timeout` s) and a plan carried out open loop in DART (`vkgl.execute`). Printed per body and goal
-kind: goals solved, their depths, how many reached their goal in DART, and the worst distance between the plan's
-final pose of the body and DART's (cm, deg); then the totals and the CPU time (`time.process_time`).
+Goals follow the generated `far-pull` family: a start 0.95 to 1.0 m from the arm's base (bearing within 25 deg, yaw
+a multiple of 5 deg within 30 deg), the goal 20 to 30 cm back along the body's -x axis, either with the heading kept
+(within 3 deg; `kept`) or with the heading free and the direction turned 10 to 30 deg to the body's +y side
+(`free+`, the side the hook's pull turns it to) or -y side (`free-`). A fourth kind, `arc`, puts the goal (heading
+free) where the hook-side turn leaves the body after 40 to 80 deg, at a seeded point of its family's band: a goal
+one pull's motion reaches (the arm may not), so that what is measured there is the search and DART, not the fan of
+the learned turns. Each is solved (`vkgl.solve`, default depth 6, `--timeout` s, wall clock) and a plan carried out
+open loop in DART (`vkgl.execute`). Printed per body and goal kind: goals solved, their depths, how many reached
+their goal in DART, and the worst distance between the plan's final pose of the body and DART's (cm, deg); then the
+totals and the CPU time of the run (`time.process_time`: solving and DART run in-process).
 
     PYTHONPATH=$PWD:tests/support .venv/bin/python bench/bench_wide_pulls.py [--goals 2] [--timeout 60]
+        [--kinds arc,free+,free-,kept] [--bodies SlabW,CrateM,CrateT]
 """
 
 from __future__ import annotations
