@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.lang.ir.program import Program
 
@@ -101,7 +102,8 @@ def _drift(program: Program, k: int, step: dict[str, Any], fk: DartFK) -> ChainD
     motion by s_i times the step's value; the hand at s_i is FK of the chain's entry i."""
     chain = np.array(step["contact"], dtype=float)
     type_name, _, aff_name = step["affordance"].partition(".")
-    aff = next(a for a in program.affordances[type_name] if a.name == aff_name)
+    aff = find_member(program.affordances[type_name], aff_name)  # a family's member too (`turn@+3.12cm`)
+    assert aff is not None, f"step {k}: no affordance {step['affordance']}"
     start = np.array(step["poses_start"][step["body"]], dtype=float)
     fractions = np.linspace(0.0, 1.0, len(chain))
     relative = [

@@ -59,6 +59,7 @@ class BodyType:
     stdlib: bool = False
     parts: tuple[tuple[float, float, float, float], ...] = ()  # (cx, cy, sx, sy) boxes of a union, body frame
     long_slides: bool = True  # explored with the long `slides` pushes too; False: the short push grid only
+    slide_steps: int = 1  # points per face of the long `slides` pushes: 1, the centre; 5 adds pulls off it
 
     @property
     def mass(self) -> float:
@@ -90,7 +91,7 @@ class BodyType:
             f"    }}\n"
             + (
                 f"    explore slides {{\n"
-                f"        contacts on faces +x, -x steps 1\n"
+                f"        contacts on faces +x, -x steps {self.slide_steps}\n"
                 f"        force normal 1 N\n"
                 f"        duration {_num(SLIDE_SECONDS)} s\n"
                 f"    }}\n"
@@ -435,7 +436,12 @@ def bodies_source(types: list[BodyType]) -> str:
 
 
 def write_task(
-    spec: TaskSpec, folder: Path, library: dict[str, Path | None] | None = None, *, long_slides: bool = True
+    spec: TaskSpec,
+    folder: Path,
+    library: dict[str, Path | None] | None = None,
+    *,
+    long_slides: bool = True,
+    slide_steps: int = 1,
 ) -> Path:
     """Write the task's `.vkg` files into `folder`; return the task file.
 
@@ -443,10 +449,10 @@ def write_task(
     module (`learned_affordances`); without it `affordances.vkg` is not
     written (the scene still compiles, the task does not). `long_slides`:
     whether the bodies declare the long `explore slides` block (else the
-    short push grid only).
+    short push grid only); `slide_steps`: its points per face (`BodyType.slide_steps`).
     """
     folder.mkdir(parents=True, exist_ok=True)
-    types = [replace(t, long_slides=long_slides) for t in spec.generated_types()]
+    types = [replace(t, long_slides=long_slides, slide_steps=slide_steps) for t in spec.generated_types()]
     if types:
         (folder / "bodies.vkg").write_text(bodies_source(types), encoding="utf-8")
         if library is not None:
@@ -542,16 +548,26 @@ FIXTURES = Path(__file__).resolve().parents[1] / "bench" / "learned"
 """The tests' learned modules of the generated types, in the layout of `learned_affordances`'s cache."""
 
 
-def fixture_library() -> dict[str, Path | None]:
-    """Each generated type's learned module from the tests' fixtures (None: learning found no affordance); fails
-    saying how to refresh them when a type's source changed."""
+WIDE_TYPES = ("SlabW", "CrateM", "CrateT")
+"""The generated types 24 to 30 cm wide: the hook pulls them from 1.0 m off their far face's centre (its shaft
+would lie inside them at the centre), so their fixtures are also learned with `slide_steps` 5 (long turns)."""
+
+WIDE_SLIDE_STEPS = 5
+"""Long pushes at 5 points per face: the centre and 6 and 12 cm (4.8 and 9.6 cm on a 24 cm face) each side."""
+
+
+def fixture_library(names: tuple[str, ...] | None = None, *, slide_steps: int = 1) -> dict[str, Path | None]:
+    """Each generated type's learned module (`names`: those types only; `slide_steps`: explored with long pushes
+    at that many points per face) from the tests' fixtures (None: learning found no affordance); fails saying how
+    to refresh them when a type's source changed."""
     library: dict[str, Path | None] = {}
-    for body in GENERATED_TYPES:
+    for body in (replace(t, slide_steps=slide_steps) for t in GENERATED_TYPES if names is None or t.name in names):
         folder = FIXTURES / body.source_hash()
         assert folder.is_dir(), (
             f"no learned affordances of {body.name} for its current source under {FIXTURES}: refresh them with "
-            f'`python -c "import generated_tasks as g; from pathlib import Path; '
-            f"g.learned_affordances(list(g.GENERATED_TYPES), Path('{FIXTURES}'))\"` (PYTHONPATH=tests/support)"
+            f'`python -c "import generated_tasks as g; from dataclasses import replace; from pathlib import Path; '
+            f"g.learned_affordances([replace(t, slide_steps={slide_steps}) for t in g.GENERATED_TYPES], "
+            f"Path('{FIXTURES}'))\"` (PYTHONPATH=tests/support)"
         )
         assert (folder / "body.vkg").read_text(encoding="utf-8") == body.source()
         module = folder / f"{body.name.lower()}.vkg"

@@ -366,6 +366,11 @@ class ArmPathPlanner:
         self.transit_count += 1
         held = transit.held
         spaces = [self.geometry.transit_space(held, transit.body)]
+        if held is not None and transit.body is not None:
+            # a held tool passes the body it is going to with the same room as the others where it can (a hook
+            # swinging over a tall crate it is to pull touched its top in DART 2 mm above it), as close as its
+            # stand-off needs only when that way is blocked
+            spaces.insert(0, self.geometry.transit_space(held))
         if transit.clear:
             # a carried body swings with the arm through free space: with room to spare from the others (the
             # grown bodies), unless its ends lie closer than that (a neighbour beside where it is picked up)

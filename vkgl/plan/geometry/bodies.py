@@ -46,7 +46,9 @@ tool's stand-off may be tight beside another body (the hook from the side of a D
 tests/execute/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
 (`vkgl.motion.transit_segment`), so the line between two samples 2 mm clear stays clear, and execution fails a
 transit on any touch. With the exact geometry (and its tolerance) gen3_027's hook ended its transit 1 mm into the
-corner of a Block beside its next contact."""
+corner of a Block beside its next contact. The arm's paths try a held tool's transit with the body it goes to grown
+too (`transit_space(held)`), and this tighter space only when that way is blocked: a hook swinging over a 25 cm crate
+it was to pull passed 2 mm over its top and touched it in DART."""
 
 
 class GeometryCheck:

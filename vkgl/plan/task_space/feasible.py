@@ -262,12 +262,14 @@ def task_space(
     """Motion values for `seq` that reach the goal inside every constraint (NLopt SLSQP), or why not.
 
     The contacts' offsets along their families (`seq.offsets`) are variables too: pinned at 0 (as written)
-    first, then, after a rejection for the hand's reach (what moving a contact changes), free within their bands;
-    `offsets` pins them. A solution that moved a contact comes with its sequence renamed (`materialise`).
+    first, then, after a rejection for the hand's reach or for missing the goal (what moving a contact changes:
+    a turn's pivot moves with it, so a hook pulling a wide body off its far face's centre reaches a goal off its
+    written arc), free within their bands; `offsets` pins them. A solution that moved a contact comes with its
+    sequence renamed (`materialise`).
     """
     if seq.offsets and offsets is None:
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
-        if not isinstance(written, Rejection) or written.kind is not Kind.REACH:
+        if not isinstance(written, Rejection) or written.kind not in (Kind.REACH, Kind.GOAL):
             return written
     start = closed_form(problem, seq)
     if isinstance(start, Rejection):

@@ -1,0 +1,44 @@
+"""A hook pull of a 30 cm wide slab from 1.0 m, planned and carried out in DART.
+
+At the middle of SlabW's far face the hook's shaft (12 cm beside its tip) would lie 4 cm inside the slab, so the
+hook pulls it off the centre, on the side its shaft clears. Under DART's friction cone that pull turns the slab
+about a pivot on the other side; explored with long pushes at 5 points of each face (`slide_steps` 5) the slab
+knows that turn over 119 deg. The goal (heading free) lies off the written contact's arc by 1.9 cm: the planner
+moves the contact along its family, 5.9 cm farther from the centre (the pivot moves with it), and DART's slab
+ends where the plan says.
+"""
+
+from __future__ import annotations
+
+import math
+
+import generated_tasks
+import numpy as np
+
+import vkgl
+
+
+def test_the_hook_pulls_a_wide_slab_off_its_far_face_centre_and_it_ends_where_planned(tmp_path):
+    target = generated_tasks.Placement("target", "SlabW", 1.0, 0.0, 0.0)
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec("wide", 0, 0, (target, *tools), (0.809, 0.1025, None), "far-pull", False, 0.22)
+    steps = generated_tasks.WIDE_SLIDE_STEPS
+    library = generated_tasks.fixture_library(("SlabW",), slide_steps=steps)
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "wide", library, slide_steps=steps))
+    plan = vkgl.solve(program, "wide", max_depth=3)
+    assert plan.status == "solved", plan.reason
+    assert plan.steps[0].affordance == "Hook.wield"
+    pull = plan.steps[1]
+    # a member of the hook-side turn's family, moved along the face from the written contact (5.66 cm off the centre)
+    assert pull.affordance.startswith("SlabW.turn_nx_left@+") and pull.effector == "hook.tip"
+    assert 30 < math.degrees(pull.value) < 119
+    hook = pull.poses_start["hook"]
+    slab = pull.poses_start["target"]
+    shaft = np.linalg.inv(slab) @ hook  # the hook in the slab's frame: its shaft beside the slab's -y end
+    assert shaft[1, 3] < -0.15 - 0.01
+    report = vkgl.execute(program, "wide", plan)
+    assert report.status == "reached", report.reason
+    planned, real = pull.poses_end["target"], report.final["target"]
+    assert np.linalg.norm(planned[:2, 3] - real[:2, 3]) < 0.01
+    yaw = math.degrees(math.atan2(planned[1, 0], planned[0, 0]) - math.atan2(real[1, 0], real[0, 0]))
+    assert abs((yaw + 180) % 360 - 180) < 2.0
