@@ -122,21 +122,32 @@ def infer_edge(data: EdgeData, *, relative: bool, t: np.ndarray | None = None) -
 
 
 def moved_off_start(data: EdgeData, t: np.ndarray) -> bool:
-    """Whether a relative motion ended off its start: the median over its last `END_WINDOW` of the position's
-    distance from the start beyond `AT_REST_TOLERANCES` x `sigma_p`, or of the orientation's angle beyond that
-    many `sigma_r` (the start: the median of the first plausible samples, the at-rest model's own pose)."""
-    if data.n < 2 or len(t) != data.n:
+    """Whether a relative motion ended off its start: its `end_offset` beyond `AT_REST_TOLERANCES` x `sigma_p`
+    (position) or that many `sigma_r` (orientation)."""
+    offset = end_offset(data, t)
+    if offset is None:
         return False
+    distance, angle = offset
+    if distance > AT_REST_TOLERANCES * data.sigma_p:
+        return True
+    return bool(np.isfinite(angle) and angle > AT_REST_TOLERANCES * data.sigma_r)
+
+
+def end_offset(data: EdgeData, t: np.ndarray) -> tuple[float, float] | None:
+    """How far a relative motion ended from its start: the medians, over its last `END_WINDOW`, of the position's
+    distance (m) and of the orientation's angle (rad; nan when no orientation was observed there) from the start
+    (the median of the first plausible samples, the at-rest model's own pose). None for fewer than 2 samples or
+    times that do not match them: the statistic `moved_off_start` tests (bench/bench_moved.py prints it)."""
+    if data.n < 2 or len(t) != data.n:
+        return None
     start = fit_model("fixed", data, relative=True)
     end = np.asarray(t) >= float(t[-1]) - END_WINDOW
-    off = np.linalg.norm(data.p[end] - start.pred_p[0], axis=1)
-    if float(np.median(off)) > AT_REST_TOLERANCES * data.sigma_p:
-        return True
+    distance = float(np.median(np.linalg.norm(data.p[end] - start.pred_p[0], axis=1)))
     turned = end & data.has_rot
     if not turned.any():
-        return False
+        return distance, float("nan")
     angles = (start.pred_rot[0].inv() * data.rot[np.flatnonzero(turned)]).magnitude()
-    return bool(float(np.median(angles)) > AT_REST_TOLERANCES * data.sigma_r)
+    return distance, float(np.median(angles))
 
 
 def _share_independence(fits: dict[str, ModelFit], data: EdgeData) -> None:
