@@ -11,10 +11,13 @@ optimisation, that a goal which leaves the heading free cannot be met.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
 
+from vkgl.lang.ir.families import offset_bounds
+from vkgl.plan.graphs.members import family_vectors
 from vkgl.plan.graphs.rollout import Sequence, motion_matrices, unit_axis_and_center, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -37,18 +40,21 @@ def position_out_of_reach(
     pivot's distance to it, which is at most L = r_i + D (r_i: the pivot's distance from the body's origin,
     fixed in the body; D: how far the later motions can take the origin, at most each slide's upper bound plus
     2 r_j per other turn j, a chord). Every angle lies within half a grid step h_i of a grid row, so the
-    distance at the best true values is at least the grid's best less the sum of L h_i / 2; only if that
-    still exceeds the tolerance is the sequence rejected. Skipped (None) with more than two turns, unbounded
-    values, or contacts of the goal body that may move along their families (a moved pivot).
+    distance at the best true values is at least the grid's best less the sum of L h_i / 2. A turn whose
+    contact may move along its family (`Sequence.offsets`) turns about a pivot moved by d: the same turn
+    about the unmoved pivot followed by a translation of the whole later path by (I - R) d, at most a chord
+    2 |d| sin(a / 2) at its largest angle a (`_drift_bound`), which is taken off too. Only if what is left
+    still exceeds the tolerance is the sequence rejected. Skipped (None) with more than two turns or
+    unbounded values.
     """
     assert goal.position is not None
-    if len(turns) not in FREE_TURN_GRID or any(e.body == goal.body for _, e in seq.offsets):
+    if len(turns) not in FREE_TURN_GRID:
         return None
     turn_limits = [_limits(problem, seq, i) for i in turns]
     slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
     if not (np.isfinite(turn_limits).all() and np.isfinite(slide_limits).all()):
         return None
-    radii = [_pivot_radius(problem, seq, i) for i in turns]
+    radii = [_pivot_radius(problem, seq, i) for i in turns]  # at offset 0 of their families
     lever = max(radii, default=0.0) + float(slide_limits[:, 1].sum()) + 2.0 * sum(radii)
     count = FREE_TURN_GRID[len(turns)]
     grids = [np.linspace(lo, hi, count) for lo, hi in turn_limits]
@@ -56,7 +62,8 @@ def position_out_of_reach(
     steps = [(hi - lo) / (count - 1) if count > 1 else 0.0 for lo, hi in turn_limits]
     origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, _turn_matrices)
     distance = best_row(columns, origins, goal.position, slide_limits)[0]
-    at_least = distance - sum(lever * h / 2 for h in steps)
+    drifts = sum(_drift_bound(problem, seq, i, hi) for i, (_, hi) in zip(turns, turn_limits))
+    at_least = distance - sum(lever * h / 2 for h in steps) - drifts
     if at_least <= goal.tol_position + 1e-9:
         return None
     how = "whatever heading it ends with" if turns else "along its slides"
@@ -82,6 +89,18 @@ def _turn_matrices(motion: object, angles: np.ndarray) -> np.ndarray:
 def _limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:
     e = seq.variables[index][1]
     return value_bounds(problem.affordance(e.body, e.affordance).motion)
+
+
+def _drift_bound(problem: Problem, seq: Sequence, index: int, largest: float) -> float:
+    """How far moving turn `index`'s contact anywhere along its family can move the body's final position
+    (m): the chord of the pivot's largest drift at the turn's largest angle; 0 without a family."""
+    e = seq.variables[index][1]
+    affordance = problem.affordance(e.body, e.affordance)
+    _, drift = family_vectors(affordance)
+    if drift is None:
+        return 0.0
+    farthest = max(abs(v) for v in offset_bounds(affordance)) * float(np.linalg.norm(drift))
+    return 2.0 * farthest * math.sin(min(largest, math.pi) / 2)
 
 
 def _pivot_radius(problem: Problem, seq: Sequence, index: int) -> float:
