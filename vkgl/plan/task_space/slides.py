@@ -22,9 +22,9 @@ from vkgl.plan.graphs.rollout import Sequence, motion_matrices, unit_axis_and_ce
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
-FREE_TURN_GRID = {0: 1, 1: 181, 2: 61}
-"""Angles scanned per turn of the goal body by `position_out_of_reach`, by how many turns it has (one: 1 deg
-apart over half a turn; two: 3 deg apart, 61 x 61 rows)."""
+FREE_TURN_GRIDS = {0: (1,), 1: (19, 181), 2: (13, 61)}
+"""Angles scanned per turn of the goal body by `position_out_of_reach`, coarse then fine, by how many turns it
+has (one turn: 19 then 181 angles over its range; two: 13 x 13, then 61 x 61 rows)."""
 
 
 def position_out_of_reach(
@@ -33,9 +33,11 @@ def position_out_of_reach(
     """A Rejection when no values of `seq` bring `goal.body` within its goal position's tolerance (any heading),
     None when some may (the optimiser then decides, as before): a necessary test, never a start.
 
-    `turns` (about vertical axes) and `slides` index `seq.variables` (the goal body's own motions). Each turn's
-    angle is scanned on a grid (`FREE_TURN_GRID`, ends included) and the slides are solved exactly at each
-    row (`best_row`). Why the slack makes it sound: moving turn i's angle by d with every other value held
+    `turns` (about vertical axes) and `slides` index `seq.variables` (the goal body's own motions). First,
+    the goal farther from the body's start than all its slides and turns' chords can take it (the triangle
+    inequality, no scan). Then each turn's angle is scanned on a grid (`FREE_TURN_GRIDS`, ends included,
+    coarse then fine) and the slides are solved exactly at each row (`best_row`). Why the slack makes it
+    sound: moving turn i's angle by d with every other value held
     turns the whole later path rigidly about its pivot, so the final position moves by at most d times the
     pivot's distance to it, which is at most L = r_i + D (r_i: the pivot's distance from the body's origin,
     fixed in the body; D: how far the later motions can take the origin, at most each slide's upper bound plus
@@ -44,31 +46,43 @@ def position_out_of_reach(
     contact may move along its family (`Sequence.offsets`) turns about a pivot moved by d: the same turn
     about the unmoved pivot followed by a translation of the whole later path by (I - R) d, at most a chord
     2 |d| sin(a / 2) at its largest angle a (`_drift_bound`), which is taken off too. Only if what is left
-    still exceeds the tolerance is the sequence rejected. Skipped (None) with more than two turns or
-    unbounded values.
+    still exceeds the tolerance is the sequence rejected. No scan with more than two turns (the triangle
+    inequality only); nothing with unbounded values.
     """
     assert goal.position is not None
-    if len(turns) not in FREE_TURN_GRID:
-        return None
     turn_limits = [_limits(problem, seq, i) for i in turns]
     slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
     if not (np.isfinite(turn_limits).all() and np.isfinite(slide_limits).all()):
         return None
     radii = [_pivot_radius(problem, seq, i) for i in turns]  # at offset 0 of their families
-    lever = max(radii, default=0.0) + float(slide_limits[:, 1].sum()) + 2.0 * sum(radii)
-    count = FREE_TURN_GRID[len(turns)]
-    grids = [np.linspace(lo, hi, count) for lo, hi in turn_limits]
-    angles = np.stack([g.ravel() for g in np.meshgrid(*grids, indexing="ij")], axis=1) if grids else np.zeros((1, 0))
-    steps = [(hi - lo) / (count - 1) if count > 1 else 0.0 for lo, hi in turn_limits]
-    origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, _turn_matrices)
-    distance = best_row(columns, origins, goal.position, slide_limits)[0]
     drifts = sum(_drift_bound(problem, seq, i, hi) for i, (_, hi) in zip(turns, turn_limits))
-    at_least = distance - sum(lever * h / 2 for h in steps) - drifts
-    if at_least <= goal.tol_position + 1e-9:
-        return None
     how = "whatever heading it ends with" if turns else "along its slides"
-    why = f"{goal.body} ends at least {at_least * 100:.1f} cm from its goal position, {how}"
-    return Rejection(Kind.POSITION, why, at_least)
+    # First the triangle inequality: no motion takes the origin farther than its slide or its chord.
+    chords = sum(2.0 * r * math.sin(min(hi, math.pi) / 2) for r, (_, hi) in zip(radii, turn_limits))
+    start = problem.bodies[goal.body].rest[: len(goal.position), 3]
+    at_least = float(np.linalg.norm(goal.position - start)) - float(slide_limits[:, 1].sum()) - chords - drifts
+    if at_least > goal.tol_position + 1e-9:
+        return Rejection(
+            Kind.POSITION, f"{goal.body} ends at least {at_least * 100:.1f} cm from its goal position, {how}", at_least
+        )
+    if len(turns) not in FREE_TURN_GRIDS:
+        return None
+    lever = max(radii, default=0.0) + float(slide_limits[:, 1].sum()) + 2.0 * sum(radii)
+    for count in FREE_TURN_GRIDS[len(turns)]:  # a coarse scan decides most; a finer one only when it cannot
+        grids = [np.linspace(lo, hi, count) for lo, hi in turn_limits]
+        angles = (
+            np.stack([g.ravel() for g in np.meshgrid(*grids, indexing="ij")], axis=1) if grids else np.zeros((1, 0))
+        )
+        origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, _turn_matrices)
+        distance = best_row(columns, origins, goal.position, slide_limits)[0]
+        if distance <= goal.tol_position:
+            return None  # a row of the scan reaches the goal itself: no finer scan can prove it out of reach
+        steps = [(hi - lo) / (count - 1) if count > 1 else 0.0 for lo, hi in turn_limits]
+        at_least = distance - sum(lever * h / 2 for h in steps) - drifts
+        if at_least > goal.tol_position + 1e-9:
+            why = f"{goal.body} ends at least {at_least * 100:.1f} cm from its goal position, {how}"
+            return Rejection(Kind.POSITION, why, at_least)
+    return None
 
 
 def _turn_matrices(motion: object, angles: np.ndarray) -> np.ndarray:
