@@ -20,7 +20,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.closed_form import closed_form
 from vkgl.plan.task_space.slides import _turn_matrices
-from vkgl.plan.task_space.workspace import unreachable
+from vkgl.plan.task_space.workspace import reach_violation, unreachable
 
 PROGRAM = """
 use stdlib.robots.panda
@@ -68,13 +68,13 @@ def problem(tmp_path_factory: pytest.TempPathFactory) -> Problem:
     return build_problem(program, program.task(), max_depth=DEPTH)
 
 
-def _moving(problem: Problem) -> list[Sequence]:
-    """Every sequence of at most DEPTH graphs the search would make whose last mode moves the block."""
+def _moving(problem: Problem, depth: int = DEPTH) -> list[Sequence]:
+    """Every sequence of at most `depth` graphs the search would make whose last mode moves the block."""
     found, layer = [], [start_sequence(problem)]
     while layer:
         deeper = []
         for seq in layer:
-            if seq.depth >= DEPTH:
+            if seq.depth >= depth:
                 continue
             for action in successors(problem, seq.graphs[-1], seq.last):
                 child, hand = extend(problem, seq, action)
@@ -101,9 +101,12 @@ def test_a_position_some_values_reach_is_never_rejected(problem, fractions):
     for seq in sequences:
         lower, upper = bounds(problem, seq, offsets=True)
         x = lower + np.array(fractions[: len(lower)]) * (upper - lower)
-        final = rollout(problem, seq, x)[-1].end["block"]
+        last = rollout(problem, seq, x)[-1]
         # a tenth of a millimetre: the scan's rows miss the witness's angles by far more (the slack must cover it)
-        verdict = closed_form(_goal_at(problem, final[:2, 3], 1e-4), seq)
+        verdict = closed_form(_goal_at(problem, last.end["block"][:2, 3], 1e-4), seq)
+        if isinstance(verdict, Rejection) and verdict.kind is Kind.REACH:  # the hand on the block at the end
+            assert last.hand and reach_violation(problem, last.hand[-1][:3, 3]) > 0, (seq.actions, x, verdict.why)
+            continue
         assert not isinstance(verdict, Rejection), (seq.actions, x, verdict.why)
 
 
@@ -125,3 +128,17 @@ def test_the_scans_turn_matrices_are_the_planners_up_to_rounding(axis, center):
     motion = RevoluteC(center=Vector(values=center), axis=Vector(values=axis))
     angles = np.linspace(0.0, math.pi, 37)
     assert np.allclose(_turn_matrices(motion, angles), _motion_matrices(motion, angles), atol=1e-12)
+
+
+def test_a_goal_the_hand_on_the_block_cannot_follow_at_any_heading_is_rejected_for_reach(tmp_path):
+    # the block 78 cm from the arm's base, to end 8 cm farther (its slides reach that): pushed from a face's
+    # centre (5 cm from the block's), the hand would be out of the arm's reach (about 79 cm there) at any
+    # heading; those sequences are rejected without optimising, those from the turns' contacts (8 cm off) not
+    path = tmp_path / "edge.vkg"
+    path.write_text(PROGRAM.replace("at (0.5, 0.05) m yaw 20deg", "at (0.78, 0) m yaw 0deg"), encoding="utf-8")
+    program = compile_file(str(path))
+    problem = _goal_at(build_problem(program, program.task()), np.array([0.86, 0.0]))
+    verdicts = {seq.actions[-1].label(problem): closed_form(problem, seq) for seq in _moving(problem, 2)}
+    reach = {k: v.why for k, v in verdicts.items() if isinstance(v, Rejection) and v.kind is Kind.REACH}
+    assert any("push_px" in label for label in reach) and not any("turn" in label for label in reach)
+    assert all("at any heading" in why for why in reach.values())

@@ -25,7 +25,8 @@ import math
 
 import numpy as np
 
-from vkgl.plan.graphs.graph import motion_type
+from vkgl.lang.ir.families import offset_bounds
+from vkgl.plan.graphs.graph import Engagement, motion_type
 from vkgl.plan.graphs.rollout import (
     Sequence,
     acting_engagement,
@@ -36,7 +37,7 @@ from vkgl.plan.graphs.rollout import (
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach
-from vkgl.plan.task_space.workspace import reach_violation, unreachable
+from vkgl.plan.task_space.workspace import REACH_MARGIN, reach_violation, unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
 TURN_GRID = 181
@@ -357,7 +358,7 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     graph = seq.graphs[-1]
     acting = acting_engagement(problem, graph)
     goal = next((g for g in problem.goals if acting is not None and g.body == acting.body), None)
-    if acting is None or goal is None or goal.position is None or goal.yaw is None:
+    if acting is None or goal is None or goal.position is None:
         return None
     rest = problem.bodies[goal.body].rest
     if abs(rest[2, 2] - 1.0) > 1e-9:
@@ -365,6 +366,8 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     chain = hand_chain(problem, graph, acting)
     if chain is None:
         return None
+    if goal.yaw is None:
+        return _hand_beyond_reach_any_heading(problem, goal, acting, chain[0], rest)
     pose = np.eye(4)
     pose[:3, :3] = np.array(
         [[math.cos(goal.yaw), -math.sin(goal.yaw), 0.0], [math.sin(goal.yaw), math.cos(goal.yaw), 0.0], [0.0, 0.0, 1.0]]
@@ -377,3 +380,38 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     found = unreachable(problem, hand)
     why = found.why if found is not None else "the hand would be out of reach"
     return Rejection(Kind.REACH, f"at the goal pose of {goal.body}, {why}", found.excess if found else 1.0)
+
+
+def _hand_beyond_reach_any_heading(
+    problem: Problem, goal: GoalSpec, acting: Engagement, chain: np.ndarray, rest: np.ndarray
+) -> Rejection | None:
+    """A Rejection when the hand, holding a goal body that ends at its goal position at any heading, is out of
+    reach whatever the heading.
+
+    The body lies level, so the hand stays at its height above the body and on a circle of radius rho (the
+    chain's horizontal offset, give or take how far the contact may move along its family) about the body's
+    position, which lies within the tolerance of the goal: its distance from the arm's base lies between
+    d - rho - tol and d + rho + tol (d: the goal's). Rejected only when that whole interval lies outside
+    the usable reach (`REACH_MARGIN` inside the arm's) at that height.
+    """
+    assert goal.position is not None
+    drift = max(abs(v) for v in offset_bounds(problem.affordance(acting.body, acting.affordance)))
+    rho = math.hypot(chain[0, 3], chain[1, 3]) + drift
+    height = (goal.position[2] if len(goal.position) > 2 else rest[2, 3]) + chain[2, 3]
+    r_min, r_max = problem.arm.reach(float(height))
+    base = problem.arm.base[:2, 3]
+    d = math.hypot(goal.position[0] - base[0], goal.position[1] - base[1])
+    nearest, farthest = max(0.0, d - rho - goal.tol_position), d + rho + goal.tol_position
+    beyond = nearest - (r_max - REACH_MARGIN) if r_max > 0 else 1.0
+    short = (r_min + REACH_MARGIN) - farthest if r_max > 0 else 1.0
+    excess = max(beyond, short)
+    if excess <= 0:
+        return None
+    where = f"{nearest:.3f} m or more" if beyond > 0 else f"at most {farthest:.3f} m"
+    return Rejection(
+        Kind.REACH,
+        f"at the goal position of {goal.body}, at any heading, the hand would be {where} from the arm's base "
+        f"at height {height:.3f} m (usable reach there: {r_min + REACH_MARGIN:.3f} to "
+        f"{r_max - REACH_MARGIN:.3f} m)",
+        excess,
+    )
