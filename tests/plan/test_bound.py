@@ -195,7 +195,8 @@ def test_a_heading_nothing_turns_is_never_reached_and_no_depth_is_suggested(tmp_
 def test_screening_rows_of_two_slides_gives_the_row_and_values_of_trying_every_row(seed, rows, slides, fixed):
     # the deep sequences' hot spot (two turns and two slides of one body): the screened search must not change
     # what closed_form decides
-    from vkgl.plan.task_space.closed_form import _best_row, _closest
+    from vkgl.plan.task_space.slides import best_row as _best_row
+    from vkgl.plan.task_space.slides import closest as _closest
 
     rng = np.random.default_rng(seed)
     columns = rng.normal(size=(rows, 3, slides))

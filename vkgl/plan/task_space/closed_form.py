@@ -25,18 +25,19 @@ import math
 
 import numpy as np
 
-from vkgl.plan.graphs.graph import motion_type
+from vkgl.lang.ir.families import offset_bounds
+from vkgl.plan.graphs.graph import Engagement, motion_type
 from vkgl.plan.graphs.rollout import (
     Sequence,
     acting_engagement,
     hand_chain,
-    motion_matrices,
     unit_axis_and_center,
     value_bounds,
 )
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.workspace import reach_violation, unreachable
+from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach
+from vkgl.plan.task_space.workspace import REACH_MARGIN, reach_violation, unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
 TURN_GRID = 181
@@ -76,6 +77,9 @@ def _goal_values(
     slides = [i for i in own if i not in turns]
     rest = problem.bodies[goal.body].rest
     signs = [_vertical_sign(problem, seq, i, rest) for i in turns]
+    if goal.yaw is None and goal.position is not None and None not in signs:
+        far = position_out_of_reach(problem, seq, goal, turns, slides)
+        return far if far is not None else {}  # a necessary test only: the optimiser alone decides the values
     if goal.yaw is None or None in signs:
         return {}  # the optimiser alone decides
     limits = [_limits(problem, seq, i) for i in turns]
@@ -89,9 +93,9 @@ def _goal_values(
         first = candidates[0]
         return {i: (a, len(candidates) == 1) for i, a in zip(turns, first)}
     angles = np.array(candidates).reshape(len(candidates), len(turns))
-    origins, columns = _affine_positions(problem, seq, goal.body, turns, slides, angles)
+    origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles)
     slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
-    best = _best_row(columns, origins, goal.position, slide_limits)
+    best = best_row(columns, origins, goal.position, slide_limits)
     slack = goal.tol_position + (0.5 * math.pi / (TURN_GRID - 1) * LEVER_BOUND if len(turns) > 1 else 0.0)
     if best[0] > slack:
         how = "along its slides" if slides else "and nothing slides it"
@@ -228,9 +232,9 @@ def _many_turns(
         angles[k] += (limits[k][1] - limits[k][0]) * min(1.0, abs(left) / room) if room > 0 else 0.0
     out = {i: (float(a), False) for i, a in zip(turns, angles)}
     if goal.position is not None and slides:
-        origins, columns = _affine_positions(problem, seq, goal.body, turns, slides, np.array([angles]))
+        origins, columns = affine_positions(problem, seq, goal.body, turns, slides, np.array([angles]))
         slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
-        _, solution = _closest(columns[0], goal.position - origins[0, : len(goal.position)], slide_limits)
+        _, solution = closest(columns[0], goal.position - origins[0, : len(goal.position)], slide_limits)
         out.update({i: (float(v), False) for i, v in zip(slides, solution)})
     return out
 
@@ -299,129 +303,6 @@ def _at_range_end(problem: Problem, seq: Sequence, slides: list[int], solution: 
     return f"; {', '.join(parts)} (the range it was explored over)" if parts else ""
 
 
-def _affine_positions(
-    problem: Problem, seq: Sequence, body: str, turns: list[int], slides: list[int], angles: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """For each row of turn `angles`: the body's final position with no slide, and how each slide moves it.
-
-    The position is exactly affine in the slides: a slide by v along a moves
-    the body by v times a turned by the motions before it (n x 3 and n x 3 x s).
-    """
-    n = len(angles)
-    pose = np.broadcast_to(problem.bodies[body].rest, (n, 4, 4)).copy()
-    columns = []
-    for i, (_, e) in enumerate(seq.variables):
-        if e.body != body:
-            continue
-        motion = problem.affordance(e.body, e.affordance).motion
-        if i in turns:
-            pose = pose @ motion_matrices(motion, angles[:, turns.index(i)])
-        elif i in slides:
-            columns.append(pose[:, :3, :3] @ unit_axis_and_center(motion)[0])
-    stacked = np.stack(columns, axis=2) if columns else np.zeros((n, 3, 0))
-    return pose[:, :3, 3], stacked
-
-
-SCREEN = 1e-9
-"""m: rows whose estimated distance to the goal is within this of the best estimate are solved exactly."""
-
-
-def _best_row(
-    columns: np.ndarray, origins: np.ndarray, position: np.ndarray, limits: np.ndarray
-) -> tuple[float, int, np.ndarray]:
-    """(distance left, row, slide values) of the first row of turn angles whose slides come closest to `position`.
-
-    Every row's `_closest`; with at most one slide, all rows are first estimated in one NumPy pass, and only
-    those within `SCREEN` of the best estimate are solved by `_closest` (the estimates differ from it by
-    rounding only, far less than `SCREEN`, so the same row and numbers come out, in a fraction of the time:
-    a two-turn sequence has up to `TURN_GRID` rows).
-    """
-    n, k = len(columns), len(position)
-    offsets = position - origins[:, :k]
-    rows: list[int] = list(range(n))
-    if columns.shape[2] <= 1 and n > 1:
-        if columns.shape[2] == 0:
-            estimate = np.linalg.norm(offsets, axis=1)
-        else:
-            a = columns[:, :k, 0]
-            norm = np.einsum("ij,ij->i", a, a)
-            along = np.divide(np.einsum("ij,ij->i", a, offsets), norm, out=np.zeros(n), where=norm > 0)
-            value = np.clip(along, limits[0, 0], limits[0, 1])
-            estimate = np.linalg.norm(a * value[:, None] - offsets, axis=1)
-        if np.isfinite(estimate).all():
-            rows = np.flatnonzero(estimate <= estimate.min() + SCREEN).tolist()
-    elif n > 1:
-        return _best_row_screened(columns[:, :k, :], offsets, position, origins, limits)
-    best: tuple[float, int, np.ndarray] | None = None
-    for row in rows:
-        residual, solution = _closest(columns[row], position - origins[row, :k], limits)
-        if best is None or residual < best[0]:
-            best = (residual, row, solution)
-    assert best is not None
-    return best
-
-
-def _best_row_screened(
-    columns: np.ndarray, offsets: np.ndarray, position: np.ndarray, origins: np.ndarray, limits: np.ndarray
-) -> tuple[float, int, np.ndarray]:
-    """`_best_row` with two slides or more: the same row and numbers, with fewer bounded least squares.
-
-    Each row's unconstrained least-squares distance (one batched NumPy pass) is a lower bound of its bounded
-    one. The row of the smallest bound is solved first; then, in row order, only rows whose bound (less
-    `SCREEN` for rounding) does not exceed the best distance found so far can be closer, and only they are
-    solved; equal distances keep the first row, as the plain loop over every row does.
-    """
-    k = len(position)
-    lower = _unbounded_distances(columns, offsets) - SCREEN
-    if not np.isfinite(lower).all():
-        lower = np.full(len(columns), -np.inf)
-    first = int(np.argmin(lower))
-    residual, solution = _closest(columns[first], position - origins[first, :k], limits)
-    best = (residual, first, solution)
-    for row in range(len(columns)):
-        if row == first or lower[row] > best[0]:
-            continue
-        residual, solution = _closest(columns[row], position - origins[row, :k], limits)
-        if residual < best[0] or (residual == best[0] and row < best[1]):
-            best = (residual, row, solution)
-    return best
-
-
-def _unbounded_distances(columns: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-    """Per row, the distance left by the best slide values with no bounds at all (n x k x s columns)."""
-    fitted = np.einsum("nks,ns->nk", columns, np.einsum("nsk,nk->ns", np.linalg.pinv(columns), offsets))
-    return np.linalg.norm(offsets - fitted, axis=1)
-
-
-def _closest(columns: np.ndarray, offset: np.ndarray, limits: np.ndarray) -> tuple[float, np.ndarray]:
-    """Slide values within `limits` (s x 2) that bring the position closest to `offset` away, and the distance left.
-
-    Non-negative least squares (scipy `nnls`) when its answer is within the
-    limits, else bounded least squares (`lsq_linear`, BVLS): both exact.
-    """
-    columns = columns[: len(offset)]
-    if columns.shape[1] == 0:
-        return float(np.linalg.norm(offset)), np.zeros(0)
-    lower, upper = limits[:, 0], limits[:, 1]
-    if columns.shape[1] == 1:  # one slide (the usual case): the projection, clipped
-        a = columns[:, 0]
-        norm = float(a @ a)
-        value = min(max(float(a @ offset) / norm if norm > 0 else 0.0, lower[0]), upper[0])
-        return float(np.linalg.norm(a * value - offset)), np.array([value])
-    from scipy.optimize import lsq_linear, nnls  # here: two slides of one body are rare, the import is not cheap
-
-    solution, residual = nnls(columns, offset)
-    if np.all(solution >= lower) and np.all(solution <= upper):
-        return float(residual), solution
-    fixed = upper - lower < 1e-12  # BVLS wants lower < upper: a slide with no room is a constant
-    solution = lower.copy()
-    rest = offset - columns[:, fixed] @ lower[fixed]
-    if not fixed.all():
-        free = ~fixed
-        solution[free] = lsq_linear(columns[:, free], rest, bounds=(lower[free], upper[free]), method="bvls").x
-    return float(np.linalg.norm(columns @ solution - offset)), solution
-
-
 def _vertical_sign(problem: Problem, seq: Sequence, index: int, rest: np.ndarray) -> float | None:
     """+1 / -1 when turn `index` is about the world's +z / -z axis (the body level), else None."""
     e = seq.variables[index][1]
@@ -477,7 +358,7 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     graph = seq.graphs[-1]
     acting = acting_engagement(problem, graph)
     goal = next((g for g in problem.goals if acting is not None and g.body == acting.body), None)
-    if acting is None or goal is None or goal.position is None or goal.yaw is None:
+    if acting is None or goal is None or goal.position is None:
         return None
     rest = problem.bodies[goal.body].rest
     if abs(rest[2, 2] - 1.0) > 1e-9:
@@ -485,6 +366,8 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     chain = hand_chain(problem, graph, acting)
     if chain is None:
         return None
+    if goal.yaw is None:
+        return _hand_beyond_reach_any_heading(problem, goal, acting, chain[0], rest)
     pose = np.eye(4)
     pose[:3, :3] = np.array(
         [[math.cos(goal.yaw), -math.sin(goal.yaw), 0.0], [math.sin(goal.yaw), math.cos(goal.yaw), 0.0], [0.0, 0.0, 1.0]]
@@ -497,3 +380,38 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     found = unreachable(problem, hand)
     why = found.why if found is not None else "the hand would be out of reach"
     return Rejection(Kind.REACH, f"at the goal pose of {goal.body}, {why}", found.excess if found else 1.0)
+
+
+def _hand_beyond_reach_any_heading(
+    problem: Problem, goal: GoalSpec, acting: Engagement, chain: np.ndarray, rest: np.ndarray
+) -> Rejection | None:
+    """A Rejection when the hand, holding a goal body that ends at its goal position at any heading, is out of
+    reach whatever the heading.
+
+    The body lies level, so the hand stays at its height above the body and on a circle of radius rho (the
+    chain's horizontal offset, give or take how far the contact may move along its family) about the body's
+    position, which lies within the tolerance of the goal: its distance from the arm's base lies between
+    d - rho - tol and d + rho + tol (d: the goal's). Rejected only when that whole interval lies outside
+    the usable reach (`REACH_MARGIN` inside the arm's) at that height.
+    """
+    assert goal.position is not None
+    drift = max(abs(v) for v in offset_bounds(problem.affordance(acting.body, acting.affordance)))
+    rho = math.hypot(chain[0, 3], chain[1, 3]) + drift
+    height = (goal.position[2] if len(goal.position) > 2 else rest[2, 3]) + chain[2, 3]
+    r_min, r_max = problem.arm.reach(float(height))
+    base = problem.arm.base[:2, 3]
+    d = math.hypot(goal.position[0] - base[0], goal.position[1] - base[1])
+    nearest, farthest = max(0.0, d - rho - goal.tol_position), d + rho + goal.tol_position
+    beyond = nearest - (r_max - REACH_MARGIN) if r_max > 0 else 1.0
+    short = (r_min + REACH_MARGIN) - farthest if r_max > 0 else 1.0
+    excess = max(beyond, short)
+    if excess <= 0:
+        return None
+    where = f"{nearest:.3f} m or more" if beyond > 0 else f"at most {farthest:.3f} m"
+    return Rejection(
+        Kind.REACH,
+        f"at the goal position of {goal.body}, at any heading, the hand would be {where} from the arm's base "
+        f"at height {height:.3f} m (usable reach there: {r_min + REACH_MARGIN:.3f} to "
+        f"{r_max - REACH_MARGIN:.3f} m)",
+        excess,
+    )

@@ -1,0 +1,144 @@
+"""The closed form's test of goals that leave the heading free (`vkgl.plan.task_space.slides`): it must never
+reject a sequence some motion values of which reach the goal (it saves the optimiser's four failing starts)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vkgl.lang.compiler import compile_file
+from vkgl.lang.ir.nodes import RevoluteC, Vector
+from vkgl.plan.graphs.graph import successors
+from vkgl.plan.graphs.rollout import Sequence, _motion_matrices, bounds, extend, rollout, start_sequence
+from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
+from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.closed_form import closed_form
+from vkgl.plan.task_space.slides import _turn_matrices
+from vkgl.plan.task_space.workspace import reach_violation, unreachable
+
+PROGRAM = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+
+affordances Block {
+    affordance push_px {
+        action fixed at (-5, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 12 cm
+    }
+    affordance push_py {
+        action fixed at (0, -5, 0) cm yaw 90deg
+        motion prismatic along (0, 1, 0) from (0, 0, 0) cm range 0 to 6 cm
+    }
+    affordance turn_left {
+        action fixed at (-5, 6.56, 0) cm yaw 0deg
+        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to 40 deg
+        family along (0, 1, 0) from 0 to 2.66 cm drift (0.288, 2.214, 0) sigma 1.37 cm
+    }
+    affordance turn_right {
+        action fixed at (-5, -6.56, 0) cm yaw 0deg
+        motion revolute about (3, 9, 0) cm axis (0, 0, 1) range 0 to 25 deg
+        family along (0, 1, 0) from -2.66 to 0 cm drift (-0.586, 1.894, 0) sigma 1.87 cm
+    }
+}
+
+scene s {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.5, 0.05) m yaw 20deg
+}
+
+task t { scene s  goal block at (0.6, 0.1) m within 1 cm }
+"""
+
+DEPTH = 5
+"""Graphs in the longest sequence enumerated (G0 included): up to two contacts, so up to two turns."""
+
+
+@pytest.fixture(scope="module")
+def problem(tmp_path_factory: pytest.TempPathFactory) -> Problem:
+    path = Path(tmp_path_factory.mktemp("slides")) / "free_heading.vkg"
+    path.write_text(PROGRAM, encoding="utf-8")
+    program = compile_file(str(path))
+    return build_problem(program, program.task(), max_depth=DEPTH)
+
+
+def _moving(problem: Problem, depth: int = DEPTH) -> list[Sequence]:
+    """Every sequence of at most `depth` graphs the search would make whose last mode moves the block."""
+    found, layer = [], [start_sequence(problem)]
+    while layer:
+        deeper = []
+        for seq in layer:
+            if seq.depth >= depth:
+                continue
+            for action in successors(problem, seq.graphs[-1], seq.last):
+                child, hand = extend(problem, seq, action)
+                if hand is not None and unreachable(problem, hand) is not None:
+                    continue
+                deeper.append(child)
+                if any(m == child.depth - 1 for m, _ in child.variables):
+                    found.append(child)
+        layer = deeper
+    return found
+
+
+def _goal_at(problem: Problem, position: np.ndarray, tolerance: float = 0.01) -> Problem:
+    return replace(problem, goals=[GoalSpec("block", position, None, tolerance, math.radians(3))])
+
+
+@settings(max_examples=25, deadline=None)
+@given(fractions=st.lists(st.floats(0.0, 1.0), min_size=12, max_size=12))
+def test_a_position_some_values_reach_is_never_rejected(problem, fractions):
+    # the witness: values (motions, then the turns' contacts along their families) and where they put the block
+    sequences = _moving(problem)
+    assert max(sum(1 for _, e in s.variables if "turn" in e.affordance) for s in sequences) == 2
+    assert any(s.offsets for s in sequences)
+    for seq in sequences:
+        lower, upper = bounds(problem, seq, offsets=True)
+        x = lower + np.array(fractions[: len(lower)]) * (upper - lower)
+        last = rollout(problem, seq, x)[-1]
+        # a tenth of a millimetre: the scan's rows miss the witness's angles by far more (the slack must cover it)
+        verdict = closed_form(_goal_at(problem, last.end["block"][:2, 3], 1e-4), seq)
+        if isinstance(verdict, Rejection) and verdict.kind is Kind.REACH:  # the hand on the block at the end
+            assert last.hand and reach_violation(problem, last.hand[-1][:3, 3]) > 0, (seq.actions, x, verdict.why)
+            continue
+        assert not isinstance(verdict, Rejection), (seq.actions, x, verdict.why)
+
+
+def test_a_position_no_values_reach_is_rejected_before_any_optimisation(problem):
+    # 60 cm away: farther than every slide and chord of these motions together
+    sequences = _moving(problem)
+    far = _goal_at(problem, np.array([1.1, 0.05]))
+    verdicts = [closed_form(far, seq) for seq in sequences]
+    assert all(isinstance(v, Rejection) and v.kind is Kind.POSITION for v in verdicts)
+    assert any("whatever heading it ends with" in v.why for v in verdicts if isinstance(v, Rejection))
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    axis=st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(0.1, 1)),
+    center=st.tuples(st.floats(-0.2, 0.2), st.floats(-0.2, 0.2), st.floats(-0.1, 0.1)),
+)
+def test_the_scans_turn_matrices_are_the_planners_up_to_rounding(axis, center):
+    motion = RevoluteC(center=Vector(values=center), axis=Vector(values=axis))
+    angles = np.linspace(0.0, math.pi, 37)
+    assert np.allclose(_turn_matrices(motion, angles), _motion_matrices(motion, angles), atol=1e-12)
+
+
+def test_a_goal_the_hand_on_the_block_cannot_follow_at_any_heading_is_rejected_for_reach(tmp_path):
+    # the block 78 cm from the arm's base, to end 8 cm farther (its slides reach that): pushed from a face's
+    # centre (5 cm from the block's), the hand would be out of the arm's reach (about 79 cm there) at any
+    # heading; those sequences are rejected without optimising, those from the turns' contacts (8 cm off) not
+    path = tmp_path / "edge.vkg"
+    path.write_text(PROGRAM.replace("at (0.5, 0.05) m yaw 20deg", "at (0.78, 0) m yaw 0deg"), encoding="utf-8")
+    program = compile_file(str(path))
+    problem = _goal_at(build_problem(program, program.task()), np.array([0.86, 0.0]))
+    verdicts = {seq.actions[-1].label(problem): closed_form(problem, seq) for seq in _moving(problem, 2)}
+    reach = {k: v.why for k, v in verdicts.items() if isinstance(v, Rejection) and v.kind is Kind.REACH}
+    assert any("push_px" in label for label in reach) and not any("turn" in label for label in reach)
+    assert all("at any heading" in why for why in reach.values())
