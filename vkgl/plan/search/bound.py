@@ -13,7 +13,10 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    upper end (`v` along a unit axis), a turn by `θ ≤ θmax` about an axis at
    distance `r` from the origin by `2 r sin(min(θmax, π) / 2)` (the chord);
    `step_b` is the largest over the affordances that can move `b` (of the type
-   of its physical joint, if it has one). A goal at distance `d` with tolerance
+   of its physical joint, if it has one); a turn whose contact may move along
+   its family moves its pivot by `offset * drift` too, and `r` is the largest
+   over the family's band (at one of its ends: the distance to the axis is
+   convex in the offset). A goal at distance `d` with tolerance
    `t` needs the origin to move at least `d - t` (triangle inequality), hence
    at least `ceil((d - t) / step_b)` modes. Headings: only turns change one; a
    turn about an axis vertical in the world changes it by its angle, so a
@@ -26,10 +29,21 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    through its rest pose along that axis: a goal position farther from that
    line than its tolerance is never reached (`inf`). A prismatic joint's opening moves by at most the slide per mode
    (`|axis · joint_axis| <= 1`); a hinge's opening counts one mode. `N_b` is
-   the largest of these (a mode may serve several at once).
+   the largest of these (a mode may serve several at once). **Far and turned
+   together**: a slide keeps the heading and moves the origin by at most `S`
+   (the largest slide), a turn changes the heading by at most `T` and moves the
+   origin by at most `C` (the largest chord), so `k` turns and `j` slides cover
+   a distance `D = d - t` and a heading `Ψ = ψ - t_ψ` only if `k T >= Ψ` and
+   `k C + j S >= D` (triangle inequality): `N_b` is at least the fewest `k + j`
+   that do (`_fewest_modes`). The separate counts above are never more: with
+   `k T >= Ψ`, `k >= ceil(Ψ / T)`, and `(k + j) max(S, C) >= D`.
 2. **Moving modes still to come**: `m_b = max(0, N_b - k_b)` where `k_b` counts
    the modes of `seq` that move `b` (its motion variables): each moved `b` by at
-   most `step_b` too, so the rest must cover what they did not.
+   most `step_b` too, so the rest must cover what they did not. Sharper, from
+   the kinds of those modes: after `k_s` slides and `k_t` turns of `b`, what is
+   left to cover is at least `D - k_s S - k_t C` and `Ψ - k_t T`, and the
+   modes still to come at least `_fewest_modes` of those (`PoseNeed.left`):
+   two turns of a few centimetres each leave a far goal as far as ever.
 3. **Contacts made and broken.** Every graph is one action. When no tool has two
    effector frames, the graph in which an engagement on `b` acts holds nothing
    but it and the grasp of the tool it acts through (one contact per effector;
@@ -64,6 +78,15 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    is never set down elsewhere (it lies where it was used), so a goal on a
    tool counts nothing.
 
+6. **The hand cannot end it there.** When the robot's own effector cannot
+   hold any moving contact of `b` with `b` anywhere its goal accepts (outside
+   the arm's reach: `vkgl.plan.search.goal_reach`, whose docstring proves it),
+   the last mode that moves `b` is enacted by a tool's frame, so a tool is in
+   the hand then. While `m_b > 0` that mode is still to come: with no tool in
+   the hand now, one more ADD (a tool's grasp, counted once with part 4's). And
+   when the last mode of `seq` that moved `b` was the hand's own, `seq` cannot
+   end there: another mode must move `b` (`m_b >= 1`).
+
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
 remaining depth: the best-first search that prunes at `depth + bound >
@@ -76,15 +99,18 @@ checks the bound against exhaustive breadth-first search).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
+from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.graphs.graph import KGraph, is_held, motion_type
+from vkgl.plan.graphs.members import family_vectors
 from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
+from vkgl.plan.search.goal_reach import ends_beyond_the_hand
 from vkgl.plan.task_space.feasible import goal_holds
 from vkgl.plan.task_space.workspace import unreachable
 from vkgl.se3 import wrap_angle, yaw_of
@@ -104,6 +130,26 @@ class BodyNeed:
     modes: float
     why: str
     needs_tool: bool
+    ends_by_tool: bool = False  # part 6: the hand cannot hold any of its contacts where its goal puts it
+    pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
+
+
+@dataclass(frozen=True)
+class PoseNeed:
+    """How far a goal body must move (`distance`, m) and turn (`heading`, rad) less the tolerances, and the most one
+    slide (`slide`, m), one turn (`turn`, rad) and its chord (`chord`, m) can do of it (part 1)."""
+
+    distance: float
+    heading: float
+    slide: float
+    turn: float
+    chord: float
+
+    def left(self, slides: int, turns: int) -> float:
+        """The fewest moving modes still needed after `slides` slides and `turns` turns of the body (part 2)."""
+        distance = self.distance - slides * self.slide - turns * self.chord
+        heading = self.heading - turns * self.turn
+        return _fewest_modes(distance, heading, self.slide, self.turn, self.chord)
 
 
 class Bound:
@@ -125,7 +171,7 @@ class Bound:
         graph = seq.graphs[-1]
         remaining, actions, tool = 0.0, 0.0, False
         for need in self.needs:
-            still = need.modes - sum(1 for _, e in seq.variables if e.body == need.body)
+            still = self._still(need, seq)
             if still <= 0:
                 continue
             if math.isinf(still):
@@ -137,12 +183,30 @@ class Bound:
                 actions += 0 if moving else (2 if engaged is not None else 1)
             else:
                 actions += 2 * still - (0 if engaged is not None else 1)
-            tool = tool or (need.needs_tool and not moving and need.body not in seq.dependent)
+            tool = tool or (need.needs_tool and not moving and need.body not in seq.dependent) or need.ends_by_tool
         if tool and not self._holds_tool(graph):
             if not self.tools:
                 return math.inf
             actions += 1
         return max(remaining, actions + carries)
+
+    def _still(self, need: BodyNeed, seq: Sequence) -> float:
+        """Part 2: the moving modes of `need.body` still to come, given those `seq` made (slides and turns)."""
+        turns = slides = 0
+        last = None
+        for _, e in seq.variables:
+            if e.body == need.body:
+                last = e
+                if motion_type(self.problem, e) == "revolute":
+                    turns += 1
+                else:
+                    slides += 1
+        still = need.modes - turns - slides
+        if need.pose is not None:
+            still = max(still, need.pose.left(slides, turns))
+        if need.ends_by_tool and last is not None and self.problem.effector(last.effector).tool is None:
+            still = max(still, 1)  # part 6: the hand moved it last, and cannot where its goal is: it moves again
+        return still
 
     def _carries(self, seq: Sequence) -> int:
         """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does
@@ -156,7 +220,14 @@ class Bound:
 
     def explain(self) -> str:
         """Why the goal needs the graphs the bound gives at the start (empty when it gives none)."""
-        return "; ".join(need.why for need in self.needs if need.why)
+        words = [need.why for need in self.needs if need.why]
+        words += [
+            f"the hand cannot hold any contact of {need.body} where its goal puts it (out of the arm's reach): "
+            f"only a tool can move it last{'' if self.tools else ', and there is none'}"
+            for need in self.needs
+            if need.ends_by_tool
+        ]
+        return "; ".join(words)
 
     def _holds_tool(self, graph: KGraph) -> bool:
         return any(is_held(self.problem, graph, tool) for tool in self.tools)
@@ -178,10 +249,12 @@ def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
         if goal.body in tools or any(a.motion.type == "free" for a in body.affordances):
             continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes (part 5)
         movers = _movers(body)
-        modes, why = _goal_modes(problem, body, goal, movers)
+        modes, why, pose = _goal_modes(problem, body, goal, movers)
         kept = out.get(goal.body)
+        beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept is not None and kept.ends_by_tool)
         if kept is None or modes > kept.modes:
-            out[goal.body] = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers))
+            kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
+        out[goal.body] = replace(kept, ends_by_tool=beyond)
     return list(out.values())
 
 
@@ -190,11 +263,16 @@ def _movers(body: PlanBody) -> list[Affordance]:
     return [a for a in body.affordances if a.motion.type in _MOVING and (body.joint in (None, a.motion.type))]
 
 
-def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tuple[float, str]:
-    """The moving modes `goal` needs at least (part 1 of the module's docstring), and why in words."""
+def _goal_modes(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]
+) -> tuple[float, str, PoseNeed | None]:
+    """The moving modes `goal` needs at least (part 1 of the module's docstring), why in words, and what its
+    position and heading need of slides and turns (None when neither is off)."""
     parts: list[tuple[float, str]] = [(0.0, "")]
+    pose = _pose_need(body, goal, movers)
     rest = body.rest
     kind = body.type.name
+    far: _Gap | None = None
     if goal.position is not None:
         far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
         if far.needed > _SLACK:
@@ -214,6 +292,8 @@ def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[A
             else:
                 step, name = max(turns)
                 parts.append(turn.modes(step, f"{body.name}'s heading is", f"{kind}.{name} turns it"))
+                if far is not None and far.needed > _SLACK and pose is not None:
+                    parts.append(_slides_and_turns(body, pose, far, turn))
     if goal.opening is not None and body.joint is not None:
         unit = "cm" if body.joint == "prismatic" else "deg"
         opening = _Gap(abs(body.start_state - goal.opening), goal.tol_opening, unit)
@@ -224,7 +304,72 @@ def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[A
                 parts.append(opening.modes(step, f"{body.name}'s opening ({span}) is", f"{kind}.{name} opens it"))
             else:
                 parts.append((1.0, ""))
-    return max(parts, key=lambda p: p[0])
+    modes, why = max(parts, key=lambda p: p[0])
+    return modes, why, pose
+
+
+def _pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> PoseNeed | None:
+    """What `goal`'s position and heading need of slides and turns (part 1), or None when neither is off."""
+    rest = body.rest
+    distance = heading = 0.0
+    if goal.position is not None:
+        distance = float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)) - goal.tol_position
+    if goal.yaw is not None:
+        heading = abs(wrap_angle(yaw_of(rest) - goal.yaw)) - goal.tol_yaw
+    if distance <= _SLACK and heading <= _SLACK:
+        return None
+    turners = [a for a in movers if a.motion.type == "revolute"]
+    level = all(_vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
+    return PoseNeed(
+        distance=max(0.0, distance),
+        heading=max(0.0, heading),
+        slide=max((_translation(a) for a in movers if a.motion.type == "prismatic"), default=0.0),
+        turn=max((value_bounds(a.motion)[1] if level else math.pi for a in turners), default=0.0),
+        chord=max((_translation(a) for a in turners), default=0.0),
+    )
+
+
+def _slides_and_turns(body: PlanBody, pose: PoseNeed, far: _Gap, turn: _Gap) -> tuple[float, str]:
+    """The moving modes a goal needs that is both far and turned (part 1): a slide keeps the heading, a turn
+    changes it by at most `pose.turn` and moves the origin by at most its chord, so the modes are at least
+    `_fewest_modes` of the largest slide and the largest chord."""
+    slide, chord = pose.slide, pose.chord
+    modes = _fewest_modes(pose.distance, pose.heading, slide, pose.turn, chord)
+    if modes <= 1 or math.isinf(modes):
+        return modes, ""
+    return modes, (
+        f"{body.name} is {far.words(far.distance)} from its goal and its heading {turn.words(turn.distance)} from "
+        f"the goal's (within {far.words(far.tolerance)}, {turn.words(turn.tolerance)} wanted); a slide of "
+        f"{body.type.name} moves it at most {far.words(slide)} and keeps its heading, a turn moves it at most "
+        f"{far.words(chord)}: at least {modes:g} contacts"
+    )
+
+
+def _fewest_modes(distance: float, heading: float, slide: float, turn: float, chord: float) -> float:
+    """The fewest modes `k + j` of `k` turns (each changes the heading by at most `turn` and moves the origin by at
+    most `chord`) and `j` slides (each moves it by at most `slide`, the heading not at all) that cover `distance`
+    (m) and `heading` (rad): `k >= heading / turn` and `k chord + j slide >= distance` (triangle inequality)."""
+    turns = 0
+    if heading > _SLACK:
+        if turn <= 0:
+            return math.inf
+        turns = max(1, math.ceil(heading / turn - _SLACK))
+    if distance <= _SLACK:
+        return float(turns)
+
+    def slides(k: int) -> float:
+        rest = distance - k * chord
+        if rest <= _SLACK:
+            return 0.0
+        return math.ceil(rest / slide - _SLACK) if slide > 0 else math.inf
+
+    if slide <= 0:
+        return float(max(turns, math.ceil(distance / chord - _SLACK))) if chord > 0 else math.inf
+    best, k = turns + slides(turns), turns
+    while k + 1 < best:  # one more turn may save a slide; never more modes than `best`
+        k += 1
+        best = min(best, k + slides(k))
+    return float(best)
 
 
 @dataclass(frozen=True)
@@ -299,12 +444,18 @@ def _off_line_words(body: PlanBody, movers: list[Affordance], gap: _Gap) -> str:
 
 
 def _translation(affordance: Affordance) -> float:
-    """The farthest one mode of `affordance` moves its body's frame origin (m)."""
+    """The farthest one mode of `affordance` moves its body's frame origin (m).
+
+    A turn's pivot may move along its family (`offset * drift`, `vkgl.plan.graphs.members`): the radius is the
+    largest over the band, at one of its ends (the distance to the axis is convex in the offset)."""
     upper = value_bounds(affordance.motion)[1]
     axis, center = unit_axis_and_center(affordance.motion)
     if center is None:
         return upper
-    radius = float(np.linalg.norm(center - np.dot(center, axis) * axis))
+    _, drift = family_vectors(affordance)
+    ends = offset_bounds(affordance) if drift is not None else (0.0, 0.0)
+    pivots = [center if drift is None else center + s * drift for s in ends]
+    radius = max(float(np.linalg.norm(p - np.dot(p, axis) * axis)) for p in pivots)
     return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
 
 

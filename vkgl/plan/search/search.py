@@ -14,6 +14,9 @@ solution besides:
   action sets down a goal body the hand carried, `vkgl.plan.graphs.carry`):
   otherwise its final poses are those of a shorter prefix, which was checked before;
   for the same reason the last level only generates such sequences;
+- nor when its bound is above 0: the bound never exceeds the true remaining
+  depth, which is 0 for a sequence that passes its checks, so one whose bound
+  is positive cannot pass them (it is extended, not checked);
 - a transition whose hand pose no motion value can change (e.g. touching a
   body still at rest, or grasping a tool where it lies) is checked against the
   arm's reach at once, and when it is out of reach the whole subtree goes;
@@ -60,7 +63,7 @@ class SearchStats:
     sequences: int = 0
     pruned: int = 0
     excluded: int = 0  # sequences cut at once for repeating a step that failed in execution (`vkgl.plan.problem.avoid`)
-    passed_over: int = 0  # sequences whose last mode moves no goal body: extended, never checked themselves
+    passed_over: int = 0  # extended, never checked themselves: their last mode moves no goal body, or the bound > 0
     cut_by_bound: int = 0  # sequences never queued: their depth plus the graphs they still need pass max_depth
     shortest_cut: float = math.inf  # the fewest graphs any of those could reach the goal in (inf: none)
     cut_at_start: bool = False  # G0 alone already needs more graphs than max_depth allows
@@ -125,7 +128,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
             stats.level, path, seq = heapq.heappop(frontier)
             if time.perf_counter() > deadline:
                 return SearchResult("timeout", _timeout_reason(problem, stats), stats)
-            if seq.actions and _moves_goal_body(problem, seq):
+            if seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
                 found = _unless_excluded(problem, _check(problem, seq, stats, deadline, checks), stats)
                 found = _with_transits(problem, found, stats, deadline, checks.arm_paths)
                 if found is not None:
@@ -405,7 +408,7 @@ def _accounting(stats: SearchStats) -> str:
         parts.append(f"{stats.transit_checks} of those also for the arm's transits between contacts")
     return (
         f"{stats.sequences} sequences tried: {stats.passed_over} only lead to others (their last step moves "
-        f"no goal body), " + ", ".join(parts)
+        f"no goal body, or the bound says that more steps must follow), " + ", ".join(parts)
     )
 
 
