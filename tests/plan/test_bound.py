@@ -309,3 +309,26 @@ def test_a_goal_called_beyond_the_hand_has_every_hand_contact_out_of_reach(tmp_p
             offset = rng.uniform(0.0, 0.04) if family and affordance.name == "turn_left" else 0.0
             hand = pose @ action_at(problem, "block", affordance.name, offset)
             assert unreachable(problem, hand) is not None, (affordance.name, hand[:3, 3])
+
+
+def test_the_search_checks_only_sequences_the_bound_lets_end_there(tmp_path, monkeypatch):
+    # a sequence whose bound is above 0 cannot pass its checks (the bound never exceeds the graphs still needed):
+    # the search extends it without checking it, and its plan is as short as exhaustive search's
+    import time
+
+    import vkgl.plan.search.search as search_module
+
+    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
+    bound, checked = Bound(problem), []
+    check = search_module._check
+
+    def recording(problem_, seq, *args, **kwargs):
+        checked.append(seq)
+        return check(problem_, seq, *args, **kwargs)
+
+    monkeypatch.setattr(search_module, "_check", recording)
+    result = search_module.search(problem, deadline=time.perf_counter() + 60)
+    assert result.status == "solved" and result.sequence is not None
+    assert checked and all(bound(seq) == 0 for seq in checked)
+    seen: list[tuple[Sequence, float]] = []
+    assert result.sequence.depth == 1 + _remaining(problem, start_sequence(problem), seen) == 4

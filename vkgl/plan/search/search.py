@@ -15,8 +15,7 @@ solution besides:
   otherwise its final poses are those of a shorter prefix, which was checked before;
   for the same reason the last level only generates such sequences;
 - nor when its bound is above 0: the bound never exceeds the true remaining
-  depth, which is 0 for a sequence that passes its checks, so one whose bound
-  is positive cannot pass them (it is extended, not checked);
+  depth, 0 for a sequence that passes, so such a one cannot (it is extended);
 - a transition whose hand pose no motion value can change (e.g. touching a
   body still at rest, or grasping a tool where it lies) is checked against the
   arm's reach at once, and when it is out of reach the whole subtree goes;
