@@ -85,7 +85,8 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    the hand then. While `m_b > 0` that mode is still to come: with no tool in
    the hand now, one more ADD (a tool's grasp, counted once with part 4's). And
    when the last mode of `seq` that moved `b` was the hand's own, `seq` cannot
-   end there: another mode must move `b` (`m_b >= 1`).
+   end there: another mode must move `b` (`m_b >= 1`). With no tool at all:
+   never (`inf`), and the reason says why with the reach's numbers.
 
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
@@ -131,6 +132,7 @@ class BodyNeed:
     why: str
     needs_tool: bool
     ends_by_tool: bool = False  # part 6: the hand cannot hold any of its contacts where its goal puts it
+    beyond_why: str = ""  # part 6's reason, with the reach's numbers
     pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
 
 
@@ -221,12 +223,8 @@ class Bound:
     def explain(self) -> str:
         """Why the goal needs the graphs the bound gives at the start (empty when it gives none)."""
         words = [need.why for need in self.needs if need.why]
-        words += [
-            f"the hand cannot hold any contact of {need.body} where its goal puts it (out of the arm's reach): "
-            f"only a tool can move it last{'' if self.tools else ', and there is none'}"
-            for need in self.needs
-            if need.ends_by_tool
-        ]
+        last = "only a tool can move it last" if self.tools else "only a tool could move it there, and none can act"
+        words += [f"{need.beyond_why}: {last}" for need in self.needs if need.ends_by_tool]
         return "; ".join(words)
 
     def _holds_tool(self, graph: KGraph) -> bool:
@@ -251,10 +249,10 @@ def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
         movers = _movers(body)
         modes, why, pose = _goal_modes(problem, body, goal, movers)
         kept = out.get(goal.body)
-        beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept is not None and kept.ends_by_tool)
+        beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept.beyond_why if kept is not None else "")
         if kept is None or modes > kept.modes:
             kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
-        out[goal.body] = replace(kept, ends_by_tool=beyond)
+        out[goal.body] = replace(kept, ends_by_tool=bool(beyond), beyond_why=beyond or "")
     return list(out.values())
 
 

@@ -51,15 +51,19 @@ OFFSET_SAMPLES = 9
 """Offsets sampled over a family's band."""
 
 
-def ends_beyond_the_hand(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> bool:
-    """Whether no mover's contact, held by the robot's own effector with `body` anywhere `goal` accepts, lies
-    within the arm's reach (see the module's docstring; False whenever that cannot be shown)."""
+def ends_beyond_the_hand(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> str | None:
+    """Why no mover's contact, held by the robot's own effector with `body` anywhere `goal` accepts, lies within
+    the arm's reach, with the numbers (see the module's docstring); None whenever that cannot be shown."""
     if goal.position is None or not movers or not _level_movers(body, movers):
-        return False
+        return None
     heading = _heading_change(body, goal)
     if heading is None:
-        return False
-    return all(_contact_beyond(problem, body, goal, mover, heading) for mover in movers)
+        return None
+    gaps = [_contact_beyond(problem, body, goal, mover, heading) for mover in movers]
+    if any(gap is None for gap in gaps):
+        return None
+    _, words = min(gap for gap in gaps if gap is not None)
+    return f"wherever its goal accepts {body.name}, the hand at any of its contacts would be {words}"
 
 
 def _level_movers(body: PlanBody, movers: list[Affordance]) -> bool:
@@ -89,8 +93,9 @@ def _heading_change(body: PlanBody, goal: GoalSpec) -> tuple[float, float] | Non
 
 def _contact_beyond(
     problem: Problem, body: PlanBody, goal: GoalSpec, mover: Affordance, heading: tuple[float, float]
-) -> bool:
-    """Whether the hand holding `mover`'s contact is outside the reach wherever the goal accepts the body."""
+) -> tuple[float, str] | None:
+    """How far (m) and why the hand holding `mover`'s contact is outside the reach wherever the goal accepts the
+    body, or None when it may be inside."""
     assert goal.position is not None
     action = problem.action(body.name, mover.name)[:3, 3]
     along, _ = family_vectors(mover)
@@ -99,10 +104,11 @@ def _contact_beyond(
     contacts = (body.rest[:3, :3] @ (action[:, None] + np.outer(along, offsets))).T  # per offset, world axes
     heights = body.rest[2, 3] + contacts[:, 2]
     if np.ptp(heights) > 1e-9:
-        return False  # the hand's height changes along the band: not decided here
-    r_min, r_max = problem.arm.reach(float(heights[0]))
+        return None  # the hand's height changes along the band: not decided here
+    height = float(heights[0])
+    r_min, r_max = problem.arm.reach(height)
     if r_max <= 0:
-        return True  # nowhere at that height
+        return 1.0, f"at height {height:.3f} m, where the arm reaches nowhere"
     width = heading[1] - heading[0]
     count = HEADING_SAMPLES if width >= 2 * math.pi - 1e-9 else max(9, math.ceil(width / math.radians(5)) + 1)
     angles = np.linspace(heading[0], heading[1], count)
@@ -115,7 +121,15 @@ def _contact_beyond(
     step_offset = (upper - lower) / (len(offsets) - 1) if len(offsets) > 1 else 0.0
     missed = float(np.max(np.linalg.norm(offset_xy, axis=1))) * step_heading / 2 + step_offset / 2
     slack = missed + goal.tol_position + SLACK
-    return bool(radii.min() - slack > r_max - REACH_MARGIN or radii.max() + slack < r_min + REACH_MARGIN)
+    usable = (
+        f"from the arm's base at height {height:.3f} m (usable reach there: {r_min + REACH_MARGIN:.3f} to "
+        f"{r_max - REACH_MARGIN:.3f} m)"
+    )
+    if (beyond := radii.min() - slack - (r_max - REACH_MARGIN)) > 0:
+        return float(beyond), f"at least {radii.min() - slack:.3f} m {usable}"
+    if (within := r_min + REACH_MARGIN - radii.max() - slack) > 0:
+        return float(within), f"at most {radii.max() + slack:.3f} m {usable}"
+    return None
 
 
 __all__ = ["ends_beyond_the_hand"]
