@@ -332,3 +332,43 @@ def test_the_search_checks_only_sequences_the_bound_lets_end_there(tmp_path, mon
     assert checked and all(bound(seq) == 0 for seq in checked)
     seen: list[tuple[Sequence, float]] = []
     assert result.sequence.depth == 1 + _remaining(problem, start_sequence(problem), seen) == 4
+
+
+def test_a_tool_held_so_that_it_cannot_end_the_body_there_is_let_go_of_first(tmp_path):
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    problem = _problem(tmp_path, x=0.9, gx=1.15, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    bound = Bound(problem)
+    assert bound.needs[0].wrong_grasps == {("stick", "grasp_top_y")}  # held by its middle it is 20 cm too short
+    root = start_sequence(problem)
+    assert bound(root) == 2  # grasp the stick, push with its tip
+    grasps = {c.last.engagement.affordance: c for c in _children(problem, root) if c.last.engagement.body == "stick"}
+    assert bound(grasps["wield"]) == 1  # push with its tip
+    assert bound(grasps["grasp_top_y"]) == 3  # let go, grasp it otherwise, push
+
+
+def test_a_grasp_called_wrong_has_every_hand_pose_out_of_reach(tmp_path):
+    from vkgl.plan.graphs.graph import Action, Engagement, KGraph
+    from vkgl.plan.graphs.rollout import hand_chain
+
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    rng = np.random.default_rng(7)
+    for gx in (1.1, 1.15, 1.2):
+        problem = _problem(tmp_path, x=0.9, gx=gx, gy=0.03, yaw=" yaw 10deg", slide=30, turn=25, stick=stick)
+        goal, block = problem.goals[0], problem.bodies["block"]
+        for _, grasp in Bound(problem).needs[0].wrong_grasps:
+            graph = KGraph((Engagement(problem.robot_effector.name, "stick", grasp),))
+            for affordance in block.affordances:
+                chain = hand_chain(
+                    problem, graph, Action("add", Engagement("stick.tip", "block", affordance.name)).engagement
+                )
+                assert chain is not None
+                for _ in range(50):
+                    turn = math.radians(10 + rng.uniform(-3, 3))
+                    pose = np.eye(4)
+                    pose[:3, :3] = [
+                        [math.cos(turn), -math.sin(turn), 0],
+                        [math.sin(turn), math.cos(turn), 0],
+                        [0, 0, 1],
+                    ]
+                    pose[:3, 3] = (*(goal.position[:2] + rng.uniform(-0.007, 0.007, 2)), block.rest[2, 3])
+                    assert unreachable(problem, pose @ chain[0]) is not None, (grasp, affordance.name)

@@ -86,7 +86,15 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    the hand now, one more ADD (a tool's grasp, counted once with part 4's). And
    when the last mode of `seq` that moved `b` was the hand's own, `seq` cannot
    end there: another mode must move `b` (`m_b >= 1`). With no tool at all:
-   never (`inf`), and the reason says why with the reach's numbers.
+   never (`inf`), and the reason says why with the reach's numbers. The same
+   holds through each tool grasp: the hand at `pose @ action(s) @ frame⁻¹ @
+   grasp` (`rollout.hand_chain`). A grasp (tool, affordance) with which no
+   frame of the tool can hold a contact of `b` anywhere the goal accepts is
+   *wrong* for `b`: a last mode of `seq` on `b` through it needs another
+   (`m_b >= 1`); while `m_b > 0` and the hand holds a tool by a wrong grasp,
+   the extension lets go of it (a REMOVE) and grasps a tool another way (an
+   ADD), two actions on tools (none on a goal body: they add up), instead of
+   the one grasp; and when every grasp of every tool is wrong: never (`inf`).
 
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
@@ -107,7 +115,7 @@ import numpy as np
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.carry import carriable
-from vkgl.plan.graphs.graph import KGraph, is_held, motion_type
+from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
 from vkgl.plan.graphs.members import family_vectors
 from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
@@ -134,6 +142,7 @@ class BodyNeed:
     ends_by_tool: bool = False  # part 6: the hand cannot hold any of its contacts where its goal puts it
     beyond_why: str = ""  # part 6's reason, with the reach's numbers
     pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
+    wrong_grasps: frozenset[tuple[str, str]] = frozenset()  # part 6: (tool, grasp) that cannot end it there either
 
 
 @dataclass(frozen=True)
@@ -163,6 +172,9 @@ class Bound:
         self.tools = frozenset(tools)
         self.two_frames = any(tools.count(t) > 1 for t in self.tools)
         self.needs = [need for need in _needs(problem, self.tools) if need.modes > 0]
+        self.grasps = frozenset(
+            (tool, a.name) for tool in self.tools for a in problem.bodies[tool].affordances if a.motion.type == "free"
+        )
         self.carried_goals = [g for g in problem.goals if _carriable_goal(problem, g.body, self.tools)]
 
     def __call__(self, seq: Sequence) -> float:
@@ -171,7 +183,8 @@ class Bound:
         if not self.needs:
             return carries
         graph = seq.graphs[-1]
-        remaining, actions, tool = 0.0, 0.0, False
+        remaining, actions, tool, regrasp = 0.0, 0.0, False, False
+        held = self._held_grasp(graph)
         for need in self.needs:
             still = self._still(need, seq)
             if still <= 0:
@@ -186,19 +199,33 @@ class Bound:
             else:
                 actions += 2 * still - (0 if engaged is not None else 1)
             tool = tool or (need.needs_tool and not moving and need.body not in seq.dependent) or need.ends_by_tool
-        if tool and not self._holds_tool(graph):
+            if need.ends_by_tool and self.tools and self.grasps <= need.wrong_grasps:
+                return math.inf  # part 6: neither the hand nor any tool, held any way, can end it there
+            regrasp = regrasp or (need.ends_by_tool and held in need.wrong_grasps)
+        if regrasp:
+            actions += 2  # part 6: let go of the tool held so, grasp one that can end the body there
+        elif tool and held is None:
             if not self.tools:
                 return math.inf
             actions += 1
         return max(remaining, actions + carries)
 
+    def _held_grasp(self, graph: KGraph) -> tuple[str, str] | None:
+        """(tool, grasp affordance) of the tool in the hand, or None."""
+        for tool in self.tools:
+            if is_held(self.problem, graph, tool):
+                e = graph.engaging(tool)
+                assert e is not None
+                return tool, e.affordance
+        return None
+
     def _still(self, need: BodyNeed, seq: Sequence) -> float:
         """Part 2: the moving modes of `need.body` still to come, given those `seq` made (slides and turns)."""
         turns = slides = 0
-        last = None
-        for _, e in seq.variables:
+        last, when = None, 0
+        for mode, e in seq.variables:
             if e.body == need.body:
-                last = e
+                last, when = e, mode
                 if motion_type(self.problem, e) == "revolute":
                     turns += 1
                 else:
@@ -206,9 +233,18 @@ class Bound:
         still = need.modes - turns - slides
         if need.pose is not None:
             still = max(still, need.pose.left(slides, turns))
-        if need.ends_by_tool and last is not None and self.problem.effector(last.effector).tool is None:
-            still = max(still, 1)  # part 6: the hand moved it last, and cannot where its goal is: it moves again
+        if need.ends_by_tool and last is not None and self._cannot_end(need, last, seq.graphs[when]):
+            still = max(still, 1)  # part 6: what moved it last cannot where its goal is: it moves again
         return still
+
+    def _cannot_end(self, need: BodyNeed, engagement: Engagement, graph: KGraph) -> bool:
+        """Part 6: whether `engagement` (in force in `graph`) cannot hold `need.body` where its goal is: the hand's
+        own, or a tool's frame with the tool held by a grasp in `need.wrong_grasps`."""
+        tool = self.problem.effector(engagement.effector).tool
+        if tool is None:
+            return True
+        held = graph.engaging(tool)
+        return held is not None and (tool, held.affordance) in need.wrong_grasps
 
     def _carries(self, seq: Sequence) -> int:
         """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does
@@ -223,12 +259,16 @@ class Bound:
     def explain(self) -> str:
         """Why the goal needs the graphs the bound gives at the start (empty when it gives none)."""
         words = [need.why for need in self.needs if need.why]
-        last = "only a tool can move it last" if self.tools else "only a tool could move it there, and none can act"
-        words += [f"{need.beyond_why}: {last}" for need in self.needs if need.ends_by_tool]
+        for need in self.needs:
+            if not need.ends_by_tool:
+                continue
+            if not self.tools:
+                words.append(f"{need.beyond_why}: only a tool could move it there, and none can act")
+            elif self.grasps <= need.wrong_grasps:
+                words.append(f"{need.beyond_why}, and so would it holding any tool any way")
+            else:
+                words.append(f"{need.beyond_why}: only a tool can move it last")
         return "; ".join(words)
-
-    def _holds_tool(self, graph: KGraph) -> bool:
-        return any(is_held(self.problem, graph, tool) for tool in self.tools)
 
 
 def _carriable_goal(problem: Problem, body: str, tools: frozenset[str]) -> bool:
@@ -252,8 +292,28 @@ def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
         beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept.beyond_why if kept is not None else "")
         if kept is None or modes > kept.modes:
             kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
-        out[goal.body] = replace(kept, ends_by_tool=bool(beyond), beyond_why=beyond or "")
+        wrong = _wrong_grasps(problem, body, goal, movers, tools) if beyond else frozenset()
+        out[goal.body] = replace(
+            kept, ends_by_tool=bool(beyond), beyond_why=beyond or "", wrong_grasps=kept.wrong_grasps | wrong
+        )
     return list(out.values())
+
+
+def _wrong_grasps(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance], tools: frozenset[str]
+) -> frozenset[tuple[str, str]]:
+    """Part 6: the (tool, grasp) pairs with which no frame of the tool can hold a mover's contact of `body`
+    anywhere `goal` accepts (the hand out of reach, `goal_reach.ends_beyond_the_hand` through the tool)."""
+    out = set()
+    for tool in sorted(tools):
+        frames = [e for e in problem.effectors if e.tool == tool]
+        for grasp in problem.bodies[tool].affordances:
+            if grasp.motion.type != "free":
+                continue
+            chains = [e.frame_inverse @ problem.action(tool, grasp.name) for e in frames]
+            if all(ends_beyond_the_hand(problem, body, goal, movers, chain) for chain in chains):
+                out.add((tool, grasp.name))
+    return frozenset(out)
 
 
 def _movers(body: PlanBody) -> list[Affordance]:

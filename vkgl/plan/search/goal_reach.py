@@ -51,15 +51,21 @@ OFFSET_SAMPLES = 9
 """Offsets sampled over a family's band."""
 
 
-def ends_beyond_the_hand(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> str | None:
+def ends_beyond_the_hand(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance], chain: np.ndarray | None = None
+) -> str | None:
     """Why no mover's contact, held by the robot's own effector with `body` anywhere `goal` accepts, lies within
-    the arm's reach, with the numbers (see the module's docstring); None whenever that cannot be shown."""
+    the arm's reach, with the numbers (see the module's docstring); None whenever that cannot be shown.
+
+    With `chain` (the hand's pose in the frame of the effector that enacts the contact: a tool frame's inverse
+    times the grasp by which the hand holds the tool, `rollout.hand_chain`), the same for that tool frame held
+    by that grasp: the hand is then at `pose @ action(s) @ chain`."""
     if goal.position is None or not movers or not _level_movers(body, movers):
         return None
     heading = _heading_change(body, goal)
     if heading is None:
         return None
-    gaps = [_contact_beyond(problem, body, goal, mover, heading) for mover in movers]
+    gaps = [_contact_beyond(problem, body, goal, mover, heading, chain) for mover in movers]
     if any(gap is None for gap in gaps):
         return None
     _, words = min(gap for gap in gaps if gap is not None)
@@ -92,12 +98,18 @@ def _heading_change(body: PlanBody, goal: GoalSpec) -> tuple[float, float] | Non
 
 
 def _contact_beyond(
-    problem: Problem, body: PlanBody, goal: GoalSpec, mover: Affordance, heading: tuple[float, float]
+    problem: Problem,
+    body: PlanBody,
+    goal: GoalSpec,
+    mover: Affordance,
+    heading: tuple[float, float],
+    chain: np.ndarray | None = None,
 ) -> tuple[float, str] | None:
-    """How far (m) and why the hand holding `mover`'s contact is outside the reach wherever the goal accepts the
-    body, or None when it may be inside."""
+    """How far (m) and why the hand holding `mover`'s contact (through `chain`) is outside the reach wherever the
+    goal accepts the body, or None when it may be inside."""
     assert goal.position is not None
-    action = problem.action(body.name, mover.name)[:3, 3]
+    pose = problem.action(body.name, mover.name)
+    action = pose[:3, 3] if chain is None else (pose @ chain)[:3, 3]  # the offset moves the hand as the contact
     along, _ = family_vectors(mover)
     lower, upper = offset_bounds(mover) if has_family(problem, body.name, mover.name) else (0.0, 0.0)
     offsets = np.linspace(lower, upper, OFFSET_SAMPLES if upper > lower else 1)
