@@ -35,14 +35,14 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    origin by at most `C` (the largest chord), so `k` turns and `j` slides cover
    a distance `D = d - t` and a heading `Ψ = ψ - t_ψ` only if `k T >= Ψ` and
    `k C + j S >= D` (triangle inequality): `N_b` is at least the fewest `k + j`
-   that do (`_fewest_modes`). The separate counts above are never more: with
+   that do (`fewest_modes`). The separate counts above are never more: with
    `k T >= Ψ`, `k >= ceil(Ψ / T)`, and `(k + j) max(S, C) >= D`.
 2. **Moving modes still to come**: `m_b = max(0, N_b - k_b)` where `k_b` counts
    the modes of `seq` that move `b` (its motion variables): each moved `b` by at
    most `step_b` too, so the rest must cover what they did not. Sharper, from
    the kinds of those modes: after `k_s` slides and `k_t` turns of `b`, what is
    left to cover is at least `D - k_s S - k_t C` and `Ψ - k_t T`, and the
-   modes still to come at least `_fewest_modes` of those (`PoseNeed.left`):
+   modes still to come at least `fewest_modes` of those (`PoseNeed.left`):
    two turns of a few centimetres each leave a far goal as far as ever.
 3. **Contacts made and broken.** Every graph is one action. When no tool has two
    effector frames, the graph in which an engagement on `b` acts holds nothing
@@ -112,20 +112,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
-from vkgl.plan.graphs.members import family_vectors
 from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.goal_reach import ends_beyond_the_hand
+from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
 from vkgl.plan.task_space.feasible import goal_holds
 from vkgl.plan.task_space.workspace import unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
-_SLACK = 1e-6
-"""Rounding room (m, rad, or modes): a need within it of a whole number of steps is that number, never one more."""
+_SLACK = SLACK  # `motions.SLACK`: rounding room
 
 _MOVING = ("prismatic", "revolute")
 
@@ -143,24 +141,6 @@ class BodyNeed:
     beyond_why: str = ""  # part 6's reason, with the reach's numbers
     pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
     wrong_grasps: frozenset[tuple[str, str]] = frozenset()  # part 6: (tool, grasp) that cannot end it there either
-
-
-@dataclass(frozen=True)
-class PoseNeed:
-    """How far a goal body must move (`distance`, m) and turn (`heading`, rad) less the tolerances, and the most one
-    slide (`slide`, m), one turn (`turn`, rad) and its chord (`chord`, m) can do of it (part 1)."""
-
-    distance: float
-    heading: float
-    slide: float
-    turn: float
-    chord: float
-
-    def left(self, slides: int, turns: int) -> float:
-        """The fewest moving modes still needed after `slides` slides and `turns` turns of the body (part 2)."""
-        distance = self.distance - slides * self.slide - turns * self.chord
-        heading = self.heading - turns * self.turn
-        return _fewest_modes(distance, heading, self.slide, self.turn, self.chord)
 
 
 class Bound:
@@ -327,14 +307,14 @@ def _goal_modes(
     """The moving modes `goal` needs at least (part 1 of the module's docstring), why in words, and what its
     position and heading need of slides and turns (None when neither is off)."""
     parts: list[tuple[float, str]] = [(0.0, "")]
-    pose = _pose_need(body, goal, movers)
+    pose = pose_need(body, goal, movers)
     rest = body.rest
     kind = body.type.name
     far: _Gap | None = None
     if goal.position is not None:
         far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
         if far.needed > _SLACK:
-            step, name = max(((_translation(a), a.name) for a in movers), default=(0.0, ""))
+            step, name = max(((translation(a), a.name) for a in movers), default=(0.0, ""))
             parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
             off = _off_its_line(rest, goal, movers)
             if off is not None and off - goal.tol_position > _SLACK:
@@ -343,7 +323,7 @@ def _goal_modes(
         turn = _Gap(abs(wrap_angle(yaw_of(rest) - goal.yaw)), goal.tol_yaw, "deg")
         if turn.needed > _SLACK:
             turners = [a for a in movers if a.motion.type == "revolute"]
-            level = all(_vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
+            level = all(vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
             turns = [(value_bounds(a.motion)[1] if level else math.pi, a.name) for a in turners]
             if not turns:
                 parts.append((math.inf, _no_turn(body, turn)))
@@ -366,33 +346,12 @@ def _goal_modes(
     return modes, why, pose
 
 
-def _pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> PoseNeed | None:
-    """What `goal`'s position and heading need of slides and turns (part 1), or None when neither is off."""
-    rest = body.rest
-    distance = heading = 0.0
-    if goal.position is not None:
-        distance = float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)) - goal.tol_position
-    if goal.yaw is not None:
-        heading = abs(wrap_angle(yaw_of(rest) - goal.yaw)) - goal.tol_yaw
-    if distance <= _SLACK and heading <= _SLACK:
-        return None
-    turners = [a for a in movers if a.motion.type == "revolute"]
-    level = all(_vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
-    return PoseNeed(
-        distance=max(0.0, distance),
-        heading=max(0.0, heading),
-        slide=max((_translation(a) for a in movers if a.motion.type == "prismatic"), default=0.0),
-        turn=max((value_bounds(a.motion)[1] if level else math.pi for a in turners), default=0.0),
-        chord=max((_translation(a) for a in turners), default=0.0),
-    )
-
-
 def _slides_and_turns(body: PlanBody, pose: PoseNeed, far: _Gap, turn: _Gap) -> tuple[float, str]:
     """The moving modes a goal needs that is both far and turned (part 1): a slide keeps the heading, a turn
     changes it by at most `pose.turn` and moves the origin by at most its chord, so the modes are at least
-    `_fewest_modes` of the largest slide and the largest chord."""
+    `fewest_modes` of the largest slide and the largest chord."""
     slide, chord = pose.slide, pose.chord
-    modes = _fewest_modes(pose.distance, pose.heading, slide, pose.turn, chord)
+    modes = fewest_modes(pose.distance, pose.heading, slide, pose.turn, chord)
     if modes <= 1 or math.isinf(modes):
         return modes, ""
     return modes, (
@@ -401,33 +360,6 @@ def _slides_and_turns(body: PlanBody, pose: PoseNeed, far: _Gap, turn: _Gap) -> 
         f"{body.type.name} moves it at most {far.words(slide)} and keeps its heading, a turn moves it at most "
         f"{far.words(chord)}: at least {modes:g} contacts"
     )
-
-
-def _fewest_modes(distance: float, heading: float, slide: float, turn: float, chord: float) -> float:
-    """The fewest modes `k + j` of `k` turns (each changes the heading by at most `turn` and moves the origin by at
-    most `chord`) and `j` slides (each moves it by at most `slide`, the heading not at all) that cover `distance`
-    (m) and `heading` (rad): `k >= heading / turn` and `k chord + j slide >= distance` (triangle inequality)."""
-    turns = 0
-    if heading > _SLACK:
-        if turn <= 0:
-            return math.inf
-        turns = max(1, math.ceil(heading / turn - _SLACK))
-    if distance <= _SLACK:
-        return float(turns)
-
-    def slides(k: int) -> float:
-        rest = distance - k * chord
-        if rest <= _SLACK:
-            return 0.0
-        return math.ceil(rest / slide - _SLACK) if slide > 0 else math.inf
-
-    if slide <= 0:
-        return float(max(turns, math.ceil(distance / chord - _SLACK))) if chord > 0 else math.inf
-    best, k = turns + slides(turns), turns
-    while k + 1 < best:  # one more turn may save a slide; never more modes than `best`
-        k += 1
-        best = min(best, k + slides(k))
-    return float(best)
 
 
 @dataclass(frozen=True)
@@ -499,29 +431,6 @@ def _off_line_words(body: PlanBody, movers: list[Affordance], gap: _Gap) -> str:
         f"{gap.words(gap.tolerance)} wanted), and every affordance of {body.type.name} that moves it slides it "
         f"along that line ({names}): no sequence of any length reaches that position"
     )
-
-
-def _translation(affordance: Affordance) -> float:
-    """The farthest one mode of `affordance` moves its body's frame origin (m).
-
-    A turn's pivot may move along its family (`offset * drift`, `vkgl.plan.graphs.members`): the radius is the
-    largest over the band, at one of its ends (the distance to the axis is convex in the offset)."""
-    upper = value_bounds(affordance.motion)[1]
-    axis, center = unit_axis_and_center(affordance.motion)
-    if center is None:
-        return upper
-    _, drift = family_vectors(affordance)
-    ends = offset_bounds(affordance) if drift is not None else (0.0, 0.0)
-    pivots = [center if drift is None else center + s * drift for s in ends]
-    radius = max(float(np.linalg.norm(p - np.dot(p, axis) * axis)) for p in pivots)
-    return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
-
-
-def _vertical(rest: np.ndarray, affordance: Affordance) -> bool:
-    """Whether `affordance` turns its body about an axis vertical in the world (at `rest`; slides and such turns
-    keep it vertical). A turn about it changes the heading by its angle; about any other, by up to half a turn."""
-    axis, _ = unit_axis_and_center(affordance.motion)
-    return abs(float((rest[:3, :3] @ axis)[2])) > 1.0 - 1e-9
 
 
 def _needs_tool(problem: Problem, body: PlanBody, movers: list[Affordance]) -> bool:
