@@ -42,7 +42,7 @@ affordances Block {{
     }}
     affordance turn_left {{
         action fixed at (-5, 6.56, 0) cm yaw 0deg
-        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to {turn} deg
+        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to {turn} deg{family}
     }}
 {grasp}}}
 
@@ -67,8 +67,13 @@ GRASP = """    affordance grasp_top {
 """A grasp of the block from above (its 10 cm across the fingers: the planner does not check widths)."""
 
 
+FAMILY = "\n        family along (0, 1, 0) from 0 to 4 cm drift (0.3, 0.77, 0) sigma 1 cm"
+"""A band of contacts along the face for the turn, its pivot moving with the contact (as the stdlib Block's)."""
+
+
 def _problem(tmp_path: Path, **fields: object) -> Problem:
     fields.setdefault("grasp", "")
+    fields.setdefault("family", "")
     path = tmp_path / "bound.vkg"
     path.write_text(PROGRAM.format(**fields), encoding="utf-8")
     program = compile_file(str(path))
@@ -114,8 +119,11 @@ def _remaining(problem: Problem, seq: Sequence, seen: list[tuple[Sequence, float
     turn=st.sampled_from([15, 25]),
     stick=st.booleans(),
     grasp=st.booleans(),
+    family=st.booleans(),
 )
-def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, yaw, slide, turn, stick, grasp):
+def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, yaw, slide, turn, stick, grasp, family):
+    # the goals past the fingertip's reach (x + dx beyond 0.8 m) exercise part 6, the far turned ones part 1's
+    # slides and turns together, the family a pivot that moves with the contact
     problem = _problem(
         tmp_path,
         x=x,
@@ -126,6 +134,7 @@ def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, y
         turn=turn,
         stick="    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n" if stick else "",
         grasp=GRASP if grasp else "",
+        family=FAMILY if family else "",
     )
     bound = Bound(problem)
     seen: list[tuple[Sequence, float]] = []
@@ -179,7 +188,7 @@ def test_a_heading_nothing_turns_is_never_reached_and_no_depth_is_suggested(tmp_
     path = tmp_path / "noturn.vkg"
     start, end = PROGRAM.index("    affordance turn_left"), PROGRAM.index("    }}\n{grasp}") + 7
     text = PROGRAM[:start] + PROGRAM[end:]  # the block only slides
-    fields = {"x": 0.45, "gx": 0.5, "gy": 0, "yaw": " yaw 30deg", "slide": 10, "stick": "", "grasp": ""}
+    fields = {"x": 0.45, "gx": 0.5, "gy": 0, "yaw": " yaw 30deg", "slide": 10, "stick": "", "grasp": "", "family": ""}
     path.write_text(text.format(**fields), encoding="utf-8")
     program = compile_file(str(path))
     problem = build_problem(program, program.task())
@@ -230,3 +239,137 @@ def test_a_position_off_the_one_line_a_body_slides_on_is_never_reached(tmp_path)
     assert "block's goal position lies 4.0 cm off the line it slides on (within 1.0 cm wanted)" in plan_reason
     assert "no sequence of any length reaches that position" in plan_reason
     assert "--max-depth" not in plan_reason
+
+
+def test_a_far_turned_goal_needs_a_turn_and_a_slide_and_a_turn_moves_it_little(tmp_path):
+    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
+    bound = Bound(problem)
+    root = start_sequence(problem)
+    assert bound(root) == 3  # 27 cm and 17 deg: a turn (at most 4.8 cm) and a slide, a break between them
+    assert "a slide of Block moves it at most 30.0 cm and keeps its heading" in bound.explain()
+    assert "a turn moves it at most 4.8 cm: at least 2 contacts" in bound.explain()
+    turned = next(c for c in _children(problem, root) if c.last.engagement.affordance == "turn_left")
+    assert bound(turned) == 2  # the slide still to come: break, push
+    released = next(c for c in _children(problem, turned) if c.last.op == "remove")
+    again = next(c for c in _children(problem, released) if c.last.engagement.affordance == "turn_left")
+    assert bound(again) == 2  # two turns cover the heading, not the 27 cm: a slide still
+
+
+def test_a_goal_beyond_the_hands_reach_needs_a_tool_to_move_the_body_last(tmp_path):
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    problem = _problem(tmp_path, x=0.6, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    bound = Bound(problem)
+    assert [need.ends_by_tool for need in bound.needs] == [True]
+    root = start_sequence(problem)
+    assert bound(root) == 4  # two slides of at most 30 cm, a break between them, and the stick's grasp
+    pushed = next(c for c in _children(problem, root) if c.last.engagement.affordance == "push_px")
+    assert bound(pushed) == 3  # break, grasp the stick, push with its tip
+    assert "only a tool can move it last" in bound.explain()
+    near = _problem(tmp_path, x=0.45, gx=0.6, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    assert [need.ends_by_tool for need in Bound(near).needs] == [False]
+    alone = _problem(tmp_path, x=0.6, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
+    assert Bound(alone)(start_sequence(alone)) == math.inf  # nothing but the hand, which cannot end it there
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    gx=st.floats(0.55, 1.0),
+    gy=st.floats(-0.3, 0.3),
+    yaw=st.sampled_from([None, -30, 0, 45, 170]),
+    family=st.booleans(),
+    seed=st.integers(0, 2**16),
+)
+def test_a_goal_called_beyond_the_hand_has_every_hand_contact_out_of_reach(tmp_path, gx, gy, yaw, family, seed):
+    from vkgl.plan.graphs.members import action_at
+    from vkgl.se3 import yaw_of
+
+    problem = _problem(
+        tmp_path,
+        x=0.45,
+        gx=round(gx, 3),
+        gy=round(gy, 3),
+        yaw="" if yaw is None else f" yaw {yaw}deg",
+        slide=30,
+        turn=25,
+        stick="",
+        family=FAMILY if family else "",
+    )
+    if not any(need.ends_by_tool for need in Bound(problem).needs):
+        return
+    goal, block = problem.goals[0], problem.bodies["block"]
+    rng = np.random.default_rng(seed)
+    for _ in range(300):  # poses the goal accepts, contacts anywhere on their bands
+        radius, angle = goal.tol_position * np.sqrt(rng.uniform()), rng.uniform(0, 2 * math.pi)
+        heading = rng.uniform(-math.pi, math.pi) if goal.yaw is None else goal.yaw + rng.uniform(-1, 1) * goal.tol_yaw
+        turn = heading - yaw_of(block.rest)
+        pose = block.rest.copy()
+        pose[:3, :3] = np.array([[math.cos(turn), -math.sin(turn), 0], [math.sin(turn), math.cos(turn), 0], [0, 0, 1]])
+        pose[:3, :3] = pose[:3, :3] @ block.rest[:3, :3]
+        pose[:2, 3] = goal.position[:2] + radius * np.array([math.cos(angle), math.sin(angle)])
+        for affordance in block.affordances:
+            offset = rng.uniform(0.0, 0.04) if family and affordance.name == "turn_left" else 0.0
+            hand = pose @ action_at(problem, "block", affordance.name, offset)
+            assert unreachable(problem, hand) is not None, (affordance.name, hand[:3, 3])
+
+
+def test_the_search_checks_only_sequences_the_bound_lets_end_there(tmp_path, monkeypatch):
+    # a sequence whose bound is above 0 cannot pass its checks (the bound never exceeds the graphs still needed):
+    # the search extends it without checking it, and its plan is as short as exhaustive search's
+    import time
+
+    import vkgl.plan.search.search as search_module
+
+    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
+    bound, checked = Bound(problem), []
+    check = search_module._check
+
+    def recording(problem_, seq, *args, **kwargs):
+        checked.append(seq)
+        return check(problem_, seq, *args, **kwargs)
+
+    monkeypatch.setattr(search_module, "_check", recording)
+    result = search_module.search(problem, deadline=time.perf_counter() + 60)
+    assert result.status == "solved" and result.sequence is not None
+    assert checked and all(bound(seq) == 0 for seq in checked)
+    seen: list[tuple[Sequence, float]] = []
+    assert result.sequence.depth == 1 + _remaining(problem, start_sequence(problem), seen) == 4
+
+
+def test_a_tool_held_so_that_it_cannot_end_the_body_there_is_let_go_of_first(tmp_path):
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    problem = _problem(tmp_path, x=0.9, gx=1.15, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    bound = Bound(problem)
+    assert bound.needs[0].wrong_grasps == {("stick", "grasp_top_y")}  # held by its middle it is 20 cm too short
+    root = start_sequence(problem)
+    assert bound(root) == 2  # grasp the stick, push with its tip
+    grasps = {c.last.engagement.affordance: c for c in _children(problem, root) if c.last.engagement.body == "stick"}
+    assert bound(grasps["wield"]) == 1  # push with its tip
+    assert bound(grasps["grasp_top_y"]) == 3  # let go, grasp it otherwise, push
+
+
+def test_a_grasp_called_wrong_has_every_hand_pose_out_of_reach(tmp_path):
+    from vkgl.plan.graphs.graph import Action, Engagement, KGraph
+    from vkgl.plan.graphs.rollout import hand_chain
+
+    stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+    rng = np.random.default_rng(7)
+    for gx in (1.1, 1.15, 1.2):
+        problem = _problem(tmp_path, x=0.9, gx=gx, gy=0.03, yaw=" yaw 10deg", slide=30, turn=25, stick=stick)
+        goal, block = problem.goals[0], problem.bodies["block"]
+        for _, grasp in Bound(problem).needs[0].wrong_grasps:
+            graph = KGraph((Engagement(problem.robot_effector.name, "stick", grasp),))
+            for affordance in block.affordances:
+                chain = hand_chain(
+                    problem, graph, Action("add", Engagement("stick.tip", "block", affordance.name)).engagement
+                )
+                assert chain is not None
+                for _ in range(50):
+                    turn = math.radians(10 + rng.uniform(-3, 3))
+                    pose = np.eye(4)
+                    pose[:3, :3] = [
+                        [math.cos(turn), -math.sin(turn), 0],
+                        [math.sin(turn), math.cos(turn), 0],
+                        [0, 0, 1],
+                    ]
+                    pose[:3, 3] = (*(goal.position[:2] + rng.uniform(-0.007, 0.007, 2)), block.rest[2, 3])
+                    assert unreachable(problem, pose @ chain[0]) is not None, (grasp, affordance.name)

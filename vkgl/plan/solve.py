@@ -20,7 +20,8 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
-from vkgl.plan.search.search import SearchResult, SearchStats, search
+from vkgl.plan.search.search import SearchResult, search
+from vkgl.plan.search.stats import SearchStats
 
 
 def solve(

@@ -13,7 +13,10 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    upper end (`v` along a unit axis), a turn by `θ ≤ θmax` about an axis at
    distance `r` from the origin by `2 r sin(min(θmax, π) / 2)` (the chord);
    `step_b` is the largest over the affordances that can move `b` (of the type
-   of its physical joint, if it has one). A goal at distance `d` with tolerance
+   of its physical joint, if it has one); a turn whose contact may move along
+   its family moves its pivot by `offset * drift` too, and `r` is the largest
+   over the family's band (at one of its ends: the distance to the axis is
+   convex in the offset). A goal at distance `d` with tolerance
    `t` needs the origin to move at least `d - t` (triangle inequality), hence
    at least `ceil((d - t) / step_b)` modes. Headings: only turns change one; a
    turn about an axis vertical in the world changes it by its angle, so a
@@ -26,10 +29,21 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    through its rest pose along that axis: a goal position farther from that
    line than its tolerance is never reached (`inf`). A prismatic joint's opening moves by at most the slide per mode
    (`|axis · joint_axis| <= 1`); a hinge's opening counts one mode. `N_b` is
-   the largest of these (a mode may serve several at once).
+   the largest of these (a mode may serve several at once). **Far and turned
+   together**: a slide keeps the heading and moves the origin by at most `S`
+   (the largest slide), a turn changes the heading by at most `T` and moves the
+   origin by at most `C` (the largest chord), so `k` turns and `j` slides cover
+   a distance `D = d - t` and a heading `Ψ = ψ - t_ψ` only if `k T >= Ψ` and
+   `k C + j S >= D` (triangle inequality): `N_b` is at least the fewest `k + j`
+   that do (`fewest_modes`). The separate counts above are never more: with
+   `k T >= Ψ`, `k >= ceil(Ψ / T)`, and `(k + j) max(S, C) >= D`.
 2. **Moving modes still to come**: `m_b = max(0, N_b - k_b)` where `k_b` counts
    the modes of `seq` that move `b` (its motion variables): each moved `b` by at
-   most `step_b` too, so the rest must cover what they did not.
+   most `step_b` too, so the rest must cover what they did not. Sharper, from
+   the kinds of those modes: after `k_s` slides and `k_t` turns of `b`, what is
+   left to cover is at least `D - k_s S - k_t C` and `Ψ - k_t T`, and the
+   modes still to come at least `fewest_modes` of those (`PoseNeed.left`):
+   two turns of a few centimetres each leave a far goal as far as ever.
 3. **Contacts made and broken.** Every graph is one action. When no tool has two
    effector frames, the graph in which an engagement on `b` acts holds nothing
    but it and the grasp of the tool it acts through (one contact per effector;
@@ -64,6 +78,24 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    is never set down elsewhere (it lies where it was used), so a goal on a
    tool counts nothing.
 
+6. **The hand cannot end it there.** When the robot's own effector cannot
+   hold any moving contact of `b` with `b` anywhere its goal accepts (outside
+   the arm's reach: `vkgl.plan.search.goal_reach`, whose docstring proves it),
+   the last mode that moves `b` is enacted by a tool's frame, so a tool is in
+   the hand then. While `m_b > 0` that mode is still to come: with no tool in
+   the hand now, one more ADD (a tool's grasp, counted once with part 4's). And
+   when the last mode of `seq` that moved `b` was the hand's own, `seq` cannot
+   end there: another mode must move `b` (`m_b >= 1`). With no tool at all:
+   never (`inf`), and the reason says why with the reach's numbers. The same
+   holds through each tool grasp: the hand at `pose @ action(s) @ frame⁻¹ @
+   grasp` (`rollout.hand_chain`). A grasp (tool, affordance) with which no
+   frame of the tool can hold a contact of `b` anywhere the goal accepts is
+   *wrong* for `b`: a last mode of `seq` on `b` through it needs another
+   (`m_b >= 1`); while `m_b > 0` and the hand holds a tool by a wrong grasp,
+   the extension lets go of it (a REMOVE) and grasps a tool another way (an
+   ADD), two actions on tools (none on a goal body: they add up), instead of
+   the one grasp; and when every grasp of every tool is wrong: never (`inf`).
+
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
 remaining depth: the best-first search that prunes at `depth + bound >
@@ -76,21 +108,22 @@ checks the bound against exhaustive breadth-first search).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.carry import carriable
-from vkgl.plan.graphs.graph import KGraph, is_held, motion_type
+from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
 from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
+from vkgl.plan.search.goal_reach import ends_beyond_the_hand
+from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
 from vkgl.plan.task_space.feasible import goal_holds
 from vkgl.plan.task_space.workspace import unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
-_SLACK = 1e-6
-"""Rounding room (m, rad, or modes): a need within it of a whole number of steps is that number, never one more."""
+_SLACK = SLACK  # `motions.SLACK`: rounding room
 
 _MOVING = ("prismatic", "revolute")
 
@@ -104,6 +137,10 @@ class BodyNeed:
     modes: float
     why: str
     needs_tool: bool
+    ends_by_tool: bool = False  # part 6: the hand cannot hold any of its contacts where its goal puts it
+    beyond_why: str = ""  # part 6's reason, with the reach's numbers
+    pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
+    wrong_grasps: frozenset[tuple[str, str]] = frozenset()  # part 6: (tool, grasp) that cannot end it there either
 
 
 class Bound:
@@ -115,6 +152,9 @@ class Bound:
         self.tools = frozenset(tools)
         self.two_frames = any(tools.count(t) > 1 for t in self.tools)
         self.needs = [need for need in _needs(problem, self.tools) if need.modes > 0]
+        self.grasps = frozenset(
+            (tool, a.name) for tool in self.tools for a in problem.bodies[tool].affordances if a.motion.type == "free"
+        )
         self.carried_goals = [g for g in problem.goals if _carriable_goal(problem, g.body, self.tools)]
 
     def __call__(self, seq: Sequence) -> float:
@@ -123,9 +163,10 @@ class Bound:
         if not self.needs:
             return carries
         graph = seq.graphs[-1]
-        remaining, actions, tool = 0.0, 0.0, False
+        remaining, actions, tool, regrasp = 0.0, 0.0, False, False
+        held = self._held_grasp(graph)
         for need in self.needs:
-            still = need.modes - sum(1 for _, e in seq.variables if e.body == need.body)
+            still = self._still(need, seq)
             if still <= 0:
                 continue
             if math.isinf(still):
@@ -137,12 +178,53 @@ class Bound:
                 actions += 0 if moving else (2 if engaged is not None else 1)
             else:
                 actions += 2 * still - (0 if engaged is not None else 1)
-            tool = tool or (need.needs_tool and not moving and need.body not in seq.dependent)
-        if tool and not self._holds_tool(graph):
+            tool = tool or (need.needs_tool and not moving and need.body not in seq.dependent) or need.ends_by_tool
+            if need.ends_by_tool and self.tools and self.grasps <= need.wrong_grasps:
+                return math.inf  # part 6: neither the hand nor any tool, held any way, can end it there
+            regrasp = regrasp or (need.ends_by_tool and held in need.wrong_grasps)
+        if regrasp:
+            actions += 2  # part 6: let go of the tool held so, grasp one that can end the body there
+        elif tool and held is None:
             if not self.tools:
                 return math.inf
             actions += 1
         return max(remaining, actions + carries)
+
+    def _held_grasp(self, graph: KGraph) -> tuple[str, str] | None:
+        """(tool, grasp affordance) of the tool in the hand, or None."""
+        for tool in self.tools:
+            if is_held(self.problem, graph, tool):
+                e = graph.engaging(tool)
+                assert e is not None
+                return tool, e.affordance
+        return None
+
+    def _still(self, need: BodyNeed, seq: Sequence) -> float:
+        """Part 2: the moving modes of `need.body` still to come, given those `seq` made (slides and turns)."""
+        turns = slides = 0
+        last, when = None, 0
+        for mode, e in seq.variables:
+            if e.body == need.body:
+                last, when = e, mode
+                if motion_type(self.problem, e) == "revolute":
+                    turns += 1
+                else:
+                    slides += 1
+        still = need.modes - turns - slides
+        if need.pose is not None:
+            still = max(still, need.pose.left(slides, turns))
+        if need.ends_by_tool and last is not None and self._cannot_end(need, last, seq.graphs[when]):
+            still = max(still, 1)  # part 6: what moved it last cannot where its goal is: it moves again
+        return still
+
+    def _cannot_end(self, need: BodyNeed, engagement: Engagement, graph: KGraph) -> bool:
+        """Part 6: whether `engagement` (in force in `graph`) cannot hold `need.body` where its goal is: the hand's
+        own, or a tool's frame with the tool held by a grasp in `need.wrong_grasps`."""
+        tool = self.problem.effector(engagement.effector).tool
+        if tool is None:
+            return True
+        held = graph.engaging(tool)
+        return held is not None and (tool, held.affordance) in need.wrong_grasps
 
     def _carries(self, seq: Sequence) -> int:
         """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does
@@ -156,10 +238,17 @@ class Bound:
 
     def explain(self) -> str:
         """Why the goal needs the graphs the bound gives at the start (empty when it gives none)."""
-        return "; ".join(need.why for need in self.needs if need.why)
-
-    def _holds_tool(self, graph: KGraph) -> bool:
-        return any(is_held(self.problem, graph, tool) for tool in self.tools)
+        words = [need.why for need in self.needs if need.why]
+        for need in self.needs:
+            if not need.ends_by_tool:
+                continue
+            if not self.tools:
+                words.append(f"{need.beyond_why}: only a tool could move it there, and none can act")
+            elif self.grasps <= need.wrong_grasps:
+                words.append(f"{need.beyond_why}, and so would it holding any tool any way")
+            else:
+                words.append(f"{need.beyond_why}: only a tool can move it last")
+        return "; ".join(words)
 
 
 def _carriable_goal(problem: Problem, body: str, tools: frozenset[str]) -> bool:
@@ -178,11 +267,33 @@ def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
         if goal.body in tools or any(a.motion.type == "free" for a in body.affordances):
             continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes (part 5)
         movers = _movers(body)
-        modes, why = _goal_modes(problem, body, goal, movers)
+        modes, why, pose = _goal_modes(problem, body, goal, movers)
         kept = out.get(goal.body)
+        beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept.beyond_why if kept is not None else "")
         if kept is None or modes > kept.modes:
-            out[goal.body] = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers))
+            kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
+        wrong = _wrong_grasps(problem, body, goal, movers, tools) if beyond else frozenset()
+        out[goal.body] = replace(
+            kept, ends_by_tool=bool(beyond), beyond_why=beyond or "", wrong_grasps=kept.wrong_grasps | wrong
+        )
     return list(out.values())
+
+
+def _wrong_grasps(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance], tools: frozenset[str]
+) -> frozenset[tuple[str, str]]:
+    """Part 6: the (tool, grasp) pairs with which no frame of the tool can hold a mover's contact of `body`
+    anywhere `goal` accepts (the hand out of reach, `goal_reach.ends_beyond_the_hand` through the tool)."""
+    out = set()
+    for tool in sorted(tools):
+        frames = [e for e in problem.effectors if e.tool == tool]
+        for grasp in problem.bodies[tool].affordances:
+            if grasp.motion.type != "free":
+                continue
+            chains = [e.frame_inverse @ problem.action(tool, grasp.name) for e in frames]
+            if all(ends_beyond_the_hand(problem, body, goal, movers, chain) for chain in chains):
+                out.add((tool, grasp.name))
+    return frozenset(out)
 
 
 def _movers(body: PlanBody) -> list[Affordance]:
@@ -190,15 +301,20 @@ def _movers(body: PlanBody) -> list[Affordance]:
     return [a for a in body.affordances if a.motion.type in _MOVING and (body.joint in (None, a.motion.type))]
 
 
-def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tuple[float, str]:
-    """The moving modes `goal` needs at least (part 1 of the module's docstring), and why in words."""
+def _goal_modes(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]
+) -> tuple[float, str, PoseNeed | None]:
+    """The moving modes `goal` needs at least (part 1 of the module's docstring), why in words, and what its
+    position and heading need of slides and turns (None when neither is off)."""
     parts: list[tuple[float, str]] = [(0.0, "")]
+    pose = pose_need(body, goal, movers)
     rest = body.rest
     kind = body.type.name
+    far: _Gap | None = None
     if goal.position is not None:
         far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
         if far.needed > _SLACK:
-            step, name = max(((_translation(a), a.name) for a in movers), default=(0.0, ""))
+            step, name = max(((translation(a), a.name) for a in movers), default=(0.0, ""))
             parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
             off = _off_its_line(rest, goal, movers)
             if off is not None and off - goal.tol_position > _SLACK:
@@ -207,13 +323,15 @@ def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[A
         turn = _Gap(abs(wrap_angle(yaw_of(rest) - goal.yaw)), goal.tol_yaw, "deg")
         if turn.needed > _SLACK:
             turners = [a for a in movers if a.motion.type == "revolute"]
-            level = all(_vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
+            level = all(vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
             turns = [(value_bounds(a.motion)[1] if level else math.pi, a.name) for a in turners]
             if not turns:
                 parts.append((math.inf, _no_turn(body, turn)))
             else:
                 step, name = max(turns)
                 parts.append(turn.modes(step, f"{body.name}'s heading is", f"{kind}.{name} turns it"))
+                if far is not None and far.needed > _SLACK and pose is not None:
+                    parts.append(_slides_and_turns(body, pose, far, turn))
     if goal.opening is not None and body.joint is not None:
         unit = "cm" if body.joint == "prismatic" else "deg"
         opening = _Gap(abs(body.start_state - goal.opening), goal.tol_opening, unit)
@@ -224,7 +342,24 @@ def _goal_modes(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[A
                 parts.append(opening.modes(step, f"{body.name}'s opening ({span}) is", f"{kind}.{name} opens it"))
             else:
                 parts.append((1.0, ""))
-    return max(parts, key=lambda p: p[0])
+    modes, why = max(parts, key=lambda p: p[0])
+    return modes, why, pose
+
+
+def _slides_and_turns(body: PlanBody, pose: PoseNeed, far: _Gap, turn: _Gap) -> tuple[float, str]:
+    """The moving modes a goal needs that is both far and turned (part 1): a slide keeps the heading, a turn
+    changes it by at most `pose.turn` and moves the origin by at most its chord, so the modes are at least
+    `fewest_modes` of the largest slide and the largest chord."""
+    slide, chord = pose.slide, pose.chord
+    modes = fewest_modes(pose.distance, pose.heading, slide, pose.turn, chord)
+    if modes <= 1 or math.isinf(modes):
+        return modes, ""
+    return modes, (
+        f"{body.name} is {far.words(far.distance)} from its goal and its heading {turn.words(turn.distance)} from "
+        f"the goal's (within {far.words(far.tolerance)}, {turn.words(turn.tolerance)} wanted); a slide of "
+        f"{body.type.name} moves it at most {far.words(slide)} and keeps its heading, a turn moves it at most "
+        f"{far.words(chord)}: at least {modes:g} contacts"
+    )
 
 
 @dataclass(frozen=True)
@@ -296,23 +431,6 @@ def _off_line_words(body: PlanBody, movers: list[Affordance], gap: _Gap) -> str:
         f"{gap.words(gap.tolerance)} wanted), and every affordance of {body.type.name} that moves it slides it "
         f"along that line ({names}): no sequence of any length reaches that position"
     )
-
-
-def _translation(affordance: Affordance) -> float:
-    """The farthest one mode of `affordance` moves its body's frame origin (m)."""
-    upper = value_bounds(affordance.motion)[1]
-    axis, center = unit_axis_and_center(affordance.motion)
-    if center is None:
-        return upper
-    radius = float(np.linalg.norm(center - np.dot(center, axis) * axis))
-    return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
-
-
-def _vertical(rest: np.ndarray, affordance: Affordance) -> bool:
-    """Whether `affordance` turns its body about an axis vertical in the world (at `rest`; slides and such turns
-    keep it vertical). A turn about it changes the heading by its angle; about any other, by up to half a turn."""
-    axis, _ = unit_axis_and_center(affordance.motion)
-    return abs(float((rest[:3, :3] @ axis)[2])) > 1.0 - 1e-9
 
 
 def _needs_tool(problem: Problem, body: PlanBody, movers: list[Affordance]) -> bool:

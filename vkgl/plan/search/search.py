@@ -14,6 +14,8 @@ solution besides:
   action sets down a goal body the hand carried, `vkgl.plan.graphs.carry`):
   otherwise its final poses are those of a shorter prefix, which was checked before;
   for the same reason the last level only generates such sequences;
+- nor when its bound is above 0: the bound never exceeds the true remaining
+  depth, 0 for a sequence that passes, so such a one cannot (it is extended);
 - a transition whose hand pose no motion value can change (e.g. touching a
   body still at rest, or grasping a tool where it lies) is checked against the
   arm's reach at once, and when it is out of reach the whole subtree goes;
@@ -28,12 +30,9 @@ from __future__ import annotations
 
 import heapq
 import itertools
-import math
-import sys
 import time
-from collections import Counter
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -46,44 +45,11 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
+from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
 from vkgl.plan.task_space.contacts import other_contacts
-from vkgl.plan.task_space.feasible import Counters, TaskSolution, goal_holds, task_space, task_space_alternatives
+from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space, task_space_alternatives
 from vkgl.plan.task_space.joint_space import JointSolution, joint_space
 from vkgl.plan.task_space.workspace import unreachable
-
-
-@dataclass
-class SearchStats:
-    """Counters of one search (reported in the plan and by bench/bench_solve.py)."""
-
-    graphs_expanded: int = 0
-    sequences: int = 0
-    pruned: int = 0
-    excluded: int = 0  # sequences cut at once for repeating a step that failed in execution (`vkgl.plan.problem.avoid`)
-    passed_over: int = 0  # sequences whose last mode moves no goal body: extended, never checked themselves
-    cut_by_bound: int = 0  # sequences never queued: their depth plus the graphs they still need pass max_depth
-    shortest_cut: float = math.inf  # the fewest graphs any of those could reach the goal in (inf: none)
-    cut_at_start: bool = False  # G0 alone already needs more graphs than max_depth allows
-    level: float = 1  # depth plus bound of the sequence checked last: every one below it has been checked
-    task_space_checks: int = 0
-    geometry_checks: int = 0
-    joint_space_checks: int = 0
-    arm_path_checks: int = 0  # sequences whose straight moves (approach, retreat, lift) were planned
-    transit_checks: int = 0  # of those, candidates whose transits were then planned (after the search)
-    transits: int = 0
-    arm_path_time: float = 0.0  # s planning the straight moves and contact chains (part of the search's time)
-    transit_time: float = 0.0  # s planning transits (after the search: not part of `arm_path_time`)
-    work: Counters = field(default_factory=Counters)
-    depth_reached: int = 1
-    rejections: Counter = field(default_factory=Counter)
-    examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
-
-    def reject(self, rejection: Rejection, label: str) -> None:
-        """Count a rejection; keep the closest miss of each kind (the first among equals) as its example."""
-        self.rejections[rejection.kind] += 1
-        kept = self.examples.get(rejection.kind)
-        if kept is None or rejection.excess < kept[0]:
-            self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
 
 
 @dataclass
@@ -109,7 +75,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     returns, found sooner.
     """
     stats = SearchStats()
-    reporter = _Progress(progress)
+    reporter = Progress(progress)
     geometry = GeometryCheck(problem)
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
     bound = Bound(problem)
@@ -122,8 +88,8 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
         while frontier:
             stats.level, path, seq = heapq.heappop(frontier)
             if time.perf_counter() > deadline:
-                return SearchResult("timeout", _timeout_reason(problem, stats), stats)
-            if seq.actions and _moves_goal_body(problem, seq):
+                return SearchResult("timeout", timeout_reason(problem, stats), stats)
+            if seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
                 found = _check(problem, seq, stats, deadline, checks)
                 if found is not None:
                     return found
@@ -149,8 +115,8 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     finally:
         reporter.done()
     if time.perf_counter() > deadline:
-        return SearchResult("timeout", _timeout_reason(problem, stats), stats)
-    return SearchResult("infeasible", _infeasible_reason(problem, stats, bound), stats)
+        return SearchResult("timeout", timeout_reason(problem, stats), stats)
+    return SearchResult("infeasible", infeasible_reason(problem, stats, bound), stats)
 
 
 def _push(
@@ -410,133 +376,3 @@ def _with_transits(
     if isinstance(planned, Rejection):
         return planned
     return replace(found, steps=tuple(planned), paths=None)
-
-
-def _kinds(stats: SearchStats) -> list[str]:
-    """The kinds of rejection met, the furthest stage first (the decisive cause), then the most frequent."""
-    return sorted(stats.rejections, key=lambda k: (-Kind(k).stage, -stats.rejections[k], k))
-
-
-def _summary(stats: SearchStats) -> str:
-    """One line: how many sequences each kind of rejection took."""
-    return ", ".join(f"{stats.rejections[kind]} {Kind(kind).words}" for kind in _kinds(stats))
-
-
-def _closest(stats: SearchStats, kind: str) -> list[str]:
-    """The closest miss of one kind, as indented lines: the steps of its sequence, one a line, then why."""
-    _, label, why = stats.examples[kind]
-    steps = label.split(" -> ")
-    lines = [f"  {stats.rejections[kind]} {Kind(kind).words}; the closest:"]
-    lines += [f"    {'-> ' if k else ''}{step}" for k, step in enumerate(steps)]
-    lines.append(f"    why: {why}")
-    return lines
-
-
-def _accounting(stats: SearchStats) -> str:
-    """Where every sequence tried went; the parts add up to the total."""
-    checked = stats.task_space_checks
-    parts = [f"{stats.pruned} with the hand out of reach at once", f"{checked} checked in task space"]
-    if stats.excluded:
-        parts.insert(1, f"{stats.excluded} repeating a step that failed in execution")
-    if stats.cut_by_bound:
-        parts.insert(1, f"{stats.cut_by_bound} needing more graphs than max_depth allows")
-    if stats.joint_space_checks:
-        parts.append(f"{stats.joint_space_checks} of them also in joint space")
-    if stats.rejections["excluded"] > stats.excluded:
-        parts.append(f"{stats.rejections['excluded'] - stats.excluded} feasible but excluded as repeats")
-    if stats.arm_path_checks:
-        parts.append(f"{stats.arm_path_checks} of those also for the arm's straight moves into and out of contacts")
-    if stats.transit_checks:
-        parts.append(f"{stats.transit_checks} of those also for the arm's transits between contacts")
-    return (
-        f"{stats.sequences} sequences tried: {stats.passed_over} only lead to others (their last step moves "
-        f"no goal body), " + ", ".join(parts)
-    )
-
-
-def _infeasible_reason(problem: Problem, stats: SearchStats, bound: Bound) -> str:
-    """A one-line summary (what scripts print), then an indented line per kind with its closest miss.
-
-    When the bound cut every sequence at the start, the summary says why with numbers instead. The
-    `--max-depth` hint, when the bound says a longer sequence could reach the goal, is a line of its own.
-    """
-    head = f"no sequence of at most {problem.max_depth} graphs reaches the goal"
-    if stats.cut_at_start:
-        needed = "" if math.isinf(stats.shortest_cut) else f"the goal needs at least {stats.shortest_cut:g} graphs"
-        detail = ": ".join(part for part in (bound.explain(), needed) if part)
-        lines = [f"{head}: {detail}" if detail else head]
-    else:
-        detail = _summary(stats)
-        lines = [f"{head}: {detail}" if detail else head]
-        for kind in _kinds(stats):
-            lines += _closest(stats, kind)
-        lines.append(f"  ({_accounting(stats)})")
-    hint = _depth_hint(problem, stats)
-    if hint:
-        lines.append(hint)
-    return "\n".join(lines)
-
-
-def _depth_hint(problem: Problem, stats: SearchStats) -> str:
-    """The `--max-depth` to try, only when the bound says that a longer sequence could reach the goal."""
-    shortest = stats.shortest_cut
-    if math.isinf(shortest) or shortest > MAX_DEPTH_HINT:
-        return ""
-    # A joint's limit or the table's edge stays where it is however long the sequence: no hint then.
-    if stats.rejections and not set(stats.rejections) - {"table"}:
-        return ""
-    if stats.cut_at_start:
-        return f"a longer sequence may reach the goal (try --max-depth {shortest:g})"
-    return (
-        f"a longer sequence may reach the goal: {stats.cut_by_bound} sequences need more than {problem.max_depth} "
-        f"graphs, the shortest at least {shortest:g} (try --max-depth {shortest:g})"
-    )
-
-
-MAX_DEPTH_HINT = 12
-"""No deeper search is suggested past this depth (the CLI's --max-depth limit)."""
-
-
-def _timeout_reason(problem: Problem, stats: SearchStats) -> str:
-    done = f"every sequence that could reach the goal in fewer than {stats.level:g} graphs was checked"
-    closest = _closest_miss(stats)
-    return (
-        f"no plan within the timeout of {problem.timeout:g} s: the time ran out while checking sequences of "
-        f"{stats.level:g} graphs or more ({done}; {stats.sequences} sequences made, "
-        f"{stats.task_space_checks} checked in task space, {stats.work.optimisations} optimisations, "
-        f"{stats.work.ik_calls} IK calls)" + (f"; the closest miss: {closest}" if closest else "") + "\n"
-        "raise `timeout` in the task's search block or pass --timeout"
-    )
-
-
-def _closest_miss(stats: SearchStats) -> str:
-    """The rejection that got farthest towards a plan (the latest stage, then the smallest excess), in words."""
-    if not stats.examples:
-        return ""
-    kind = min(stats.examples, key=lambda k: (-Kind(k).stage, stats.examples[k][0], k))
-    return stats.examples[kind][1]
-
-
-class _Progress:
-    """A one-line progress report on stderr, on a terminal only, at most ten times a second."""
-
-    def __init__(self, enabled: bool) -> None:
-        self.enabled = enabled
-        self._next = 0.0
-        self._shown = False
-
-    def show(self, stats: SearchStats) -> None:
-        if not self.enabled or time.perf_counter() < self._next:
-            return
-        self._next = time.perf_counter() + 0.1
-        self._shown = True
-        sys.stderr.write(
-            f"\rsearching: depth {stats.depth_reached}, {stats.sequences} sequences, "
-            f"{stats.task_space_checks} task-space checks, {stats.joint_space_checks} IK checks "
-        )
-        sys.stderr.flush()
-
-    def done(self) -> None:
-        if self._shown:
-            sys.stderr.write("\r\033[K")
-            sys.stderr.flush()

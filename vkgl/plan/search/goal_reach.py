@@ -1,0 +1,147 @@
+"""Whether the hand itself can hold a body's contact where the body ends: part 6 of the search's bound.
+
+A goal body that is no tool and has no `free` affordance moves only while an
+engagement of one of its moving affordances (`movers`) is in force, and its
+pose at the end of the sequence is its pose at the end of the last mode that
+moved it (`vkgl.plan.search.bound`, part 1). In that mode some effector holds
+the contact of a mover through to the mode's end, with the body at its goal
+(within the goal's tolerances). When the robot's own effector enacts it, the
+hand is at `pose @ action(s)` there (the action at offset `s` along its
+family), and task space checks every hand sample of a mode against the
+arm's reach, the mode's end included (`vkgl.plan.task_space.feasible`). So
+when no such hand position lies inside the reach for any pose the goal
+accepts, every feasible sequence moves the body last through a tool's frame,
+and a tool frame acts only while its tool is held: a tool is in the hand then.
+
+`ends_beyond_the_hand` decides it conservatively, only for bodies whose every
+mover keeps them level at their height (slides along axes horizontal in the
+world, turns about vertical axes, at rest; neither tilts the other's axes):
+then the body's frame stays at its rest height, and its pose at the goal is
+its rest orientation turned about the vertical by the heading change, moved
+to a position within `tol_position` of the goal's. The hand's height is then
+known exactly, and its radius from the arm's base is bounded from below and
+above over the accepted headings and the family's band on a grid, less what
+the grid may miss (Lipschitz: the radius changes by at most `|c|` per radian
+of heading, `c` the contact's horizontal offset from the body's frame, and by
+at most 1 m per m of offset); the position's tolerance and a millimetre of
+the optimiser's slack are added.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vkgl.lang.ir.families import offset_bounds
+from vkgl.lang.ir.nodes import Affordance
+from vkgl.plan.graphs.members import family_vectors, has_family
+from vkgl.plan.graphs.rollout import unit_axis_and_center
+from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
+from vkgl.plan.task_space.workspace import REACH_MARGIN
+from vkgl.se3 import yaw_of
+
+SLACK = 1e-3
+"""m: what the optimiser's tolerances may let a hand sample pass the reach by, and the goal's tolerance too."""
+
+HEADING_SAMPLES = 73
+"""Headings sampled over a full turn (5 deg apart); a goal's tolerance band gets at least 9."""
+
+OFFSET_SAMPLES = 9
+"""Offsets sampled over a family's band."""
+
+
+def ends_beyond_the_hand(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance], chain: np.ndarray | None = None
+) -> str | None:
+    """Why no mover's contact, held by the robot's own effector with `body` anywhere `goal` accepts, lies within
+    the arm's reach, with the numbers (see the module's docstring); None whenever that cannot be shown.
+
+    With `chain` (the hand's pose in the frame of the effector that enacts the contact: a tool frame's inverse
+    times the grasp by which the hand holds the tool, `rollout.hand_chain`), the same for that tool frame held
+    by that grasp: the hand is then at `pose @ action(s) @ chain`."""
+    if goal.position is None or not movers or not _level_movers(body, movers):
+        return None
+    heading = _heading_change(body, goal)
+    if heading is None:
+        return None
+    gaps = [_contact_beyond(problem, body, goal, mover, heading, chain) for mover in movers]
+    if any(gap is None for gap in gaps):
+        return None
+    _, words = min(gap for gap in gaps if gap is not None)
+    return f"wherever its goal accepts {body.name}, the hand at any of its contacts would be {words}"
+
+
+def _level_movers(body: PlanBody, movers: list[Affordance]) -> bool:
+    """Whether every mover keeps the body level at its height: slides along horizontal axes, turns about vertical
+    ones (in the world, at rest: a turn about a vertical axis keeps the other axes horizontal or vertical)."""
+    rotation = body.rest[:3, :3]
+    for mover in movers:
+        axis, _ = unit_axis_and_center(mover.motion)
+        z = abs(float((rotation @ axis)[2]))
+        if mover.motion.type == "prismatic" and z > 1e-9:
+            return False
+        if mover.motion.type == "revolute" and z < 1.0 - 1e-9:
+            return False
+    return True
+
+
+def _heading_change(body: PlanBody, goal: GoalSpec) -> tuple[float, float] | None:
+    """The interval of heading changes (rad) from rest that the goal accepts (a full turn without a yaw goal), or
+    None when the body's heading is not defined (its x axis vertical)."""
+    if np.hypot(body.rest[0, 0], body.rest[1, 0]) < 0.1:
+        return None
+    if goal.yaw is None or goal.tol_yaw >= math.pi:
+        return (-math.pi, math.pi)
+    change = goal.yaw - yaw_of(body.rest)
+    return (change - goal.tol_yaw, change + goal.tol_yaw)
+
+
+def _contact_beyond(
+    problem: Problem,
+    body: PlanBody,
+    goal: GoalSpec,
+    mover: Affordance,
+    heading: tuple[float, float],
+    chain: np.ndarray | None = None,
+) -> tuple[float, str] | None:
+    """How far (m) and why the hand holding `mover`'s contact (through `chain`) is outside the reach wherever the
+    goal accepts the body, or None when it may be inside."""
+    assert goal.position is not None
+    pose = problem.action(body.name, mover.name)
+    action = pose[:3, 3] if chain is None else (pose @ chain)[:3, 3]  # the offset moves the hand as the contact
+    along, _ = family_vectors(mover)
+    lower, upper = offset_bounds(mover) if has_family(problem, body.name, mover.name) else (0.0, 0.0)
+    offsets = np.linspace(lower, upper, OFFSET_SAMPLES if upper > lower else 1)
+    contacts = (body.rest[:3, :3] @ (action[:, None] + np.outer(along, offsets))).T  # per offset, world axes
+    heights = body.rest[2, 3] + contacts[:, 2]
+    if np.ptp(heights) > 1e-9:
+        return None  # the hand's height changes along the band: not decided here
+    height = float(heights[0])
+    r_min, r_max = problem.arm.reach(height)
+    if r_max <= 0:
+        return 1.0, f"at height {height:.3f} m, where the arm reaches nowhere"
+    width = heading[1] - heading[0]
+    count = HEADING_SAMPLES if width >= 2 * math.pi - 1e-9 else max(9, math.ceil(width / math.radians(5)) + 1)
+    angles = np.linspace(heading[0], heading[1], count)
+    offset_xy = contacts[:, :2]
+    spin = np.stack([np.cos(angles), -np.sin(angles), np.sin(angles), np.cos(angles)], axis=1).reshape(-1, 2, 2)
+    turned = np.einsum("hij,oj->hoi", spin, offset_xy)  # headings x offsets x 2
+    centre = np.asarray(goal.position[:2], dtype=float) - problem.arm.base[:2, 3]
+    radii = np.linalg.norm(centre + turned, axis=2)
+    step_heading = width / (count - 1) if count > 1 else 0.0
+    step_offset = (upper - lower) / (len(offsets) - 1) if len(offsets) > 1 else 0.0
+    missed = float(np.max(np.linalg.norm(offset_xy, axis=1))) * step_heading / 2 + step_offset / 2
+    slack = missed + goal.tol_position + SLACK
+    usable = (
+        f"from the arm's base at height {height:.3f} m (usable reach there: {r_min + REACH_MARGIN:.3f} to "
+        f"{r_max - REACH_MARGIN:.3f} m)"
+    )
+    if (beyond := radii.min() - slack - (r_max - REACH_MARGIN)) > 0:
+        return float(beyond), f"at least {radii.min() - slack:.3f} m {usable}"
+    if (within := r_min + REACH_MARGIN - radii.max() - slack) > 0:
+        return float(within), f"at most {radii.max() + slack:.3f} m {usable}"
+    return None
+
+
+__all__ = ["ends_beyond_the_hand"]
