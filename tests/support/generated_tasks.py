@@ -27,13 +27,25 @@ tested by separating axes.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import shutil
 from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+from generated_bodies import (  # noqa: F401  (re-exported: the tests and benches read them from here)
+    BLOCK,
+    GENERATED_TYPES,
+    HOOK,
+    LEARNED_MODULES,
+    MOVABLE_TYPES,
+    SLIDE_SECONDS,
+    STICK,
+    TOOLS,
+    TYPES,
+    BodyType,
+)
+from generated_bodies import num as _num
 from scipy.spatial import ConvexHull
 
 TABLE_MIN = np.array([-0.3, -0.6])
@@ -43,98 +55,6 @@ GAP = 0.015  # m: the least gap between two bodies at the start
 NEAR_RADIUS = (0.35, 0.72)  # m from the arm's base: inside the fingertip's reach (0.09 to 0.80 m)
 FAR_RADIUS = (0.86, 0.98)  # m: beyond the fingertip's reach
 SOLVE_TIMEOUT_S = 20
-LEARNED_MODULES = "+families"
-"""What inference writes into modules beyond its report (part of the cache key): `family` lines."""
-SLIDE_SECONDS = 17  # s of the generated bodies' `explore slides` trials: the stdlib Block's (it slides 49 cm)
-
-
-@dataclass(frozen=True)
-class BodyType:
-    """A box body (or a stdlib body): its name, kind, size (m, x y z) and density (kg/m^3)."""
-
-    name: str
-    kind: str
-    size: tuple[float, float, float]
-    density: float = 500.0
-    stdlib: bool = False
-    parts: tuple[tuple[float, float, float, float], ...] = ()  # (cx, cy, sx, sy) boxes of a union, body frame
-    long_slides: bool = True  # explored with the long `slides` pushes too; False: the short push grid only
-    slide_steps: int = 1  # points per face of the long `slides` pushes: 1, the centre; 5 adds pulls off it
-
-    @property
-    def mass(self) -> float:
-        """kg, from the density (rounded to grams)."""
-        return round(self.density * self.size[0] * self.size[1] * self.size[2], 3)
-
-    @property
-    def size_class(self) -> str:
-        """`low` (height up to 6 cm), `mid` (up to 15 cm) or `tall`."""
-        height = self.size[2]
-        return "low" if height <= 0.06 + 1e-9 else "mid" if height <= 0.15 + 1e-9 else "tall"
-
-    def rects(self) -> tuple[tuple[float, float, float, float], ...]:
-        """The footprint as (cx, cy, sx, sy) rectangles in the body frame."""
-        return self.parts or ((0.0, 0.0, self.size[0], self.size[1]),)
-
-    def source(self) -> str:
-        """The `body` declaration (generated types only)."""
-        x, y, z = (_num(v * 100) for v in self.size)
-        return (
-            f"body {self.name} {{\n"
-            f"    shape box ({x}, {y}, {z}) cm\n"
-            f"    mass {_num(self.mass)} kg\n"
-            f"    friction 0.5\n"
-            f"    explore pushes {{\n"
-            f"        contacts on faces +x, -x steps 9\n"
-            f"        force normal 1 N\n"
-            f"        duration 3 s\n"
-            f"    }}\n"
-            + (
-                f"    explore slides {{\n"
-                f"        contacts on faces +x, -x steps {self.slide_steps}\n"
-                f"        force normal 1 N\n"
-                f"        duration {_num(SLIDE_SECONDS)} s\n"
-                f"    }}\n"
-                if self.long_slides
-                else ""
-            )
-            + "}\n"
-        )
-
-    def source_hash(self) -> str:
-        """The key of the learned-affordance cache: a hash of the body's source, of what inference writes and of
-        the physics it was explored in.
-
-        `INFER_REPORT_FORMAT` changes with what inference writes (version 2:
-        `range ... open`), `INFERENCE_REVISION` with what it makes of the same
-        trials, `LEARNED_MODULES` with what it writes into modules only (`family` lines), and
-        `PHYSICS_REVISION` with what the DART worlds simulate (revision 2: the friction cone), so a cache
-        learned by an older inference or under other physics is not reused.
-        """
-        from vkgl.formats.infer_report import INFER_REPORT_FORMAT
-        from vkgl.infer.library import INFERENCE_REVISION
-        from vkgl.sim.world import PHYSICS_REVISION
-
-        key = f"{self.source()}{INFER_REPORT_FORMAT}{LEARNED_MODULES} inference {INFERENCE_REVISION}{PHYSICS_REVISION}"
-        return hashlib.sha256(key.encode()).hexdigest()[:16]
-
-
-GENERATED_TYPES = (
-    BodyType("CubeS", "cube", (0.08, 0.08, 0.08)),
-    BodyType("CubeM", "cube", (0.12, 0.12, 0.12)),
-    BodyType("SlabN", "slab", (0.12, 0.24, 0.05)),
-    BodyType("SlabW", "slab", (0.16, 0.30, 0.06)),
-    BodyType("CrateM", "crate", (0.20, 0.30, 0.18), density=150.0),
-    BodyType("CrateT", "crate", (0.16, 0.24, 0.25), density=150.0),
-)
-BLOCK = BodyType("Block", "block", (0.10, 0.20, 0.05), stdlib=True)
-STICK = BodyType("Stick", "stick", (0.40, 0.02, 0.02), stdlib=True)
-HOOK = BodyType(
-    "Hook", "hook", (0.40, 0.16, 0.02), stdlib=True, parts=((0.0, 0.0, 0.40, 0.02), (0.19, 0.07, 0.02, 0.16))
-)
-MOVABLE_TYPES = (*GENERATED_TYPES, BLOCK)
-TYPES = {t.name: t for t in (*MOVABLE_TYPES, STICK, HOOK)}
-TOOLS = (("stick", STICK, 0.3, -0.4, 0.0), ("hook", HOOK, 0.3, 0.4, 0.0))
 
 
 @dataclass(frozen=True)
@@ -378,12 +298,6 @@ def _place_clutter(
 def _r(value: float) -> float:
     """Positions are written with 3 decimals (mm)."""
     return round(float(value), 3)
-
-
-def _num(value: float) -> str:
-    """A number as the files write it: no trailing zeros."""
-    text = f"{value:.3f}".rstrip("0").rstrip(".")
-    return "0" if text in ("-0", "") else text
 
 
 # ---------------------------------------------------------------- files
