@@ -3,9 +3,10 @@ fails the step (exit 5), and the closed loop grasps again.
 
 The plans are scripted (`plan_script`) so that these tests do not depend on the
 search; the physics, the grip's load and the slip are real. A weak grip is made
-by lowering the fingers' force (`vkgl.execute.grip.model.GRIP_FORCE`, the force
-of a tool held by a `fixed` action) so far that the stick's own weight, held at
-its end, needs more torque than the pads' friction carries.
+by lowering the fingers' force in the executor only (`_weak_grips`: the grip
+`vkgl.execute.steps` holds a tool with; the planner keeps the real one) so far
+that the stick's own weight, held at its end, needs more torque than the pads'
+friction carries.
 """
 
 from __future__ import annotations
@@ -63,8 +64,14 @@ def test_a_held_sticks_slip_and_load_are_reported(program):
     assert data["format"] == "vkg-execution/5" and data["steps"][1]["grip"]["tool"] == "stick"
 
 
+def _weak_grips(monkeypatch) -> None:
+    """The executor holds every tool with `WEAK` N (the planner, which estimates loads, keeps the real grip)."""
+    real = grip_for
+    monkeypatch.setattr("vkgl.execute.steps.grip_for", lambda action, mu: Grip(WEAK, real(action, mu).friction))
+
+
 def test_a_grip_too_weak_for_the_load_breaks_and_fails_the_step(program, monkeypatch):
-    monkeypatch.setattr(model, "GRIP_FORCE", WEAK)
+    _weak_grips(monkeypatch)
     plan = scripted_plan(program, TASK, [GRASP, "add Block.push_center_px block stick.tip 0.25"])
     report = execute(program, TASK, plan)
     assert report.status == "failed", report.text()
@@ -104,7 +111,7 @@ def test_vkgc_exits_5_when_the_held_tool_slips(monkeypatch, capsys):
     from vkgl.cli import main
     from vkgl.cli.exit_codes import EXIT_NOT_REACHED
 
-    monkeypatch.setattr(model, "GRIP_FORCE", WEAK)
+    _weak_grips(monkeypatch)
     code = main(["solve", str(EXAMPLES / "tasks" / f"{TASK}.vkg"), "--execute"])
     out = capsys.readouterr().out
     assert code == EXIT_NOT_REACHED

@@ -9,7 +9,7 @@ the tool on each side, at the grasp they close until their pads touch the
 tool's faces (the tool's width across the grip, where the effector frame
 holds it), and when the tool is let go of they open again; they close fully
 before the hand pushes with its fingertip. What holds the tool then is the
-grip of `vkgl.execute.grip.model` (why: see there).
+grip of `vkgl.robot.grip` (why: see there).
 """
 
 from __future__ import annotations

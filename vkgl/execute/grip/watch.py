@@ -6,7 +6,7 @@ contact forces other bodies exert on the tool, and every control period it
 turns them, the tool's weight and its inertia into the load the grip
 must carry in each of the period's steps (about the effector frame's origin,
 in its axes) and compares it with what the fingers' friction carries
-(`vkgl.execute.grip.model.Grip.usage`); the median over the last 0.1 s
+(`vkgl.robot.grip.Grip.usage`); the median over the last 0.1 s
 (`LOAD_WINDOW`) decides. Past 1 the grip breaks: the tool is let
 go of where it is, moving as it moves, and physics decides where it goes.
 

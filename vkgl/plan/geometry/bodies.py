@@ -27,6 +27,7 @@ import numpy as np
 
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.collision import CollisionScene, Contact, pair
+from vkgl.plan.geometry.grip_load import grip_rejection
 from vkgl.plan.geometry.keep_out import keep_out_rejection
 from vkgl.plan.geometry.sweep import sweep_mode
 from vkgl.plan.graphs.graph import Engagement, KGraph
@@ -168,6 +169,10 @@ class GeometryCheck:
                 touched |= before
             before = touched
             held = self._held(graph, touched)
+            if held is not None and q_start[k] is not None:
+                slipping = grip_rejection(self.problem, graph, trace, np.asarray(q_start[k], dtype=float), held[0])
+                if slipping is not None:
+                    return slipping
             for q, poses, when in ((q_start[k], trace.start, "start"), (q_end[k], trace.end, "end")):
                 if q is None:
                     continue

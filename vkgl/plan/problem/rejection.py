@@ -22,6 +22,7 @@ class Kind(StrEnum):
     TABLE = "table"
     COLLISION = "collision"
     IK = "ik"
+    GRIP = "grip"
     TIMEOUT = "timeout"
     APPROACH = "approach"
     TRANSIT = "transit"
@@ -45,6 +46,7 @@ _WORDS = {
     Kind.GOAL: "found no motion values reaching the goal",
     Kind.TABLE: "would push a body off the table or past its joint's limits",
     Kind.IK: "failed inverse kinematics",
+    Kind.GRIP: "would push harder with a held tool than its grip carries",
     Kind.COLLISION: "would make a body pass through another (or the arm hit one)",
     Kind.APPROACH: "had a contact the arm cannot approach or leave in a straight line",
     Kind.TRANSIT: "found no collision-free way for the arm between contacts",
@@ -60,6 +62,7 @@ _STAGE = {
     Kind.TABLE: 1,
     Kind.COLLISION: 2,
     Kind.IK: 2,
+    Kind.GRIP: 2,
     Kind.TIMEOUT: 2,
     Kind.APPROACH: 3,
     Kind.TRANSIT: 3,
