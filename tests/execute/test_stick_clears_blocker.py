@@ -15,27 +15,20 @@ from pathlib import Path
 import numpy as np
 from contact_chain_check import check_contact_chains
 from plan_geometry import check_plan
+from pushed_cube import CUBE_SOURCE
 
 import vkgl
 
-TASK = """
+TASK = (
+    """
 use stdlib.robots.panda
 use stdlib.bodies.stick
 use stdlib.affordances.stick
 use stdlib.tools
 
-body Cube {
-    shape box (8, 8, 8) cm
-    mass 0.256 kg
-    friction 0.5
-}
-
-affordances Cube {
-    affordance push_center_px {
-        action fixed at (-4, 0, 0) cm yaw 0deg
-        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 40 cm
-    }
-}
+"""
+    + CUBE_SOURCE
+    + """
 
 scene beyond {
     table size (1.6, 1.2) m at (0.5, 0, 0) m
@@ -51,6 +44,7 @@ task across {
     search { timeout 60 s }
 }
 """
+)
 
 CORRIDOR_HALF_WIDTH = 0.04
 """m: the cube's path is a band this wide either side of y = 0 (the cube is 8 cm wide and slides along x)."""

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from pushed_cube import CUBE_SOURCE
 
 import vkgl
 from vkgl.lang.ir.regions import convex_hull
@@ -171,7 +172,8 @@ def test_a_blocker_moved_twice_goes_all_the_way_first_when_one_motion_cannot_cle
         assert -0.10 - MARGIN - 0.01 <= face <= -0.10 - MARGIN + 0.003, face
 
 
-ACROSS_THE_STICK = """
+ACROSS_THE_STICK = (
+    """
 use stdlib.robots.panda
 use stdlib.bodies.block
 use stdlib.bodies.stick
@@ -179,18 +181,9 @@ use stdlib.affordances.block
 use stdlib.affordances.stick
 use stdlib.tools
 
-body Cube {
-    shape box (8, 8, 8) cm
-    mass 0.256 kg
-    friction 0.5
-}
-
-affordances Cube {
-    affordance push_center_px {
-        action fixed at (-4, 0, 0) cm yaw 0deg
-        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 40 cm
-    }
-}
+"""
+    + CUBE_SOURCE
+    + """
 
 scene beyond {
     table size (1.6, 1.2) m at (0.5, 0, 0) m
@@ -205,6 +198,7 @@ task across {
     goal cube at (0.84, 0) m within 1 cm
 }
 """
+)
 
 
 def test_a_stick_that_would_stand_in_the_target_at_its_contact_tries_the_contact_elsewhere_along_the_face() -> None:
