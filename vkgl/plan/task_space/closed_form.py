@@ -32,11 +32,10 @@ from vkgl.plan.graphs.rollout import (
     acting_engagement,
     hand_chain,
     unit_axis_and_center,
-    value_bounds,
 )
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach
+from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach, value_limits
 from vkgl.plan.task_space.workspace import REACH_MARGIN, reach_violation, unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -82,7 +81,7 @@ def _goal_values(
         return far if far is not None else {}  # a necessary test only: the optimiser alone decides the values
     if goal.yaw is None or None in signs:
         return {}  # the optimiser alone decides
-    limits = [_limits(problem, seq, i) for i in turns]
+    limits = [value_limits(problem, seq, i) for i in turns]
     needed = wrap_angle(goal.yaw - yaw_of(rest))
     if len(turns) > 2:
         return _many_turns(problem, seq, goal, turns, slides, signs, limits, needed)  # type: ignore[arg-type]
@@ -94,7 +93,7 @@ def _goal_values(
         return {i: (a, len(candidates) == 1) for i, a in zip(turns, first)}
     angles = np.array(candidates).reshape(len(candidates), len(turns))
     origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles)
-    slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
+    slide_limits = np.array([value_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
     best = best_row(columns, origins, goal.position, slide_limits)
     slack = goal.tol_position + (0.5 * math.pi / (TURN_GRID - 1) * LEVER_BOUND if len(turns) > 1 else 0.0)
     if best[0] > slack:
@@ -135,7 +134,7 @@ def _joint_goal_values(problem: Problem, seq: Sequence, goal: GoalSpec) -> dict[
         if body.joint == "revolute" and center is not None and abs(abs(along) - 1.0) > 1e-6:
             return {}  # a turn about another axis: not a sum of angles
         weights.append(0.0 if body.joint == "revolute" and center is None else along)
-    limits = [_limits(problem, seq, i) for i in own]
+    limits = [value_limits(problem, seq, i) for i in own]
     low = sum(min(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
     high = sum(max(w * lo, w * hi) for w, (lo, hi) in zip(weights, limits))
     target = goal.opening - body.start_state  # what the motions must add to where the joint starts
@@ -165,7 +164,7 @@ def _joint_why(
     movers = names[0] if len(names) == 1 else f"its {len(own)} motions ({', '.join(names)})"
     ranged = sorted(
         {
-            f"{_name(problem, seq, i)} {_limits(problem, seq, i)[1] * scale:.1f} {unit}"
+            f"{_name(problem, seq, i)} {value_limits(problem, seq, i)[1] * scale:.1f} {unit}"
             for i in own
             if _has_range(problem, seq, i)
         }
@@ -183,12 +182,6 @@ def _joint_why(
         f"{body} must open {target * scale:.1f} {unit} on its {joint} joint, but {movers} "
         f"open{'s' if len(names) == 1 else ''} it {low * scale:.1f} to {high * scale:.1f} {unit} here{within}"
     )
-
-
-def _limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:
-    """The values motion value `index` may take (its affordance's `range` within the planner's caps)."""
-    e = seq.variables[index][1]
-    return value_bounds(problem.affordance(e.body, e.affordance).motion)
 
 
 def _name(problem: Problem, seq: Sequence, index: int) -> str:
@@ -233,7 +226,7 @@ def _many_turns(
     out = {i: (float(a), False) for i, a in zip(turns, angles)}
     if goal.position is not None and slides:
         origins, columns = affine_positions(problem, seq, goal.body, turns, slides, np.array([angles]))
-        slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
+        slide_limits = np.array([value_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
         _, solution = closest(columns[0], goal.position - origins[0, : len(goal.position)], slide_limits)
         out.update({i: (float(v), False) for i, v in zip(slides, solution)})
     return out
@@ -296,7 +289,7 @@ def _at_range_end(problem: Problem, seq: Sequence, slides: list[int], solution: 
     """`; Block.push_center_px slides at most 5.7 cm (its explored range)` for slides stopped by their range."""
     stopped: dict[str, float] = {}
     for i, v in zip(slides, solution):
-        upper = _limits(problem, seq, i)[1]
+        upper = value_limits(problem, seq, i)[1]
         if _has_range(problem, seq, i) and v >= upper - 1e-9:
             stopped[_name(problem, seq, i)] = upper
     parts = [f"{name} slides at most {upper * 100:.1f} cm per contact" for name, upper in stopped.items()]

@@ -50,8 +50,8 @@ def position_out_of_reach(
     inequality only); nothing with unbounded values.
     """
     assert goal.position is not None
-    turn_limits = [_limits(problem, seq, i) for i in turns]
-    slide_limits = np.array([_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
+    turn_limits = [value_limits(problem, seq, i) for i in turns]
+    slide_limits = np.array([value_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
     if not (np.isfinite(turn_limits).all() and np.isfinite(slide_limits).all()):
         return None
     radii = [_pivot_radius(problem, seq, i) for i in turns]  # at offset 0 of their families
@@ -100,7 +100,8 @@ def _turn_matrices(motion: object, angles: np.ndarray) -> np.ndarray:
     return m
 
 
-def _limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:
+def value_limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, float]:
+    """The values motion value `index` may take (its affordance's `range` within the planner's caps)."""
     e = seq.variables[index][1]
     return value_bounds(problem.affordance(e.body, e.affordance).motion)
 
