@@ -137,7 +137,7 @@ def test_the_replay_check_takes_a_leaned_hand_only_with_its_pad_at_the_contact(p
     assert any("the pad is" in p for p in check_plan(compiled("h_close_door"), plan_json))
 
 
-def test_json_has_exactly_the_vkg_plan_3_keys(plans):
+def test_json_has_exactly_the_vkg_plan_4_keys(plans):
     out = plans["e_rotate_stick_push"].to_json()
     assert list(out) == ["format", "task", "status", "depth", "stats", "robot", "graphs", "steps", "final"]
     assert out["format"] == "vkg-plan/4" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
