@@ -245,8 +245,22 @@ class Evidence(Node):
     slip_unit: str = Field(default="mm", exclude=True, repr=False)
 
 
+class Arc(Node):
+    """`arc lever Q bias Q ahead Q` in a slide's family: pushed at offset `s` off the centre, the body turns.
+
+    The pivot lies `ahead` of the contact along the slide and `lever**2 / |s| + bias` across it, on the side away
+    from the contact (SI m; all three lengths). `vkgl.lang.ir.families.at_offset` turns it into the member's
+    revolute motion. docs/language.md, "Arcs".
+    """
+
+    lever: Quantity
+    bias: Quantity
+    ahead: Quantity
+
+
 class Family(Node):
-    """`family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`: the contacts of an affordance along its face.
+    """`family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`: the contacts of an affordance along its
+    face.
 
     The contact may be the action's pose moved by `s * along` for any offset `s` in
     [lower, upper] (SI m; 0, the action's own contact, lies inside). A slide is the
@@ -254,12 +268,15 @@ class Family(Node):
     metres of pivot per metre of offset). `sigma`: the spread of what the explored
     contacts did about that model (a length for a turn's pivot, an angle for a
     slide's direction); None when not known. docs/language.md, "Families".
+    A slide's family with an `arc` turns the body off its offset 0 (`Arc`); its sigma is then the law's error in
+    the turn over 10 cm of push (an angle).
     """
 
     along: Vector
     lower: Quantity
     upper: Quantity
     drift: Vector | None = None
+    arc: Arc | None = None
     sigma: Quantity | None = None
 
 
