@@ -12,7 +12,13 @@ Printed, per body: the law as written in the module, its leave-one-out sigma, an
 pivot, DART's pose and the prediction after 10 cm (cm, deg) and the error; then how many are within 1 cm and
 2 deg (the issue's bar).
 
+With --goals (no DART): for bench/bench_heading.py's goals (slid 10 to 15 cm along +x and turned 10 to 20 deg,
+within 1 cm and 3 deg), whether one member of the -x face's arc family reaches the goal, as the law predicts,
+for the stdlib Block and every generated type's learned fixture (tests/bench/learned): what a planner that
+chose the offset of an arc contact could do at depth 2.
+
     PYTHONPATH=$PWD .venv/bin/python bench/bench_arc_law.py [--bodies Block,CubeM,SlabN,CrateM] [--held 0.3,1.5]
+    PYTHONPATH=$PWD:tests/support .venv/bin/python bench/bench_arc_law.py --goals
 
 Trials are cached in bench/.cache/arc_law (git-ignored); seeded, single process for the held-out pushes.
 """
@@ -106,6 +112,70 @@ def measure(name: str, held: list[float], seed: int) -> tuple[int, int, list[tup
     return kept, len(held), errors
 
 
+GOALS = ((0.10, -10.0), (0.12, 15.0), (0.15, -20.0), (0.13, 12.0))  # bench_heading.py's (dx m, dyaw deg)
+WITHIN = (0.01, 3.0)  # m, deg: bench_heading.py's tolerance
+
+
+def best_member(slide: Affordance, dx: float, dyaw: float) -> tuple[float, float, float]:
+    """(least position miss in m with the heading within tolerance, the offset in m, the turn in deg) of one member
+    of `slide`'s arc family for the goal slid `dx` along +x and turned `dyaw` (deg), over a 0.1 mm grid of the band
+    and the turns inside the member's range."""
+    assert slide.family is not None
+    best = (math.inf, 0.0, 0.0)
+    lower, upper = slide.family.lower.value, slide.family.upper.value
+    for offset in np.arange(math.ceil(lower * 1e4), math.floor(upper * 1e4) + 1) / 1e4:
+        if offset == 0.0:
+            continue
+        motion = at_offset(slide, float(offset)).motion
+        assert isinstance(motion, RevoluteC) and motion.range is not None
+        sense = 1.0 if motion.axis.values[2] > 0 else -1.0
+        if sense * dyaw <= 0:
+            continue
+        for turn in np.radians(np.linspace(abs(dyaw) - WITHIN[1], abs(dyaw) + WITHIN[1], 25)):
+            if not 0.0 <= turn <= motion.range.upper.value:
+                continue
+            end = arc_end(motion.center.array()[:2], sense * turn)
+            miss = float(np.hypot(end[0] - dx, end[1]))
+            if miss < best[0]:
+                best = (miss, float(offset), math.degrees(sense * turn))
+    return best
+
+
+def reachable() -> int:
+    """Print, per body and goal of bench_heading.py, whether one arc member reaches it; the count reached."""
+    import generated_tasks
+
+    library = generated_tasks.fixture_library()
+    modules = {"Block": Path(__file__).resolve().parents[1] / "stdlib" / "affordances" / "block.vkg", **library}
+    reached = total = 0
+    print(f"{'body':7} " + " ".join(f"{f'{100 * dx:.0f} cm {dyaw:+.0f} deg':>30}" for dx, dyaw in GOALS))
+    for name, module in modules.items():
+        if module is None:
+            continue
+        text = module.read_text(encoding="utf-8")
+        decls = _parse(text, module)
+        slide = px_slide([a for d in decls if isinstance(d, AffordanceSet) for a in d.affordances])
+        cells = []
+        for dx, dyaw in GOALS:
+            total += 1
+            if slide is None:
+                cells.append("no arc")
+                continue
+            miss, offset, turn = best_member(slide, dx, dyaw)
+            ok = miss <= WITHIN[0]
+            reached += ok
+            cells.append(f"{'yes' if ok else 'no '} {100 * miss:.2f} cm at {100 * offset:+.2f} cm {turn:+.1f}d")
+        print(f"{name:7} " + " ".join(f"{c:>30}" for c in cells), flush=True)
+    print(f"\ngoals one arc member reaches (law, no DART): {reached} of {total}")
+    return reached
+
+
+def _parse(text: str, module: Path) -> list:
+    from vkgl.lang.syntax.parser import parse_module
+
+    return parse_module(text, str(module)).decls
+
+
 def _pose(pose: np.ndarray) -> str:
     return f"({100 * pose[0]:5.2f},{100 * pose[1]:+5.2f}) {math.degrees(pose[2]):+6.2f}d"
 
@@ -115,7 +185,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--bodies", default="Block,CubeM,SlabN,CrateM", help="comma-separated body types")
     parser.add_argument("--held", default=",".join(f"{100 * h:g}" for h in HELD), help="held-out offsets (cm)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--goals", action="store_true", help="which heading goals one arc member reaches (no DART)")
     args = parser.parse_args(argv)
+    if args.goals:
+        reachable()
+        return 0
     held = [float(h) / 100.0 for h in args.held.split(",")]
     kept = checked = 0
     worst = (0.0, 0.0)

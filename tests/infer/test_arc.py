@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +17,8 @@ from vkgl.infer.trial import TrialInference
 from vkgl.lang.ir.families import at_offset
 from vkgl.lang.ir.nodes import AffordanceSet, RevoluteC
 from vkgl.lang.syntax.parser import parse_module
+
+REPO = Path(__file__).resolve().parents[2]
 
 CONTACT = np.array([-0.05, 0.0, 0.0])  # the -x face's centre of a 10 cm body, pushed along +x
 LEFT = np.array([0.0, 1.0, 0.0])
@@ -136,3 +139,42 @@ def test_the_member_at_an_offset_turns_the_body_as_the_pushes_the_law_was_fitted
     assert member.motion.range is not None
     assert member.motion.range.upper.value == pytest.approx(0.491 / math.hypot(r, 0.073))
     assert at_offset(slide, 0.0).motion == slide.motion
+
+
+def test_the_stdlib_blocks_law_predicts_a_dart_push_at_a_contact_exploration_never_pushed() -> None:
+    # exploration's own pusher (force along the face's inward normal, 1 N beyond the table's friction) 1.1 cm off
+    # the -x face's centre, half way between the grid's centre and its first point (2.2 cm): the learned member
+    # (stdlib/affordances/block.vkg) against DART once the body's centre has travelled 5 cm
+    import vkgl
+    from vkgl.sim.explore import G, run_trial
+    from vkgl.sim.fingertip import NO_LOAD_SPEED
+    from vkgl.sim.policy import TrialSpec
+
+    program = vkgl.compile(REPO / "stdlib" / "affordances" / "block.vkg")
+    slide = next(a for a in program.affordances["Block"] if a.name == "push_center_px")
+    body = program.bodies["Block"]
+    limit = 1.0 + 0.5 * body.mass.value * G
+    spec = TrialSpec(
+        0,
+        body,
+        "arc",
+        "push",
+        np.array([-0.05, 0.011, 0.0]),
+        np.array([1.0, 0, 0]),
+        1.0,
+        0.06 / (NO_LOAD_SPEED * 1.0 / limit) + 0.5,
+        np.array([0, 1.0, 0]),
+    )
+    result = run_trial(spec, 0)
+    assert result.ok
+    poses = np.array([[T[0, 3], T[1, 3], math.atan2(T[1, 0], T[0, 0])] for T in result.T_ow])
+    poses -= poses[0]
+    seen = poses[int(np.searchsorted(np.linalg.norm(poses[:, :2], axis=1), 0.05))]
+    member = at_offset(slide, 0.011).motion
+    assert isinstance(member, RevoluteC)
+    centre = member.center.array()
+    radius = float(np.linalg.norm(centre[:2]))
+    angle = float(member.axis.values[2]) * 2.0 * math.asin(float(np.linalg.norm(seen[:2])) / (2.0 * radius))
+    predicted = _turned(centre, angle)
+    assert np.linalg.norm(predicted[:2, 3] - seen[:2]) < 0.005  # m
+    assert abs(math.degrees(math.atan2(predicted[1, 0], predicted[0, 0]) - seen[2])) < 1.0  # deg
