@@ -246,12 +246,8 @@ class Evidence(Node):
 
 
 class Arc(Node):
-    """`arc lever Q bias Q ahead Q` in a slide's family: pushed at offset `s` off the centre, the body turns.
-
-    The pivot lies `ahead` of the contact along the slide and `lever**2 / |s| + bias` across it, on the side away
-    from the contact (SI m; all three lengths). `vkgl.lang.ir.families.at_offset` turns it into the member's
-    revolute motion. docs/language.md, "Arcs".
-    """
+    """`arc lever Q bias Q ahead Q` (m) in a slide's family: pushed at `s` off the centre, the body turns about a
+    pivot `ahead` along the push and `lever**2 / |s| + bias` across it (`vkgl.lang.ir.arcs`; docs/language.md)."""
 
     lever: Quantity
     bias: Quantity
@@ -259,17 +255,14 @@ class Arc(Node):
 
 
 class Family(Node):
-    """`family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`: the contacts of an affordance along its
-    face.
+    """`family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`: an affordance's contacts on its face.
 
     The contact may be the action's pose moved by `s * along` for any offset `s` in
     [lower, upper] (SI m; 0, the action's own contact, lies inside). A slide is the
-    same at every offset; a turn's pivot moves by `s * drift` (dimensionless:
-    metres of pivot per metre of offset). `sigma`: the spread of what the explored
-    contacts did about that model (a length for a turn's pivot, an angle for a
-    slide's direction); None when not known. docs/language.md, "Families".
-    A slide's family with an `arc` turns the body off its offset 0 (`Arc`); its sigma is then the law's error in
-    the turn over 10 cm of push (an angle).
+    same at every offset (with an `arc`, a turn off the centre); a turn's pivot moves
+    by `s * drift` (metres of pivot per metre of offset). `sigma`: the spread of what
+    the explored contacts did about that model (a length for a turn's pivot, an angle
+    for a slide's direction or an arc's turn over 10 cm); None when not known.
     """
 
     along: Vector
