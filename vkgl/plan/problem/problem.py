@@ -305,6 +305,8 @@ def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
     if goal.position is None or goal.yaw is None or goal.region is not None or goal.opening is not None:
         return body
     members = arc_members(body.affordances, body.rest, goal.position[:2], goal.yaw, (goal.tol_position, goal.tol_yaw))
+    known = {a.name for a in body.affordances}  # two goals on one body may pick the same member
+    members = tuple(m for m in members if m.name not in known)
     return replace(body, affordances=body.affordances + members) if members else body
 
 
