@@ -367,7 +367,7 @@ def evidences() -> st.SearchStrategy[ir.Evidence]:
 
 
 def families() -> st.SearchStrategy[ir.Family]:
-    """`family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`, bounds in one unit or each in its own."""
+    """`family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`, bounds in one unit or each in its own."""
 
     def family(lower_unit: str, upper_unit: str) -> st.SearchStrategy[ir.Family]:
         return st.builds(
@@ -376,10 +376,16 @@ def families() -> st.SearchStrategy[ir.Family]:
             lower=st.builds(ir.Quantity, value=si_values(lower_unit), unit=st.just(lower_unit)),
             upper=st.builds(ir.Quantity, value=si_values(upper_unit), unit=st.just(upper_unit)),
             drift=st.none() | vectors(None, 3),
+            arc=st.none() | arcs(),
             sigma=st.none() | quantities("length") | quantities("angle"),
         )
 
     return st.tuples(units("length"), units("length")).flatmap(lambda us: family(*us))
+
+
+def arcs() -> st.SearchStrategy[ir.Arc]:
+    """`arc lever Q bias Q ahead Q`: three lengths, each in its own unit."""
+    return st.builds(ir.Arc, lever=quantities("length"), bias=quantities("length"), ahead=quantities("length"))
 
 
 def affordance_sets() -> st.SearchStrategy[ir.AffordanceSet]:

@@ -6,8 +6,8 @@ from __future__ import annotations
 import hashlib
 from dataclasses import dataclass
 
-LEARNED_MODULES = "+families"
-"""What inference writes into modules beyond its report (part of the cache key): `family` lines."""
+LEARNED_MODULES = "+families+arcs"
+"""What inference writes into modules beyond its report (part of the cache key): `family` lines, their `arc`s."""
 SLIDE_SECONDS = 17  # s of the generated bodies' `explore slides` trials: the stdlib Block's (it slides 49 cm)
 
 

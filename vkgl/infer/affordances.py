@@ -37,11 +37,13 @@ from scipy.spatial.transform import Rotation
 
 from vkgl.formats.trials import Trials
 from vkgl.infer.data import EdgeData, edge_data, trial_edges
-from vkgl.infer.faces.family import FamilyFit, fit_family
+from vkgl.infer.faces.arc import ArcFit, fit_arc
+from vkgl.infer.faces.family import FamilyFit, fit_family, with_arc
 from vkgl.infer.select import EdgeInference, infer_edge
 from vkgl.infer.trial import TrialInference
 from vkgl.lang.ir.nodes import (
     Affordance,
+    Arc,
     Evidence,
     Family,
     FixedC,
@@ -93,7 +95,7 @@ def group_trials(trials: Trials, results: list[TrialInference]) -> list[Group]:
     usable = [r for r in results if r.skipped is None and r.motion is not None]
     wield_sets, pushes = _split_wield(usable)
     groups = [_joint_group(trials, members) for members in wield_sets]
-    groups += _push_groups(pushes)
+    groups += _push_groups(trials, pushes)
     groups = [g for g in groups if g.motion.type != "fixed"]
     groups.sort(key=_reading_order)
     _name(groups)
@@ -170,7 +172,7 @@ def _stack(parts: list[EdgeData]) -> EdgeData:
 # ---------------------------------------------------------------- pushes
 
 
-def _push_groups(pushes: list[TrialInference]) -> list[Group]:
+def _push_groups(trials: Trials, pushes: list[TrialInference]) -> list[Group]:
     by_direction: dict[tuple[str, str], list[TrialInference]] = defaultdict(list)
     for r in pushes:
         by_direction[(_direction_label(r.force), "pull" if _pulls(r) else "push")].append(r)
@@ -205,6 +207,9 @@ def _push_groups(pushes: list[TrialInference]) -> list[Group]:
                 family=None if kind == "pull" else _family(members, best),
             )
         )
+        if kind == "push" and motion_type == "prismatic" and place_of[best.index] == "center":
+            arc = fit_arc(trials, by_direction[(label, kind)], best, _left_of(best.force))
+            groups[-1].family = with_arc(groups[-1].family, arc, _left_of(best.force))
     return groups
 
 
@@ -393,8 +398,18 @@ def _family_ir(f: FamilyFit) -> Family:
         lower=Quantity(value=_si(lower, 2, "cm"), unit="cm"),
         upper=Quantity(value=_si(upper, 2, "cm"), unit="cm"),
         drift=None if f.drift is None else Vector(values=tuple(_si(float(x), 3, "") for x in f.drift), unit=""),
+        arc=None if f.arc is None else _arc_ir(f.arc),
         sigma=sigma,
     )
+
+
+def _arc_ir(arc: ArcFit) -> Arc:
+    """The arc law rounded to 0.01 cm."""
+    return Arc(lever=_centimetres(arc.lever), bias=_centimetres(arc.bias), ahead=_centimetres(arc.ahead))
+
+
+def _centimetres(metres: float) -> Quantity:
+    return Quantity(value=_si(100.0 * metres, 2, "cm"), unit="cm")
 
 
 def constraint_ir(

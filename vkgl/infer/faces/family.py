@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from vkgl.infer.faces.arc import ArcFit
 from vkgl.infer.trial import TrialInference
 
 _SAME_POINT = 1e-3  # m: a band narrower than this is one contact, not a family
@@ -38,13 +39,15 @@ _SAME_POINT = 1e-3  # m: a band narrower than this is one contact, not a family
 @dataclass(frozen=True)
 class FamilyFit:
     """A fitted family: `along` (unit, body frame), offsets `lower..upper` (m), a turn's `drift` (or None), `sigma`
-    (m for a turn's pivot, rad for a slide's direction; None when no other member tells)."""
+    (m for a turn's pivot, rad for a slide's direction; None when no other member tells); a slide's `arc` law
+    (`vkgl.infer.faces.arc`: then sigma is the law's, rad of turn over 10 cm)."""
 
     along: np.ndarray
     lower: float
     upper: float
     drift: np.ndarray | None
     sigma: float | None
+    arc: ArcFit | None = None
 
 
 def fit_family(members: list[TrialInference], kept: TrialInference, along: np.ndarray) -> FamilyFit | None:
@@ -106,3 +109,13 @@ def _direction_spread(members: list[TrialInference], kept: TrialInference) -> fl
         axis = np.asarray(r.motion.params["axis"], dtype=np.float64)
         angles.append(float(np.arccos(np.clip(axis @ reference, -1.0, 1.0))))
     return float(np.sqrt(np.mean(np.square(angles)))) if angles else None
+
+
+def with_arc(family: FamilyFit | None, arc: ArcFit | None, along: np.ndarray) -> FamilyFit | None:
+    """A centre slide's family with the face's arc law: the band every push of the face covers, the law's sigma."""
+    if arc is None:
+        return family
+    lower, upper = arc.lower, arc.upper
+    if family is not None:
+        lower, upper = min(lower, family.lower), max(upper, family.upper)
+    return FamilyFit(along, lower, upper, None, arc.sigma, arc)

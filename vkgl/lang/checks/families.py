@@ -41,6 +41,7 @@ def check_family(affordance: ir.Affordance, ctx: CheckContext) -> None:
     _check_across(family, motion, ctx)
     _check_band(family, ctx)
     _check_spread(family, motion, ctx)
+    _check_arc(family, motion, ctx)
 
 
 def _head(family: ir.Family, ctx: CheckContext) -> ir.Span | None:
@@ -97,7 +98,7 @@ def _check_spread(family: ir.Family, motion: ir.PrismaticC | ir.RevoluteC, ctx: 
     sigma = family.sigma
     if sigma is None or sigma.value != sigma.value:
         return
-    want = "length" if isinstance(motion, ir.RevoluteC) else "angle"
+    want = "length" if isinstance(motion, ir.RevoluteC) and family.arc is None else "angle"
     if sigma.unit and dimension_of(sigma.unit) != want:
         ctx.error(
             codes.FAMILY_WRONG_SPREAD,
@@ -113,4 +114,40 @@ def _check_spread(family: ir.Family, motion: ir.PrismaticC | ir.RevoluteC, ctx: 
             f"a sigma is a spread, never negative: got {shown(sigma)}",
             ctx.narrow(family.span, r"\b(sigma\s+.+)$"),
             "write how far the explored contacts spread about the family, 0 or more",
+        )
+
+
+def _check_arc(family: ir.Family, motion: ir.PrismaticC | ir.RevoluteC, ctx: CheckContext) -> None:
+    arc = family.arc
+    if arc is None:
+        return
+    where = ctx.narrow(family.span, r"\b(arc\b.*?ahead\s+\S+(?:\s+(?:m|cm|mm)\b)?)")
+    if isinstance(motion, ir.RevoluteC) or family.drift is not None:
+        ctx.error(
+            codes.FAMILY_BAD_ARC,
+            "an `arc` is a slide's: "
+            + ("a turn's family moves its pivot with `drift`" if family.drift is None else "it has no `drift`"),
+            where,
+            "write `arc` in the family of a `prismatic` motion, without `drift`",
+        )
+        return
+    lever, bias = arc.lever.value, arc.bias.value
+    if lever != lever or bias != bias:
+        return  # a bad quantity, reported where it was read
+    if lever <= 0:
+        ctx.error(
+            codes.FAMILY_BAD_ARC,
+            f"an arc's lever is more than 0, got {shown(arc.lever)}",
+            where,
+            "the lever is the length whose square over the offset places the pivot, e.g. `lever 4.8 cm`",
+        )
+        return
+    farthest = max(abs(family.lower.value), abs(family.upper.value))
+    if farthest == farthest and farthest > 0 and lever * lever / farthest + bias <= 0:
+        ctx.error(
+            codes.FAMILY_BAD_ARC,
+            f"at the band's end ({farthest * 100:.3g} cm off the centre) the arc's pivot would lie "
+            f"{-(lever * lever / farthest + bias) * 100:.3g} cm on the contact's own side of the centre line",
+            where,
+            "the pivot lies beyond the centre line over the whole band: raise `bias`, widen `lever` or narrow the band",
         )

@@ -370,6 +370,7 @@ from vkgl.lang.diagnostics.codes_grasps import GRASP_NOT_ACTION, GRASP_WIDTH_OUT
 # contact families (E47x): registered after the physical codes
 # isort: split
 from vkgl.lang.diagnostics.codes_families import (  # noqa: E402
+    FAMILY_BAD_ARC,
     FAMILY_OFF_THE_FACE,
     FAMILY_WITHOUT_CONTACT,
     FAMILY_WITHOUT_ITS_CONTACT,
@@ -402,6 +403,7 @@ __all__ = [
     "CONTACT_OFF_SURFACE",
     "COUNT_OUT_OF_RANGE",
     "DUPLICATE_NAME",
+    "FAMILY_BAD_ARC",
     "FAMILY_OFF_THE_FACE",
     "FAMILY_WITHOUT_CONTACT",
     "FAMILY_WITHOUT_ITS_CONTACT",

@@ -1,4 +1,4 @@
-"""Diagnostic codes of contact families (E47x): `family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`.
+"""Diagnostic codes of contact families (E47x): `family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`.
 
 `vkgl.lang.diagnostics.codes` re-exports them; they are registered after the physical codes, in this order.
 The checks are in vkgl/lang/checks/families.py; the meaning in docs/language.md, "Families".
@@ -44,5 +44,18 @@ FAMILY_WRONG_SPREAD = _code(
         "slide has no pivot, so no drift. `sigma` is how far what the explored contacts did spreads about the "
         "family: for a turn a length (the pivot's spread), for a slide an angle (the direction's spread), never "
         "negative."
+    ),
+)
+FAMILY_BAD_ARC = _code(
+    "E474",
+    "an arc that is not a slide's, or whose pivot would not lie beyond the centre line",
+    (
+        "`arc lever L bias B ahead A` says how a slide pushed off its centre turns the body: at offset s the pivot "
+        "lies A ahead of the contact and L^2/|s| + B across the push, on the far side of the centre line. Only a "
+        "slide (`prismatic`) has a centre to be pushed off, and a turn's family moves its pivot with `drift` "
+        "instead: write `arc` only in a slide's family, without `drift`. The lever is more than 0 and the pivot "
+        "stays beyond the centre line over the whole band (L^2/|s| + B > 0 at the band's ends): widen the lever, "
+        "raise the bias or narrow the band. With an `arc`, sigma is the law's error in the turn over 10 cm of push "
+        "(an angle)."
     ),
 )

@@ -3,7 +3,8 @@
 `family along DIR from LO to HI UNIT [drift VEC] [sigma Q]` (docs/language.md,
 "Families") lets the contact be the action's pose moved by `s * DIR` for any
 offset `s` in [LO, HI]. `at_offset(affordance, s)` is that member as a plain
-affordance (no family): its action moved along the face; a slide unchanged; a
+affordance (no family): its action moved along the face; a slide unchanged, or
+with an `arc` the turn a push off the centre makes (`vkgl.lang.ir.arcs`); a
 turn about its pivot moved by `s * drift`. Offset 0 is the affordance itself.
 """
 
@@ -12,7 +13,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-from vkgl.lang.ir.nodes import Affordance, FixedC, RevoluteC
+from vkgl.lang.ir.arcs import arc_motion
+from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC, RevoluteC
 from vkgl.lang.ir.values import Vector
 
 
@@ -39,7 +41,11 @@ def at_offset(affordance: Affordance, offset: float) -> Affordance:
         position = _moved(action.pose.position, along, offset)
         action = action.model_copy(update={"pose": action.pose.model_copy(update={"position": position})})
     motion = affordance.motion
-    if isinstance(motion, RevoluteC) and family.drift is not None:
+    if isinstance(motion, PrismaticC) and family.arc is not None and isinstance(affordance.action, FixedC):
+        assert affordance.action.pose is not None  # checked (E470)
+        contact = affordance.action.pose.position.values
+        motion = arc_motion(motion, contact, along, family.arc, offset)
+    elif isinstance(motion, RevoluteC) and family.drift is not None:
         motion = motion.model_copy(update={"center": _moved(motion.center, family.drift.values, offset)})
     return affordance.model_copy(update={"action": action, "motion": motion, "family": None})
 

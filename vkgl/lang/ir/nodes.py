@@ -245,21 +245,31 @@ class Evidence(Node):
     slip_unit: str = Field(default="mm", exclude=True, repr=False)
 
 
+class Arc(Node):
+    """`arc lever Q bias Q ahead Q` (m) in a slide's family: pushed at `s` off the centre, the body turns about a
+    pivot `ahead` along the push and `lever**2 / |s| + bias` across it (`vkgl.lang.ir.arcs`; docs/language.md)."""
+
+    lever: Quantity
+    bias: Quantity
+    ahead: Quantity
+
+
 class Family(Node):
-    """`family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`: the contacts of an affordance along its face.
+    """`family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`: an affordance's contacts on its face.
 
     The contact may be the action's pose moved by `s * along` for any offset `s` in
     [lower, upper] (SI m; 0, the action's own contact, lies inside). A slide is the
-    same at every offset; a turn's pivot moves by `s * drift` (dimensionless:
-    metres of pivot per metre of offset). `sigma`: the spread of what the explored
-    contacts did about that model (a length for a turn's pivot, an angle for a
-    slide's direction); None when not known. docs/language.md, "Families".
+    same at every offset (with an `arc`, a turn off the centre); a turn's pivot moves
+    by `s * drift` (metres of pivot per metre of offset). `sigma`: the spread of what
+    the explored contacts did about that model (a length for a turn's pivot, an angle
+    for a slide's direction or an arc's turn over 10 cm); None when not known.
     """
 
     along: Vector
     lower: Quantity
     upper: Quantity
     drift: Vector | None = None
+    arc: Arc | None = None
     sigma: Quantity | None = None
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -41,6 +41,7 @@ from vkgl.lang.ir.nodes import (
 from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
+from vkgl.plan.problem.arcs import arc_members
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.hulls import hull_vertices, outline_corners
 from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
@@ -265,6 +266,8 @@ def build_problem(
     effectors = [EffectorSpec(f"{placed.name}.{effector_name}", None, np.eye(4))]
     effectors += _tool_effectors(program, scene, effector_name)
     goals = [_goal_spec(task, g, bodies) for g in task.goals]
+    for goal in goals:
+        bodies[goal.body] = _with_arc_members(bodies[goal.body], goal)
     search = task.search
     depth = max_depth if max_depth is not None else (search.max_depth if search and search.max_depth else None)
     limit = timeout if timeout is not None else (search.timeout.value if search and search.timeout else None)
@@ -294,6 +297,17 @@ def build_problem(
         start,
         tuple(_keep_out_spec(task, keep, bodies) for keep in task.keep_out),
     )
+
+
+def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
+    """`body` with the members of its arc families that reach a place-and-heading goal in one push
+    (`vkgl.plan.problem.arcs`)."""
+    if goal.position is None or goal.yaw is None or goal.region is not None or goal.opening is not None:
+        return body
+    members = arc_members(body.affordances, body.rest, goal.position[:2], goal.yaw, (goal.tol_position, goal.tol_yaw))
+    known = {a.name for a in body.affordances}  # two goals on one body may pick the same member
+    members = tuple(m for m in members if m.name not in known)
+    return replace(body, affordances=body.affordances + members) if members else body
 
 
 def _where(node: object) -> str:

@@ -1,4 +1,4 @@
-"""The builder's rule for a family of contacts: `family along DIR from LO to HI UNIT [drift VEC] [sigma Q]`.
+"""The builder's rule for a family of contacts: `family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`.
 
 The unit after the upper bound also applies to a lower bound written without
 one (as a motion's `range 0 to 24 cm`). `sigma` is a length (the spread of a
@@ -35,6 +35,7 @@ class FamilyBuilder(ValueReader):
             lower=low,
             upper=high,
             drift=fields.get("drift"),
+            arc=fields.get("arc"),
             sigma=fields.get("sigma"),
             span=self.span(meta),
         )
@@ -42,6 +43,10 @@ class FamilyBuilder(ValueReader):
 
     def family_drift(self, meta: Any, children: list[RawVec]) -> tuple[str, ir.Vector]:
         return "drift", self.to_vector(children[0], "number", (3,), "a family's drift")
+
+    def family_arc(self, meta: Any, children: list[RawQ]) -> tuple[str, ir.Arc]:
+        lever, bias, ahead = (self.to_quantity(raw, "length") for raw in children)
+        return "arc", new_node(ir.Arc, lever=lever, bias=bias, ahead=ahead, span=self.span(meta))
 
     def family_sigma(self, meta: Any, children: list[RawQ]) -> tuple[str, ir.Quantity]:
         raw = children[0]

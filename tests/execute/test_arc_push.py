@@ -1,0 +1,39 @@
+"""One push that slides and turns the Block, planned from its learned arc law and carried out in DART.
+
+The goal (12 cm along +x, turned +15 deg) took two contacts before arcs (a slide, then a turn: depth 4). The
+planner offers the member of `push_center_px`'s arc family that the law says reaches it (0.64 cm right of the
+face's centre, a pivot about 45 cm away); the arm pushes there once, and DART's Block ends at the goal.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import vkgl
+
+TASK = """use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.affordances.block
+
+scene alone {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    it : Block on table at (0.45, 0) m yaw 0deg
+}
+
+task arc {
+    scene alone
+    goal it at (0.57, 0) m yaw 15deg within 1 cm, 3deg
+}
+"""
+
+
+def test_one_arc_push_reaches_a_place_and_heading_goal_in_dart(tmp_path: Path) -> None:
+    path = tmp_path / "arc.vkg"
+    path.write_text(TASK, encoding="utf-8")
+    program = vkgl.compile(path)
+    plan = vkgl.solve(program, "arc")
+    assert plan.status == "solved" and plan.depth == 2, plan.reason
+    assert plan.steps[0].affordance.startswith("Block.push_center_px@-")
+    report = vkgl.execute(program, "arc", plan)
+    assert report.status == "reached", report.reason
