@@ -18,7 +18,9 @@ docs/planning.md, "Wide hook pulls").
 action frame's y axis, the contact's direction along the face): the tool's flat
 face still covers the centre line by `COVER_MARGIN`, and the tool's parts that
 reach past the contact plane (the shaft) stay `PART_CLEARANCE` clear of the
-body's width. The stick's 2 cm end covers too little to leave any band. The
+body's width. The stick's 2 cm end covers too little to leave any band, and a
+body with a joint (a drawer pulled at its handle) has none: its slide is the
+joint's, its contact the handle's. The
 planner moves the contact within it like a family's (`Sequence.offsets`); the
 slide's motion does not change with the offset, only where the tool and the
 hand are.
@@ -70,6 +72,8 @@ def _band(problem: Problem, engagement: Engagement) -> tuple[float, float] | Non
     affordance = problem.affordance(engagement.body, engagement.affordance)
     if not isinstance(affordance.motion, PrismaticC) or affordance.family is not None:
         return None
+    if problem.bodies[engagement.body].joint is not None or not problem.bodies[engagement.body].on_table:
+        return None  # a drawer's slide is its joint's, and its contact a handle's: only bodies sliding on the table
     effector = problem.effector(engagement.effector)
     assert effector.tool is not None
     into_contact = np.linalg.inv(problem.action(engagement.body, engagement.affordance))
