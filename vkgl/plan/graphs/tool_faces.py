@@ -18,12 +18,13 @@ docs/planning.md, "Wide hook pulls").
 action frame's y axis, the contact's direction along the face): the tool's flat
 face still covers the centre line by `COVER_MARGIN`, and the tool's parts that
 reach past the contact plane (the shaft) stay `PART_CLEARANCE` clear of the
-body's width. The stick's 2 cm end covers too little to leave any band, and a
-body with a joint (a drawer pulled at its handle) has none: its slide is the
-joint's, its contact the handle's. The
-planner moves the contact within it like a family's (`Sequence.offsets`); the
-slide's motion does not change with the offset, only where the tool and the
-hand are.
+body's width; only for a body the tool at the centre would stand in (elsewhere
+the written contact serves). The stick's 2 cm end covers too little to leave
+any band, and a body with a joint (a drawer pulled at its handle) has none: its
+slide is the joint's, its contact the handle's. The planner moves the contact
+within the band like a family's (`Sequence.offsets`), only when the written
+contact fails; the slide's motion does not change with the offset, only where
+the tool and the hand are.
 """
 
 from __future__ import annotations
@@ -97,6 +98,10 @@ def _band(problem: Problem, engagement: Engagement) -> tuple[float, float] | Non
         above = (max(band[0], float(body_y.max()) - low + PART_CLEARANCE), band[1])
         band = max((below, above), key=lambda b: (b[0] <= 0.0 <= b[1], b[1] - b[0]))
     if band[1] - band[0] < 1e-4 or band[0] > band[1]:
+        return None
+    if band[0] <= 0.0 <= band[1]:
+        # the written contact leaves the tool clear of the body itself: moved only to clear other bodies, it
+        # solved none of the far tasks and cost 29 % more CPU on one (gen6_015, gen6_035: cubes; docs/planning.md)
         return None
     return band
 
