@@ -42,3 +42,27 @@ def test_the_hook_pulls_a_wide_slab_off_its_far_face_centre_and_it_ends_where_pl
     assert np.linalg.norm(planned[:2, 3] - real[:2, 3]) < 0.01
     yaw = math.degrees(math.atan2(planned[1, 0], planned[0, 0]) - math.atan2(real[1, 0], real[0, 0]))
     assert abs((yaw + 180) % 360 - 180) < 2.0
+
+
+def test_the_hook_pulls_a_24_cm_crate_straight_back_off_its_far_face_centre_and_it_keeps_its_heading(tmp_path):
+    """CrateT (16 x 24 x 25 cm): at the middle of its far face the hook's shaft would lie 1 cm inside it, and a
+    pull off the centre by a point turns it. The cross-piece lies flat along the face, so 2 cm toward the shaft's
+    side it still covers the crate's centre line by 1 cm, its shaft 1 cm clear: the slide as learned, heading kept
+    (`vkgl.plan.graphs.tool_faces`); DART's crate ends where the plan says."""
+    target = generated_tasks.Placement("target", "CrateT", 0.93, 0.05, 0.0)
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec("kept", 0, 0, (target, *tools), (0.78, 0.05, 0.0), "far-pull", False, 0.15)
+    library = generated_tasks.fixture_library(("CrateT",))
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "kept", library))
+    plan = vkgl.solve(program, "kept", max_depth=3)
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps] == ["Hook.wield", "CrateT.push_center_nx@+2.00cm"]
+    pull = plan.steps[1]
+    shaft = np.linalg.inv(pull.poses_start["target"]) @ pull.poses_start["hook"]  # the hook in the crate's frame
+    assert shaft[1, 3] <= -0.12 - 0.01 - 0.005  # the shaft (2 cm thick) beside its -y side, 0.5 cm clear or more
+    report = vkgl.execute(program, "kept", plan)
+    assert report.status == "reached", report.reason
+    planned, real = pull.poses_end["target"], report.final["target"]
+    assert np.linalg.norm(planned[:2, 3] - real[:2, 3]) < 0.01
+    yaw = math.degrees(math.atan2(real[1, 0], real[0, 0]))
+    assert abs(yaw) < 2.0

@@ -50,6 +50,19 @@ def at_offset(affordance: Affordance, offset: float) -> Affordance:
     return affordance.model_copy(update={"action": action, "motion": motion, "family": None})
 
 
+def slide_member(affordance: Affordance, offset: float) -> Affordance:
+    """A slide without a family enacted `offset` (m) along its face: its action moved along the action frame's
+    y axis, its motion the same. The planner names such members only for a tool whose flat face still covers the
+    body's centre line there (`vkgl.plan.graphs.tool_faces`); the motion is what DART then shows."""
+    action = affordance.action
+    if offset == 0.0 or not isinstance(action, FixedC) or action.pose is None:
+        return affordance
+    along = tuple(float(v) for v in action.pose.matrix()[:3, 1])
+    position = _moved(action.pose.position, along, offset)
+    action = action.model_copy(update={"pose": action.pose.model_copy(update={"position": position})})
+    return affordance.model_copy(update={"action": action})
+
+
 def _unit(values: tuple[float, ...]) -> tuple[float, ...]:
     length = math.sqrt(sum(v * v for v in values))
     return tuple(v / length for v in values)
@@ -89,6 +102,8 @@ def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | No
     found = next((a for a in affordances if a.name == base), None)
     if found is None or base == name:
         return found
+    if found.family is None and isinstance(found.motion, PrismaticC):
+        return slide_member(found, offset).model_copy(update={"name": name})
     lower, upper = offset_bounds(found)
     if not lower - 5e-5 <= offset <= upper + 5e-5:  # names round offsets to 0.01 cm
         return None

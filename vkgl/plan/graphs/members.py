@@ -57,7 +57,10 @@ def action_at(problem: Problem, body: str, name: str, offset: float) -> np.ndarr
     base = problem.action(body, name)
     if offset == 0.0:
         return base
-    along, _ = family_vectors(problem.affordance(body, name))
+    affordance = problem.affordance(body, name)
+    along, _ = family_vectors(affordance)
+    if affordance.family is None:  # a slide a tool's flat face enacts off the centre (`tool_faces`)
+        along = base[:3, 1]
     out = base.copy()
     out[:3, 3] += offset * along
     return out

@@ -24,6 +24,7 @@ from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, is_grasp, motion_type
 from vkgl.plan.graphs.members import action_at, has_family, pivot_shift
+from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import Problem
 from vkgl.rotations import rotvec_matrices, yaw_matrix
 
@@ -114,7 +115,7 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
                 if tool is not None and other.body == engaged.body:
                     dependent.add(tool)
     offsets = seq.offsets
-    if action.op == "add" and has_family(problem, e.body, e.affordance):
+    if action.op == "add" and (has_family(problem, e.body, e.affordance) or slide_band(problem, e) is not None):
         offsets += ((mode, e),)
     child = Sequence(
         seq.actions + (action,), seq.graphs + (graph,), tuple(variables), offsets, frozenset(dependent), poses, carries
@@ -292,11 +293,17 @@ def bounds(problem: Problem, seq: Sequence, *, offsets: bool = False) -> tuple[n
     `offsets`, followed by those of its contacts' offsets (each family's band)."""
     pairs = [value_bounds(problem.affordance(e.body, e.affordance).motion) for _, e in seq.variables]
     if offsets:
-        pairs += [offset_bounds(problem.affordance(e.body, e.affordance)) for _, e in seq.offsets]
+        pairs += [_band(problem, e) for _, e in seq.offsets]
     lower = np.asarray([p[0] for p in pairs], dtype=float)
     upper = np.asarray([p[1] for p in pairs], dtype=float)
     carry_low, carry_high = carry_bounds(len(seq.carries))
     return np.concatenate([lower, carry_low]), np.concatenate([upper, carry_high])
+
+
+def _band(problem: Problem, e: Engagement) -> tuple[float, float]:
+    """The offsets an engagement's contact may take: a tool's slide off the centre (`tool_faces`), else its
+    family's band."""
+    return slide_band(problem, e) or offset_bounds(problem.affordance(e.body, e.affordance))
 
 
 def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Sequence, np.ndarray]:

@@ -27,6 +27,7 @@ import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
+from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.carry_start import carry_start
@@ -271,6 +272,8 @@ def task_space(
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
         if not isinstance(written, Rejection) or written.kind not in (Kind.REACH, Kind.GOAL):
             return written
+        if all(slide_band(problem, e) is not None for _, e in seq.offsets):
+            return written  # a tool's slide moves the same at any offset: its contact moves for the tool's room only
     start = closed_form(problem, seq)
     if isinstance(start, Rejection):
         return start
@@ -284,6 +287,10 @@ def task_space(
     n, m = len(seq.variables), len(seq.offsets)  # the values: motions, then offsets, then carries
     if offsets is not None:
         lower[n : n + m] = upper[n : n + m] = offsets
+    else:  # a tool's slide keeps its written contact here: it moves only when that contact fails (`other_contacts`)
+        for j, (_, e) in enumerate(seq.offsets):
+            if slide_band(problem, e) is not None:
+                lower[n + j] = upper[n + j] = 0.0
     guess = np.clip(np.concatenate([guess, np.zeros(m), carry_guess]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
     for x0 in [guess, *([] if pinned else _restarts(lower, upper))]:
