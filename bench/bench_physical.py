@@ -34,7 +34,7 @@ way to a goal 22 to 40 cm off; its size classes are the body's width in cm.
 tasks of those indices (all are generated); `--cpu-clock` counts the
 timeouts in CPU seconds of the solving worker (`time.process_time`), so that a
 loaded machine does not turn slow solves into timeouts. The totals report the
-solves' CPU seconds, graphs expanded and task-space checks.
+solves' CPU seconds, graphs expanded and optimisations.
 
 Prints one line per task as it finishes (stderr), then Markdown tables by
 target kind, size class, clutter count, reach and path, and the totals.
@@ -101,7 +101,7 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
             "expanded": plan.stats.get("graphs_expanded"),
             "sequences": plan.details.get("sequences"),
             "pruned_by_bound": plan.details.get("pruned_by_bound"),
-            "task_space_checks": plan.details.get("task_space_checks"),
+            "task_space_checks": plan.stats.get("task_space_checks"),
             "optimisations": plan.details.get("optimisations"),
             "max_depth": plan.details.get("max_depth"),
         }
@@ -233,7 +233,7 @@ def report_text(results: list[dict[str, Any]]) -> str:
         parts.append(
             f"Search effort over all tasks: {sum(cpu):.1f} s of CPU in the solves (`time.process_time`, not inflated "
             f"by load; median {statistics.median(cpu):.2f} s), {sum(s['expanded'] or 0 for s in searched)} graphs "
-            f"expanded, {sum(s.get('task_space_checks') or 0 for s in searched)} task-space checks."
+            f"expanded, {sum(s.get('optimisations') or 0 for s in searched)} optimisations."
         )
     arm = [1000 * r["arm_path_s"] for r in results if r["outcome"] == "solved" and r.get("arm_path_s") is not None]
     if arm:
