@@ -100,9 +100,11 @@ Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
 remaining depth: the best-first search that prunes at `depth + bound >
 max_depth` loses no plan within `max_depth`, and, checking sequences in the
-order of `depth + bound` (ties by the breadth-first order of their actions), it
-returns the very plan breadth-first search returns (tests/plan/test_bound.py
-checks the bound against exhaustive breadth-first search).
+order of `depth + bound`, it returns a shortest plan (ties: first the sequences
+that moved the bodies in a goal body's way, `vkgl.plan.search.ordering`, then
+the breadth-first order of their actions; with no body in the way, the very
+plan breadth-first search returns; tests/plan/test_bound.py checks the bound
+against exhaustive breadth-first search).
 """
 
 from __future__ import annotations

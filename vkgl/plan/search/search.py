@@ -2,13 +2,15 @@
 still needed (`vkgl.plan.search.bound`), the first feasible sequence returned.
 
 Sequences are extended one transition at a time (`successors` in
-`vkgl.plan.graphs.graph`), queued (a heap) by depth plus bound, ties in the
-order breadth-first search generates them (the indices of their actions among
-their parents' successors), and checked when they leave the queue. The bound
-never overestimates, so the first feasible sequence checked is a shortest one,
-and the very one the paper's breadth-first search finds first; a sequence
-whose depth plus bound passes `max_depth` is never queued. What never loses a
-solution besides:
+`vkgl.plan.graphs.graph`), queued (a heap) by depth plus bound, and checked
+when they leave the queue. The bound never overestimates, so the first
+feasible sequence checked is a shortest one; a sequence whose depth plus bound
+passes `max_depth` is never queued. Among sequences of one level, those that
+have moved every body lying in a goal body's way come first
+(`vkgl.plan.search.ordering`), then the order breadth-first search generates
+them (the indices of their actions among their parents' successors): with no
+body in the way, the plan is the very one the paper's breadth-first search
+finds first. What never loses a solution besides:
 
 - a sequence is only checked when its last mode moves a goal body (or its last
   action sets down a goal body the hand carried, `vkgl.plan.graphs.carry`):
@@ -45,6 +47,7 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
+from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
 from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space, task_space_alternatives
@@ -70,26 +73,29 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
     Sequences are checked in the order of their depth plus `Bound` (an admissible lower bound of the graphs
-    still needed, `vkgl.plan.search.bound`), ties broken by the breadth-first order of their actions, and
-    those whose depth plus bound passes `max_depth` are never made: the plan is the one breadth-first search
-    returns, found sooner.
+    still needed, `vkgl.plan.search.bound`), ties broken by the bodies in the way they have not moved
+    (`vkgl.plan.search.ordering`), then by the breadth-first order of their actions, and those whose depth plus
+    bound passes `max_depth` are never made: the plan is a shortest one, found sooner.
     """
     stats = SearchStats()
     reporter = Progress(progress)
     geometry = GeometryCheck(problem)
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
     bound = Bound(problem)
+    order = _Order(bound, InTheWay(problem))
     root = start_sequence(problem)
     if goal_holds(problem, root.zero_poses):
         return _check(problem, root, stats, deadline, checks) or SearchResult("infeasible", "", stats)
-    frontier: list[tuple[float, tuple[int, ...], Sequence]] = []
-    _push(problem, frontier, root, (), bound(root), stats)
+    frontier: list[_Entry] = []
+    _push(problem, frontier, root, (), order, stats)
     try:
         while frontier:
-            stats.level, path, seq = heapq.heappop(frontier)
+            stats.level, _, path, seq, checked = heapq.heappop(frontier)
             if time.perf_counter() > deadline:
                 return SearchResult("timeout", timeout_reason(problem, stats), stats)
-            if seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
+            if checked:
+                pass  # queued again for its expansion only (`_Entry`)
+            elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
                 found = _check(problem, seq, stats, deadline, checks)
                 if found is not None:
                     return found
@@ -97,21 +103,13 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
                 stats.passed_over += 1
             if seq.depth >= problem.max_depth:
                 continue
+            if seq.depth + 1 > stats.level:  # its children all wait for a later level: so does their making
+                heapq.heappush(frontier, (seq.depth + 1, 0, path, seq, True))
+                continue
             stats.graphs_expanded += 1
             stats.depth_reached = max(stats.depth_reached, seq.depth + 1)
             reporter.show(stats)
-            for index, action in enumerate(successors(problem, seq.graphs[-1], seq.last)):
-                child, hand = extend(problem, seq, action)
-                stats.sequences += 1
-                if hand is not None and (rejection := unreachable(problem, hand)) is not None:
-                    stats.pruned += 1
-                    stats.reject(rejection, action.label(problem))
-                    continue
-                if (rejection := repeated_failure(problem, seq, child, action)) is not None:
-                    stats.excluded += 1  # with everything that would follow it
-                    stats.reject(rejection, action.label(problem))
-                    continue
-                _push(problem, frontier, child, path + (index,), bound(child), stats)
+            _expand(problem, frontier, seq, path, order, stats)
     finally:
         reporter.done()
     if time.perf_counter() > deadline:
@@ -119,22 +117,67 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     return SearchResult("infeasible", infeasible_reason(problem, stats, bound), stats)
 
 
+_Entry = tuple[float, int, tuple[int, ...], Sequence, bool]
+"""A queued sequence: (depth plus bound, the bodies in the way it has not moved yet (`InTheWay.left`), the
+successor indices that made it, the sequence, whether it was checked).
+
+Keys are unique (one sequence per path; a sequence queued again for its expansion has a larger first member), so
+two entries never compare their sequences. A sequence without bound left (depth = its level) is checked when it
+leaves the queue, and queued again as (depth + 1, 0, path) to be expanded then. That changes no check's turn:
+every child's key (depth + 1 + its bound, its count, path + (i,)) is larger than the entry's. So while a child's
+turn has not come, neither has any entry after it, and when the queue of expanding at once would give a check next,
+the late queue gives the same one, after the expansions of the entries smaller than it (each of which only adds
+entries larger than itself): the checks come in the same order, and the children of the sequences of the level where
+a plan is found (or the time runs out) are never made. With `max_depth` 6 those of the sequences of 6 graphs were
+never made either; with a deeper `max_depth`, making them at once cost up to half the time of a level (gen1_005
+of the physical bench: 4,548 graphs expanded and no plan in 16 s of CPU at `max_depth` 6; at 10 the time ran out
+at the same level after 7,992)."""
+
+
+@dataclass(frozen=True)
+class _Order:
+    """What orders the queue: the bound (first) and the bodies in the way (among sequences of one level)."""
+
+    bound: Bound
+    in_the_way: InTheWay
+
+
+def _expand(
+    problem: Problem, frontier: list[_Entry], seq: Sequence, path: tuple[int, ...], order: _Order, stats: SearchStats
+) -> None:
+    """Queue `seq`'s children (`successors`), but those whose hand is out of reach at once, with everything
+    that would follow them, and those that repeat a step that failed in execution."""
+    for index, action in enumerate(successors(problem, seq.graphs[-1], seq.last)):
+        child, hand = extend(problem, seq, action)
+        stats.sequences += 1
+        if hand is not None and (rejection := unreachable(problem, hand)) is not None:
+            stats.pruned += 1
+            stats.reject(rejection, action.label(problem))
+            continue
+        if (rejection := repeated_failure(problem, seq, child, action)) is not None:
+            stats.excluded += 1  # with everything that would follow it
+            stats.reject(rejection, action.label(problem))
+            continue
+        _push(problem, frontier, child, path + (index,), order, stats)
+
+
 def _push(
     problem: Problem,
-    frontier: list[tuple[float, tuple[int, ...], Sequence]],
+    frontier: list[_Entry],
     seq: Sequence,
     path: tuple[int, ...],
-    needed: float,
+    order: _Order,
     stats: SearchStats,
 ) -> None:
-    """Queue `seq` (reached by the successor indices `path`) unless it and the `needed` graphs pass max_depth."""
-    total = seq.depth + needed
+    """Queue `seq` (reached by the successor indices `path`) unless it and the graphs it still needs pass
+    max_depth."""
+    total = seq.depth + order.bound(seq)
     if total > problem.max_depth:
         stats.cut_by_bound += bool(seq.actions)  # G0 is no sequence tried: the reason says so instead
         stats.cut_at_start = not seq.actions
         stats.shortest_cut = min(stats.shortest_cut, total)
         return
-    heapq.heappush(frontier, (total, path, seq))
+    heapq.heappush(frontier, (total, order.in_the_way.left(seq), path, seq, False))
 
 
 def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
