@@ -56,7 +56,7 @@ def test_the_hook_pulls_a_24_cm_crate_straight_back_off_its_far_face_centre_and_
     program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "kept", library))
     plan = vkgl.solve(program, "kept", max_depth=3)
     assert plan.status == "solved", plan.reason
-    assert [s.affordance for s in plan.steps] == ["Hook.wield", "CrateT.push_center_nx@+2.00cm"]
+    assert [s.affordance for s in plan.steps] == ["Hook.wield", "CrateT.push_center_nx@+2.00cm/straight"]
     pull = plan.steps[1]
     shaft = np.linalg.inv(pull.poses_start["target"]) @ pull.poses_start["hook"]  # the hook in the crate's frame
     assert shaft[1, 3] <= -0.12 - 0.01 - 0.005  # the shaft (2 cm thick) beside its -y side, 0.5 cm clear or more

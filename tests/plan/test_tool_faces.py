@@ -8,6 +8,7 @@ import pytest
 
 import vkgl
 from vkgl.lang.ir.families import find_member
+from vkgl.lang.ir.nodes import RevoluteC
 from vkgl.plan.graphs.graph import Action, Engagement
 from vkgl.plan.graphs.members import action_at
 from vkgl.plan.graphs.rollout import bounds, extend, start_sequence
@@ -50,9 +51,12 @@ def test_no_band_where_the_shaft_would_leave_the_cross_piece_short_of_the_centre
 def test_a_slides_member_moves_its_contact_along_the_face_and_keeps_its_motion(tmp_path):
     problem = _problem(tmp_path, "CrateT")
     written = problem.affordance("target", "push_center_nx")
-    member = find_member([written], "push_center_nx@+2.00cm")
+    member = find_member([written], "push_center_nx@+2.00cm/straight")
     assert member is not None and member.motion == written.motion
     moved = action_at(problem, "target", "push_center_nx", 0.02)
     along = problem.action("target", "push_center_nx")[:3, 1]  # the contact's y axis: the body's -y on its +x face
     assert moved[:3, 3] - problem.action("target", "push_center_nx")[:3, 3] == pytest.approx(0.02 * along)
     assert member.action.pose.matrix()[:3, 3] == pytest.approx(moved[:3, 3])
+    # the same offset without `/straight` names the point's member of the slide's arc family: a turn
+    assert written.family is not None and written.family.arc is not None
+    assert isinstance(find_member([written], "push_center_nx@+2.00cm").motion, RevoluteC)

@@ -180,7 +180,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = _subcommand(sub, "solve", help="plan for a task")
     p.add_argument("taskfile", metavar="TASKFILE", help=".vkg file that declares the task")
     p.add_argument("--task", metavar="NAME", help="the task to solve (needed when the file declares several)")
-    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/4 JSON")
+    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/5 JSON")
     p.add_argument("--plot", metavar="F.png", help="draw the plan (one panel per mode)")
     p.add_argument(
         "--max-depth",

@@ -1,4 +1,4 @@
-"""Reading `vkg-plan/4` (and /3, /2): every field checked, the first bad one named by its JSON path."""
+"""Reading `vkg-plan/5` (and /3, /2): every field checked, the first bad one named by its JSON path."""
 
 from __future__ import annotations
 
@@ -48,7 +48,7 @@ from vkgl.formats.plan.document import (
 
 
 def read(path: str | Path) -> PlanDocument:
-    """Read and check a `vkg-plan/4` (or /3, /2) file. InputError if it cannot be read or is not JSON;
+    """Read and check a `vkg-plan/5` (or /3, /2) file. InputError if it cannot be read or is not JSON;
     PlanFormatError (an InputError) naming the file and the bad field's path if it is not a valid plan."""
     try:
         text = Path(path).read_text(encoding="utf-8")
@@ -79,7 +79,7 @@ def from_json(data: Any) -> PlanDocument:
             f"found 'vkg-plan/1', expected {PLAN_FORMAT!r}: the plan was written by an older vkgc, without the "
             "arm's paths between contacts; solve the task again",
         )
-    if obj["format"] not in (PLAN_FORMAT, SAME_LAYOUT, OLDER_READABLE):
+    if obj["format"] not in (PLAN_FORMAT, *SAME_LAYOUT, OLDER_READABLE):
         raise PlanFormatError("format", f"expected {PLAN_FORMAT!r}, found {obj['format']!r}: not a {PLAN_FORMAT} plan")
     task = expect_name(obj["task"], "task")
     status = expect_choice(obj["status"], "status", STATUSES)

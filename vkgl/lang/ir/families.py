@@ -51,16 +51,17 @@ def at_offset(affordance: Affordance, offset: float) -> Affordance:
 
 
 def slide_member(affordance: Affordance, offset: float) -> Affordance:
-    """A slide without a family enacted `offset` (m) along its face: its action moved along the action frame's
-    y axis, its motion the same. The planner names such members only for a tool whose flat face still covers the
-    body's centre line there (`vkgl.plan.graphs.tool_faces`); the motion is what DART then shows."""
+    """A slide enacted `offset` (m) along its face by a tool's flat face: its action moved along the action
+    frame's y axis, its motion the same (and no family: a point's arc does not apply). The planner names such
+    members (`NAME@+2.00cm/straight`) only for a tool whose flat face still covers the body's centre line there
+    (`vkgl.plan.graphs.tool_faces`); the motion is what DART then shows."""
     action = affordance.action
     if offset == 0.0 or not isinstance(action, FixedC) or action.pose is None:
-        return affordance
+        return affordance.model_copy(update={"family": None})
     along = tuple(float(v) for v in action.pose.matrix()[:3, 1])
     position = _moved(action.pose.position, along, offset)
     action = action.model_copy(update={"pose": action.pose.model_copy(update={"position": position})})
-    return affordance.model_copy(update={"action": action})
+    return affordance.model_copy(update={"action": action, "family": None})
 
 
 def _unit(values: tuple[float, ...]) -> tuple[float, ...]:
@@ -75,11 +76,19 @@ def _moved(point: Vector, direction: tuple[float, ...], offset: float) -> Vector
 MEMBER_MARK = "@"
 """`push_center_px@+3.12cm`: the member of `push_center_px`'s family at offset +3.12 cm (how plans name it)."""
 
+STRAIGHT_MARK = "/straight"
+"""`push_center_nx@+2.00cm/straight`: the slide itself, its contact 2 cm along the face (`slide_member`)."""
 
-def member_name(name: str, offset: float) -> str:
-    """The name of the member at `offset` (m), to 0.01 cm: `name@+3.12cm`; `name` itself at offset 0."""
+
+def member_name(name: str, offset: float, *, straight: bool = False) -> str:
+    """The name of the member at `offset` (m), to 0.01 cm: `name@+3.12cm`; `name` itself at offset 0.
+
+    `straight`: a slide a tool's flat face enacts off the centre (`slide_member`), `name@+2.00cm/straight`: its
+    own name, since the same slide's arc family (if it has one) names the turn a point makes there."""
     text = f"{100.0 * offset:+.2f}"
-    return name if float(text) == 0.0 else f"{name}{MEMBER_MARK}{text}cm"
+    if float(text) == 0.0:
+        return name
+    return f"{name}{MEMBER_MARK}{text}cm{STRAIGHT_MARK if straight else ''}"
 
 
 def member_offset(name: str) -> tuple[str, float]:
@@ -90,9 +99,15 @@ def member_offset(name: str) -> tuple[str, float]:
     base, mark, rest = name.partition(MEMBER_MARK)
     if not mark:
         return name, 0.0
+    rest = rest.removesuffix(STRAIGHT_MARK)
     if not rest.endswith("cm"):
         raise ValueError(f"`{name}` names no member of a family (write `NAME@+1.25cm`)")
     return base, float(rest[:-2]) / 100.0
+
+
+def is_straight_member(name: str) -> bool:
+    """Whether `name` names a slide enacted straight off the centre by a tool's flat face (`NAME@+2.00cm/straight`)."""
+    return MEMBER_MARK in name and name.endswith(STRAIGHT_MARK)
 
 
 def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | None:
@@ -102,7 +117,9 @@ def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | No
     found = next((a for a in affordances if a.name == base), None)
     if found is None or base == name:
         return found
-    if found.family is None and isinstance(found.motion, PrismaticC):
+    if is_straight_member(name):
+        if not isinstance(found.motion, PrismaticC):
+            return None
         return slide_member(found, offset).model_copy(update={"name": name})
     lower, upper = offset_bounds(found)
     if not lower - 5e-5 <= offset <= upper + 5e-5:  # names round offsets to 0.01 cm

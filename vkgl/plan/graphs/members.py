@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from vkgl.lang.ir.families import offset_bounds
-from vkgl.lang.ir.nodes import Affordance, RevoluteC
+from vkgl.lang.ir.nodes import Affordance, PrismaticC, RevoluteC
 from vkgl.plan.problem.problem import Problem
 
 _VECTORS: dict[int, tuple[Affordance, np.ndarray, np.ndarray | None]] = {}
@@ -58,9 +58,10 @@ def action_at(problem: Problem, body: str, name: str, offset: float) -> np.ndarr
     if offset == 0.0:
         return base
     affordance = problem.affordance(body, name)
-    along, _ = family_vectors(affordance)
-    if affordance.family is None:  # a slide a tool's flat face enacts off the centre (`tool_faces`)
+    if isinstance(affordance.motion, PrismaticC):  # a slide a tool's flat face enacts off the centre (`tool_faces`)
         along = base[:3, 1]
+    else:
+        along, _ = family_vectors(affordance)
     out = base.copy()
     out[:3, 3] += offset * along
     return out

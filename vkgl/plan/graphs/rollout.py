@@ -324,7 +324,7 @@ def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Se
     for k, action in enumerate(seq.actions, start=1):
         e = action.engagement
         if action.op == "add" and (k, e) in offset_of:
-            name = member_name(e.affordance, offset_of[(k, e)])
+            name = member_name(e.affordance, offset_of[(k, e)], straight=slide_band(problem, e) is not None)
             renamed[e] = Engagement(e.effector, e.body, name)
         member = renamed.get(e, e)
         if action.op == "remove":

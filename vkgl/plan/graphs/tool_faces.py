@@ -71,7 +71,7 @@ def slide_band(problem: Problem, engagement: Engagement) -> tuple[float, float] 
 
 def _band(problem: Problem, engagement: Engagement) -> tuple[float, float] | None:
     affordance = problem.affordance(engagement.body, engagement.affordance)
-    if not isinstance(affordance.motion, PrismaticC) or affordance.family is not None:
+    if not isinstance(affordance.motion, PrismaticC):  # a slide's family (an arc) is a point's: not a flat face's
         return None
     if problem.bodies[engagement.body].joint is not None or not problem.bodies[engagement.body].on_table:
         return None  # a drawer's slide is its joint's, and its contact a handle's: only bodies sliding on the table
