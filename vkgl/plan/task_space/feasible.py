@@ -88,6 +88,7 @@ class _Evaluator:
     def __init__(self, problem: Problem, seq: Sequence) -> None:
         self.problem, self.seq = problem, seq
         self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+        self._placed: dict[tuple[str, bytes], list[float]] = {}  # `body_constraints` by body and end pose
         self.last_x = np.zeros(seq.size)
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -104,7 +105,9 @@ class _Evaluator:
 
     def _compute(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         traces = rollout(self.problem, self.seq, x, TASK_SAMPLES)
-        return goal_residuals(self.problem, traces[-1].end), constraint_values(self.problem, traces)
+        if len(self._placed) > PLACED_REMEMBERED:
+            self._placed.clear()
+        return goal_residuals(self.problem, traces[-1].end), constraint_values(self.problem, traces, self._placed)
 
     def objective(self, x: np.ndarray, grad: np.ndarray) -> float:
         residual, _ = self.evaluate(x)
@@ -166,15 +169,38 @@ def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalS
     return True
 
 
-def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
-    """Inequality constraints (<= 0 when satisfied, metres): reach of every hand sample, table, joint limits."""
+def constraint_values(
+    problem: Problem, traces: list[ModeTrace], placed: dict[tuple[str, bytes], list[float]] | None = None
+) -> np.ndarray:
+    """Inequality constraints (<= 0 when satisfied, metres): reach of every hand sample, table, joint limits.
+
+    `placed`: `body_constraints` already computed, by body and end pose (byte for byte: the same numbers),
+    read and added to. The optimiser's finite differences move one value at a time, so most bodies end each
+    mode where they ended at the point the step is taken from."""
     hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
     out = list(reach_violations(problem, np.array(hands))) if hands else []
     for trace in traces:
         for name in trace.moved:
-            out.extend(_stay_constraints(problem, name, trace.end[name]))
-            out.extend(_keep_out_depths(problem, name, trace.end[name]))
+            pose = trace.end[name]
+            if placed is None:
+                out.extend(body_constraints(problem, name, pose))
+                continue
+            key = (name, pose.tobytes())
+            known = placed.get(key)
+            if known is None:
+                known = placed[key] = body_constraints(problem, name, pose)
+            out.extend(known)
     return np.asarray(out if out else [-1.0], dtype=float)
+
+
+PLACED_REMEMBERED = 4096
+"""Bodies' `body_constraints` an evaluator keeps (its sequence's bodies at the poses the optimiser tried)."""
+
+
+def body_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
+    """A moved body's constraints at the end of a mode: on the table, within its joint's limits, out of the
+    keep-out regions (<= 0 when satisfied, m)."""
+    return _stay_constraints(problem, name, pose) + _keep_out_depths(problem, name, pose)
 
 
 def _keep_out_depths(problem: Problem, name: str, pose: np.ndarray) -> list[float]:

@@ -1,0 +1,108 @@
+"""Benchmark: the physical bench's timed-out tasks, in CPU seconds and checks per CPU second.
+
+    python bench/bench_timeouts.py [--tasks gen1_018 gen6_004 ...] [--timeout 20] [--jobs 1]
+
+Each task is generated as `bench/bench_physical.py` generates it (the bodies' affordances from its cache,
+`bench/.cache/physical/`, learned there when missing) and searched once with a deadline of `--timeout` CPU
+seconds: every deadline of the search runs on the process's CPU time (`time.perf_counter` is replaced by
+`time.process_time` in each worker, as in `bench_search_counts.py`), so the numbers do not depend on what else
+runs on the machine. Per task: the status, the plan's depth, the sequences made, the task-space checks, the
+optimiser's runs, the IK calls, the CPU seconds, and the task-space checks per CPU second (the throughput a
+cheaper check raises: a search that times out does more of the same work in the same time). Compare two
+checkouts by running this file from each (`PYTHONPATH=<checkout>`). The default tasks are those that timed out
+at 20 s on the idle physical bench of seeds 1, 6 and 7 (docs/physical_bench_final_seed{1,6,7}.json).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+from concurrent.futures import ProcessPoolExecutor
+from multiprocessing import get_context
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
+
+TIMED_OUT = [
+    "gen1_016",
+    "gen1_018",
+    "gen1_021",
+    "gen1_024",
+    "gen1_026",
+    "gen1_033",
+    "gen1_038",
+    "gen1_039",
+    "gen1_040",
+    "gen6_001",
+    "gen6_004",
+    "gen6_008",
+    "gen6_011",
+    "gen6_017",
+    "gen6_026",
+    "gen6_028",
+    "gen6_036",
+    "gen6_038",
+    "gen6_049",
+    "gen7_018",
+    "gen7_028",
+    "gen7_032",
+    "gen7_038",
+    "gen7_046",
+]
+"""The tasks that timed out at 20 s on the idle physical bench (seeds 1, 6, 7, default max depth 6)."""
+
+HEAD = "| task | status | depth | sequences | task-space checks | optimisations | IK calls | CPU s | checks / CPU s |"
+
+
+def write_tasks(names: list[str], out: Path) -> list[tuple[str, Path]]:
+    """(name, task file) of each generated task `genS_III`, written as the physical bench writes it."""
+    import generated_tasks
+
+    cache = REPO / "bench" / ".cache" / "physical"
+    specs = [generated_tasks.task_spec(int(n[3:].split("_")[0]), int(n.split("_")[1])) for n in names]
+    types = sorted({t for s in specs for t in s.generated_types()}, key=lambda t: t.name)
+    library = generated_tasks.learned_affordances(types, cache, jobs=1)
+    return [(s.name, generated_tasks.write_task(s, out / s.name, library)) for s in specs]
+
+
+def row(job: tuple[str, str, float]) -> str:
+    """One table row: the search of one task file, its deadline `timeout` CPU seconds away."""
+    name, path, timeout = job
+    time.perf_counter = time.process_time  # every deadline in CPU seconds (see the module's docstring)
+    from vkgl.lang.compiler import compile_file
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.search.search import search
+
+    program = compile_file(path)
+    problem = build_problem(program, program.task(), timeout=timeout)
+    started = time.process_time()
+    result = search(problem, deadline=time.perf_counter() + timeout)
+    cpu = time.process_time() - started
+    stats = result.stats
+    depth = result.sequence.depth if result.sequence is not None else "-"
+    return (
+        f"| {name} | {result.status} | {depth} | {stats.sequences} | {stats.task_space_checks} | "
+        f"{stats.work.optimisations} | {stats.work.ik_calls} | {cpu:.2f} | {stats.task_space_checks / cpu:.0f} |"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--tasks", nargs="*", default=list(TIMED_OUT), help="generated tasks, by name")
+    parser.add_argument("--timeout", type=float, default=20.0, help="per task, CPU seconds (default 20)")
+    parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    args = parser.parse_args()
+    print(HEAD)
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+    with tempfile.TemporaryDirectory() as scratch:
+        jobs = [(name, str(path), args.timeout) for name, path in write_tasks(args.tasks, Path(scratch))]
+        with ProcessPoolExecutor(max_workers=args.jobs, mp_context=get_context("spawn")) as pool:
+            for line in pool.map(row, jobs):
+                print(line, flush=True)
+
+
+if __name__ == "__main__":
+    main()
