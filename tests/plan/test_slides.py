@@ -173,3 +173,26 @@ def test_remembered_body_constraints_give_the_numbers_computed_afresh(problem) -
         for _ in range(2):  # filling the memo, then reading it
             np.testing.assert_allclose(constraint_values(problem, traces, placed), fresh, rtol=0, atol=1e-12)
     assert placed  # the sequences moved bodies: their constraints were kept
+
+
+def test_closed_form_is_remembered_per_sequence_and_answers_as_computed_afresh(problem, monkeypatch) -> None:
+    from vkgl.plan.task_space import closed_form as module
+
+    sequences = _moving(problem, 3)
+    first = [module.remembered_closed_form(problem, seq) for seq in sequences]
+    calls: list[Sequence] = []
+    real = module.closed_form
+    monkeypatch.setattr(module, "closed_form", lambda p, s: calls.append(s) or real(p, s))
+    again = [module.remembered_closed_form(problem, seq) for seq in sequences]
+    assert calls == []  # every sequence's answer was remembered
+    for seq, one, two in zip(sequences, first, again, strict=True):
+        fresh = real(problem, seq)
+        if isinstance(fresh, Rejection):
+            assert one is two and isinstance(one, Rejection) and one.why == fresh.why
+        else:
+            assert not isinstance(one, Rejection) and not isinstance(two, Rejection)
+            assert one[1] == two[1] == fresh[1]
+            np.testing.assert_allclose(two[0], fresh[0], rtol=0, atol=1e-12)
+            assert two[0] is not one[0]  # each caller's own array
+    module.remembered_closed_form(_goal_at(problem, np.array([0.5, 0.0])), sequences[0])
+    assert len(calls) == 1  # another problem: computed for it

@@ -31,7 +31,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
-from vkgl.plan.task_space.closed_form import closed_form
+from vkgl.plan.task_space.closed_form import remembered_closed_form
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
@@ -297,7 +297,7 @@ def task_space(
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
         if not isinstance(written, Rejection) or written.kind not in (Kind.REACH, Kind.GOAL):
             return written
-    start = closed_form(problem, seq)
+    start = remembered_closed_form(problem, seq)
     if isinstance(start, Rejection):
         return start
     guess, pinned = start
