@@ -19,9 +19,11 @@ import argparse
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
+from typing import Any
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
@@ -68,18 +70,24 @@ def write_tasks(names: list[str], out: Path) -> list[tuple[str, Path]]:
     return [(s.name, generated_tasks.write_task(s, out / s.name, library)) for s in specs]
 
 
-def row(job: tuple[str, str, float]) -> str:
-    """One table row: the search of one task file, its deadline `timeout` CPU seconds away."""
-    name, path, timeout = job
-    time.perf_counter = time.process_time  # every deadline in CPU seconds (see the module's docstring)
+def row(job: tuple[str, str, float, int | None]) -> str:
+    """One table row: the search of one task file, its deadline `timeout` CPU seconds away, or, with `checks`,
+    after that many task-space checks."""
+    name, path, timeout, checks = job
     from vkgl.lang.compiler import compile_file
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.search.search import search
+    from vkgl.plan.search import search as module
 
+    deadline = float(timeout)
+    if checks is None:
+        time.perf_counter = time.process_time  # every deadline in CPU seconds (see the module's docstring)
+    else:
+        time.perf_counter = _count_checks(module)  # the deadline in checks: the same work on any checkout
+        deadline = float(checks)
     program = compile_file(path)
     problem = build_problem(program, program.task(), timeout=timeout)
     started = time.process_time()
-    result = search(problem, deadline=time.perf_counter() + timeout)
+    result = module.search(problem, deadline=time.perf_counter() + deadline)
     cpu = time.process_time() - started
     stats = result.stats
     depth = result.sequence.depth if result.sequence is not None else "-"
@@ -89,16 +97,35 @@ def row(job: tuple[str, str, float]) -> str:
     )
 
 
+def _count_checks(module: Any) -> Callable[[], float]:
+    """A clock that reads the search's task-space checks so far (`module.task_space` counted): a deadline of N
+    stops the search after its N-th check, at the same sequence whatever the checks cost."""
+    real, count = module.task_space, [0]
+
+    def counted(*args: Any, **kwargs: Any) -> Any:
+        count[0] += 1
+        return real(*args, **kwargs)
+
+    module.task_space = counted
+    return lambda: float(count[0])
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--tasks", nargs="*", default=list(TIMED_OUT), help="generated tasks, by name")
     parser.add_argument("--timeout", type=float, default=20.0, help="per task, CPU seconds (default 20)")
     parser.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    parser.add_argument(
+        "--checks",
+        type=int,
+        help="stop each search after this many task-space checks instead (the same work on any checkout: "
+        "the CPU seconds then compare the checks' cost, the counts must agree)",
+    )
     args = parser.parse_args()
     print(HEAD)
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as scratch:
-        jobs = [(name, str(path), args.timeout) for name, path in write_tasks(args.tasks, Path(scratch))]
+        jobs = [(name, str(path), args.timeout, args.checks) for name, path in write_tasks(args.tasks, Path(scratch))]
         with ProcessPoolExecutor(max_workers=args.jobs, mp_context=get_context("spawn")) as pool:
             for line in pool.map(row, jobs):
                 print(line, flush=True)
