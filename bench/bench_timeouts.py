@@ -1,16 +1,23 @@
 """Benchmark: the physical bench's timed-out tasks, in CPU seconds and checks per CPU second.
 
-    python bench/bench_timeouts.py [--tasks gen1_018 gen6_004 ...] [--timeout 20] [--jobs 1]
+    python bench/bench_timeouts.py [--tasks gen1_018 gen6_004 ...] [--timeout 20] [--checks N] [--against DIR]
+                                   [--jobs 1]
 
 Each task is generated as `bench/bench_physical.py` generates it (the bodies' affordances from its cache,
 `bench/.cache/physical/`, learned there when missing) and searched once with a deadline of `--timeout` CPU
 seconds: every deadline of the search runs on the process's CPU time (`time.perf_counter` is replaced by
-`time.process_time` in each worker, as in `bench_search_counts.py`), so the numbers do not depend on what else
-runs on the machine. Per task: the status, the plan's depth, the sequences made, the task-space checks, the
+`time.process_time` in each worker, as in `bench_search_counts.py`), so where a search stops does not depend
+on what else runs on the machine (its CPU seconds still grow somewhat with the load: compare runs made side by
+side). Per task: the status, the plan's depth, the sequences made, the task-space checks, the
 optimiser's runs, the IK calls, the CPU seconds, and the task-space checks per CPU second (the throughput a
 cheaper check raises: a search that times out does more of the same work in the same time). Compare two
-checkouts by running this file from each (`PYTHONPATH=<checkout>`). The default tasks are those that timed out
-at 20 s on the idle physical bench of seeds 1, 6 and 7 (docs/physical_bench_final_seed{1,6,7}.json).
+checkouts with `--against <other checkout>`: each task is searched with both codes (a process per search) and
+the table says whether they did the same work and what it cost each; with `--checks N` every search stops after
+its N-th task-space check instead, the same work on both when the checks give the same answers (the counts must
+agree), so the CPU seconds compare the checks' cost alone. The default tasks are those that timed out at 20 s on
+the idle physical bench of seeds 1, 6 and 7 (docs/physical_bench_final_seed{1,6,7}.json).
+
+    python bench/bench_timeouts.py --checks 500 --against /path/to/main --jobs 2
 """
 
 from __future__ import annotations
@@ -56,6 +63,8 @@ TIMED_OUT = [
 ]
 """The tasks that timed out at 20 s on the idle physical bench (seeds 1, 6, 7, default max depth 6)."""
 
+COMPARED = "| task | status | same work | sequences | task-space checks | CPU s | CPU change |"
+
 HEAD = "| task | status | depth | sequences | task-space checks | optimisations | IK calls | CPU s | checks / CPU s |"
 
 
@@ -70,10 +79,13 @@ def write_tasks(names: list[str], out: Path) -> list[tuple[str, Path]]:
     return [(s.name, generated_tasks.write_task(s, out / s.name, library)) for s in specs]
 
 
-def row(job: tuple[str, str, float, int | None]) -> str:
-    """One table row: the search of one task file, its deadline `timeout` CPU seconds away, or, with `checks`,
-    after that many task-space checks."""
-    name, path, timeout, checks = job
+def measure(job: tuple[str, str, float, int | None, str | None]) -> tuple[str, str, str, int, int, int, int, float]:
+    """The search of one task file, its deadline `timeout` CPU seconds away, or, with `checks`, after that many
+    task-space checks; with `checkout`, that checkout's code (each job runs in a process of its own): (name,
+    status, depth, sequences, task-space checks, optimisations, IK calls, CPU s)."""
+    name, path, timeout, checks, checkout = job
+    if checkout is not None:
+        sys.path.insert(0, checkout)
     from vkgl.lang.compiler import compile_file
     from vkgl.plan.problem.problem import build_problem
     from vkgl.plan.search import search as module
@@ -90,10 +102,29 @@ def row(job: tuple[str, str, float, int | None]) -> str:
     result = module.search(problem, deadline=time.perf_counter() + deadline)
     cpu = time.process_time() - started
     stats = result.stats
-    depth = result.sequence.depth if result.sequence is not None else "-"
+    depth = str(result.sequence.depth) if result.sequence is not None else "-"
+    work = stats.work
+    return name, result.status, depth, stats.sequences, stats.task_space_checks, work.optimisations, work.ik_calls, cpu
+
+
+def row(found: tuple[str, str, str, int, int, int, int, float]) -> str:
+    """One row of the single checkout's table."""
+    name, status, depth, sequences, checks, optimisations, ik_calls, cpu = found
     return (
-        f"| {name} | {result.status} | {depth} | {stats.sequences} | {stats.task_space_checks} | "
-        f"{stats.work.optimisations} | {stats.work.ik_calls} | {cpu:.2f} | {stats.task_space_checks / cpu:.0f} |"
+        f"| {name} | {status} | {depth} | {sequences} | {checks} | {optimisations} | {ik_calls} | {cpu:.2f} | "
+        f"{checks / cpu:.0f} |"
+    )
+
+
+def compared_row(
+    before: tuple[str, str, str, int, int, int, int, float], after: tuple[str, str, str, int, int, int, int, float]
+) -> str:
+    """One row of the comparison: whether the two searches did the same work, and what it cost each."""
+    name, cpu_before, cpu_after = before[0], before[7], after[7]
+    same = "yes" if before[1:7] == after[1:7] else "no"
+    return (
+        f"| {name} | {before[1]} -> {after[1]} | {same} | {before[3]} -> {after[3]} | {before[4]} -> {after[4]} | "
+        f"{cpu_before:.2f} -> {cpu_after:.2f} | {100 * (cpu_after - cpu_before) / cpu_before:+.0f} % |"
     )
 
 
@@ -121,14 +152,33 @@ def main() -> None:
         help="stop each search after this many task-space checks instead (the same work on any checkout: "
         "the CPU seconds then compare the checks' cost, the counts must agree)",
     )
+    parser.add_argument(
+        "--against",
+        type=Path,
+        help="another checkout (its root): each task searched with its code too, and the two compared "
+        "(the counts agree when the work is the same: with --checks)",
+    )
     args = parser.parse_args()
-    print(HEAD)
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as scratch:
-        jobs = [(name, str(path), args.timeout, args.checks) for name, path in write_tasks(args.tasks, Path(scratch))]
-        with ProcessPoolExecutor(max_workers=args.jobs, mp_context=get_context("spawn")) as pool:
-            for line in pool.map(row, jobs):
-                print(line, flush=True)
+        tasks = write_tasks(args.tasks, Path(scratch))
+        jobs = [(name, str(path), args.timeout, args.checks, None) for name, path in tasks]
+        with ProcessPoolExecutor(max_workers=args.jobs, mp_context=get_context("spawn"), max_tasks_per_child=1) as pool:
+            if args.against is None:
+                print(HEAD)
+                print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+                for found in pool.map(measure, jobs):
+                    print(row(found), flush=True)
+                return
+            print(f"before: {args.against}; after: {REPO}")
+            print(COMPARED)
+            print("|---|---|---|---:|---:|---:|---:|")
+            other = [(*job[:4], str(args.against.resolve())) for job in jobs]
+            totals = [0.0, 0.0]
+            for before, after in zip(pool.map(measure, other), pool.map(measure, jobs), strict=True):
+                totals[0], totals[1] = totals[0] + before[7], totals[1] + after[7]
+                print(compared_row(before, after), flush=True)
+            change = 100 * (totals[1] - totals[0]) / totals[0]
+            print(f"| all | | | | | {totals[0]:.1f} -> {totals[1]:.1f} | {change:+.0f} % |")
 
 
 if __name__ == "__main__":
