@@ -236,3 +236,19 @@ def test_a_stick_that_would_stand_in_the_target_at_its_contact_tries_the_contact
     # not "cube would pass through stick ... at the start of mode 2" (the stick at the written contact), but the
     # cube's own push (mode 4) through the end of the Block that the turn left in its path
     assert why.startswith("cube would pass through wall") and "in mode 4" in why, why
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(-1, 1), st.floats(-1, 1)), min_size=3, max_size=8),
+    st.lists(st.tuples(st.floats(-1, 1), st.floats(-1, 1)), min_size=3, max_size=8),
+    st.tuples(st.floats(-3, 3), st.floats(-3, 3)),
+)
+def test_the_bounding_boxes_gap_never_exceeds_the_distance_so_the_clearing_shortcut_is_exact(a, b, shift) -> None:
+    from vkgl.plan.task_space.clearing import _box, _box_gap
+
+    pa = convex_hull(np.array(a))
+    pb = convex_hull(np.array(b) + np.array(shift))
+    if len(pa) < 3 or len(pb) < 3:
+        return
+    assert _box_gap(_box(pa), _box(pb)) <= polygon_distance(pa, pb) + 1e-12

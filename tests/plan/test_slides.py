@@ -142,3 +142,57 @@ def test_a_goal_the_hand_on_the_block_cannot_follow_at_any_heading_is_rejected_f
     reach = {k: v.why for k, v in verdicts.items() if isinstance(v, Rejection) and v.kind is Kind.REACH}
     assert any("push_px" in label for label in reach) and not any("turn" in label for label in reach)
     assert all("at any heading" in why for why in reach.values())
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.tuples(st.floats(-1.2, 1.2), st.floats(-1.2, 1.2)), min_size=1, max_size=12),
+    st.sampled_from([0.02, 0.05, 0.3]),
+    st.booleans(),
+)
+def test_the_reach_of_many_points_is_each_points_reach(problem, xy, height, planar) -> None:
+    from vkgl.plan.task_space.workspace import reach_violations
+
+    # planar: one height (the optimiser's hot path); otherwise heights 1 mm apart and more
+    heights = [height if planar else height + 0.001 * k for k in range(len(xy))]
+    points = np.array([(x, y, z) for (x, y), z in zip(xy, heights)])
+    each = [reach_violation(problem, p) for p in points]
+    np.testing.assert_allclose(reach_violations(problem, points), each, rtol=0, atol=1e-12)
+
+
+def test_remembered_body_constraints_give_the_numbers_computed_afresh(problem) -> None:
+    from vkgl.plan.task_space.feasible import constraint_values
+
+    placed: dict[tuple[str, bytes], list[float]] = {}
+    rng = np.random.default_rng(5)
+    for seq in _moving(problem)[:40]:
+        lower, upper = bounds(problem, seq)
+        x = lower + rng.uniform(0.0, 1.0, len(lower)) * (upper - lower)
+        traces = rollout(problem, seq, x)
+        fresh = constraint_values(problem, traces)
+        for _ in range(2):  # filling the memo, then reading it
+            np.testing.assert_allclose(constraint_values(problem, traces, placed), fresh, rtol=0, atol=1e-12)
+    assert placed  # the sequences moved bodies: their constraints were kept
+
+
+def test_closed_form_is_remembered_per_sequence_and_answers_as_computed_afresh(problem, monkeypatch) -> None:
+    from vkgl.plan.task_space import closed_form as module
+
+    sequences = _moving(problem, 3)
+    first = [module.remembered_closed_form(problem, seq) for seq in sequences]
+    calls: list[Sequence] = []
+    real = module.closed_form
+    monkeypatch.setattr(module, "closed_form", lambda p, s: calls.append(s) or real(p, s))
+    again = [module.remembered_closed_form(problem, seq) for seq in sequences]
+    assert calls == []  # every sequence's answer was remembered
+    for seq, one, two in zip(sequences, first, again, strict=True):
+        fresh = real(problem, seq)
+        if isinstance(fresh, Rejection):
+            assert one is two and isinstance(one, Rejection) and one.why == fresh.why
+        else:
+            assert not isinstance(one, Rejection) and not isinstance(two, Rejection)
+            assert one[1] == two[1] == fresh[1]
+            np.testing.assert_allclose(two[0], fresh[0], rtol=0, atol=1e-12)
+            assert two[0] is not one[0]  # each caller's own array
+    module.remembered_closed_form(_goal_at(problem, np.array([0.5, 0.0])), sequences[0])
+    assert len(calls) == 1  # another problem: computed for it

@@ -113,3 +113,26 @@ def test_ik_is_deterministic() -> None:
     target = hand_down(0.6, -0.2, 0.05, 0.7)
     np.testing.assert_array_equal(one.home, two.home)
     np.testing.assert_array_equal(one.ik(target), two.ik(target))
+
+
+def test_ik_answers_are_remembered_as_a_new_run_gives_them_and_each_caller_gets_its_own(monkeypatch) -> None:
+    arm = Arm.load(panda_robot(), "fingertip", np.eye(4))
+    fresh = Arm.load(panda_robot(), "fingertip", np.eye(4))  # nothing remembered yet
+    target = hand_down(0.55, 0.1, 0.04, 0.3)
+    near = target.copy()
+    near[0, 3] += 0.005
+    first = arm.ik(target, arm.home)
+    assert first is not None
+    step = arm.ik_near(near, first)
+    assert step is not None
+    first[:] = 0.0  # the caller's own array: the remembered answer stays as it was
+    runs = []
+    monkeypatch.setattr(arm._ik, "solve", lambda *a, **k: runs.append(a))
+    monkeypatch.setattr(arm._ik, "track", lambda *a, **k: runs.append(a))
+    again = arm.ik(target, arm.home)
+    np.testing.assert_array_equal(again, fresh.ik(target, fresh.home))
+    np.testing.assert_array_equal(arm.ik_near(near, again), fresh.ik_near(near, again))
+    assert arm.ik(hand_down(2.0, 0.0, 0.03)) is None and fresh.ik(hand_down(2.0, 0.0, 0.03)) is None
+    assert arm.ik(hand_down(2.0, 0.0, 0.03)) is None  # a failure is remembered too
+    assert len(runs) == 1  # only the first unreachable target ran IK: the rest were remembered
+    assert arm.ik(target, arm.home, yaw_free=True) is None and len(runs) == 2  # other inputs: IK runs again

@@ -43,6 +43,9 @@ if TYPE_CHECKING:
     from vkgl.lang.ir.nodes import Robot, Scene, SceneRobot
     from vkgl.lang.ir.program import Program
 
+IK_REMEMBERED = 50_000
+"""IK answers an arm keeps (about 20 MB at most: each a 4x4 target, a seed and 7 joints)."""
+
 # per URDF, link and offset: the base does not matter, and the optimisation takes a while
 _READY_POSES: dict[tuple[Any, ...], np.ndarray] = {}
 
@@ -87,6 +90,7 @@ class Arm:
             _READY_POSES[self._model_key] = ready_pose(self._chain, name)
         self.home = _READY_POSES[self._model_key].copy()
         self._ik = InverseKinematics(self._chain, self.home)
+        self._solved: dict[tuple[Any, ...], np.ndarray | None] = {}  # `ik` and `ik_near` answers by their inputs
 
     @classmethod
     def load(cls, robot: Robot, effector: str, base: np.ndarray) -> Arm:
@@ -157,9 +161,12 @@ class Arm:
         the effector's z axis must match the target's (rotation about it is free).
         Targets farther than the chain's total length are rejected at once.
         """
-        local = self._base_inverse @ np.asarray(target, dtype=float)
+        target = np.asarray(target, dtype=float)
         start = None if q0 is None else np.asarray(q0, dtype=float)
-        return self._ik.solve(local, start, yaw_free=yaw_free, tol=tol)
+        key = ("ik", target.tobytes(), None if start is None else start.tobytes(), yaw_free, tol)
+        if key not in self._solved:
+            self._remember(key, self._ik.solve(self._base_inverse @ target, start, yaw_free=yaw_free, tol=tol))
+        return self._recalled(key)
 
     def ik_near(
         self, target: np.ndarray, q0: Sequence[float] | np.ndarray, *, yaw_free: bool = False, tol: float = 1e-4
@@ -170,10 +177,29 @@ class Arm:
         few forward kinematics instead of an NLopt run); when they stall, `ik`
         from `q0`. The same tolerance and solution rule as `ik`.
         """
-        local = self._base_inverse @ np.asarray(target, dtype=float)
+        target = np.asarray(target, dtype=float)
         start = np.asarray(q0, dtype=float)
-        found = self._ik.track(local, start, yaw_free=yaw_free, tol=tol)
-        return found if found is not None else self._ik.solve(local, start, yaw_free=yaw_free, tol=tol)
+        key = ("near", target.tobytes(), start.tobytes(), yaw_free, tol)
+        if key not in self._solved:
+            local = self._base_inverse @ target
+            found = self._ik.track(local, start, yaw_free=yaw_free, tol=tol)
+            self._remember(
+                key, found if found is not None else self._ik.solve(local, start, yaw_free=yaw_free, tol=tol)
+            )
+        return self._recalled(key)
+
+    def _remember(self, key: tuple[Any, ...], q: np.ndarray | None) -> None:
+        """Keep an IK answer for `key` (its inputs, byte for byte): the planner asks the same again and again
+        (the same contact of many candidate sequences, the same straight move from it), and IK is deterministic,
+        so the answer is the one a new run would give (`IK_REMEMBERED` at most; then it starts afresh)."""
+        if len(self._solved) >= IK_REMEMBERED:
+            self._solved.clear()
+        self._solved[key] = None if q is None else q.copy()
+
+    def _recalled(self, key: tuple[Any, ...]) -> np.ndarray | None:
+        """The remembered answer for `key`, as an array of the caller's own."""
+        q = self._solved[key]
+        return None if q is None else q.copy()
 
     def spread_seeds(self) -> list[np.ndarray]:
         """`home` and the fixed random seeds within the joint limits (the same on every run): starting

@@ -46,6 +46,7 @@ from vkgl.motion.moves import GRASP_STANDOFF
 from vkgl.motion.transit import TransitFailure
 from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
 from vkgl.plan.arm.approaches import DOWN
+from vkgl.plan.arm.remembered import Remembered, Replay, step_key
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import Problem
@@ -99,6 +100,7 @@ class ArmPathPlanner:
         self.problem = problem
         self.geometry = geometry
         self.moves = StraightMoves(problem, geometry)
+        self._chains: Remembered[Replay[np.ndarray | Rejection]] = Remembered()
         self.transit_count = 0
         self.seconds = 0.0  # in the first stage (IK of straight moves and contact chains, their checks)
         self.transit_seconds = 0.0  # in the second (transit planning)
@@ -196,6 +198,18 @@ class ArmPathPlanner:
         return first or Rejection(Kind.IK, f"{label}: no arm configuration carries the whole motion", 1.0)
 
     def _contact_chain(self, step: PlanStepRecord, state: ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
+        """`_solved_contact_chain`, remembered by what it depends on (`remembered.step_key`): each chain is
+        solved once, when the first caller asks for it (the solver gets a copy of `state`: the caller's
+        changes once a chain worked do not reach it)."""
+        key = step_key(step, state.held, label)
+        chains = self._chains.get(key)
+        if chains is None:
+            chains = self._chains.keep(key, Replay(self._solved_contact_chain(step, state.copy(), label)))
+        yield from chains
+
+    def _solved_contact_chain(
+        self, step: PlanStepRecord, state: ArmState, label: str
+    ) -> Iterator[np.ndarray | Rejection]:
         """Joints every `CHAIN_SPACING` along a contact's motion, in one arm configuration from start to end.
 
         The plan's configuration at the contact first; if the arm would have

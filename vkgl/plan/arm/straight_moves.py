@@ -38,7 +38,7 @@ is rejected at once (kind "transit"), and the next way in is tried.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -48,6 +48,7 @@ from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.moves import CARTESIAN_SPEED, GRASP_STANDOFF, LIFT, STANDOFF, TOOL_DESCENT, WayOut, way_out
 from vkgl.motion.timing import arm_velocity_limits, straight_times
 from vkgl.plan.arm.approaches import DOWN, SLANT, Way, rules, searched, summary
+from vkgl.plan.arm.remembered import Remembered, step_key
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.graphs.graph import is_grasp
 from vkgl.plan.problem.problem import Problem
@@ -82,6 +83,11 @@ class Approach:
     segment: ArmSegment
     way: np.ndarray  # world, unit: the direction of its last straight move into the contact
 
+    def copy(self) -> Approach:
+        """The same approach with arrays of its own (a plan keeps its segment; another plan may keep the same)."""
+        segment = replace(self.segment, times=self.segment.times.copy(), joints=self.segment.joints.copy())
+        return Approach(self.pre_contact.copy(), segment, self.way.copy())
+
 
 class StraightMoves:
     """The straight moves of one problem's arm, checked with `geometry`'s collision world."""
@@ -90,8 +96,18 @@ class StraightMoves:
         """Moves for `problem`'s arm among its bodies."""
         self.problem = problem
         self.geometry = geometry
+        self._approaches: Remembered[Approach | Rejection] = Remembered()
 
     def into_contact(self, step: PlanStepRecord, state: ArmState, label: str) -> Approach | Rejection:
+        """The straight approach into the step's contact (`solved_into_contact`), remembered by what it depends
+        on (`remembered.step_key`: the step, the tool in the hand, the label): candidates share steps."""
+        key = step_key(step, state.held, label)
+        found = self._approaches.get(key)
+        if found is None:
+            found = self._approaches.keep(key, self.solved_into_contact(step, state, label))
+        return found.copy() if isinstance(found, Approach) else found
+
+    def solved_into_contact(self, step: PlanStepRecord, state: ArmState, label: str) -> Approach | Rejection:
         """The straight approach into the step's contact.
 
         A push is approached by the three rules (`approaches.rules`): along its push direction; when that way

@@ -121,10 +121,16 @@ def clearing_value(
     e = blocker.engagement
     motion = problem.affordance(e.body, e.affordance).motion
 
+    boxes = [_box(way) for way in ways]
+
     def clear(value: float) -> bool:
         pose = start @ motion_matrices(motion, np.array([value]))[0]
         shape = footprint(problem, e.body, pose)
-        return all(polygon_distance(shape, way) >= MARGIN for way in ways)
+        box = _box(shape)
+        return all(
+            _box_gap(box, way_box) >= MARGIN + BOX_SLACK or polygon_distance(shape, way) >= MARGIN
+            for way, way_box in zip(ways, boxes, strict=True)
+        )
 
     if clear(low):
         return low
@@ -135,6 +141,23 @@ def clearing_value(
             return _bisect(clear, blocked, value)
         blocked = value
     return None
+
+
+BOX_SLACK = 1e-9
+"""m: a footprint's bounding box this much more than `MARGIN` from a corridor's decides without
+`polygon_distance` (whose rounding is far below it)."""
+
+
+def _box(polygon: np.ndarray) -> np.ndarray:
+    """The polygon's axis-aligned bounding box: (min x, min y, max x, max y)."""
+    return np.concatenate([polygon.min(axis=0), polygon.max(axis=0)])
+
+
+def _box_gap(a: np.ndarray, b: np.ndarray) -> float:
+    """How far apart two bounding boxes are along x or y, whichever is more (<= 0 when they overlap): a lower
+    bound of the distance between the polygons inside them, since every point of one lies that far from every
+    point of the other along that axis."""
+    return float(max(a[0] - b[2], b[0] - a[2], a[1] - b[3], b[1] - a[3]))
 
 
 def _bisect(clear: object, blocked: float, free: float) -> float:

@@ -63,6 +63,25 @@ def closed_form(problem: Problem, seq: Sequence) -> tuple[np.ndarray, bool] | Re
     return values, bool(pinned.all())
 
 
+_CLOSED_FORMS: dict[int, tuple[Problem, Sequence, tuple[np.ndarray, bool] | Rejection]] = {}
+_CLOSED_FORMS_KEPT = 64
+"""`closed_form` answers kept, by sequence: a sequence with contacts on families is solved up to three times
+(its contacts as written, then free along their faces, then pinned elsewhere: `contacts.other_contacts`), and
+`closed_form` does not depend on the contacts' offsets."""
+
+
+def remembered_closed_form(problem: Problem, seq: Sequence) -> tuple[np.ndarray, bool] | Rejection:
+    """`closed_form(problem, seq)`, computed once per sequence object (kept with it, so that its id stays its
+    own); the values come as an array of the caller's own."""
+    kept = _CLOSED_FORMS.get(id(seq))
+    if kept is None or kept[0] is not problem or kept[1] is not seq:
+        if len(_CLOSED_FORMS) >= _CLOSED_FORMS_KEPT:
+            _CLOSED_FORMS.clear()
+        kept = _CLOSED_FORMS[id(seq)] = (problem, seq, closed_form(problem, seq))
+    found = kept[2]
+    return found if isinstance(found, Rejection) else (found[0].copy(), found[1])
+
+
 def _goal_values(
     problem: Problem, seq: Sequence, goal: GoalSpec, values: np.ndarray
 ) -> dict[int, tuple[float, bool]] | Rejection:

@@ -32,7 +32,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
-from vkgl.plan.task_space.closed_form import closed_form
+from vkgl.plan.task_space.closed_form import remembered_closed_form
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
@@ -89,6 +89,7 @@ class _Evaluator:
     def __init__(self, problem: Problem, seq: Sequence) -> None:
         self.problem, self.seq = problem, seq
         self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+        self._placed: dict[tuple[str, bytes], list[float]] = {}  # `body_constraints` by body and end pose
         self.last_x = np.zeros(seq.size)
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -105,7 +106,9 @@ class _Evaluator:
 
     def _compute(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         traces = rollout(self.problem, self.seq, x, TASK_SAMPLES)
-        return goal_residuals(self.problem, traces[-1].end), constraint_values(self.problem, traces)
+        if len(self._placed) > PLACED_REMEMBERED:
+            self._placed.clear()
+        return goal_residuals(self.problem, traces[-1].end), constraint_values(self.problem, traces, self._placed)
 
     def objective(self, x: np.ndarray, grad: np.ndarray) -> float:
         residual, _ = self.evaluate(x)
@@ -167,15 +170,38 @@ def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalS
     return True
 
 
-def constraint_values(problem: Problem, traces: list[ModeTrace]) -> np.ndarray:
-    """Inequality constraints (<= 0 when satisfied, metres): reach of every hand sample, table, joint limits."""
+def constraint_values(
+    problem: Problem, traces: list[ModeTrace], placed: dict[tuple[str, bytes], list[float]] | None = None
+) -> np.ndarray:
+    """Inequality constraints (<= 0 when satisfied, metres): reach of every hand sample, table, joint limits.
+
+    `placed`: `body_constraints` already computed, by body and end pose (byte for byte: the same numbers),
+    read and added to. The optimiser's finite differences move one value at a time, so most bodies end each
+    mode where they ended at the point the step is taken from."""
     hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
     out = list(reach_violations(problem, np.array(hands))) if hands else []
     for trace in traces:
         for name in trace.moved:
-            out.extend(_stay_constraints(problem, name, trace.end[name]))
-            out.extend(_keep_out_depths(problem, name, trace.end[name]))
+            pose = trace.end[name]
+            if placed is None:
+                out.extend(body_constraints(problem, name, pose))
+                continue
+            key = (name, pose.tobytes())
+            known = placed.get(key)
+            if known is None:
+                known = placed[key] = body_constraints(problem, name, pose)
+            out.extend(known)
     return np.asarray(out if out else [-1.0], dtype=float)
+
+
+PLACED_REMEMBERED = 4096
+"""Bodies' `body_constraints` an evaluator keeps (its sequence's bodies at the poses the optimiser tried)."""
+
+
+def body_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
+    """A moved body's constraints at the end of a mode: on the table, within its joint's limits, out of the
+    keep-out regions (<= 0 when satisfied, m)."""
+    return _stay_constraints(problem, name, pose) + _keep_out_depths(problem, name, pose)
 
 
 def _keep_out_depths(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
@@ -274,7 +300,7 @@ def task_space(
             return written
         if all(slide_band(problem, e) is not None for _, e in seq.offsets):
             return written  # a tool's slide moves the same at any offset: its contact moves for the tool's room only
-    start = closed_form(problem, seq)
+    start = remembered_closed_form(problem, seq)
     if isinstance(start, Rejection):
         return start
     guess, pinned = start

@@ -51,14 +51,20 @@ def reach_violations(problem: Problem, points: np.ndarray) -> np.ndarray:
     if not np.isfinite(points).all():
         return np.ones(len(points))
     heights = points[:, 2]
-    if np.ptp(heights) < 5e-4:  # planar motions: one height for all, one reach lookup
-        intervals = np.tile(problem.arm.reach(float(heights[0])), (len(points), 1))
-    else:  # one reach lookup per height (a hand path holds few)
-        known: dict[float, tuple[float, float]] = {}
-        for z in heights.tolist():
-            if z not in known:
-                known[z] = problem.arm.reach(z)
-        intervals = np.array([known[z] for z in heights.tolist()])
-    radius = np.hypot(points[:, 0] - problem.arm.base[0, 3], points[:, 1] - problem.arm.base[1, 3])
+    base = problem.arm.base
+    if float(heights.max()) - float(heights.min()) < 5e-4:  # planar motions: one height for all, one lookup
+        # the same numbers as the general case's, element by element, without building its arrays (the
+        # optimiser asks this for every point it tries)
+        r_min, r_max = problem.arm.reach(float(heights[0]))
+        if not r_max > 0:
+            return np.ones(len(points))
+        radius = np.hypot(points[:, 0] - base[0, 3], points[:, 1] - base[1, 3])
+        return np.maximum(r_min + REACH_MARGIN - radius, radius - (r_max - REACH_MARGIN))
+    known: dict[float, tuple[float, float]] = {}  # one reach lookup per height (a hand path holds few)
+    for z in heights.tolist():
+        if z not in known:
+            known[z] = problem.arm.reach(z)
+    intervals = np.array([known[z] for z in heights.tolist()])
+    radius = np.hypot(points[:, 0] - base[0, 3], points[:, 1] - base[1, 3])
     out = np.maximum(intervals[:, 0] + REACH_MARGIN - radius, radius - (intervals[:, 1] - REACH_MARGIN))
     return np.where(intervals[:, 1] > 0, out, 1.0)
