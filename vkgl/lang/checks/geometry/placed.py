@@ -5,8 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-
+from vkgl.lang.checks.geometry.rigid import Rigid, Vec3
 from vkgl.lang.checks.geometry.solids import Piece
 from vkgl.lang.ir import nodes as ir
 
@@ -21,8 +20,8 @@ cabinet's top dragged the cabinet 20 cm; 1 mm under it, the cabinet stayed put).
 class Table:
     """The table's rectangle (x and y from `low` to `high`) and the height of its top."""
 
-    low: np.ndarray
-    high: np.ndarray
+    low: tuple[float, float]
+    high: tuple[float, float]
     top: float
 
 
@@ -32,10 +31,10 @@ class Placed:
 
     scene_body: ir.SceneBody
     body: ir.Body
-    pose: np.ndarray
+    pose: Rigid
     pieces: list[Piece]
-    low: np.ndarray
-    high: np.ndarray
+    low: Vec3
+    high: Vec3
 
     @property
     def name(self) -> str:
