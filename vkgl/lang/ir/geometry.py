@@ -18,8 +18,8 @@ import numpy as np
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.mesh_limits import file_too_large, too_many_faces
+from vkgl.lang.ir.nodes import JOINT_LIFT as JOINT_LIFT  # defined there: the scene checks read it without numpy
 from vkgl.lang.ir.nodes import (
-    JOINT_LIFT as JOINT_LIFT,  # where it is defined: the scene checks read it without numpy
     Body,
     BoxShape,
     CylinderShape,

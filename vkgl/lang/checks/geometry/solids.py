@@ -18,10 +18,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from vkgl.lang.checks.geometry.rigid import Rigid, Vec3, finite, pose_rigid, rotate
 from vkgl.lang.ir import nodes as ir
 from vkgl.rotations import rpy_matrix, yaw_matrix
+
+if TYPE_CHECKING:  # numpy only for a mesh's pieces (trimesh has imported it): `vkgc check` of boxes needs none
+    import numpy as np
 
 CYLINDER_SIDES = 64
 BASE_RADIUS = 0.10
@@ -88,7 +92,7 @@ def _prism(radius: float, height: float) -> Piece:
     return Piece(vertices, (*sides, up), (*rims, up))
 
 
-def _hull(points: object) -> Piece:
+def _hull(points: np.ndarray) -> Piece:
     """The convex hull of `points` (an array, from a mesh trimesh has loaded) as a piece."""
     import numpy as np  # trimesh, which read the mesh, has imported it
     import trimesh
@@ -99,15 +103,14 @@ def _hull(points: object) -> Piece:
     return Piece(_triples(np.asarray(hull.vertices)), _triples(normals), _triples(_unique_directions(edges)))
 
 
-def _triples(array: object) -> tuple[Vec3, ...]:
-    return tuple((float(x), float(y), float(z)) for x, y, z in array.tolist())  # type: ignore[attr-defined]
+def _triples(array: np.ndarray) -> tuple[Vec3, ...]:
+    return tuple((float(x), float(y), float(z)) for x, y, z in array.tolist())
 
 
-def _unique_directions(vectors: object) -> object:
+def _unique_directions(vectors: np.ndarray) -> np.ndarray:
     """Unit vectors, one per direction up to sign (rounded to 1e-6)."""
     import numpy as np
 
-    vectors = np.asarray(vectors)
     lengths = np.linalg.norm(vectors, axis=1)
     units = vectors[lengths > 1e-12] / lengths[lengths > 1e-12, None]
     flip = np.sign(units[np.arange(len(units)), np.argmax(np.abs(units), axis=1)])
