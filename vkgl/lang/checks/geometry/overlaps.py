@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from vkgl.lang.checks.context import CheckContext
-from vkgl.lang.checks.geometry.overlap_fix import clearing_move
 from vkgl.lang.checks.geometry.placed import JOINT_GAP, TOUCH, Base, Placed, Table
 from vkgl.lang.checks.geometry.placed import cm as _cm
 from vkgl.lang.checks.geometry.placed import m as _m
@@ -78,6 +77,8 @@ def check_joint_clearance(bodies: list[Placed], ctx: CheckContext) -> None:
 def _clearing_note(first: Placed, second: Placed, bodies: list[Placed], table: Table | None) -> list[str]:
     """E420's suggestion: where the body to move (one placed relative to the other, else the second) clears
     every body it overlaps."""
+    from vkgl.lang.checks.geometry.overlap_fix import clearing_move  # only for a scene with an overlap
+
     mover, other = (first, second) if _placed_in(first, second) else (second, first)
     others = [b.pieces for b in bodies if b is not mover and pieces_depth(mover.pieces, b.pieces, TOUCH) > TOUCH]
     floor = table.top if table is not None else None
