@@ -3,7 +3,7 @@ messages write lengths and positions."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from vkgl.lang.checks.geometry.rigid import Rigid, Vec3
 from vkgl.lang.checks.geometry.solids import Piece
@@ -16,8 +16,7 @@ JOINT_GAP = 0.0005
 cabinet's top dragged the cabinet 20 cm; 1 mm under it, the cabinet stayed put)."""
 
 
-@dataclass(frozen=True)
-class Table:
+class Table(NamedTuple):
     """The table's rectangle (x and y from `low` to `high`) and the height of its top."""
 
     low: tuple[float, float]
@@ -25,8 +24,7 @@ class Table:
     top: float
 
 
-@dataclass(frozen=True)
-class Placed:
+class Placed(NamedTuple):
     """A scene body where it starts: its world pose, convex pieces and axis-aligned bounds."""
 
     scene_body: ir.SceneBody
@@ -42,8 +40,7 @@ class Placed:
         return self.scene_body.name
 
 
-@dataclass(frozen=True)
-class Base:
+class Base(NamedTuple):
     """A robot's base in a scene."""
 
     name: str
