@@ -75,3 +75,11 @@ def test_solve_imports_no_scipy_once_its_hulls_are_known(tmp_path: Path) -> None
     the cache folder (vkgl.plan.problem.hulls): from the second solve of a task on, SciPy is not imported."""
     _heavy_modules(SOLVE, tmp_path)  # the first computes the hulls with Qhull (and the arm's reach)
     assert "scipy" not in _heavy_modules(SOLVE, tmp_path)
+
+
+def test_check_imports_no_numpy(tmp_path: Path) -> None:
+    """numpy was a third of a `vkgc check`'s instructions: the scene checks compute in plain Python
+    (vkgl.lang.checks.geometry.rigid, solids), and numpy is imported only to compute a relative placement, a
+    relative goal or a region's fit."""
+    _heavy_modules(CHECK, tmp_path)  # DART (and numpy with it) loads the arm's URDF once
+    assert _heavy_modules(CHECK, tmp_path, ("numpy",)) == set()

@@ -34,7 +34,7 @@ def run() -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run `vkgc` with `argv` (default sys.argv[1:]); return the exit code."""
     try:
-        parser = build_parser()
+        parser = build_parser(sys.argv[1:] if argv is None else argv)
         parser.argv = None if argv is None else list(argv)  # type: ignore[attr-defined]  # for "did you mean"
         args = parser.parse_args(argv)
         if args.command is None:

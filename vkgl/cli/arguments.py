@@ -11,7 +11,7 @@ import argparse
 import math
 import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any, NoReturn
 
 from vkgl.cli.exit_codes import EXIT_INPUT
@@ -110,8 +110,11 @@ class _Version(argparse.Action):
         parser.exit()
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of `vkgc` (all sub-commands)."""
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The argument parser of `vkgc`: of all sub-commands, or, given the `argv` it will parse and when that
+    starts with a sub-command, of that one alone (argparse makes each sub-command a parser of its own, and
+    making the six others was a fortieth of a `vkgc check`; nothing parsed after the sub-command's name
+    reaches them)."""
     parser = _Parser(
         prog="vkgc",
         description="Compile, explore, infer and plan with VKG (virtual kinematic graph) programs.",
@@ -121,28 +124,39 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version, help="print the version")
     parser.add_argument("--debug", action="store_true", help="show the traceback of internal errors")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    p = _subcommand(sub, "check", help="parse and check .vkg files")
+    named = [argv[0]] if argv and argv[0] in SUBCOMMANDS else list(SUBCOMMANDS)
+    for name in named:
+        helped, add_arguments = SUBCOMMANDS[name]
+        add_arguments(_subcommand(sub, name, help=helped))
+    return parser
+
+
+def _check_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("files", nargs="+", metavar="FILE", help=".vkg files to check (each with what it uses)")
 
-    p = _subcommand(sub, "fmt", help="rewrite .vkg files in canonical form")
+
+def _fmt_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("files", nargs="+", metavar="FILE", help=".vkg files to rewrite in place")
     p.add_argument("--check", action="store_true", help="only report files that would change (exit 1)")
 
-    p = _subcommand(sub, "explore", help="run a body's exploration grid in DART")
+
+def _explore_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("bodyfile", metavar="BODYFILE", help=".vkg file that declares the body")
     p.add_argument("--body", metavar="NAME", help="the body to explore (default: the file's only body)")
     p.add_argument("-o", "--output", required=True, metavar="TRIALS.npz", help="where to write the vkg-trials/1 data")
     p.add_argument("--plot", metavar="F.png", help="also draw the trials (top view)")
     _add_run_options(p)
 
-    p = _subcommand(sub, "infer", help="infer affordances from a trials dataset")
+
+def _infer_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("trials", metavar="TRIALS.npz", help="a vkg-trials/1 dataset (from `vkgc explore`)")
     p.add_argument("-o", "--output", required=True, metavar="MODULE.vkg", help="where to write the affordance module")
     p.add_argument("--report", metavar="R.json", help="also write the per-trial report (vkg-infer-report/2)")
     p.add_argument("--plot", metavar="F.png", help="also draw the posterior over types by contact")
     p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
 
-    p = _subcommand(sub, "learn", help="explore + infer: generate the affordance modules of bodies")
+
+def _learn_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "bodyfiles",
         nargs="+",
@@ -170,14 +184,16 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_run_options(p)
 
-    p = _subcommand(sub, "lsp", help="run the language server for editors (LSP over stdio)")
+
+def _lsp_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--stdio",
         action="store_true",
         help="talk over stdin/stdout (the default and only transport; accepted because clients pass it)",
     )
 
-    p = _subcommand(sub, "solve", help="plan for a task")
+
+def _solve_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("taskfile", metavar="TASKFILE", help=".vkg file that declares the task")
     p.add_argument("--task", metavar="NAME", help="the task to solve (needed when the file declares several)")
     p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/5 JSON")
@@ -214,7 +230,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--execution-json", metavar="F", help="write the execution report as vkg-execution/5 JSON (implies --execute)"
     )
-    return parser
+
+
+SUBCOMMANDS: dict[str, tuple[str, Callable[[argparse.ArgumentParser], None]]] = {
+    "check": ("parse and check .vkg files", _check_arguments),
+    "fmt": ("rewrite .vkg files in canonical form", _fmt_arguments),
+    "explore": ("run a body's exploration grid in DART", _explore_arguments),
+    "infer": ("infer affordances from a trials dataset", _infer_arguments),
+    "learn": ("explore + infer: generate the affordance modules of bodies", _learn_arguments),
+    "lsp": ("run the language server for editors (LSP over stdio)", _lsp_arguments),
+    "solve": ("plan for a task", _solve_arguments),
+}
+"""The sub-commands in the order `vkgc --help` lists them: their help and what adds their arguments."""
 
 
 def _subcommand(sub: Any, name: str, **kwargs: Any) -> argparse.ArgumentParser:

@@ -18,6 +18,7 @@ import numpy as np
 
 from vkgl.errors import InputError
 from vkgl.lang.ir.mesh_limits import file_too_large, too_many_faces
+from vkgl.lang.ir.nodes import JOINT_LIFT as JOINT_LIFT  # defined there: the scene checks read it without numpy
 from vkgl.lang.ir.nodes import (
     Body,
     BoxShape,
@@ -33,12 +34,6 @@ from vkgl.rotations import matrix_rotvec, rotvec_matrix, yawed_points
 
 if TYPE_CHECKING:
     import trimesh
-
-JOINT_LIFT = 0.001
-"""m: a body on a physical joint hangs this far above where the scene places it, so that it hangs on its
-joint and does not rub on the table it stands on. The simulator anchors the joint there (`vkgl.sim.world`);
-the planner's collision geometry and the scene checks put the body there too, so that all three agree on
-how much room it has (a drawer 1 mm under its cabinet's top touches it once lifted, and drags it)."""
 
 
 def lifted(pose: np.ndarray, lift: float = JOINT_LIFT) -> np.ndarray:

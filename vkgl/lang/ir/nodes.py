@@ -100,6 +100,13 @@ class Joint(Node):
     friction: Quantity | None = None
 
 
+JOINT_LIFT = 0.001
+"""m: a body on a physical joint hangs this far above where the scene places it, so that it hangs on its
+joint and does not rub on the table it stands on. The simulator anchors the joint there (`vkgl.sim.world`);
+the planner's collision geometry and the scene checks put the body there too, so that all three agree on
+how much room it has (a drawer 1 mm under its cabinet's top touches it once lifted, and drags it)."""
+
+
 class ContactSpec(Node):
     """`contacts on faces +x, -x steps K`, or `contacts at FRAME, FRAME` (then `faces` is empty)."""
 

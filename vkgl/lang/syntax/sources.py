@@ -22,7 +22,6 @@ from pathlib import Path
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.syntax.values import new_node
 
 MAX_SOURCE_BYTES = 10 * 1024 * 1024
 """10 MiB: the largest source file read (the stdlib's largest module is a few KiB)."""
@@ -158,7 +157,8 @@ def not_utf8(shown: str, data: bytes, exc: UnicodeDecodeError, span: ir.Span | N
     message = f"`{shown}` is not UTF-8 text: byte 0x{data[start]:02x} at line {line}, column {col} ({exc.reason})"
     note = "a .vkg file is UTF-8 text; save it as UTF-8"
     if span is None:
-        span = new_node(ir.Span, file=shown, line=line, col=col, end_line=line, end_col=col + 1)
+        # model_construct: typed values, and validation would build the validator of Span
+        span = ir.Span.model_construct(file=shown, line=line, col=col, end_line=line, end_col=col + 1)
     return codes.NOT_UTF8.diagnostic(message, span, note)
 
 

@@ -10,9 +10,8 @@ frame of B's type that placed it.
 
 from __future__ import annotations
 
-import numpy as np
-
-from vkgl.lang.checks.geometry.solids import Piece, pieces_depth
+from vkgl.lang.checks.geometry.rigid import Vec3, scaled
+from vkgl.lang.checks.geometry.solids import Piece, lowest, pieces_depth
 
 AXES = (
     ("up", (0, 0, 1)),
@@ -36,40 +35,38 @@ REACH = 0.3
 
 def clearing_move(
     moving: list[Piece], others: list[list[Piece]], touch: float, floor: float | None = None, *, vertical: bool = True
-) -> tuple[str, np.ndarray] | None:
+) -> tuple[str, Vec3] | None:
     """The shortest axis move (its words and the displacement vector, m) after which `moving` interpenetrates
     none of `others` by more than `touch` and (given a `floor`, the table top) does not sink below the floor;
     None when no move of up to `REACH` does. Each axis is scanned in `SCAN` steps (a drawer may clear its
     cabinet's bottom board a few millimetres up and hit its top board further on), then bisected. Without
     `vertical` only the horizontal moves are tried (a body resting on the table)."""
-    lowest = min(float(p.vertices[:, 2].min()) for p in moving)
-    best: tuple[float, str, np.ndarray] | None = None
+    bottom = lowest(moving)
+    best: tuple[float, str, Vec3] | None = None
     for words, axis in AXES:
-        direction = np.asarray(axis, dtype=float)
+        direction = (float(axis[0]), float(axis[1]), float(axis[2]))
         if direction[2] and not vertical:
             continue
-        if floor is not None and direction[2] < 0 and lowest - SCAN < floor - touch:
+        if floor is not None and direction[2] < 0 and bottom - SCAN < floor - touch:
             continue
-        distances = np.arange(1, int(REACH / SCAN) + 1) * SCAN
-        free = next((d for d in distances if not _overlaps(moving, direction * d, others, touch)), None)
+        distances = [k * SCAN for k in range(1, int(REACH / SCAN) + 1)]
+        free = next((d for d in distances if not _overlaps(moving, scaled(direction, d), others, touch)), None)
         if free is None:
             continue
         low, high = free - SCAN, free
         while high - low > RESOLUTION:
             middle = (low + high) / 2
-            low, high = (middle, high) if _overlaps(moving, direction * middle, others, touch) else (low, middle)
-        if floor is not None and lowest + direction[2] * high < floor - touch:
+            low, high = (middle, high) if _overlaps(moving, scaled(direction, middle), others, touch) else (low, middle)
+        if floor is not None and bottom + direction[2] * high < floor - touch:
             continue
         if best is None or high < best[0] - RESOLUTION:
-            best = (high, words, direction * high)
+            best = (high, words, scaled(direction, high))
     return None if best is None else (best[1], best[2])
 
 
-def _overlaps(moving: list[Piece], shift: np.ndarray, others: list[list[Piece]], touch: float) -> bool:
-    pose = np.eye(4)
-    pose[:3, 3] = shift
-    moved = [p.moved(pose) for p in moving]
-    return any(pieces_depth(moved, other) > touch for other in others)
+def _overlaps(moving: list[Piece], shift: Vec3, others: list[list[Piece]], touch: float) -> bool:
+    moved = [p.shifted(shift) for p in moving]
+    return any(pieces_depth(moved, other, touch) > touch for other in others)
 
 
 __all__ = ["clearing_move"]

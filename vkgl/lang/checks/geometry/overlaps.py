@@ -3,17 +3,17 @@ and bodies on a joint too close to another where the simulator hangs them."""
 
 from __future__ import annotations
 
-import numpy as np
+from collections.abc import Sequence
 
 from vkgl.lang.checks.context import CheckContext
-from vkgl.lang.checks.geometry.overlap_fix import clearing_move
 from vkgl.lang.checks.geometry.placed import JOINT_GAP, TOUCH, Base, Placed, Table
 from vkgl.lang.checks.geometry.placed import cm as _cm
 from vkgl.lang.checks.geometry.placed import m as _m
 from vkgl.lang.checks.geometry.placed import where as _where
+from vkgl.lang.checks.geometry.rigid import Vec3, add, norm, rotate, transposed
 from vkgl.lang.checks.geometry.solids import bounds, pieces_depth
 from vkgl.lang.diagnostics import codes
-from vkgl.lang.ir.geometry import JOINT_LIFT
+from vkgl.lang.ir.nodes import JOINT_LIFT
 
 
 def check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext, table: Table | None = None) -> None:
@@ -24,9 +24,8 @@ def check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext, t
     """
     if not bodies:
         return
-    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
-    for i, j in _close_pairs(lows, highs):
-        depth = pieces_depth(bodies[i].pieces, bodies[j].pieces)
+    for i, j in _close_pairs([b.low for b in bodies], [b.high for b in bodies]):
+        depth = pieces_depth(bodies[i].pieces, bodies[j].pieces, TOUCH)
         if depth > TOUCH:
             ctx.error(
                 codes.BODIES_OVERLAP,
@@ -37,9 +36,10 @@ def check_overlaps(bodies: list[Placed], bases: list[Base], ctx: CheckContext, t
             )
     for base in bases:
         low, high = bounds(base.pieces)
-        near = np.all(np.minimum(highs, high) - np.maximum(lows, low) > TOUCH, axis=1)
-        for k in np.flatnonzero(near):
-            depth = pieces_depth(bodies[k].pieces, base.pieces)
+        for k, item in enumerate(bodies):
+            if not _boxes_overlap(item.low, item.high, low, high, TOUCH):
+                continue
+            depth = pieces_depth(bodies[k].pieces, base.pieces, TOUCH)
             if depth > TOUCH:
                 ctx.error(
                     codes.BODIES_OVERLAP,
@@ -54,14 +54,14 @@ def check_joint_clearance(bodies: list[Placed], ctx: CheckContext) -> None:
     jointed = [k for k, b in enumerate(bodies) if b.body.joint is not None]
     if not jointed:
         return
-    lows, highs = np.array([b.low for b in bodies]), np.array([b.high for b in bodies])
     for k in jointed:
         item = bodies[k]
-        near = np.all(np.minimum(highs, item.high) - np.maximum(lows, item.low) > -JOINT_GAP, axis=1)
-        for j in np.flatnonzero(near):
+        for j, other in enumerate(bodies):
             if j == k or (j in jointed and j < k):  # each pair of jointed bodies once
                 continue
-            depth = pieces_depth(item.pieces, bodies[j].pieces)
+            if not _boxes_overlap(other.low, other.high, item.low, item.high, -JOINT_GAP):
+                continue
+            depth = pieces_depth(item.pieces, bodies[j].pieces, -JOINT_GAP)
             if -JOINT_GAP < depth <= TOUCH:
                 gap = max(0.0, -depth)
                 ctx.error(
@@ -77,8 +77,10 @@ def check_joint_clearance(bodies: list[Placed], ctx: CheckContext) -> None:
 def _clearing_note(first: Placed, second: Placed, bodies: list[Placed], table: Table | None) -> list[str]:
     """E420's suggestion: where the body to move (one placed relative to the other, else the second) clears
     every body it overlaps."""
+    from vkgl.lang.checks.geometry.overlap_fix import clearing_move  # only for a scene with an overlap
+
     mover, other = (first, second) if _placed_in(first, second) else (second, first)
-    others = [b.pieces for b in bodies if b is not mover and pieces_depth(mover.pieces, b.pieces) > TOUCH]
+    others = [b.pieces for b in bodies if b is not mover and pieces_depth(mover.pieces, b.pieces, TOUCH) > TOUCH]
     floor = table.top if table is not None else None
     vertical = not mover.scene_body.placement.on_table  # a body on the table only slides on it
     # touching at most; a body on a joint JOINT_GAP clear (E426: touching, it would drag what it rubs on)
@@ -87,10 +89,10 @@ def _clearing_note(first: Placed, second: Placed, bodies: list[Placed], table: T
     if found is None:
         return []
     words, shift = found
-    x, y, z = mover.pose[:3, 3] + shift
+    x, y, z = add(mover.pose[1], shift)
     if mover.body.joint is not None:  # checked where it hangs; written where it is placed, JOINT_LIFT lower
         z -= JOINT_LIFT
-    note = f"`{mover.name}` clears it moved {words} by {_cm(float(np.linalg.norm(shift)))}, "
+    note = f"`{mover.name}` clears it moved {words} by {_cm(norm(shift))}, "
     note += f"to ({_m(x)}, {_m(y)}, {_m(z)}) m"
     ref = mover.scene_body.placement.relative_to
     if ref is None:
@@ -98,7 +100,7 @@ def _clearing_note(first: Placed, second: Placed, bodies: list[Placed], table: T
     host = next((b for b in bodies if b.name == ref.body), None)
     if host is None:
         return [note]
-    local = host.pose[:3, :3].T @ shift  # the same move in the host's frame, where its type declares the frame
+    local = rotate(transposed(host.pose[0]), shift)  # the same move in the host's frame, where its type declares it
     moved = ", ".join(_m(v * 100) for v in local)
     return [
         note,
@@ -111,21 +113,27 @@ def _placed_in(item: Placed, host: Placed) -> bool:
     return ref is not None and ref.body == host.name
 
 
-def _close_pairs(lows: np.ndarray, highs: np.ndarray, chunk: int = 512) -> list[tuple[int, int]]:
-    """The pairs (i < j) of boxes that overlap by more than TOUCH along every axis, in order."""
-    order = np.argsort(lows[:, 0], kind="stable")
-    ends = np.searchsorted(lows[order, 0], highs[order, 0] - TOUCH, side="left")
+def _boxes_overlap(
+    low_a: Sequence[float], high_a: Sequence[float], low_b: Sequence[float], high_b: Sequence[float], by: float
+) -> bool:
+    """Whether two axis-aligned boxes overlap by more than `by` along every axis."""
+    return all(min(high_a[k], high_b[k]) - max(low_a[k], low_b[k]) > by for k in range(3))
+
+
+def _close_pairs(lows: list[Vec3], highs: list[Vec3]) -> list[tuple[int, int]]:
+    """The pairs (i < j) of boxes that overlap by more than TOUCH along every axis, in order.
+
+    Sort and sweep: along x, each box is compared with the boxes that start before it ends."""
+    order = sorted(range(len(lows)), key=lambda k: lows[k][0])
     pairs: list[tuple[int, int]] = []
-    for first in range(0, len(order), chunk):
-        ks = np.arange(first, min(first + chunk, len(order)))
-        counts = np.maximum(ends[ks] - ks - 1, 0)
-        if not counts.any():
-            continue
-        left = np.repeat(ks, counts)
-        right = left + 1 + np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
-        i, j = order[left], order[right]
-        close = np.all(np.minimum(highs[i], highs[j]) - np.maximum(lows[i], lows[j]) > TOUCH, axis=1)
-        pairs += zip(np.minimum(i, j)[close].tolist(), np.maximum(i, j)[close].tolist())
+    for place, i in enumerate(order):
+        end = highs[i][0] - TOUCH
+        for later in range(place + 1, len(order)):
+            j = order[later]
+            if not lows[j][0] < end:
+                break
+            if _boxes_overlap(lows[i], highs[i], lows[j], highs[j], TOUCH):
+                pairs.append((min(i, j), max(i, j)))
     return sorted(pairs)
 
 

@@ -3,10 +3,9 @@ messages write lengths and positions."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
-import numpy as np
-
+from vkgl.lang.checks.geometry.rigid import Rigid, Vec3
 from vkgl.lang.checks.geometry.solids import Piece
 from vkgl.lang.ir import nodes as ir
 
@@ -17,25 +16,23 @@ JOINT_GAP = 0.0005
 cabinet's top dragged the cabinet 20 cm; 1 mm under it, the cabinet stayed put)."""
 
 
-@dataclass(frozen=True)
-class Table:
+class Table(NamedTuple):
     """The table's rectangle (x and y from `low` to `high`) and the height of its top."""
 
-    low: np.ndarray
-    high: np.ndarray
+    low: tuple[float, float]
+    high: tuple[float, float]
     top: float
 
 
-@dataclass(frozen=True)
-class Placed:
+class Placed(NamedTuple):
     """A scene body where it starts: its world pose, convex pieces and axis-aligned bounds."""
 
     scene_body: ir.SceneBody
     body: ir.Body
-    pose: np.ndarray
+    pose: Rigid
     pieces: list[Piece]
-    low: np.ndarray
-    high: np.ndarray
+    low: Vec3
+    high: Vec3
 
     @property
     def name(self) -> str:
@@ -43,8 +40,7 @@ class Placed:
         return self.scene_body.name
 
 
-@dataclass(frozen=True)
-class Base:
+class Base(NamedTuple):
     """A robot's base in a scene."""
 
     name: str

@@ -14,14 +14,15 @@ declare E303, and bodies placed in one another in a cycle E303 as well
 from __future__ import annotations
 
 import math
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.geometry import scene_body_pose
 from vkgl.lang.ir.program import Program
+
+if TYPE_CHECKING:  # numpy (and the IR's geometry) only for scenes with relative placements: `vkgc check` stays light
+    import numpy as np
 
 
 def place_relative_bodies(program: Program, ctx: CheckContext) -> None:
@@ -32,6 +33,10 @@ def place_relative_bodies(program: Program, ctx: CheckContext) -> None:
 
 
 def _placed_scene(scene: ir.Scene, program: Program, ctx: CheckContext) -> ir.Scene:
+    # The poses placed here flow into plans: they are computed with numpy, as `vkgl.lang.ir.geometry` computes
+    # where a body starts (the planner's own poses), imported only for a scene that places a body so.
+    import numpy as np
+
     bodies = {b.name: b for b in scene.bodies}
     waiting = [b.name for b in scene.bodies if b.placement.relative_to is not None]
     while waiting:
@@ -123,6 +128,10 @@ def _frame_pose(
             ),
         )
         return None
+    import numpy as np
+
+    from vkgl.lang.ir.geometry import scene_body_pose
+
     try:
         with np.errstate(all="ignore"):
             start = scene_body_pose(scene, host, host_type)
@@ -137,6 +146,8 @@ def _pose_node(pose: np.ndarray, span: ir.Span | None) -> ir.Pose:
 
     The nodes are made with `model_construct` (their values are floats already): validating them would build
     pydantic's validators and scan every installed package for pydantic plugins, a tenth of a `vkgc check`."""
+    import numpy as np
+
     position = ir.Vector.model_construct(values=tuple(float(v) for v in pose[:3, 3]), unit="m", span=span)
     rotation = pose[:3, :3]
     if not np.all(np.isfinite(rotation)) or abs(rotation[2, 2] - 1.0) < 1e-12:

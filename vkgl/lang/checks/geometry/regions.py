@@ -13,19 +13,19 @@ planner and the executor need no scene lookup.
 from __future__ import annotations
 
 import math
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
 from vkgl.lang.checks.geometry.placed import TOUCH
 from vkgl.lang.checks.geometry.relative import start_pose
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.geometry import shape_vertices
 from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.regions import KeepOut, Region, footprint, overlap_depth, region_problem
 from vkgl.lang.syntax.quantities import format_number
+
+if TYPE_CHECKING:  # numpy is imported where a region is measured: a check of a scene without regions needs none
+    import numpy as np
 
 
 def check_regions(program: Program, ctx: CheckContext) -> None:
@@ -108,6 +108,10 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
     tolerance = goal.tolerance()[0]
     if body is None or start is None or not (math.isfinite(tolerance) and tolerance > 0):
         return
+    import numpy as np
+
+    from vkgl.lang.ir.geometry import shape_vertices
+
     try:
         points = shape_vertices(body.shape)
     except (ValueError, OSError):  # a mesh that cannot be read: E503 says why
@@ -134,6 +138,7 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
 
 def _translation_fits(planes: np.ndarray, reach: np.ndarray, tolerance: float) -> bool:
     """Whether some origin `t` has `n . t + reach <= d + tolerance` for every edge (a 2-variable LP)."""
+    import numpy as np
     from scipy.optimize import linprog  # only for regions whose fit is in question: `vkgc check` stays light
 
     found = linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=planes[:, 2] + tolerance - reach, bounds=[(None, None)] * 2)
@@ -150,6 +155,8 @@ def _headings(goal: ir.Goal) -> list[float]:
 
 def _level(pose: np.ndarray) -> np.ndarray:
     """The body's start rotation less its heading (a body on the table: the identity)."""
+    import numpy as np
+
     yaw = math.atan2(pose[1, 0], pose[0, 0])
     c, s = math.cos(-yaw), math.sin(-yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]) @ pose[:3, :3]
@@ -172,6 +179,8 @@ def _check_keep_out(keep: KeepOut, scene: ir.Scene, program: Program, ctx: Check
         return
     if keep.region is None or region_problem(keep.region) is not None:
         return  # unknown or not a region: reported
+    from vkgl.lang.ir.geometry import shape_vertices
+
     region = keep.region.points()
     for placed in scene.bodies:
         body = program.bodies.get(placed.type.name)

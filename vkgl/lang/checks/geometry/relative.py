@@ -15,14 +15,15 @@ free, as `B at (x, y)` does.
 from __future__ import annotations
 
 import math
-
-import numpy as np
+from typing import TYPE_CHECKING
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.geometry import scene_body_pose
 from vkgl.lang.ir.program import Program
+
+if TYPE_CHECKING:  # numpy (and the IR's geometry) only for tasks with relative goals: `vkgc check` stays light
+    import numpy as np
 
 
 def place_relative_goals(program: Program, ctx: CheckContext) -> None:
@@ -45,6 +46,10 @@ def start_pose(scene: ir.Scene, name: str, program: Program) -> np.ndarray | Non
     body = program.bodies.get(scene_body.type.name) if scene_body is not None else None
     if scene_body is None or body is None:
         return None
+    import numpy as np  # the pose the planner starts from: computed as `vkgl.lang.ir.geometry` computes it
+
+    from vkgl.lang.ir.geometry import scene_body_pose
+
     try:
         with np.errstate(all="ignore"):
             pose = scene_body_pose(scene, scene_body, body)
@@ -64,6 +69,8 @@ def _placed(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckContext)
             or "name a body of the scene, or leave out `in ...` for the world frame",
         )
         return goal
+    import numpy as np
+
     start = start_pose(scene, goal.body.name, program)
     frame = start_pose(scene, frame_name, program) if frame_name is not None else np.eye(4)
     if start is None or frame is None:

@@ -26,8 +26,7 @@ invalid shape or a value that is not a finite number.
 from __future__ import annotations
 
 import math
-
-import numpy as np
+from collections.abc import Sequence
 
 from vkgl.lang.checks.context import CheckContext
 from vkgl.lang.checks.geometry.overlaps import check_joint_clearance, check_overlaps
@@ -35,10 +34,12 @@ from vkgl.lang.checks.geometry.placed import Base, Placed, Table
 from vkgl.lang.checks.geometry.placed import cm as _cm
 from vkgl.lang.checks.geometry.placed import m as _m
 from vkgl.lang.checks.geometry.placed import where as _where
+from vkgl.lang.checks.geometry.rigid import Rigid, Vec3, compose, inverse, joint_pose, lifted, norm, product
 from vkgl.lang.checks.geometry.solids import (
     Piece,
     bounds,
     footprint_overlap,
+    lowest,
     pieces_depth,
     pose_matrix,
     robot_base,
@@ -48,7 +49,6 @@ from vkgl.lang.checks.geometry.solids import (
 from vkgl.lang.checks.joints import opening_problem
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
-from vkgl.lang.ir.geometry import joint_pose, lifted
 from vkgl.lang.ir.program import Program
 from vkgl.rotations import yaw_matrix
 
@@ -66,12 +66,11 @@ def check_scenes(program: Program, ctx: CheckContext) -> None:
     """Report impossible starts of every scene and impossible goals of every task (E420–E425)."""
     shapes: dict[str, list[Piece] | None] = {}
     placed: dict[str, tuple[Table | None, list[Placed], list[Base]]] = {}
-    with np.errstate(all="ignore"):
-        for scene in program.scenes.values():
-            placed[scene.name] = _check_scene(scene, program, shapes, ctx)
-        for task in program.tasks.values():
-            if task.scene.name in placed:
-                _check_goals(task, program, *placed[task.scene.name], ctx)
+    for scene in program.scenes.values():
+        placed[scene.name] = _check_scene(scene, program, shapes, ctx)
+    for task in program.tasks.values():
+        if task.scene.name in placed:
+            _check_goals(task, program, *placed[task.scene.name], ctx)
 
 
 # ---------------------------------------------------------------- scenes
@@ -104,12 +103,11 @@ def _check_scene(
         pieces = [p.moved(pose) for p in local]
         low, high = bounds(pieces)
         bodies.append(Placed(scene_body, body, pose, pieces, low, high))
-    if table is not None and bodies:
-        lows, highs = np.array([b.low[:2] for b in bodies]), np.array([b.high[:2] for b in bodies])
-        overhangs = np.max(np.c_[table.low - lows, highs - table.high], axis=1)
-        for k in np.flatnonzero(overhangs > EDGE):
-            if bodies[k].body.joint is None:
-                _report_off_table(bodies[k], float(overhangs[k]), table, ctx)
+    if table is not None:
+        for item in bodies:
+            overhang = _overhang((item.low, item.high), table)
+            if overhang > EDGE and item.body.joint is None:
+                _report_off_table(item, overhang, table, ctx)
     check_overlaps(bodies, bases, ctx, table)
     check_joint_clearance(bodies, ctx)
     if table is not None:
@@ -122,38 +120,38 @@ def _check_scene(
 def _table(scene: ir.Scene) -> Table | None:
     if scene.table is None:
         return None
-    size = np.asarray(scene.table.size.values, dtype=float)
-    position = np.asarray(scene.table.position.values, dtype=float)
-    if len(size) != 2 or len(position) < 2 or not np.all(np.isfinite(size)) or not np.all(size > 0):
+    size, position = scene.table.size.values, scene.table.position.values
+    if len(size) != 2 or len(position) < 2 or not all(math.isfinite(v) and v > 0 for v in size):
         return None
-    if not np.all(np.isfinite(position)) or np.any(np.abs(position) > FAR):
+    if not all(math.isfinite(v) and abs(v) <= FAR for v in position):
         return None
     top = float(position[2]) if len(position) > 2 else 0.0
-    return Table(position[:2] - size / 2, position[:2] + size / 2, top)
+    (x, y), (sx, sy) = position[:2], size
+    return Table((x - sx / 2, y - sy / 2), (x + sx / 2, y + sy / 2), top)
 
 
 def _bases(scene: ir.Scene, program: Program) -> list[Base]:
     bases = []
     for placed in scene.robots:
         robot, pose = program.robots.get(placed.type.name), pose_matrix(placed.pose)
-        if robot is not None and pose is not None and np.all(np.abs(pose[:3, 3]) < FAR):
+        if robot is not None and pose is not None and all(abs(v) < FAR for v in pose[1]):
             bases.append(Base(placed.name, robot_base(robot, pose)))
     return bases
 
 
-def _opened(scene_body: ir.SceneBody, body: ir.Body, placed: np.ndarray) -> np.ndarray:
+def _opened(scene_body: ir.SceneBody, body: ir.Body, placed: Rigid) -> Rigid:
     """Where a body placed at `placed` starts: there, or, when it starts `open Q` on its joint, with the joint
     at Q (an opening of the wrong kind or past the joint's limits is reported by `checks_joints`: placed as 0)."""
     joint, opening = body.joint, scene_body.opening
     if joint is None or opening is None or opening_problem(opening, joint) is not None:
         return placed
-    axis = np.asarray(joint.axis.values, dtype=float)
-    if len(axis) != 3 or not np.all(np.isfinite(axis)) or not np.linalg.norm(axis) > 0:
+    axis = joint.axis.values
+    if len(axis) != 3 or not all(math.isfinite(v) for v in axis) or not norm(axis) > 0:
         return placed
     return joint_pose(joint, placed, opening.value)
 
 
-def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Table | None) -> np.ndarray | None:
+def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Table | None) -> Rigid | None:
     """The world pose where the body starts (as `geometry.scene_body_pose` puts it), or None if not finite."""
     placement = scene_body.placement
     if not placement.on_table:
@@ -165,19 +163,19 @@ def _start_pose(scene_body: ir.SceneBody, local: list[Piece] | None, table: Tabl
     if not (math.isfinite(values[0]) and math.isfinite(values[1]) and math.isfinite(yaw)):
         return None
     c, s = math.cos(yaw), math.sin(yaw)
-    lowest = min(float(p.low[2]) for p in local)  # a turn about z keeps heights
     top = table.top if table is not None else 0.0
-    return np.array([[c, -s, 0, values[0]], [s, c, 0, values[1]], [0, 0, 1, top - lowest], [0, 0, 0, 1]])
+    # a turn about z keeps heights
+    return ((c, -s, 0.0), (s, c, 0.0), (0.0, 0.0, 1.0)), (float(values[0]), float(values[1]), top - lowest(local))
 
 
-def _far(pose: np.ndarray, table: Table) -> bool:
-    x, y = float(pose[0, 3]), float(pose[1, 3])
-    cx, cy = (float(table.low[0]) + float(table.high[0])) / 2, (float(table.low[1]) + float(table.high[1])) / 2
+def _far(pose: Rigid, table: Table) -> bool:
+    x, y, _ = pose[1]
+    cx, cy = (table.low[0] + table.high[0]) / 2, (table.low[1] + table.high[1]) / 2
     return abs(x - cx) > FAR or abs(y - cy) > FAR
 
 
-def _report_far(scene_body: ir.SceneBody, pose: np.ndarray, table: Table, ctx: CheckContext) -> None:
-    x, y = pose[0, 3], pose[1, 3]
+def _report_far(scene_body: ir.SceneBody, pose: Rigid, table: Table, ctx: CheckContext) -> None:
+    x, y, _ = pose[1]
     ctx.error(
         codes.OFF_TABLE,
         f"`{scene_body.name}` is far off the table: it is at (x, y) = ({_m(x)}, {_m(y)}) m, and the table spans "
@@ -190,8 +188,8 @@ def _report_far(scene_body: ir.SceneBody, pose: np.ndarray, table: Table, ctx: C
 def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckContext) -> None:
     """E421: the body's shadow passes the table's rectangle by `overhang` (> EDGE)."""
     lo, hi = item.low[:2], item.high[:2]
-    centre = item.pose[:2, 3]
-    inside = bool(np.all(centre >= table.low) and np.all(centre <= table.high))
+    x, y, _ = item.pose[1]
+    inside = table.low[0] <= x <= table.high[0] and table.low[1] <= y <= table.high[1]
     what = f"overhangs the table's edge by {_cm(overhang)}" if inside else "is off the table"
     ctx.error(
         codes.OFF_TABLE,
@@ -203,21 +201,21 @@ def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckCon
 
 def _check_rests(item: Placed, bodies: list[Placed], table: Table, ctx: CheckContext) -> None:
     """E422: a body `at` a pose whose lowest point is neither on the table top nor on a body's top under it."""
-    lowest = float(item.low[2])
+    lowest = item.low[2]
     if abs(lowest - table.top) <= REST:
         return
     tops = []
     for other in bodies:
-        if other is item or np.any(other.low[:2] >= item.high[:2]) or np.any(other.high[:2] <= item.low[:2]):
+        if other is item or not _shadows_meet(other, item):
             continue
         under = [p for p in other.pieces if footprint_overlap([p], item.pieces) > 0]
         if under:
-            top = max(float(p.vertices[:, 2].max()) for p in under)
+            top = max(p.high[2] for p in under)
             if abs(top - lowest) <= REST:
                 return
             if top < lowest:
                 tops.append((top, other.name))
-    z = float(item.pose[2, 3])
+    z = item.pose[1][2]
     if lowest < table.top:
         message = f"`{item.name}` sinks {_cm(table.top - lowest)} into the table (its lowest point is at z = "
         message += f"{_m(lowest)} m, the table top at {_m(table.top)} m)"
@@ -234,6 +232,11 @@ def _check_rests(item: Placed, bodies: list[Placed], table: Table, ctx: CheckCon
 # ---------------------------------------------------------------- goals
 
 
+def _shadows_meet(a: Placed, b: Placed) -> bool:
+    """Whether the x-y bounds of two bodies overlap (strictly)."""
+    return all(a.low[k] < b.high[k] and a.high[k] > b.low[k] for k in (0, 1))
+
+
 def _check_goals(
     task: ir.Task, program: Program, table: Table | None, bodies: list[Placed], bases: list[Base], ctx: CheckContext
 ) -> None:
@@ -242,11 +245,12 @@ def _check_goals(
         item = by_name.get(goal.body.name)
         if item is None or goal.position is None or len(goal.position.values) < 2:
             continue
-        values = np.asarray(goal.position.values, dtype=float)
+        values = tuple(float(v) for v in goal.position.values)
         yaws, tolerance = _goal_yaws(goal), goal.tolerance()[0]
-        if not np.all(np.isfinite(values)) or yaws is None or not (math.isfinite(tolerance) and tolerance > 0):
+        finite = all(math.isfinite(v) for v in values) and math.isfinite(tolerance) and tolerance > 0
+        if not finite or yaws is None:
             continue  # E208 or E411 says why
-        if table is not None and np.any(np.abs(values[:2] - (table.low + table.high) / 2) > FAR):
+        if table is not None and any(abs(values[k] - (table.low[k] + table.high[k]) / 2) > FAR for k in (0, 1)):
             if item.body.joint is None:
                 _report_goal_off(goal, item, None, table, ctx)
             continue
@@ -258,9 +262,9 @@ def _check_goals(
             least, k = min(overhangs)
             if least > allowance:
                 _report_goal_off(goal, item, bounds(poses[k]), table, ctx)
-        reach = float(np.linalg.norm(np.r_[item.low - item.pose[:3, 3], item.high - item.pose[:3, 3]]))
+        reach = norm([*_minus(item.low, item.pose[1]), *_minus(item.high, item.pose[1])])
         for base in bases:
-            depth = min(pieces_depth(p, base.pieces) for p in poses)
+            depth = min(pieces_depth(p, base.pieces, allowance) for p in poses)
             if depth > allowance:
                 ctx.error(
                     codes.GOAL_IN_ROBOT_BASE,
@@ -272,7 +276,7 @@ def _check_goals(
         for other in bodies:
             if other is item or not _immovable(other, program) or _apart(other, position, reach):
                 continue
-            depth = min(pieces_depth(p, other.pieces) for p in poses)
+            depth = min(pieces_depth(p, other.pieces, allowance) for p in poses)
             if depth > allowance:
                 ctx.error(
                     codes.GOAL_IN_FIXED_BODY,
@@ -296,31 +300,36 @@ def _goal_yaws(goal: ir.Goal) -> list[float] | None:
     return [yaw + tol * k / steps for k in range(-steps, steps + 1)]
 
 
-def _goal_frame(item: Placed, values: np.ndarray, table: Table | None) -> tuple[list[Piece], np.ndarray]:
+def _minus(a: Sequence[float], b: Sequence[float]) -> Vec3:
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _goal_frame(item: Placed, values: Sequence[float], table: Table | None) -> tuple[list[Piece], Vec3]:
     """The body's pieces about its origin with its start orientation less its yaw, and its position at the goal.
 
     The height: the goal's z if it gives one, else resting on the table (a body `on table`), else the start's.
     """
-    rotation = item.pose[:3, :3]
-    yaw = math.atan2(rotation[1, 0], rotation[0, 0])
-    level = np.eye(4)
-    level[:3, :3] = np.array(yaw_matrix(-yaw)) @ rotation
-    start = [p.moved(level @ np.linalg.inv(item.pose)) for p in item.pieces]
+    rotation = item.pose[0]
+    yaw = math.atan2(rotation[1][0], rotation[0][0])
+    level = (product(yaw_matrix(-yaw), rotation), (0.0, 0.0, 0.0))
+    start = [p.moved(compose(level, inverse(item.pose))) for p in item.pieces]
     if len(values) > 2:
         z = float(values[2])
     elif item.scene_body.placement.on_table:
-        z = (table.top if table is not None else 0.0) - min(float(p.vertices[:, 2].min()) for p in start)
+        z = (table.top if table is not None else 0.0) - lowest(start)
     else:
-        z = float(item.pose[2, 3])
-    return start, np.array([values[0], values[1], z])
+        z = item.pose[1][2]
+    return start, (float(values[0]), float(values[1]), z)
 
 
-def _overhang(box: tuple[np.ndarray, np.ndarray], table: Table) -> float:
-    return float(np.max(np.r_[table.low - box[0][:2], box[1][:2] - table.high]))
+def _overhang(box: tuple[Sequence[float], Sequence[float]], table: Table) -> float:
+    """How far the x-y extent of `box` passes the table's rectangle (<= 0: inside it)."""
+    low, high = box
+    return max(table.low[0] - low[0], table.low[1] - low[1], high[0] - table.high[0], high[1] - table.high[1])
 
 
 def _report_goal_off(
-    goal: ir.Goal, item: Placed, box: tuple[np.ndarray, np.ndarray] | None, table: Table, ctx: CheckContext
+    goal: ir.Goal, item: Placed, box: tuple[Vec3, Vec3] | None, table: Table, ctx: CheckContext
 ) -> None:
     x, y = goal.position.values[:2] if goal.position is not None else (math.nan, math.nan)
     inside = bool(table.low[0] <= x <= table.high[0] and table.low[1] <= y <= table.high[1])
@@ -344,9 +353,9 @@ def _immovable(item: Placed, program: Program) -> bool:
     return item.body.joint is None and not program.affordances.get(item.body.name)
 
 
-def _apart(other: Placed, position: np.ndarray, reach: float) -> bool:
+def _apart(other: Placed, position: Vec3, reach: float) -> bool:
     """True when `other`'s bounds are farther than `reach` from `position` along some axis."""
-    return bool(np.any(other.low > position + reach) or np.any(other.high < position - reach))
+    return any(other.low[k] > position[k] + reach or other.high[k] < position[k] - reach for k in range(3))
 
 
 def _free_yaw_note(goal: ir.Goal) -> str:
@@ -356,7 +365,7 @@ def _free_yaw_note(goal: ir.Goal) -> str:
 # ---------------------------------------------------------------- messages
 
 
-def _span_xy(low: np.ndarray, high: np.ndarray) -> str:
+def _span_xy(low: Sequence[float], high: Sequence[float]) -> str:
     return f"x from {_m(low[0])} to {_m(high[0])} m and y from {_m(low[1])} to {_m(high[1])} m"
 
 

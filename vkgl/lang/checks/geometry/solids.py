@@ -14,14 +14,18 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
+from vkgl.lang.checks.geometry.rigid import Rigid, Vec3, finite, pose_rigid, rotate
 from vkgl.lang.ir import nodes as ir
 from vkgl.rotations import rpy_matrix, yaw_matrix
+
+if TYPE_CHECKING:  # numpy only for a mesh's pieces (trimesh has imported it): `vkgc check` of boxes needs none
+    import numpy as np
 
 CYLINDER_SIDES = 64
 BASE_RADIUS = 0.10
@@ -31,60 +35,82 @@ vertical cylinder of this radius (and height) around its `at` position."""
 
 @dataclass(frozen=True)
 class Piece:
-    """A convex polytope: its vertices (n, 3), unit face normals (m, 3) and unit edge directions (k, 3)."""
+    """A convex polytope: its vertices, unit face normals and unit edge directions (3-tuples)."""
 
-    vertices: np.ndarray
-    normals: np.ndarray
-    edges: np.ndarray
+    vertices: tuple[Vec3, ...]
+    normals: tuple[Vec3, ...]
+    edges: tuple[Vec3, ...]
 
-    @property
-    def low(self) -> np.ndarray:
-        """The lowest corner of the piece's axis-aligned bounds (computed once)."""
-        if "_low" not in self.__dict__:
-            object.__setattr__(self, "_low", self.vertices.min(axis=0))
-        return np.asarray(self.__dict__["_low"])
+    @cached_property
+    def low(self) -> Vec3:
+        """The lowest corner of the piece's axis-aligned bounds."""
+        xs, ys, zs = zip(*self.vertices, strict=True)
+        return (min(xs), min(ys), min(zs))
 
-    @property
-    def high(self) -> np.ndarray:
-        """The highest corner of the piece's axis-aligned bounds (computed once)."""
-        if "_high" not in self.__dict__:
-            object.__setattr__(self, "_high", self.vertices.max(axis=0))
-        return np.asarray(self.__dict__["_high"])
+    @cached_property
+    def high(self) -> Vec3:
+        """The highest corner of the piece's axis-aligned bounds."""
+        xs, ys, zs = zip(*self.vertices, strict=True)
+        return (max(xs), max(ys), max(zs))
 
-    def moved(self, pose: np.ndarray) -> Piece:
-        """The piece under the rigid transform `pose` (4x4)."""
-        rotation = pose[:3, :3]
-        return Piece(self.vertices @ rotation.T + pose[:3, 3], self.normals @ rotation.T, self.edges @ rotation.T)
+    def moved(self, pose: Rigid) -> Piece:
+        """The piece under the rigid transform `pose`."""
+        rotation, (tx, ty, tz) = pose
+        (a, b, c), (d, e, f), (g, h, i) = rotation
+        return Piece(
+            tuple(
+                (a * x + b * y + c * z + tx, d * x + e * y + f * z + ty, g * x + h * y + i * z + tz)
+                for x, y, z in self.vertices
+            ),
+            tuple(rotate(rotation, n) for n in self.normals),
+            tuple(rotate(rotation, e) for e in self.edges),
+        )
+
+    def shifted(self, shift: Sequence[float]) -> Piece:
+        """The piece moved by `shift` (no turn)."""
+        sx, sy, sz = shift
+        return Piece(tuple((x + sx, y + sy, z + sz) for x, y, z in self.vertices), self.normals, self.edges)
 
 
-def _box(size: np.ndarray) -> Piece:
-    half = np.asarray(size, dtype=float) / 2
-    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float) * half
-    return Piece(corners, np.eye(3), np.eye(3))
+_UNIT_AXES: tuple[Vec3, ...] = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def _box(size: Sequence[float]) -> Piece:
+    hx, hy, hz = (float(v) / 2 for v in size)
+    corners = tuple((sx * hx, sy * hy, sz * hz) for sx in (-1.0, 1.0) for sy in (-1.0, 1.0) for sz in (-1.0, 1.0))
+    return Piece(corners, _UNIT_AXES, _UNIT_AXES)
 
 
 def _prism(radius: float, height: float) -> Piece:
-    angles = 2 * np.pi * np.arange(CYLINDER_SIDES) / CYLINDER_SIDES
-    ring = np.stack([radius * np.cos(angles), radius * np.sin(angles)], axis=1)
-    vertices = np.vstack([np.c_[ring, np.full(len(ring), -height / 2)], np.c_[ring, np.full(len(ring), height / 2)]])
-    mid = angles + np.pi / CYLINDER_SIDES
-    sides = np.c_[np.cos(mid), np.sin(mid), np.zeros(len(mid))][: CYLINDER_SIDES // 2]
-    rims = np.c_[-np.sin(mid), np.cos(mid), np.zeros(len(mid))][: CYLINDER_SIDES // 2]
-    up = np.array([[0.0, 0.0, 1.0]])
-    return Piece(vertices, np.vstack([sides, up]), np.vstack([rims, up]))
+    angles = [2 * math.pi * k / CYLINDER_SIDES for k in range(CYLINDER_SIDES)]
+    ring = [(radius * math.cos(a), radius * math.sin(a)) for a in angles]
+    vertices = tuple((x, y, -height / 2) for x, y in ring) + tuple((x, y, height / 2) for x, y in ring)
+    mid = [a + math.pi / CYLINDER_SIDES for a in angles[: CYLINDER_SIDES // 2]]
+    sides = tuple((math.cos(a), math.sin(a), 0.0) for a in mid)
+    rims = tuple((-math.sin(a), math.cos(a), 0.0) for a in mid)
+    up = (0.0, 0.0, 1.0)
+    return Piece(vertices, (*sides, up), (*rims, up))
 
 
 def _hull(points: np.ndarray) -> Piece:
-    """The convex hull of `points` as a piece (its faces' normals and edges, duplicates dropped)."""
+    """The convex hull of `points` (an array, from a mesh trimesh has loaded) as a piece."""
+    import numpy as np  # trimesh, which read the mesh, has imported it
     import trimesh
 
     hull = trimesh.convex.convex_hull(points)
     edges = hull.vertices[hull.edges_unique[:, 1]] - hull.vertices[hull.edges_unique[:, 0]]
-    return Piece(np.asarray(hull.vertices), _unique_directions(hull.face_normals), _unique_directions(edges))
+    normals = _unique_directions(hull.face_normals)
+    return Piece(_triples(np.asarray(hull.vertices)), _triples(normals), _triples(_unique_directions(edges)))
+
+
+def _triples(array: np.ndarray) -> tuple[Vec3, ...]:
+    return tuple((float(x), float(y), float(z)) for x, y, z in array.tolist())
 
 
 def _unique_directions(vectors: np.ndarray) -> np.ndarray:
     """Unit vectors, one per direction up to sign (rounded to 1e-6)."""
+    import numpy as np
+
     lengths = np.linalg.norm(vectors, axis=1)
     units = vectors[lengths > 1e-12] / lengths[lengths > 1e-12, None]
     flip = np.sign(units[np.arange(len(units)), np.argmax(np.abs(units), axis=1)])
@@ -96,7 +122,7 @@ def _unique_directions(vectors: np.ndarray) -> np.ndarray:
 def shape_pieces(shape: ir.Shape) -> list[Piece] | None:
     """The convex pieces of `shape` in the body frame, or None when the shape is not valid (its error is reported)."""
     if isinstance(shape, ir.BoxShape):
-        size = np.asarray(shape.size.values, dtype=float)
+        size = shape.size.values
         return [_box(size)] if len(size) == 3 and _positive(*size) else None
     if isinstance(shape, ir.CylinderShape):
         r, h = shape.radius.value, shape.height.value
@@ -105,7 +131,7 @@ def shape_pieces(shape: ir.Shape) -> list[Piece] | None:
         pieces: list[Piece] = []
         for part in shape.parts:
             inner = shape_pieces(part.shape)
-            pose = _matrix(part.pose)
+            pose = pose_rigid(part.pose)
             if inner is None or pose is None:
                 return None
             pieces += [p.moved(pose) for p in inner]
@@ -116,12 +142,12 @@ def shape_pieces(shape: ir.Shape) -> list[Piece] | None:
 
 
 def _mesh_pieces(shape: ir.MeshShape) -> list[Piece] | None:
-    from vkgl.lang.ir.geometry import shape_mesh
+    from vkgl.lang.ir.geometry import shape_mesh  # trimesh and numpy: only for a body with a mesh
 
     try:
         mesh = shape_mesh(shape)
         parts = mesh.split(only_watertight=False) or [mesh]
-        pieces = [_hull(np.asarray(part.vertices)) for part in parts if len(part.vertices) >= 4]
+        pieces = [_hull(part.vertices) for part in parts if len(part.vertices) >= 4]
     except Exception:  # unreadable or degenerate: the body checks report the file (E503)
         return None
     return pieces or None  # no solid part (a flat mesh): reported as E503
@@ -131,49 +157,59 @@ def _positive(*values: float) -> bool:
     return all(math.isfinite(v) and v > 0 for v in values)
 
 
-def _matrix(pose: ir.Pose) -> np.ndarray | None:
-    """The pose's 4x4 matrix, or None when a value is not finite or a vector has the wrong number of components
-    (its error is reported)."""
-    try:
-        with np.errstate(all="ignore"):
-            matrix = pose.matrix()
-    except ValueError:  # `at (0, 0, 0.7, 0) m`: E204, reported by the builder
-        return None
-    return matrix if np.all(np.isfinite(matrix)) else None
-
-
-def pose_matrix(pose: ir.Pose) -> np.ndarray | None:
-    """`pose` as a 4x4 matrix, or None when a value is not finite."""
-    return _matrix(pose)
+def pose_matrix(pose: ir.Pose) -> Rigid | None:
+    """`pose` as a rigid transform, or None when a value is not finite or a vector has the wrong number of
+    components (its error is reported)."""
+    return pose_rigid(pose)
 
 
 # ---------------------------------------------------------------- overlaps
 
 
-def _axes(a: Piece, b: Piece) -> np.ndarray:
-    cross = np.cross(a.edges[:, None, :], b.edges[None, :, :]).reshape(-1, 3)
-    lengths = np.linalg.norm(cross, axis=1)
-    keep = lengths > 1e-9
-    return np.vstack([a.normals, b.normals, cross[keep] / lengths[keep, None]])
+def _axes(a: Piece, b: Piece) -> list[Vec3]:
+    """The separating axes of two convex pieces: their face normals and the unit cross products of their edges."""
+    axes = [*a.normals, *b.normals]
+    for ux, uy, uz in a.edges:
+        for vx, vy, vz in b.edges:
+            cx, cy, cz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+            length = math.sqrt(cx * cx + cy * cy + cz * cz)
+            if length > 1e-9:
+                axes.append((cx / length, cy / length, cz / length))
+    return axes
 
 
-def depth(a: Piece, b: Piece) -> float:
-    """How deep two convex pieces interpenetrate, m (the shortest push that separates them); <= 0 when apart."""
-    axes = _axes(a, b)
-    pa, pb = a.vertices @ axes.T, b.vertices @ axes.T
-    overlap = np.minimum(pa.max(axis=0), pb.max(axis=0)) - np.maximum(pa.min(axis=0), pb.min(axis=0))
-    return float(overlap.min())
+def depth(a: Piece, b: Piece, floor: float = -math.inf) -> float:
+    """How deep two convex pieces interpenetrate, m (the shortest push that separates them); <= 0 when apart.
+
+    Exact when deeper than `floor`; otherwise some value at most `floor` (the axes stop being tried once one
+    shows the pieces overlap no more than that)."""
+    best = math.inf
+    for ux, uy, uz in _axes(a, b):
+        pa = [ux * x + uy * y + uz * z for x, y, z in a.vertices]
+        pb = [ux * x + uy * y + uz * z for x, y, z in b.vertices]
+        overlap = min(max(pa), max(pb)) - max(min(pa), min(pb))
+        if overlap < best:
+            best = overlap
+            if best <= floor:
+                break
+    return best
 
 
-def pieces_depth(a: list[Piece], b: list[Piece]) -> float:
-    """The deepest interpenetration of any piece of `a` with any piece of `b`, m (<= 0: apart or touching)."""
+def pieces_depth(a: list[Piece], b: list[Piece], floor: float = -math.inf) -> float:
+    """The deepest interpenetration of any piece of `a` with any piece of `b`, m (<= 0: apart or touching).
+
+    Exact when deeper than `floor`; otherwise some value at most `floor`: callers that only ask whether the
+    pieces overlap by more than a tolerance pass it, and pairs apart by more are not measured. (Two convex
+    pieces never overlap deeper than their bounding boxes do along an axis: the depth is the least overlap
+    of their shadows over every direction.)"""
     best = -math.inf
     for pa in a:
         for pb in b:
-            gap = float(np.min(np.minimum(pa.high, pb.high) - np.maximum(pa.low, pb.low)))
-            if gap <= best:
-                continue  # their boxes already overlap less than the deepest found
-            best = max(best, depth(pa, pb))
+            corners = zip(pa.high, pb.high, pa.low, pb.low, strict=True)
+            gap = min(min(ha, hb) - max(la, lb) for ha, hb, la, lb in corners)
+            if gap <= best or gap <= floor:
+                continue  # their boxes already overlap less than the deepest found, or than asked about
+            best = max(best, depth(pa, pb, max(best, floor)))
     return best
 
 
@@ -182,44 +218,54 @@ def footprint_overlap(a: list[Piece], b: list[Piece]) -> float:
     best = -math.inf
     for pa in a:
         for pb in b:
-            edges = np.vstack([pa.edges, pb.edges])[:, :2]
-            lengths = np.linalg.norm(edges, axis=1)
-            keep = lengths > 1e-9
-            axes = np.c_[-edges[keep, 1], edges[keep, 0]] / lengths[keep, None]
-            if len(axes) == 0:
+            axes = []
+            for ex, ey, _ in (*pa.edges, *pb.edges):
+                length = math.sqrt(ex * ex + ey * ey)
+                if length > 1e-9:
+                    axes.append((-ey / length, ex / length))
+            if not axes:
                 continue
-            qa, qb = pa.vertices[:, :2] @ axes.T, pb.vertices[:, :2] @ axes.T
-            overlap = np.minimum(qa.max(axis=0), qb.max(axis=0)) - np.maximum(qa.min(axis=0), qb.min(axis=0))
-            best = max(best, float(overlap.min()))
+            least = math.inf
+            for ux, uy in axes:
+                qa = [ux * x + uy * y for x, y, _ in pa.vertices]
+                qb = [ux * x + uy * y for x, y, _ in pb.vertices]
+                least = min(least, min(max(qa), max(qb)) - max(min(qa), min(qb)))
+            best = max(best, least)
     return best
 
 
-def bounds(pieces: list[Piece]) -> tuple[np.ndarray, np.ndarray]:
+def bounds(pieces: list[Piece]) -> tuple[Vec3, Vec3]:
     """The axis-aligned box around `pieces`: (low, high) corners."""
     if len(pieces) == 1:
         return pieces[0].low, pieces[0].high
-    return np.min([p.low for p in pieces], axis=0), np.max([p.high for p in pieces], axis=0)
+    lows, highs = [p.low for p in pieces], [p.high for p in pieces]
+    return (
+        (min(v[0] for v in lows), min(v[1] for v in lows), min(v[2] for v in lows)),
+        (max(v[0] for v in highs), max(v[1] for v in highs), max(v[2] for v in highs)),
+    )
 
 
-def yawed(pieces: list[Piece], yaw: float, position: np.ndarray) -> list[Piece]:
+def lowest(pieces: list[Piece]) -> float:
+    """The lowest z of any vertex of `pieces`."""
+    return min(p.low[2] for p in pieces)
+
+
+def yawed(pieces: list[Piece], yaw: float, position: Sequence[float]) -> list[Piece]:
     """`pieces` (given about their body's origin) turned by `yaw` about z and moved to `position`."""
-    pose = np.eye(4)
-    pose[:3, :3] = yaw_matrix(yaw)
-    pose[:3, 3] = position
+    x, y, z = position
+    pose = (yaw_matrix(yaw), (float(x), float(y), float(z)))
     return [p.moved(pose) for p in pieces]
 
 
 # ---------------------------------------------------------------- robot bases
 
 
-def robot_base(robot: ir.Robot, pose: np.ndarray) -> list[Piece]:
+def robot_base(robot: ir.Robot, pose: Rigid) -> list[Piece]:
     """The solid base of a robot placed at `pose`: the collision boxes, cylinders and spheres of its URDF's
     first link (the link no joint moves), else a vertical cylinder of radius and height `BASE_RADIUS`."""
     local = _urdf_base(robot.urdf_resolved or robot.urdf)
     if not local:
-        lift = np.eye(4)
-        lift[2, 3] = BASE_RADIUS / 2
-        local = (_prism(BASE_RADIUS, BASE_RADIUS).moved(lift),)
+        local = (_prism(BASE_RADIUS, BASE_RADIUS).shifted((0.0, 0.0, BASE_RADIUS / 2)),)
     return [p.moved(pose) for p in local]
 
 
@@ -248,15 +294,15 @@ def _urdf_piece(collision: ET.Element) -> Piece | None:
         origin = collision.find("origin")
         xyz = [float(v) for v in (origin.get("xyz", "0 0 0") if origin is not None else "0 0 0").split()]
         roll, pitch, yaw = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
-        pose = np.eye(4)
-        pose[:3, :3] = rpy_matrix(roll, pitch, yaw)
-        pose[:3, 3] = xyz
+        if len(xyz) != 3:
+            return None
+        pose = (rpy_matrix(roll, pitch, yaw), (xyz[0], xyz[1], xyz[2]))
         geometry = collision.find("geometry")
         shape = geometry[0] if geometry is not None and len(geometry) else None
-        if shape is None or not np.all(np.isfinite(pose)):
+        if shape is None or not finite(pose):
             return None
         if shape.tag == "box":
-            size = np.array([float(v) for v in shape.get("size", "").split()])
+            size = [float(v) for v in shape.get("size", "").split()]
             return _box(size).moved(pose) if len(size) == 3 and _positive(*size) else None
         if shape.tag == "cylinder":
             r, h = float(shape.get("radius", "nan")), float(shape.get("length", "nan"))
