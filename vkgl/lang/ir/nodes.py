@@ -14,8 +14,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field
 
-# The values (spans, the base node, quantities, vectors, poses, references) live in `values`, the grasps'
-# nodes in `grasps`; re-exported here.
+# re-exported: the values (spans, the base node, quantities, vectors, poses, references), grasps, regions
 from vkgl.lang.ir.grasps import GraspC as GraspC
 from vkgl.lang.ir.grasps import GraspPolicy as GraspPolicy
 from vkgl.lang.ir.regions import KeepOut as KeepOut
@@ -101,10 +100,9 @@ class Joint(Node):
 
 
 JOINT_LIFT = 0.001
-"""m: a body on a physical joint hangs this far above where the scene places it, so that it hangs on its
-joint and does not rub on the table it stands on. The simulator anchors the joint there (`vkgl.sim.world`);
-the planner's collision geometry and the scene checks put the body there too, so that all three agree on
-how much room it has (a drawer 1 mm under its cabinet's top touches it once lifted, and drags it)."""
+"""m: a body on a physical joint hangs this far above where the scene places it (so it does not rub on the
+table); the simulator, the planner's collision geometry and the scene checks all put it there, to agree on its
+room (a drawer 1 mm under its cabinet's top touches it once lifted, and drags it)."""
 
 
 class ContactSpec(Node):
@@ -264,12 +262,11 @@ class Arc(Node):
 class Family(Node):
     """`family along DIR from LO to HI UNIT [drift VEC] [arc ...] [sigma Q]`: an affordance's contacts on its face.
 
-    The contact may be the action's pose moved by `s * along` for any offset `s` in
-    [lower, upper] (SI m; 0, the action's own contact, lies inside). A slide is the
-    same at every offset (with an `arc`, a turn off the centre); a turn's pivot moves
-    by `s * drift` (metres of pivot per metre of offset). `sigma`: the spread of what
-    the explored contacts did about that model (a length for a turn's pivot, an angle
-    for a slide's direction or an arc's turn over 10 cm); None when not known.
+    The contact may be the action's pose moved by `s * along` for any offset `s` in [lower, upper] (SI m; 0,
+    the action's own contact, lies inside). A slide is the same at every offset (with an `arc`, a turn off the
+    centre); a turn's pivot moves by `s * drift` (m of pivot per m of offset). `sigma`: the spread of what the
+    explored contacts did about that model (a length for a turn's pivot, an angle for a slide's direction or
+    an arc's turn over 10 cm); None when not known.
     """
 
     along: Vector
@@ -406,25 +403,20 @@ DEFAULT_TOL_YAW = 0.05235987755982988  # 3 deg
 class Goal(Node):
     """`B at POSE within Q_len[, Q_ang]`, `B yaw Q within Q_ang` or `B open Q within Q`.
 
-    `position` None = position free; `yaw` None = heading free. A tolerance left
-    out (None) means the default: 1 cm for position, 3 deg for yaw (see
-    `DEFAULT_TOL_POSITION`, `DEFAULT_TOL_YAW`); `tolerance()` gives both in SI.
-    `opening` (a joint goal) is the coordinate of the body's physical joint, 0
-    where the body starts: a length for a prismatic joint, an angle for a
-    revolute one; `opening_tolerance()` gives its tolerance in SI.
+    `position` None = position free; `yaw` None = heading free. A tolerance left out (None) means the default:
+    1 cm for position, 3 deg for yaw (`DEFAULT_TOL_POSITION`, `DEFAULT_TOL_YAW`); `tolerance()` gives both in
+    SI. `opening` (a joint goal) is the coordinate of the body's physical joint, 0 where the body starts: a
+    length for a prismatic joint, an angle for a revolute one; `opening_tolerance()` gives its tolerance in SI.
 
-    A relative goal (`B moved by V [in F] [turned by Q]`, `B turned by Q`) keeps
-    what was written in `moved_by` (a 2- or 3-vector), `moved_in` (the body
-    whose frame at the start `moved_by` is in; None: the world) and
-    `turned_by`; the checker (vkgl/lang/checks/geometry/relative.py) fills `position`
-    and `yaw` with where that puts the body, from its start in the task's
-    scene, so that every back end sees an ordinary pose goal, and a re-solve
-    from an observed scene keeps the target of the original start.
+    A relative goal (`B moved by V [in F] [turned by Q]`, `B turned by Q`) keeps what was written in
+    `moved_by` (a 2- or 3-vector), `moved_in` (the body whose frame at the start `moved_by` is in; None: the
+    world) and `turned_by`; the checker (vkgl/lang/checks/geometry/relative.py) fills `position` and `yaw`
+    with where that puts the body, from its start in the task's scene, so that every back end sees an
+    ordinary pose goal, and a re-solve from an observed scene keeps the target of the original start.
 
-    A region goal (`B in region ... [yaw Q]`, `B in R` for a region `R` of
-    the scene) sets `region`: the body's footprint must lie inside it, passing
-    its edges by at most the position tolerance; `region_ref` keeps the name
-    written (the checker copies the scene's region into `region`).
+    A region goal (`B in region ... [yaw Q]`, `B in R` for a region `R` of the scene) sets `region`: the
+    body's footprint must lie inside it, passing its edges by at most the position tolerance; `region_ref`
+    keeps the name written (the checker copies the scene's region into `region`).
     """
 
     body: Ref
