@@ -11,6 +11,16 @@ position (the task-space search gives one turn the goal's heading exactly,
 `vkgl.plan.task_space.closed_form`, and checks the position there). The member
 is offered only when that position is inside the goal's tolerance.
 
+For a goal that leaves the heading free, the offered members are those whose
+arc passes through the goal: per turning sense, the offset whose arc (within
+the member's largest turn) comes nearest the goal's position, if inside the
+tolerance, which leaves the law's error the most room. The task-space search
+then turns the member to the arc's point nearest the goal (its optimiser,
+from no turn: a single turn's distance to a point has one minimum over half a
+turn). A family whose straight push (offset 0) already ends there gets none.
+A member of an `open` slide turns on as far as the planner lets one turn go
+(half a turn; the table and the collision checks decide).
+
 The member is a plain turn named `NAME@+0.32cm`: the task-space search
 chooses its angle like any turn's, and the executor resolves the same name to
 the same member (`vkgl.lang.ir.families.find_member`), so the plan promises
