@@ -70,8 +70,8 @@ def arc_members(
             picks = [p for p in [_best_offset(arc, rest, goal, goal_yaw, tolerances[0])] if p is not None]
         for index in picks:
             # the offset as the member's name gives it back (`push@+0.32cm` -> 0.0032): planner and executor agree
-            offset = member_offset(member_name(affordance.name, float(arc.offsets[index])))[1]
-            found.append(at_offset(affordance, offset).model_copy(update={"name": member_name(affordance.name, offset)}))
+            name = member_name(affordance.name, float(arc.offsets[index]))
+            found.append(at_offset(affordance, member_offset(name)[1]).model_copy(update={"name": name}))
     return tuple(found)
 
 
