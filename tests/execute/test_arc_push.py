@@ -3,11 +3,15 @@
 The goal (12 cm along +x, turned +15 deg) took two contacts before arcs (a slide, then a turn: depth 4). The
 planner offers the member of `push_center_px`'s arc family that the law says reaches it (0.64 cm right of the
 face's centre, a pivot about 45 cm away); the arm pushes there once, and DART's Block ends at the goal.
+A goal 15 cm along +x and 4 cm aside that leaves the heading free is one push too: the member whose arc passes
+through it (1.82 cm left of the centre, turned about 42 deg on the way).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+
+import numpy as np
 
 import vkgl
 
@@ -37,3 +41,16 @@ def test_one_arc_push_reaches_a_place_and_heading_goal_in_dart(tmp_path: Path) -
     assert plan.steps[0].affordance.startswith("Block.push_center_px@-")
     report = vkgl.execute(program, "arc", plan)
     assert report.status == "reached", report.reason
+
+
+def test_one_arc_push_reaches_a_goal_off_the_push_line_whatever_its_heading_in_dart(tmp_path: Path) -> None:
+    path = tmp_path / "arc_free.vkg"
+    path.write_text(TASK.replace("(0.57, 0) m yaw 15deg within 1 cm, 3deg", "(0.60, 0.04) m within 1 cm"))
+    program = vkgl.compile(path)
+    plan = vkgl.solve(program, "arc")
+    assert plan.status == "solved" and plan.depth == 2, plan.reason  # the straight push misses by 4 cm
+    assert [s.affordance for s in plan.steps] == ["Block.push_center_px@-1.82cm"]
+    report = vkgl.execute(program, "arc", plan)
+    assert report.status == "reached", report.reason
+    assert plan.final is not None  # and DART's Block ends where the plan says, not only inside the goal
+    assert np.linalg.norm(report.final["it"][:2, 3] - np.asarray(plan.final["it"])[:2, 3]) <= 0.01

@@ -17,13 +17,16 @@ REPO = Path(__file__).resolve().parents[2]
 TOLERANCES = (0.01, math.radians(3.0))
 
 
-def _task(dx: float, dyaw: float) -> str:
+def _task(dx: float, dyaw: float | None, dy: float = 0.0) -> str:
+    """The Block at (0.45, 0) m and a goal `dx`, `dy` (m) from there, turned by `dyaw` (deg; None: any heading)."""
+    heading = "" if dyaw is None else f" yaw {dyaw:g}deg"
+    within = "1 cm" if dyaw is None else "1 cm, 3deg"
     return (
         "use stdlib.robots.panda\nuse stdlib.bodies.block\nuse stdlib.affordances.block\n\n"
         "scene alone {\n    table size (1.6, 1.2) m at (0.5, 0, 0) m\n    robot arm : Panda at (0, 0, 0) m\n"
         "    it : Block on table at (0.45, 0) m yaw 0deg\n}\n\n"
         f"task turn_and_slide {{\n    scene alone\n"
-        f"    goal it at ({0.45 + dx:.3f}, 0) m yaw {dyaw:g}deg within 1 cm, 3deg\n"
+        f"    goal it at ({0.45 + dx:.3f}, {dy:g}) m{heading} within {within}\n"
         "    search { max_depth 6  timeout 20 s }\n}\n"
     )
 
@@ -68,3 +71,46 @@ def test_a_heading_goal_is_one_push_at_depth_two(tmp_path: Path) -> None:
     assert plan.final is not None
     final = plan.final["it"]
     assert np.linalg.norm(np.asarray(final)[:2, 3] - (0.57, 0.0)) <= 0.01
+
+
+def _nearest_on_arc(member_motion: RevoluteC, goal: np.ndarray) -> np.ndarray:
+    """The point of the member's arc (from the rest position, in its own sense, within its range) nearest `goal`."""
+    pivot = member_motion.center.array()[:2] + _rest()[:2, 3]
+    sense = math.copysign(1.0, member_motion.axis.values[2])
+    top = math.pi if member_motion.range is None or member_motion.range.open else member_motion.range.upper.value
+    angles = np.linspace(0.0, top, 20001)
+    rel = _rest()[:2, 3] - pivot
+    c, s = np.cos(sense * angles), np.sin(sense * angles)
+    ends = pivot + np.stack([c * rel[0] - s * rel[1], s * rel[0] + c * rel[1]], axis=1)
+    return ends[int(np.argmin(np.linalg.norm(ends - goal, axis=1)))]
+
+
+@pytest.mark.parametrize(("dy", "sign"), [(0.04, "-"), (-0.04, "+")])
+def test_a_heading_free_goal_off_the_push_line_gets_the_arc_through_it(block: list, dy: float, sign: str) -> None:
+    goal = np.array([0.60, dy])
+    members = arc_members(tuple(block), _rest(), goal, None, TOLERANCES)
+    assert [m.name[: len("push_center_px@") + 1] for m in members] == [f"push_center_px@{sign}"]
+    member = members[0]
+    assert find_member(block, member.name) == member
+    motion = member.motion
+    assert isinstance(motion, RevoluteC)
+    assert motion.range is not None and motion.range.open  # the Block's slide was still going: so is its arc
+    assert math.copysign(1.0, motion.axis.values[2]) == (1.0 if dy > 0 else -1.0)  # turned toward the goal
+    assert np.linalg.norm(_nearest_on_arc(motion, goal) - goal) <= 0.1 * TOLERANCES[0]  # the arc through the goal
+
+
+@pytest.mark.parametrize("goal", [(0.60, 0.0), (0.60, 0.008), (0.55, 0.10), (0.40, 0.03)])
+def test_no_heading_free_member_where_the_straight_push_reaches_or_no_arc_does(block: list, goal: tuple) -> None:
+    # on the push line (within the tolerance) the slide itself does it; 10 cm aside over 10 cm, or 3 cm aside
+    # over 5 cm behind it, needs an arc tighter than any of the band (the tightest: a pivot about 35 cm away)
+    assert arc_members(tuple(block), _rest(), np.array(goal), None, TOLERANCES) == ()
+
+
+def test_a_heading_free_goal_off_the_push_line_is_one_push_at_depth_two(tmp_path: Path) -> None:
+    task = tmp_path / "task.vkg"
+    task.write_text(_task(0.15, None, 0.04), encoding="utf-8")
+    plan = vkgl.solve(vkgl.compile(task), "turn_and_slide")
+    assert plan.status == "solved" and plan.depth == 2, plan.reason
+    assert [s.affordance for s in plan.steps] == ["Block.push_center_px@-1.82cm"]
+    assert plan.final is not None
+    assert np.linalg.norm(np.asarray(plan.final["it"])[:2, 3] - (0.60, 0.04)) <= 0.01

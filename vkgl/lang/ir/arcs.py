@@ -8,7 +8,8 @@ along DIR (unit), the body turns about the pivot
 
 about the axis -sign(s) * (N x DIR), so that the contact moves forward along N as it starts to turn. A turn of
 angle t moves the contact along its arc by t * hypot(L**2 / |s| + B, A); the member's range is the slide's range
-in that travel. At s = 0 the member is the slide itself (the pivot is at infinity).
+in that travel, `open` when the slide's is (the body was still moving when exploration ended: pushed on, it goes
+on turning, as a pushed slide goes on sliding). At s = 0 the member is the slide itself (the pivot is at infinity).
 """
 
 from __future__ import annotations
@@ -50,6 +51,7 @@ def arc_motion(
         turn_range = MotionRange(
             lower=Quantity(value=slide.range.lower.value / lever, unit="deg"),
             upper=Quantity(value=slide.range.upper.value / lever, unit="deg"),
+            open=slide.range.open,  # still sliding when exploration ended: so is the arc (the planner caps it)
         )
     return RevoluteC(center=Vector(values=center, unit="cm"), axis=Vector(values=axis), range=turn_range)
 

@@ -195,7 +195,8 @@ class MotionRange(Node):
     A length for a slide, an angle for a turn; the checker wants `0 <= lower <= upper`.
     Plans keep each value inside it, but `open` (slides only, E433; else closed, as
     before `open` existed) says the body was still moving when exploration ended:
-    `upper` is how far it was seen to go, not a bound.
+    `upper` is how far it was seen to go, not a bound. The turn of an arc member of
+    an open slide (`vkgl.lang.ir.arcs`, never written in a module) is open too.
     """
 
     lower: Quantity

@@ -282,7 +282,7 @@ def value_bounds(constraint: object) -> tuple[float, float]:
     bounds = constraint.range if isinstance(constraint, (PrismaticC, RevoluteC)) else None
     if bounds is None:
         return 0.0, cap
-    if bounds.open and isinstance(constraint, PrismaticC):
+    if bounds.open:  # a slide, or the turn of an open slide's arc member (`vkgl.lang.ir.arcs`)
         return min(max(0.0, bounds.lower.value), cap), cap
     upper = min(cap, bounds.upper.value + RANGE_MARGIN)
     return min(max(0.0, bounds.lower.value), upper), upper

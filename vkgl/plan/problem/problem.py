@@ -300,9 +300,9 @@ def build_problem(
 
 
 def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
-    """`body` with the members of its arc families that reach a place-and-heading goal in one push
+    """`body` with the members of its arc families that reach a place goal, with its heading or any, in one push
     (`vkgl.plan.problem.arcs`)."""
-    if goal.position is None or goal.yaw is None or goal.region is not None or goal.opening is not None:
+    if goal.position is None or goal.region is not None or goal.opening is not None:
         return body
     members = arc_members(body.affordances, body.rest, goal.position[:2], goal.yaw, (goal.tol_position, goal.tol_yaw))
     known = {a.name for a in body.affordances}  # two goals on one body may pick the same member
