@@ -175,7 +175,7 @@ def _convex_region(draw: st.DrawFn) -> Region:
     return _region("polygon", *corners)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=200, deadline=None)
 @given(
     _convex_region(),
     st.tuples(st.integers(1, 40), st.integers(1, 40)).map(lambda v: (v[0] / 100, v[1] / 100)),
