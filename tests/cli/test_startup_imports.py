@@ -83,3 +83,13 @@ def test_check_imports_no_numpy(tmp_path: Path) -> None:
     relative goal or a region's fit."""
     _heavy_modules(CHECK, tmp_path)  # DART (and numpy with it) loads the arm's URDF once
     assert _heavy_modules(CHECK, tmp_path, ("numpy",)) == set()
+
+
+@pytest.mark.parametrize("task", ["g_open_drawer", "p_knob_drawer", "k_region_goal"])
+def test_check_of_a_drawer_or_a_region_goal_imports_no_trimesh_nor_scipy(task: str, tmp_path: Path) -> None:
+    """trimesh (with SciPy) was two thirds of a `vkgc check` of a drawer or a door: the check of contact
+    points and contact frames (E415) finds them on plain-Python triangles (vkgl.lang.checks.geometry.rays).
+    A region goal's fit (E453) is a 2-variable linear program, solved exactly without SciPy's `linprog`."""
+    check = f"from vkgl.cli import main; assert main(['check', {str(EXAMPLES / 'tasks' / f'{task}.vkg')!r}]) == 0"
+    _heavy_modules(check, tmp_path)  # DART loads the arm's URDF once
+    assert _heavy_modules(check, tmp_path, ("trimesh", *HEAVY)) == set()

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from vkgl.errors import CompileError
@@ -156,3 +156,57 @@ def test_the_overlap_depth_of_a_square_and_the_unit_box_is_exact(shift, turn) ->
 )
 def test_malformed_regions_are_diagnostics_not_crashes(goal: str, code: str) -> None:
     assert code in _codes(f"task t {{\n    scene s\n    {goal}\n}}\n")
+
+
+CM = st.integers(-30, 30).map(lambda v: v / 100)
+
+
+@st.composite
+def _convex_region(draw: st.DrawFn) -> Region:
+    """A box, or a convex polygon: corners at increasing angles around a centre (on a centimetre grid or not)."""
+    if draw(st.booleans()):
+        x0, y0 = draw(CM), draw(CM)
+        return _region("box", (x0, y0), (x0 + draw(st.integers(1, 40)) / 100, y0 + draw(st.integers(1, 40)) / 100))
+    count = draw(st.integers(3, 8))
+    angles = sorted(draw(st.lists(st.floats(0, 2 * np.pi, exclude_max=True), min_size=count, max_size=count)))
+    radius = draw(st.integers(5, 30)) / 100
+    corners = [(round(radius * np.cos(a), 3), round(radius * np.sin(a), 3)) for a in angles]
+    assume(len(set(corners)) == count)  # a corner written twice: test_a_corner_written_twice_bounds_nothing
+    return _region("polygon", *corners)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    _convex_region(),
+    st.tuples(st.integers(1, 40), st.integers(1, 40)).map(lambda v: (v[0] / 100, v[1] / 100)),
+    st.floats(-np.pi, np.pi) | st.sampled_from([0.0, np.pi / 2]),
+    st.integers(1, 5).map(lambda v: v / 100),
+)
+def test_a_footprint_fits_exactly_when_scipys_linear_program_says_so(
+    region: Region, size: tuple[float, float], yaw: float, tolerance: float
+) -> None:
+    """E453's fit (vkgl.lang.checks.geometry.regions.translation_fits, exact in 2-D) is SciPy's `linprog`'s."""
+    from scipy.optimize import linprog
+
+    from vkgl.lang.checks.geometry.regions import translation_fits
+
+    if region_problem(region) is not None:
+        return
+    corners = np.array([[sx * size[0] / 2, sy * size[1] / 2] for sx in (-1, 1) for sy in (-1, 1)])
+    c, s = np.cos(yaw), np.sin(yaw)
+    turned = np.array([[c, -s], [s, c]]) @ corners.T
+    planes = region.halfplanes()
+    reach = (planes[:, :2] @ turned).max(axis=1)
+    found = linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=planes[:, 2] + tolerance - reach, bounds=[(None, None)] * 2)
+    assert translation_fits(planes, reach, tolerance) == (found.status == 0)
+
+
+def test_a_corner_written_twice_bounds_nothing() -> None:
+    """A polygon with a repeated corner has an edge of no length (a row of NaN): the fit ignores it."""
+    from vkgl.lang.checks.geometry.regions import translation_fits
+
+    region = _region("polygon", (0.0, 0.0), (0.2, 0.0), (0.2, 0.0), (0.2, 0.1), (0.0, 0.1))
+    with np.errstate(invalid="ignore"):
+        planes = region.halfplanes()
+    assert translation_fits(planes, np.full(len(planes), 0.05), 0.0)  # a 10 x 10 cm square: it just fits
+    assert not translation_fits(planes, np.full(len(planes), 0.06), 0.0)

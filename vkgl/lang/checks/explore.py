@@ -12,6 +12,8 @@ from __future__ import annotations
 import re
 
 from vkgl.lang.checks.context import CheckContext, shown, unknown_frame
+from vkgl.lang.checks.geometry.rays import FACE_NORMALS, MeshSurface, Surface, at_heights, face_line, shape_surface
+from vkgl.lang.checks.geometry.rigid import Vec3
 from vkgl.lang.checks.ranges import check_explore_ranges
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
@@ -136,31 +138,55 @@ def _check_contact_points(contacts: ir.ContactSpec, body: ir.Body, ctx: CheckCon
     """Every contact point of a pushed face must lie on the body's surface (the first miss of each face)."""
     if not isinstance(body.shape, (ir.UnionShape, ir.MeshShape)):
         return  # boxes and cylinders are convex: every point of a face's centre line is on the surface
-    import numpy as np
-
-    from vkgl.lang.ir.geometry import FACES, at_heights, body_mesh, face_line, surface_point  # trimesh: lazily
-
-    try:
-        mesh = body_mesh(body)
-    except Exception:  # an unreadable mesh is E503's business
+    surface = _surface(body)
+    if surface is None:
         return
     for face in contacts.faces:
-        outward = FACES.get(face)
-        if outward is None or face == "-z":
+        miss = first_miss(surface, face, contacts.steps, contacts.heights)
+        if miss is None:
             continue
-        line_axis, points = face_line(mesh, outward, contacts.steps)
-        along = int(np.argmax(line_axis))
-        for k, height, point in at_heights(mesh, points, contacts.heights):
-            if surface_point(mesh, point, outward) is None:
-                up = f", {100 * height:.1f} cm up the face" if contacts.heights > 1 else ""
-                ctx.error(
-                    codes.CONTACT_OFF_SURFACE,
-                    f"face {face} of `{body.name}` has no surface at contact point {k + 1} of {contacts.steps} "
-                    f"({'xyz'[along]} = {100 * point[along]:.1f} cm on its centre line{up}): "
-                    "the shape is hollow or flat there; use fewer steps or another face",
-                    ctx.narrow(contacts.span, rf"({re.escape(face)})"),
-                )
-                break
+        k, height, along, where = miss
+        up = f", {100 * height:.1f} cm up the face" if contacts.heights > 1 else ""
+        ctx.error(
+            codes.CONTACT_OFF_SURFACE,
+            f"face {face} of `{body.name}` has no surface at contact point {k + 1} of {contacts.steps} "
+            f"({'xyz'[along]} = {100 * where:.1f} cm on its centre line{up}): "
+            "the shape is hollow or flat there; use fewer steps or another face",
+            ctx.narrow(contacts.span, rf"({re.escape(face)})"),
+        )
+
+
+def first_miss(surface: Surface, face: str, steps: int, heights: int) -> tuple[int, float, int, float] | None:
+    """The first contact point of `face` (`steps` along its centre line, at `heights` heights) where the
+    explorer's ray meets no surface: (index along the line, height, axis of the line, coordinate on it), or None.
+    The underside and unknown faces have none (other checks report them)."""
+    outward = FACE_NORMALS.get(face)
+    if outward is None or face == "-z":
+        return None
+    along, points = face_line(surface.bounds, outward, steps)
+    inward = (-outward[0], -outward[1], -outward[2])
+    for k, height, point in at_heights(surface.bounds, points, heights):
+        if surface.ray_hit(point, inward) is None:
+            return k, height, along, point[along]
+    return None
+
+
+def _surface(body: ir.Body) -> Surface | None:
+    """The body's surface as the explorer sees it (its mesh's triangles), or None when its mesh is unreadable.
+
+    Boxes, cylinders and their unions are triangulated in plain Python (no trimesh, nor SciPy with it)."""
+    try:
+        surface = shape_surface(body.shape)
+    except ValueError:  # a part's pose or size of the wrong length (reported by the builder), as trimesh fails
+        return None
+    if surface is not None:
+        return surface
+    from vkgl.lang.ir.geometry import body_mesh  # trimesh: only for a mesh file
+
+    try:
+        return MeshSurface(body_mesh(body))
+    except Exception:  # an unreadable mesh is E503's business
+        return None
 
 
 FRAME_REACH = 0.01  # m behind a contact frame's origin from which the fingertip comes
@@ -174,29 +200,20 @@ def _check_contact_frames(frames: list[ir.Ref], body: ir.Body, ctx: CheckContext
     enter the body within FRAME_TOLERANCE of the origin: the fingertip comes
     from there (behind a handle's bar, say) and pushes along x.
     """
-    from vkgl.lang.ir.geometry import body_mesh, ray_hit  # trimesh: only when needed
-
-    try:
-        mesh = body_mesh(body)
-    except Exception:  # an unreadable mesh is E503's business
+    surface = _surface(body)
+    if surface is None:
         return
     for ref in frames:
         frame = body.frame(ref.name)
         assert frame is not None
-        pose = frame.pose.matrix()
-        origin, x = pose[:3, 3], pose[:3, 0]
-        hit = ray_hit(mesh, origin - FRAME_REACH * x, x)
-        distance = None if hit is None else float((hit[0] - origin) @ x)
-        if hit is not None and distance is not None and hit[1] @ x < 0 and abs(distance) <= FRAME_TOLERANCE:
+        values = frame.pose.position.values
+        if len(values) > 3:  # `= (1, 2, 3, 4) cm`: reported by the builder
             continue
-        if hit is None or distance is None:
-            found = "pushing along its x axis, the fingertip meets nothing"
-        elif hit[1] @ x > 0:
-            found = f"{100 * FRAME_REACH:.0f} cm behind it, where the fingertip comes from, is inside the body"
-        elif distance > 0:
-            found = f"pushing along its x axis, the fingertip meets the body {100 * distance:.1f} cm beyond it"
-        else:
-            found = f"the body is in the way {100 * -distance:.1f} cm before it, where the fingertip comes from"
+        origin = (*(float(v) for v in values), 0.0, 0.0, 0.0)[:3]
+        r = frame.pose.rotation_matrix()
+        found = contact_frame_problem(surface, (origin[0], origin[1], origin[2]), (r[0][0], r[1][0], r[2][0]))
+        if found is None:
+            continue
         ctx.error(
             codes.CONTACT_OFF_SURFACE,
             f"contact frame `{ref.name}` of `{body.name}` is not on its surface: {found}",
@@ -204,3 +221,28 @@ def _check_contact_frames(frames: list[ir.Ref], body: ir.Body, ctx: CheckContext
             "a contact frame sits on the surface to push, its x axis pointing into the body "
             f"(the effector frame convention), with {100 * FRAME_REACH:.0f} cm of room behind it",
         )
+
+
+def contact_frame_problem(surface: Surface, origin: Vec3, x: Vec3) -> str | None:
+    """What is wrong with a contact frame at `origin` pushing along its unit `x` (the words of E415), or None."""
+    start = (origin[0] - FRAME_REACH * x[0], origin[1] - FRAME_REACH * x[1], origin[2] - FRAME_REACH * x[2])
+    hit = surface.ray_hit(start, x)
+    if hit is None:
+        return "pushing along its x axis, the fingertip meets nothing"
+    point, normal = hit
+    distance = _dot(_minus(point, origin), x)
+    if _dot(normal, x) < 0 and abs(distance) <= FRAME_TOLERANCE:
+        return None
+    if _dot(normal, x) > 0:
+        return f"{100 * FRAME_REACH:.0f} cm behind it, where the fingertip comes from, is inside the body"
+    if distance > 0:
+        return f"pushing along its x axis, the fingertip meets the body {100 * distance:.1f} cm beyond it"
+    return f"the body is in the way {100 * -distance:.1f} cm before it, where the fingertip comes from"
+
+
+def _minus(p: Vec3, q: Vec3) -> Vec3:
+    return (p[0] - q[0], p[1] - q[1], p[2] - q[2])
+
+
+def _dot(p: Vec3, q: Vec3) -> float:
+    return p[0] * q[0] + p[1] * q[1] + p[2] * q[2]

@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 
 from vkgl.lang.checks.context import CheckContext, shown
+from vkgl.lang.checks.geometry.rays import shape_surface
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 
@@ -19,7 +20,7 @@ SIDE_FACES = ("+x", "-x", "+y", "-y")
 def check_tipping(block: ir.AffordanceSet, body: ir.Body | None, ctx: CheckContext) -> None:
     """Report every impossible `tips above` clause of `block` (`body`: the body it is about, if known)."""
     if not block.tipping:
-        return  # (no trimesh for the modules without a clause: solving must not import it)
+        return
     top = _body_height(body) if body is not None else None
     for clause in block.tipping:
         height = clause.height.value
@@ -42,10 +43,17 @@ def check_tipping(block: ir.AffordanceSet, body: ir.Body | None, ctx: CheckConte
 
 def _body_height(body: ir.Body) -> float | None:
     """The body's height (m) as it rests, or None when its shape cannot be read (another error says why)."""
-    from vkgl.lang.ir.geometry import body_mesh  # trimesh: only when needed
+    try:
+        surface = shape_surface(body.shape)  # boxes, cylinders and unions: their mesh's triangles, without trimesh
+    except ValueError:  # a size or a part's pose of the wrong length: the builder reports it
+        return None
+    if surface is not None:
+        lo, hi = surface.bounds
+        return hi[2] - lo[2]
+    from vkgl.lang.ir.geometry import body_mesh  # trimesh: only for a mesh file
 
     try:
-        lo, hi = body_mesh(body).bounds
+        low, high = body_mesh(body).bounds
     except Exception:  # an unreadable or invalid shape is reported by the body's own checks
         return None
-    return float(hi[2] - lo[2])
+    return float(high[2] - low[2])

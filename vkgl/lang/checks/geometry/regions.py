@@ -122,7 +122,7 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
         c, s = math.cos(yaw), math.sin(yaw)
         turned = np.array([[c, -s], [s, c]]) @ level[:2]
         reach = (planes[:, :2] @ turned).max(axis=1)  # per edge, how far out the footprint reaches from its origin
-        if _translation_fits(planes, reach, tolerance):
+        if translation_fits(planes, reach, tolerance):
             return
     width = np.ptp(level[:2], axis=1)
     region = goal.region.points()
@@ -136,13 +136,34 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
     )
 
 
-def _translation_fits(planes: np.ndarray, reach: np.ndarray, tolerance: float) -> bool:
-    """Whether some origin `t` has `n . t + reach <= d + tolerance` for every edge (a 2-variable LP)."""
-    import numpy as np
-    from scipy.optimize import linprog  # only for regions whose fit is in question: `vkgc check` stays light
+FIT_SLACK = 1e-9
+"""m: how far a footprint may overreach an edge and still fit (rounding, far below the checks' millimetres)."""
 
-    found = linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=planes[:, 2] + tolerance - reach, bounds=[(None, None)] * 2)
-    return bool(found.status == 0)
+
+def translation_fits(planes: np.ndarray, reach: np.ndarray, tolerance: float) -> bool:
+    """Whether some origin `t` has `n . t + reach <= d + tolerance` for every edge `(n, d)` of `planes`.
+
+    A 2-variable linear program, solved exactly: the origins that fit form the
+    intersection of one half-plane per edge, a convex polygon (bounded, as the
+    region's normals surround every direction) that, unless empty, has a corner
+    where the lines of two edges cross. A region has a few edges, so every
+    crossing is tried (no SciPy: `vkgc check` stays light). An edge of no length
+    (a corner written twice) bounds nothing.
+    """
+    rows = [
+        (nx, ny, d + tolerance - r)
+        for (nx, ny, d), r in zip(planes.tolist(), reach.tolist(), strict=True)
+        if math.isfinite(nx) and math.isfinite(ny)
+    ]
+    for i, (a1, b1, c1) in enumerate(rows):
+        for a2, b2, c2 in rows[i + 1 :]:
+            det = a1 * b2 - a2 * b1
+            if abs(det) < 1e-12:
+                continue  # parallel edges: their lines do not cross
+            x, y = (c1 * b2 - c2 * b1) / det, (a1 * c2 - a2 * c1) / det
+            if all(a * x + b * y <= c + FIT_SLACK for a, b, c in rows):
+                return True
+    return False
 
 
 def _headings(goal: ir.Goal) -> list[float]:
