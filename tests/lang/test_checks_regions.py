@@ -79,6 +79,9 @@ def test_polygons_in_either_sense_are_the_same_region_and_concave_ones_are_not_r
     assert region_problem(_region("polygon", (0, 0), (1, 0), (0.5, 0.2), (1, 1), (0, 1))) == "concave"
     assert region_problem(_region("box", (1, 0), (0, 1))) == "swapped"
     assert region_problem(_region("box", (0, 0), (1, 0.0005))) == "flat"
+    # a corner written twice (in a row, or the last the first again) leaves an edge with no normal
+    assert region_problem(_region("polygon", (0, 0), (1, 0), (1, 0), (1, 1), (0, 1))) == "repeated"
+    assert region_problem(_region("polygon", (0, 0), (1, 0), (1, 1), (0, 1), (0, 0))) == "repeated"
     assert forward.centre() == pytest.approx((0.5, 0.5))
 
 

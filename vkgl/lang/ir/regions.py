@@ -95,8 +95,8 @@ class KeepOut(Node):
 
 
 def region_problem(region: Region) -> str | None:
-    """What makes `region` no region, or None: "swapped" corners, "flat", "few" vertices, "concave", "far" (a
-    corner beyond `FAR`), or "reported" (a corner that is not two finite numbers: E204, E201, E208 say why)."""
+    """What makes `region` no region, or None: "swapped" corners, "flat", "few" vertices, "repeated" (two
+    vertices in a row closer than `MIN_SIDE`), "concave", "far" (a corner beyond `FAR`), or "reported" (a corner that is not two finite numbers: E204, E201, E208 say why)."""
     import numpy as np
 
     if any(len(c.values) != 2 for c in region.corners):
@@ -118,6 +118,8 @@ def region_problem(region: Region) -> str | None:
         return None
     if len(corners) < 3:
         return "few"
+    if np.any(np.hypot(*(np.roll(corners, -1, axis=0) - corners).T) < MIN_SIDE):
+        return "repeated"  # an edge of no length has no outward normal: its half-plane would be NaN
     if abs(_signed_area(corners)) < MIN_SIDE**2:
         return "flat"
     points = corners if _signed_area(corners) > 0 else corners[::-1]

@@ -82,6 +82,7 @@ def check_region(region: Region, ctx: CheckContext) -> bool:
     why = {
         "few": "a polygon needs at least three vertices",
         "flat": "it encloses no area (narrower than 1 mm)",
+        "repeated": "two vertices in a row are the same point (closer than 1 mm)",
         "concave": "the polygon is not convex (its vertices turn both ways)",
         "far": "a corner lies farther than 1 km from the origin",
     }[problem]
