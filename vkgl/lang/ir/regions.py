@@ -96,7 +96,8 @@ class KeepOut(Node):
 
 def region_problem(region: Region) -> str | None:
     """What makes `region` no region, or None: "swapped" corners, "flat", "few" vertices, "repeated" (two
-    vertices in a row closer than `MIN_SIDE`), "concave", "far" (a corner beyond `FAR`), or "reported" (a corner that is not two finite numbers: E204, E201, E208 say why)."""
+    vertices in a row closer than `MIN_SIDE`), "concave", "far" (a corner beyond `FAR`), or "reported" (a
+    corner that is not two finite numbers: E204, E201, E208 say why)."""
     import numpy as np
 
     if any(len(c.values) != 2 for c in region.corners):
