@@ -39,7 +39,7 @@ def arc_motion(
     (body frame, m) and whose face direction is `along` (unit)."""
     if offset == 0.0:
         raise ValueError("the member at offset 0 of an arc family is the slide itself")
-    normal = _unit(slide.axis.values)
+    normal = unit(slide.axis.values)
     side = 1.0 if offset > 0 else -1.0
     across = arc_radius(arc, offset)
     ahead = arc.ahead.value
@@ -56,7 +56,8 @@ def arc_motion(
     return RevoluteC(center=Vector(values=center, unit="cm"), axis=Vector(values=axis), range=turn_range)
 
 
-def _unit(values: tuple[float, ...]) -> tuple[float, ...]:
+def unit(values: tuple[float, ...]) -> tuple[float, ...]:
+    """`values` scaled to length 1 (plain floats: the IR's vectors need no numpy)."""
     length = math.sqrt(sum(v * v for v in values))
     return tuple(v / length for v in values)
 

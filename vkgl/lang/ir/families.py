@@ -10,10 +10,9 @@ turn about its pivot moved by `s * drift`. Offset 0 is the affordance itself.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 
-from vkgl.lang.ir.arcs import arc_motion
+from vkgl.lang.ir.arcs import arc_motion, unit
 from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC, RevoluteC
 from vkgl.lang.ir.values import Vector
 
@@ -35,7 +34,7 @@ def at_offset(affordance: Affordance, offset: float) -> Affordance:
     family = affordance.family
     if family is None or offset == 0.0:
         return affordance.model_copy(update={"family": None})
-    along = _unit(family.along.values)
+    along = unit(family.along.values)
     action = affordance.action
     if isinstance(action, FixedC) and action.pose is not None:
         position = _moved(action.pose.position, along, offset)
@@ -62,11 +61,6 @@ def slide_member(affordance: Affordance, offset: float) -> Affordance:
     position = _moved(action.pose.position, along, offset)
     action = action.model_copy(update={"pose": action.pose.model_copy(update={"position": position})})
     return affordance.model_copy(update={"action": action, "family": None})
-
-
-def _unit(values: tuple[float, ...]) -> tuple[float, ...]:
-    length = math.sqrt(sum(v * v for v in values))
-    return tuple(v / length for v in values)
 
 
 def _moved(point: Vector, direction: tuple[float, ...], offset: float) -> Vector:
