@@ -95,4 +95,3 @@ def _band(problem: Problem, engagement: Engagement) -> tuple[float, float] | Non
         # solved none of the far tasks and cost 29 % more CPU on one (gen6_015, gen6_035: cubes; docs/planning.md)
         return None
     return band
-

@@ -152,7 +152,9 @@ def _stands_in(part: np.ndarray, body: np.ndarray) -> bool:
     in height (z), where it reaches past the contact plane (x > 0)."""
     if float(part[:, 0].max()) <= FLAT:
         return False
-    across = part[:, 1].min() < body[:, 1].max() + PART_CLEARANCE and part[:, 1].max() > body[:, 1].min() - PART_CLEARANCE
+    across = (
+        part[:, 1].min() < body[:, 1].max() + PART_CLEARANCE and part[:, 1].max() > body[:, 1].min() - PART_CLEARANCE
+    )
     up = part[:, 2].min() < body[:, 2].max() + PART_CLEARANCE and part[:, 2].max() > body[:, 2].min()
     return bool(across and up)
 
@@ -169,4 +171,3 @@ def _covers(face: np.ndarray, bottom: float, top: float, centre: float) -> bool:
     """Whether the rolled face's points between the table and the body's top span the centre line ± the margin."""
     touching = face[(face[:, 2] >= bottom) & (face[:, 2] <= top), 1]
     return touching.size > 0 and touching.min() <= centre - COVER_MARGIN and touching.max() >= centre + COVER_MARGIN
-

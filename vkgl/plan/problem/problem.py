@@ -43,8 +43,8 @@ from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.arcs import arc_members
 from vkgl.plan.problem.avoid import Avoid
-from vkgl.plan.problem.over import over_members
 from vkgl.plan.problem.hulls import hull_vertices, outline_corners
+from vkgl.plan.problem.over import over_members
 from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
 from vkgl.robot import Arm
 
