@@ -38,7 +38,9 @@ SHAFT = np.array([[x, y, z] for x in (-0.02, 0.38) for y in (0.11, 0.13) for z i
 def _box(depth: float, width: float, height: float) -> np.ndarray:
     """A body's hull points in the contact's frame: its face at x = 0, its centre line at y = 0, the contact at
     mid-height."""
-    return np.array([[x, y, z] for x in (0.0, depth) for y in (-width / 2, width / 2) for z in (-height / 2, height / 2)])
+    return np.array(
+        [[x, y, z] for x in (0.0, depth) for y in (-width / 2, width / 2) for z in (-height / 2, height / 2)]
+    )
 
 
 def test_a_low_wide_slab_gets_the_least_roll_that_lifts_the_shaft_over_its_top():
