@@ -8,6 +8,8 @@ import math
 import generated_tasks
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import vkgl
 from vkgl.lang.ir.families import find_member, over_name, over_pose
@@ -109,3 +111,10 @@ def test_only_the_hook_may_enact_it_and_bodies_it_clears_get_none(tmp_path):
     adds = {(a.engagement.effector, a.engagement.affordance) for a in successors(problem, g0().apply(wield), wield)}
     assert not any(n in names for _, n in adds)  # the stick has no part beside its end
     assert _over(_problem(tmp_path, "CrateT")) == []  # its straight band serves (`tool_faces`)
+
+
+@given(st.integers(-90, 90), st.integers(0, 2000), st.sampled_from(["push_center_nx", "push_center_px", "slide_2"]))
+def test_an_over_members_name_gives_back_its_roll_and_lift(degrees, hundredths_cm, slide):
+    roll, lift = math.radians(degrees), hundredths_cm * 1e-4  # what the name keeps: 1 deg, 0.01 cm
+    base, roll_back, lift_back = over_pose(over_name(slide, roll, lift))
+    assert base == slide and roll_back == pytest.approx(roll) and lift_back == pytest.approx(lift, abs=1e-9)
