@@ -120,8 +120,8 @@ def roll_for(parts: list[np.ndarray], body: np.ndarray, centre: float) -> tuple[
         for lift in lifts:
             rolled = [_rolled(p, float(roll), float(lift)) for p in parts]
             if min(float(p[:, 2].min()) for p in rolled) < bottom + TABLE_CLEARANCE:
-                continue
-            if any(_stands_in(_rolled(p, float(roll), float(lift)), body) for p in beside):
+                continue  # into the table
+            if any(_stands_in(p, body) for p in rolled):  # (only parts past the contact plane can)
                 continue
             if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, centre):
                 return float(roll), float(lift)
