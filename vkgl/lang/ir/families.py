@@ -67,7 +67,7 @@ def slide_member(affordance: Affordance, offset: float) -> Affordance:
 def over_member(affordance: Affordance, roll: float, lift: float) -> Affordance:
     """A slide enacted by a tool rolled `roll` (rad) about the push direction and raised `lift` (m): its action
     pose rolled about the action frame's x axis (positive: its y axis toward the body's up) and moved up by `lift`,
-    its motion the same (no family). The planner names such members (`NAME/over30deg+1.00cm`) for a tool whose parts
+    its motion the same (no family). The planner names such members (`NAME/over+30deg+1.00cm`) for a tool whose parts
     beside its contact would stand in the body lying flat and pass over its top rolled (`vkgl.plan.problem.over`).
 
     Raises ValueError for an action that is not a fixed pose with a yaw alone (a flat face pushed level)."""
@@ -93,7 +93,7 @@ STRAIGHT_MARK = "/straight"
 
 
 OVER_MARK = "/over"
-"""`push_center_nx/over30deg+1.00cm`: the slide enacted by a tool rolled 30 deg about the push and raised 1 cm
+"""`push_center_nx/over+30deg+1.00cm`: the slide enacted by a tool rolled 30 deg about the push and raised 1 cm
 (`over_member`)."""
 
 
