@@ -65,8 +65,10 @@ def pull(body: str, offset: float, turn: float, folder: Path) -> str:
     off_cm = float(np.linalg.norm(planned[:2, 3] - real[:2, 3])) * 100
     off_deg = abs((yaw_of(planned) - yaw_of(real) + 180) % 360 - 180)
     from_law = float(np.linalg.norm(planned[:2, 3] - law[:2, 3])) * 100
+    turned = step.motion == "revolute"
+    moved = f"turned {math.degrees(step.value):.1f} deg" if turned else f"slid {step.value * 100:.1f} cm"
     return (
-        f"{step.affordance} turned {math.degrees(step.value):.1f} deg (plan {from_law:.2f} cm from the law's point); "
+        f"{step.affordance} {moved} (plan {from_law:.2f} cm from the law's point); "
         f"DART {report.status}, {off_cm:.2f} cm and {off_deg:.2f} deg from the plan"
     )
 
