@@ -22,8 +22,16 @@ totals and the CPU time of the run (`time.process_time`: solving and DART run in
 
 Measured (`--goals 2`, under load average about 14, 2026-11-27; docs/planning.md, "Wide hook pulls"): `kept` 6 of
 6 solved at depth 3 and clean (SlabW and CrateM rolled over the top, 0 of 4 before; CrateT straight off the
-centre), within 0.04 cm and 0.03 deg of the plan; all kinds 12 of 24 solved, 11 clean (CrateM's `free+` goal 1, an
-arc member pulled at the face's edge, slips 0.53 cm and 1.54 deg over a 76 deg turn in DART, as on main).
+centre), within 0.04 cm and 0.03 deg of the plan; all kinds 12 of 24 solved, 11 clean (main, measured right after:
+8 and 7, the same rows but `kept` of SlabW and CrateM, 0 of 2 each). CrateM's `free+` goal 1, an arc member pulled at
+the face's edge, slips 0.53 cm and 1.54 deg over a 76 deg turn in DART and misses its goal by 1.07 cm, as on main.
+The `free-` goals and the rest of `free+`/`arc` end "no plan" or time out (60 s of wall clock, load 14) on both.
+
+| body | goals: arc / free+ / free- / kept | solved on main | solved | depths | clean in DART | worst vs DART |
+|---|---|---|---|---|---|---|
+| SlabW | 2 each | 1 / 1 / 0 / 0 | 1 / 1 / 0 / 2 | 3 | all | 0.04 cm, 0.03 deg |
+| CrateM | 2 each | 2 / 1 / 0 / 0 | 2 / 1 / 0 / 2 | 3 | but free+ 1 | 0.53 cm, 1.54 deg |
+| CrateT | 2 each | 1 / 0 / 0 / 2 | 1 / 0 / 0 / 2 | 3 | all | 0.03 cm, 0.09 deg |
 
     PYTHONPATH=$PWD:tests/support .venv/bin/python bench/bench_wide_pulls.py [--goals 2] [--timeout 60]
         [--kinds arc,free+,free-,kept] [--bodies SlabW,CrateM,CrateT]
