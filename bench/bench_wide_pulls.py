@@ -2,7 +2,9 @@
 
 The hook's shaft lies 12 cm beside its tip, so at the middle of a 30 cm (24 cm) far face it would lie 4 cm (1 cm)
 inside the body: the hook pulls such a body off its far face's centre, on the side its shaft clears, where the
-pull turns the body about a pivot (DART's friction cone). The bodies are the generated SlabW (16 x 30 x 6 cm),
+pull turns the body about a pivot (DART's friction cone); or, to keep the heading, straight at the centre, moved 2 cm
+toward the shaft's side (CrateT: `NAME@+2.00cm/straight`) or rolled over the top (SlabW, CrateM:
+`NAME/over+20deg+1.00cm`, `vkgl.plan.problem.over`). The bodies are the generated SlabW (16 x 30 x 6 cm),
 CrateM (20 x 30 x 18 cm) and CrateT (16 x 24 x 25 cm) of tests/support/generated_tasks.py, explored with long
 pushes at 5 points of each face (`slide_steps` 5: their learned fixtures are in tests/bench/learned/), each
 alone with the stdlib Stick and Hook on the tabletop of the generated tasks.
@@ -17,6 +19,19 @@ the learned turns. Each is solved (`vkgl.solve`, default depth 6, `--timeout` s,
 open loop in DART (`vkgl.execute`). Printed per body and goal kind: goals solved, their depths, how many reached
 their goal in DART, and the worst distance between the plan's final pose of the body and DART's (cm, deg); then the
 totals and the CPU time of the run (`time.process_time`: solving and DART run in-process).
+
+Measured (`--goals 2`, under load average about 14, 2026-11-27; docs/planning.md, "Wide hook pulls"): `kept` 6 of
+6 solved at depth 3 and clean (SlabW and CrateM rolled over the top, 0 of 4 before; CrateT straight off the
+centre), within 0.04 cm and 0.03 deg of the plan; all kinds 12 of 24 solved, 11 clean (main, measured right after:
+8 and 7, the same rows but `kept` of SlabW and CrateM, 0 of 2 each). CrateM's `free+` goal 1, an arc member pulled at
+the face's edge, slips 0.53 cm and 1.54 deg over a 76 deg turn in DART and misses its goal by 1.07 cm, as on main.
+The `free-` goals and the rest of `free+`/`arc` end "no plan" or time out (60 s of wall clock, load 14) on both.
+
+| body | goals: arc / free+ / free- / kept | solved on main | solved | depths | clean in DART | worst vs DART |
+|---|---|---|---|---|---|---|
+| SlabW | 2 each | 1 / 1 / 0 / 0 | 1 / 1 / 0 / 2 | 3 | all | 0.04 cm, 0.03 deg |
+| CrateM | 2 each | 2 / 1 / 0 / 0 | 2 / 1 / 0 / 2 | 3 | but free+ 1 | 0.53 cm, 1.54 deg |
+| CrateT | 2 each | 1 / 0 / 0 / 2 | 1 / 0 / 0 / 2 | 3 | all | 0.03 cm, 0.09 deg |
 
     PYTHONPATH=$PWD:tests/support .venv/bin/python bench/bench_wide_pulls.py [--goals 2] [--timeout 60]
         [--kinds arc,free+,free-,kept] [--bodies SlabW,CrateM,CrateT]

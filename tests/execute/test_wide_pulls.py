@@ -66,3 +66,28 @@ def test_the_hook_pulls_a_24_cm_crate_straight_back_off_its_far_face_centre_and_
     assert np.linalg.norm(planned[:2, 3] - real[:2, 3]) < 0.01
     yaw = math.degrees(math.atan2(real[1, 0], real[0, 0]))
     assert abs(yaw) < 2.0
+
+
+def test_the_hook_rolled_over_a_30_cm_slab_pulls_it_straight_back_and_it_keeps_its_heading(tmp_path):
+    """SlabW (16 x 30 x 6 cm): lying flat, the hook's shaft would stand 4 cm inside it at its far face's centre,
+    and no contact along the face both clears it and keeps the cross-piece on the centre line. Rolled 20 deg about
+    the pull, its shaft passes over the slab's top and the cross-piece slants down behind the far face, across the
+    centre line (`vkgl.plan.problem.over`): the slide as learned, heading kept; DART's slab ends where planned."""
+    target = generated_tasks.Placement("target", "SlabW", 0.95, -0.1, 5.0)
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    goal = (round(0.95 - 0.1 * math.cos(math.radians(5)), 4), round(-0.1 - 0.1 * math.sin(math.radians(5)), 4), 5.0)
+    spec = generated_tasks.TaskSpec("over", 0, 0, (target, *tools), goal, "far-pull", False, 0.1)
+    library = generated_tasks.fixture_library(("SlabW",))
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "over", library))
+    plan = vkgl.solve(program, "over", max_depth=3)
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps] == ["Hook.wield", "SlabW.push_center_nx/over+20deg+1.00cm"]
+    pull = plan.steps[1]
+    hook = np.linalg.inv(pull.poses_start["target"]) @ pull.poses_start["hook"]  # the hook in the slab's frame
+    assert hook[2, 1] < -0.3  # rolled: the hook's y axis (its cross-piece, tip to shaft) leans down from the shaft
+    report = vkgl.execute(program, "over", plan)
+    assert report.status == "reached", report.reason
+    planned, real = pull.poses_end["target"], report.final["target"]
+    assert np.linalg.norm(planned[:2, 3] - real[:2, 3]) < 0.01
+    yaw = math.degrees(math.atan2(real[1, 0], real[0, 0]))
+    assert abs(yaw - 5.0) < 2.0

@@ -10,6 +10,7 @@ turn about its pivot moved by `s * drift`. Offset 0 is the affordance itself.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 
 from vkgl.lang.ir.arcs import arc_motion, unit
@@ -63,6 +64,23 @@ def slide_member(affordance: Affordance, offset: float) -> Affordance:
     return affordance.model_copy(update={"action": action, "family": None})
 
 
+def over_member(affordance: Affordance, roll: float, lift: float) -> Affordance:
+    """A slide enacted by a tool rolled `roll` (rad) about the push direction and raised `lift` (m): its action
+    pose rolled about the action frame's x axis (positive: its y axis toward the body's up) and moved up by `lift`,
+    its motion the same (no family). The planner names such members (`NAME/over+30deg+1.00cm`) for a tool whose parts
+    beside its contact would stand in the body lying flat and pass over its top rolled (`vkgl.plan.problem.over`).
+
+    Raises ValueError for an action that is not a fixed pose with a yaw alone (a flat face pushed level)."""
+    action = affordance.action
+    if not isinstance(action, FixedC) or action.pose is None or action.pose.rpy is not None:
+        raise ValueError(f"{affordance.name} has no level action to roll")
+    yaw = action.pose.yaw.value if action.pose.yaw is not None else 0.0
+    position = _moved(action.pose.position, (0.0, 0.0, 1.0), lift)
+    rpy = Vector(values=(roll, 0.0, yaw), unit="deg")  # extrinsic x then z: the yaw's frame rolled about its own x
+    pose = action.pose.model_copy(update={"position": position, "yaw": None, "rpy": rpy})
+    return affordance.model_copy(update={"action": action.model_copy(update={"pose": pose}), "family": None})
+
+
 def _moved(point: Vector, direction: tuple[float, ...], offset: float) -> Vector:
     return point.model_copy(update={"values": tuple(p + offset * d for p, d in zip(point.values, direction))})
 
@@ -72,6 +90,31 @@ MEMBER_MARK = "@"
 
 STRAIGHT_MARK = "/straight"
 """`push_center_nx@+2.00cm/straight`: the slide itself, its contact 2 cm along the face (`slide_member`)."""
+
+
+OVER_MARK = "/over"
+"""`push_center_nx/over+30deg+1.00cm`: the slide enacted by a tool rolled 30 deg about the push and raised 1 cm
+(`over_member`)."""
+
+
+def over_name(name: str, roll: float, lift: float) -> str:
+    """The name of the slide `name` enacted rolled by `roll` (rad, to 1 deg) and raised by `lift` (m, to 0.01 cm)."""
+    return f"{name}{OVER_MARK}{math.degrees(roll):+.0f}deg{100.0 * lift:+.2f}cm"
+
+
+def over_pose(name: str) -> tuple[str, float, float] | None:
+    """(the slide's name, the roll in rad, the lift in m) of an over member's name (`over_name`); None for any
+    other name. Raises ValueError for a name with the mark but no `+Ndeg+N.NNcm` after it."""
+    base, mark, rest = name.partition(OVER_MARK)
+    if not mark:
+        return None
+    roll, _, lift = rest.partition("deg")
+    try:
+        if not lift.endswith("cm"):
+            raise ValueError(rest)
+        return base, math.radians(float(roll)), float(lift[:-2]) / 100.0
+    except ValueError:
+        raise ValueError(f"`{name}` names no rolled slide (write `NAME/over+30deg+1.00cm`)") from None
 
 
 def member_name(name: str, offset: float, *, straight: bool = False) -> str:
@@ -107,6 +150,12 @@ def is_straight_member(name: str) -> bool:
 def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | None:
     """The affordance called `name` among `affordances`, or the member `name` names (`push@+3.12cm`), renamed so;
     None when there is none (or the offset is outside the family's band by more than its rounding)."""
+    over = over_pose(name)
+    if over is not None:
+        slide = next((a for a in affordances if a.name == over[0]), None)
+        if slide is None or not isinstance(slide.motion, PrismaticC):
+            return None
+        return over_member(slide, over[1], over[2]).model_copy(update={"name": name})
     base, offset = member_offset(name)
     found = next((a for a in affordances if a.name == base), None)
     if found is None or base == name:

@@ -31,22 +31,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from vkgl.lang.ir.families import MEMBER_MARK
-from vkgl.lang.ir.geometry import shape_vertices
-from vkgl.lang.ir.nodes import PrismaticC, Shape, UnionShape
+from vkgl.lang.ir.families import MEMBER_MARK, OVER_MARK
+from vkgl.lang.ir.nodes import PrismaticC
 from vkgl.plan.graphs.graph import Engagement
+from vkgl.plan.problem.over import COVER_MARGIN, FLAT, PART_CLEARANCE, tool_parts
 from vkgl.plan.problem.problem import Problem
 
-COVER_MARGIN = 0.01
-"""m: the tool's flat face covers the body's centre line by at least this much on both sides (an uneven pressure
-under the body moves its centre of friction off its origin)."""
-
-PART_CLEARANCE = 0.005
-"""m: the tool's parts past the contact plane (the hook's shaft) stay at least this far outside the body's width (the
-collision checks of the approach and the sweep still decide with their own margins)."""
-
-FLAT = 0.001
-"""m: a tool part whose far side lies within this of the contact plane is part of the flat face."""
+__all__ = ["COVER_MARGIN", "FLAT", "PART_CLEARANCE", "slide_band", "tool_parts"]
 
 _BANDS: dict[tuple[int, int, str], tuple[object, object, tuple[float, float] | None]] = {}
 
@@ -54,8 +45,8 @@ _BANDS: dict[tuple[int, int, str], tuple[object, object, tuple[float, float] | N
 def slide_band(problem: Problem, engagement: Engagement) -> tuple[float, float] | None:
     """The offsets (lower, upper; m) at which a tool may enact this slide off the centre (module docstring), or
     None: no tool, not a slide, a family's member already, or no offset but the centre (or none at all) holds."""
-    if MEMBER_MARK in engagement.affordance:
-        return None
+    if MEMBER_MARK in engagement.affordance or OVER_MARK in engagement.affordance:
+        return None  # a member already (an over member's tool passes over the body: `vkgl.plan.problem.over`)
     effector = problem.effector(engagement.effector)
     if effector.tool is None:
         return None
@@ -104,11 +95,3 @@ def _band(problem: Problem, engagement: Engagement) -> tuple[float, float] | Non
         # solved none of the far tasks and cost 29 % more CPU on one (gen6_015, gen6_035: cubes; docs/planning.md)
         return None
     return band
-
-
-def tool_parts(shape: Shape) -> list[np.ndarray]:
-    """The vertices (n x 3, the tool's frame) of each convex part of a tool's shape: a union's parts, else the
-    whole shape."""
-    if isinstance(shape, UnionShape):
-        return [shape_vertices(p.shape) @ p.pose.matrix()[:3, :3].T + p.pose.matrix()[:3, 3] for p in shape.parts]
-    return [np.asarray(shape_vertices(shape))]

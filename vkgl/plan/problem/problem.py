@@ -44,6 +44,7 @@ from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.arcs import arc_members
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.hulls import hull_vertices, outline_corners
+from vkgl.plan.problem.over import over_members
 from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
 from vkgl.robot import Arm
 
@@ -72,7 +73,8 @@ class PlanBody:
     scene starts it `open Q`). `outline`: the corners of its convex hull (body
     frame, k x 3), which must all stay over the table when it is moved.
     `too_high`: the affordances left out because they push it where it tips
-    (`vkgl.plan.problem.tipping`), with the reason.
+    (`vkgl.plan.problem.tipping`), with the reason. `tool_members`: the
+    members that one tool effector alone may enact.
     """
 
     name: str
@@ -87,6 +89,8 @@ class PlanBody:
     joint_zero: np.ndarray | None = None
     outline: np.ndarray = field(default_factory=lambda: np.zeros((1, 3)))
     too_high: tuple[TooHigh, ...] = ()
+    tool_members: frozenset[tuple[str, str]] = frozenset()
+    """(affordance, effector): the members only that tool effector may enact (`vkgl.plan.problem.over`)."""
 
     def joint_state(self, pose: np.ndarray) -> float:
         """The coordinate of the physical joint at world `pose` (m or rad), 0 at `joint_zero`; the body needs a joint.
@@ -267,7 +271,7 @@ def build_problem(
     effectors += _tool_effectors(program, scene, effector_name)
     goals = [_goal_spec(task, g, bodies) for g in task.goals]
     for goal in goals:
-        bodies[goal.body] = _with_arc_members(bodies[goal.body], goal)
+        bodies[goal.body] = _with_over_members(_with_arc_members(bodies[goal.body], goal), bodies, effectors)
     search = task.search
     depth = max_depth if max_depth is not None else (search.max_depth if search and search.max_depth else None)
     limit = timeout if timeout is not None else (search.timeout.value if search and search.timeout else None)
@@ -308,6 +312,20 @@ def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
     known = {a.name for a in body.affordances}  # two goals on one body may pick the same member
     members = tuple(m for m in members if m.name not in known)
     return replace(body, affordances=body.affordances + members) if members else body
+
+
+def _with_over_members(body: PlanBody, bodies: dict[str, PlanBody], effectors: list[EffectorSpec]) -> PlanBody:
+    """`body` with its slides enacted by a tool rolled over its top, where the tool lying flat would stand in it
+    (`vkgl.plan.problem.over`); only a body lying on the table."""
+    if not body.on_table or body.joint is not None or abs(body.rest[2, 2]) < 0.99:
+        return body
+    tools = [(e.name, bodies[e.tool].type, e.frame) for e in effectors if e.tool is not None and e.tool != body.name]
+    members, pairs = over_members(body.affordances, _hull_points(body.type), tools)
+    known = {a.name for a in body.affordances}
+    fresh = tuple(m for m in members if m.name not in known)
+    if not fresh:
+        return body
+    return replace(body, affordances=body.affordances + fresh, tool_members=body.tool_members | pairs)
 
 
 def _where(node: object) -> str:

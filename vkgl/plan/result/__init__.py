@@ -1,1 +1,1 @@
-"""The result of a solve: `Plan` (text, `vkg-plan/5` document) and its picture."""
+"""The result of a solve: `Plan` (text, `vkg-plan/6` document) and its picture."""

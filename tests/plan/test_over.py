@@ -1,0 +1,120 @@
+"""A tool rolled over a wide body (`vkgl.plan.problem.over`): the least roll whose shaft passes over the top, the
+cross-piece still on the centre line; offered to that tool only, and only where lying flat it stands in the body."""
+
+from __future__ import annotations
+
+import math
+
+import generated_tasks
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import vkgl
+from vkgl.lang.ir.families import find_member, over_name, over_pose
+from vkgl.plan.graphs.graph import Action, Engagement, g0, successors
+from vkgl.plan.problem.over import COVER_MARGIN, PART_CLEARANCE, TABLE_CLEARANCE, _rolled, roll_for
+from vkgl.plan.problem.problem import build_problem
+
+
+def _problem(tmp_path, body: str, goal=(0.78, 0.05, 0.0)):
+    target = generated_tasks.Placement("target", body, 0.95, 0.05, 0.0)
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec("over", 0, 0, (target, *tools), goal, "far-pull", False, 0.17)
+    library = generated_tasks.fixture_library((body,))
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / body, library))
+    return build_problem(program, program.tasks["over"])
+
+
+def _over(problem):
+    return [a.name for a in problem.bodies["target"].affordances if "/over" in a.name]
+
+
+# the Hook in its tip frame (x toward the handle, into the body; y toward the shaft): the cross-piece 2 cm deep
+# behind the contact plane from 3 cm past the tip to the shaft, the shaft 2 x 2 cm from the cross-piece back 40 cm
+CROSS = np.array([[x, y, z] for x in (-0.02, 0.0) for y in (-0.03, 0.13) for z in (-0.01, 0.01)])
+SHAFT = np.array([[x, y, z] for x in (-0.02, 0.38) for y in (0.11, 0.13) for z in (-0.01, 0.01)])
+
+
+def _box(depth: float, width: float, height: float) -> np.ndarray:
+    """A body's hull points in the contact's frame: its face at x = 0, its centre line at y = 0, the contact at
+    mid-height."""
+    return np.array(
+        [[x, y, z] for x in (0.0, depth) for y in (-width / 2, width / 2) for z in (-height / 2, height / 2)]
+    )
+
+
+def test_a_low_wide_slab_gets_the_least_roll_that_lifts_the_shaft_over_its_top():
+    roll, lift = roll_for([CROSS, SHAFT], _box(0.16, 0.30, 0.06), 0.0)
+    assert math.degrees(roll) == pytest.approx(20.0) and lift == pytest.approx(0.01)
+    shaft, cross = _rolled(SHAFT, roll, lift), _rolled(CROSS, roll, lift)
+    assert shaft[:, 2].min() >= 0.03 + PART_CLEARANCE  # over the slab's top
+    assert cross[:, 2].min() >= -0.03 + TABLE_CLEARANCE  # the cross-piece's free end above the table
+    # one roll less does not clear the top at any lift the rule allows (up to half-way to the top)
+    lower = math.radians(15.0)
+    assert all(_rolled(SHAFT, lower, lift)[:, 2].min() < 0.03 + PART_CLEARANCE for lift in np.arange(0, 0.016, 0.005))
+
+
+def test_a_tall_crate_needs_more_roll_and_the_cross_piece_still_covers_its_centre_line():
+    roll, lift = roll_for([CROSS, SHAFT], _box(0.20, 0.30, 0.18), 0.0)
+    assert 30.0 <= math.degrees(roll) <= 40.0 and lift <= 0.045 + 1e-9
+    assert _rolled(SHAFT, roll, lift)[:, 2].min() >= 0.09 + PART_CLEARANCE
+    face = _rolled(CROSS[CROSS[:, 0] == 0.0], roll, lift)  # the contact plane's corners: the slanted strip
+    assert face[:, 1].min() <= -COVER_MARGIN and face[:, 1].max() >= COVER_MARGIN
+
+
+def test_nothing_where_the_tool_lying_flat_clears_the_body_or_slides_aside_to_clear_it():
+    assert roll_for([CROSS, SHAFT], _box(0.20, 0.20, 0.06), 0.0) is None  # the Block: the shaft 1 cm clear
+    assert roll_for([CROSS, SHAFT], _box(0.16, 0.24, 0.25), 0.0) is None  # CrateT: 2 cm along the face clears it
+    assert roll_for([CROSS], _box(0.16, 0.30, 0.06), 0.0) is None  # no part beside the contact (a stick's end)
+
+
+def test_the_shaft_on_the_other_side_rolls_the_other_way():
+    mirrored = [p * np.array([1.0, -1.0, 1.0]) for p in (CROSS, SHAFT)]
+    roll, _ = roll_for(mirrored, _box(0.16, 0.30, 0.06), 0.0)
+    assert math.degrees(roll) == pytest.approx(-20.0)
+
+
+def test_the_member_is_the_slide_rolled_about_its_push_and_raised_and_its_name_reads_back(tmp_path):
+    problem = _problem(tmp_path, "SlabW")
+    name = "push_center_nx/over+20deg+1.00cm"
+    assert over_name("push_center_nx", math.radians(20), 0.01) == name
+    assert over_pose(name) == pytest.approx(("push_center_nx", math.radians(20), 0.01))
+    assert name in _over(problem)
+    written = problem.affordance("target", "push_center_nx")
+    member = problem.affordance("target", name)
+    assert member.motion == written.motion
+    a, b = problem.action("target", "push_center_nx"), problem.action("target", name)
+    assert b[:3, 0] == pytest.approx(a[:3, 0])  # the same push direction
+    assert b[:3, 3] - a[:3, 3] == pytest.approx([0.0, 0.0, 0.01])
+    assert a[:3, 1] @ b[:3, 1] == pytest.approx(math.cos(math.radians(20)))
+    assert b[2, 1] == pytest.approx(math.sin(math.radians(20)))  # the shaft's side up
+    # the executor reads the same member from the program's affordances
+    program_affordances = problem.program.affordances["SlabW"]
+    again = find_member(program_affordances, name)
+    assert again is not None and again.action == member.action
+    with pytest.raises(ValueError, match="no rolled slide"):
+        over_pose("push_center_nx/over20")
+
+
+def test_only_the_hook_may_enact_it_and_bodies_it_clears_get_none(tmp_path):
+    problem = _problem(tmp_path, "SlabW")
+    names = _over(problem)
+    assert problem.bodies["target"].tool_members == {(n, "hook.tip") for n in names}
+    free = successors(problem, g0(), None)
+    assert not any(a.engagement.affordance in names for a in free)  # the fingertip: never
+    wield = Action("add", Engagement("arm.fingertip", "hook", "wield"))
+    adds = {(a.engagement.effector, a.engagement.affordance) for a in successors(problem, g0().apply(wield), wield)}
+    assert {("hook.tip", n) for n in names} <= adds
+    wield = Action("add", Engagement("arm.fingertip", "stick", "wield"))
+    adds = {(a.engagement.effector, a.engagement.affordance) for a in successors(problem, g0().apply(wield), wield)}
+    assert not any(n in names for _, n in adds)  # the stick has no part beside its end
+    assert _over(_problem(tmp_path, "CrateT")) == []  # its straight band serves (`tool_faces`)
+
+
+@given(st.integers(-90, 90), st.integers(0, 2000), st.sampled_from(["push_center_nx", "push_center_px", "slide_2"]))
+def test_an_over_members_name_gives_back_its_roll_and_lift(degrees, hundredths_cm, slide):
+    roll, lift = math.radians(degrees), hundredths_cm * 1e-4  # what the name keeps: 1 deg, 0.01 cm
+    base, roll_back, lift_back = over_pose(over_name(slide, roll, lift))
+    assert base == slide and roll_back == pytest.approx(roll) and lift_back == pytest.approx(lift, abs=1e-9)

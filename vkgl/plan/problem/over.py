@@ -1,0 +1,173 @@
+"""A tool rolled over a wide body: its parts beside the contact pass over the body's top, not through its side.
+
+The Hook's shaft lies 12 cm beside its tip. Lying flat at the middle of a 30
+cm wide far face (the generated SlabW and CrateM) it would stand 4 cm inside
+the body, and no contact along the face both clears the shaft and keeps the
+cross-piece on the body's centre line (`vkgl.plan.graphs.tool_faces`). Off
+the centre the pull turns the body, one way only: every pull of the hook turns
+it clockwise (its shaft is on one side), and the opposite turn needs the
+fingertip at the far face, beyond the arm's reach from where such pulls start
+(docs/planning.md, "Wide hook pulls"). A person reaches over the body: the
+hook rolled about the pull's direction, its shaft above the top and its
+cross-piece slanting down behind the far face, pulls at the face's centre.
+
+`over_members` offers that member for each slide of a goal body that a held
+tool enacts lying flat only with a part standing in the body: the smallest
+roll about the push direction (5 deg steps, then the least lift of the contact,
+0.5 cm steps up to half-way from the written contact to the top) for which
+
+- the tool's parts past the contact plane (the shaft) lie `PART_CLEARANCE`
+  above the body's top or beside its width,
+- no part of the tool comes within `TABLE_CLEARANCE` of the table, and
+- the flat face (the cross-piece), where it is below the top, covers the
+  body's centre line by `COVER_MARGIN` on both sides: the line contact then
+  drives the body straight along the slide (as `tool_faces` argues).
+
+The member is the same slide, its action rolled and raised
+(`vkgl.lang.ir.families.over_member`, named `NAME/over+25deg+0.00cm`), and only
+that tool may enact it (`PlanBody.tool_members`). The collision and arm checks
+decide the rest, as for any contact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vkgl.lang.ir.families import over_member, over_name
+from vkgl.lang.ir.geometry import shape_vertices
+from vkgl.lang.ir.nodes import Affordance, Body, FixedC, PrismaticC, Shape, UnionShape
+
+COVER_MARGIN = 0.01
+"""m: a tool's flat face covers the body's centre line by at least this much on both sides (an uneven pressure
+under the body moves its centre of friction off its origin)."""
+
+PART_CLEARANCE = 0.005
+"""m: a tool's parts past the contact plane (the hook's shaft) stay at least this far outside the body (the
+collision checks of the approach and the sweep still decide with their own margins)."""
+
+TABLE_CLEARANCE = 0.005
+"""m: a rolled tool's lowest point stays this far above the table."""
+
+FLAT = 0.001
+"""m: a tool part whose far side lies within this of the contact plane is part of the flat face."""
+
+ROLLS = np.radians(np.arange(5.0, 90.1, 5.0))
+"""rad: the rolls tried, smallest first (the less the hand tilts, the farther the arm reaches)."""
+
+LIFT_STEP = 0.005
+"""m: the contact is raised in these steps, up to half-way from the written contact to the body's top."""
+
+
+def tool_parts(shape: Shape) -> list[np.ndarray]:
+    """The vertices (n x 3, the tool's frame) of each convex part of a tool's shape: a union's parts, else the
+    whole shape."""
+    if isinstance(shape, UnionShape):
+        return [shape_vertices(p.shape) @ p.pose.matrix()[:3, :3].T + p.pose.matrix()[:3, 3] for p in shape.parts]
+    return [np.asarray(shape_vertices(shape))]
+
+
+def over_members(
+    affordances: tuple[Affordance, ...],
+    body_points: np.ndarray,
+    tools: list[tuple[str, Body, np.ndarray]],
+) -> tuple[tuple[Affordance, ...], frozenset[tuple[str, str]]]:
+    """The rolled members (module docstring) of the slides among `affordances` of a body lying flat, whose hull
+    points (body frame) are `body_points`, for each tool effector in `tools` (its name, the tool's type, its frame
+    in the tool's frame); with the (member, effector) pairs that may enact them."""
+    found: dict[str, Affordance] = {}
+    pairs: set[tuple[str, str]] = set()
+    for affordance in affordances:
+        action = affordance.action
+        if not isinstance(affordance.motion, PrismaticC) or not isinstance(action, FixedC) or action.pose is None:
+            continue
+        if action.pose.rpy is not None:
+            continue  # only a level push: a yaw alone
+        contact = action.pose.matrix()
+        into_contact = np.linalg.inv(contact)
+        body = body_points @ into_contact[:3, :3].T + into_contact[:3, 3]
+        for effector, tool, frame in tools:
+            frame_inverse = np.linalg.inv(frame)
+            parts = [p @ frame_inverse[:3, :3].T + frame_inverse[:3, 3] for p in tool_parts(tool.shape)]
+            pose = roll_for(parts, body, float(into_contact[1, 3]))
+            if pose is None:
+                continue
+            name = over_name(affordance.name, *pose)
+            found.setdefault(name, over_member(affordance, *pose).model_copy(update={"name": name}))
+            pairs.add((name, effector))
+    return tuple(found.values()), frozenset(pairs)
+
+
+def roll_for(parts: list[np.ndarray], body: np.ndarray, centre: float) -> tuple[float, float] | None:
+    """(roll in rad, lift in m) of the least rolled tool that passes over the body (module docstring), or None:
+    the tool lying flat stands in nothing, it has no flat face or no part beside it, or no roll clears the top.
+
+    `parts`: the tool's convex parts' vertices in its effector frame (x into the body, the contact plane at x = 0);
+    `body`: the body's hull points in the same frame (lying flat: z up); `centre`: the body's origin along y.
+    """
+    face = [p for p in parts if abs(float(p[:, 0].max())) <= FLAT]
+    beside = [p for p in parts if float(p[:, 0].max()) > FLAT]
+    if not face or not beside or not any(_stands_in(p, body) for p in beside):
+        return None
+    if _slides_aside(face, beside, body, centre):
+        return None  # moved along the face it clears the body lying flat (`vkgl.plan.graphs.tool_faces`)
+    side = 1.0 if np.mean([p[:, 1].mean() for p in beside]) > centre else -1.0
+    bottom, top = float(body[:, 2].min()), float(body[:, 2].max())
+    lifts = np.arange(0.0, max(0.0, top / 2) + 1e-9, LIFT_STEP)  # the contact at most half-way to the top
+    faces = [_face_grid(p) for p in face]
+    for roll in side * ROLLS:
+        for lift in lifts:
+            rolled = [_rolled(p, float(roll), float(lift)) for p in parts]
+            if min(float(p[:, 2].min()) for p in rolled) < bottom + TABLE_CLEARANCE:
+                continue  # into the table
+            if any(_stands_in(p, body) for p in rolled):  # (only parts past the contact plane can)
+                continue
+            if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, centre):
+                return float(roll), float(lift)
+    return None
+
+
+def _slides_aside(face: list[np.ndarray], beside: list[np.ndarray], body: np.ndarray, centre: float) -> bool:
+    """Whether the tool lying flat, moved along the face, still covers the centre line and clears the body's width:
+    the band of `tool_faces.slide_band` is not empty."""
+    low = centre + COVER_MARGIN - max(float(p[:, 1].max()) for p in face)
+    high = centre - COVER_MARGIN - min(float(p[:, 1].min()) for p in face)
+    for part in beside:  # at offset s the part spans its y + s: clear below or above the body's width
+        below = (low, min(high, float(body[:, 1].min()) - float(part[:, 1].max()) - PART_CLEARANCE))
+        above = (max(low, float(body[:, 1].max()) - float(part[:, 1].min()) + PART_CLEARANCE), high)
+        low, high = max((below, above), key=lambda b: b[1] - b[0])
+    return high - low >= 1e-4
+
+
+def _rolled(points: np.ndarray, roll: float, lift: float) -> np.ndarray:
+    """`points` rolled by `roll` about x (y toward z) and raised by `lift`."""
+    c, s = math.cos(roll), math.sin(roll)
+    y, z = points[:, 1], points[:, 2]
+    return np.stack([points[:, 0], c * y - s * z, s * y + c * z + lift], axis=1)
+
+
+def _stands_in(part: np.ndarray, body: np.ndarray) -> bool:
+    """Whether a part's box of vertices comes within `PART_CLEARANCE` of the body's box, across the face (y) and
+    in height (z), where it reaches past the contact plane (x > 0)."""
+    if float(part[:, 0].max()) <= FLAT:
+        return False
+    across = (
+        part[:, 1].min() < body[:, 1].max() + PART_CLEARANCE and part[:, 1].max() > body[:, 1].min() - PART_CLEARANCE
+    )
+    up = part[:, 2].min() < body[:, 2].max() + PART_CLEARANCE and part[:, 2].max() > body[:, 2].min()
+    return bool(across and up)
+
+
+def _face_grid(part: np.ndarray, n: int = 33) -> np.ndarray:
+    """Points on a flat part's face in the contact plane (its y-z rectangle), n x n."""
+    y = np.linspace(float(part[:, 1].min()), float(part[:, 1].max()), n)
+    z = np.linspace(float(part[:, 2].min()), float(part[:, 2].max()), n)
+    yy, zz = np.meshgrid(y, z)
+    return np.stack([np.zeros(yy.size), yy.ravel(), zz.ravel()], axis=1)
+
+
+def _covers(face: np.ndarray, bottom: float, top: float, centre: float) -> bool:
+    """Whether the rolled face's points between the table and the body's top span the centre line ± the margin."""
+    touching = face[(face[:, 2] >= bottom) & (face[:, 2] <= top), 1]
+    return touching.size > 0 and touching.min() <= centre - COVER_MARGIN and touching.max() >= centre + COVER_MARGIN
