@@ -31,6 +31,7 @@ from vkgl.lang.checks.geometry.relative import place_relative_goals
 from vkgl.lang.checks.geometry.scene import check_scenes
 from vkgl.lang.checks.grasps import check_grasp_affordance
 from vkgl.lang.checks.joints import check_joint_goals
+from vkgl.lang.checks.learn_hint import affordance_hint
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.checks.tipping import check_tipping
 from vkgl.lang.diagnostics import codes
@@ -264,7 +265,7 @@ def _check_tasks_can_move(program: Program, ctx: CheckContext) -> None:
                 codes.NOTHING_CAN_MOVE,
                 f"no affordance of `{kind}` is imported, so nothing can move `{goal.body.name}`",
                 goal.body.span,
-                f"add `use stdlib.affordances.{kind.lower()}` or learn one with `vkgc learn`",
+                affordance_hint(program.bodies[kind]),
             )
 
 

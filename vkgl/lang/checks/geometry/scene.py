@@ -46,6 +46,7 @@ from vkgl.lang.checks.geometry.solids import (
     shape_pieces,
     yawed,
 )
+from vkgl.lang.checks.geometry.unit_slip import unit_slip_note
 from vkgl.lang.checks.joints import opening_problem
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
@@ -181,7 +182,7 @@ def _report_far(scene_body: ir.SceneBody, pose: Rigid, table: Table, ctx: CheckC
         f"`{scene_body.name}` is far off the table: it is at (x, y) = ({_m(x)}, {_m(y)}) m, and the table spans "
         f"{_span_xy(table.low, table.high)}",
         _where(scene_body),
-        "move it onto the table",
+        unit_slip_note(scene_body.placement.pose.position, table) or "move it onto the table",
     )
 
 
@@ -195,7 +196,9 @@ def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckCon
         codes.OFF_TABLE,
         f"`{item.name}` {what}: it spans {_span_xy(lo, hi)}, the table {_span_xy(table.low, table.high)}",
         _where(item.scene_body),
-        "move it onto the table" if not inside else "move it inward, or turn it along the edge",
+        "move it inward, or turn it along the edge"
+        if inside
+        else unit_slip_note(item.scene_body.placement.pose.position, table) or "move it onto the table",
     )
 
 
@@ -341,11 +344,12 @@ def _report_goal_off(
         what = f"makes `{item.name}` overhang the table's edge by {_cm(_overhang(box, table))}"
     else:
         what = f"puts `{item.name}` off the table"
+    slip = unit_slip_note(goal.position, table) if goal.position is not None and not inside else ""
     ctx.error(
         codes.GOAL_OFF_TABLE,
         f"the goal {what}: there it spans {extent}, the table {_span_xy(table.low, table.high)}",
         _goal_span(goal),
-        _free_yaw_note(goal) or "move the goal onto the table",
+        slip or _free_yaw_note(goal) or "move the goal onto the table",
     )
 
 
