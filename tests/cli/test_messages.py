@@ -108,19 +108,21 @@ def test_the_reach_numbers_agree_with_the_verdict(user_folder: Path, capsys: pyt
     ) in out
 
 
-def test_a_hand_just_past_the_usable_reach_is_shown_outside_it() -> None:
-    """The 0.799 m of the issue: outside the usable reach, which the message now prints, not inside the arm's."""
+@pytest.mark.parametrize("past", [0.001, 0.0004, 0.00002])
+def test_a_hand_just_past_the_usable_reach_is_shown_outside_it(past: float) -> None:
+    """The 0.799 m of the issue: outside the usable reach, which the message now prints, not inside the arm's;
+    a hand less than a millimetre past it is printed with the decimals that show it outside."""
     import re
 
     import vkgl
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.task_space.workspace import unreachable
+    from vkgl.plan.task_space.workspace import REACH_MARGIN, unreachable
 
     program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
     problem = build_problem(program, program.task())
     r_max = problem.arm.reach(0.025)[1]
     hand = np.eye(4)
-    hand[:3, 3] = (r_max - 0.001, 0.0, 0.025)  # inside the arm's reach, outside the usable one
+    hand[:3, 3] = (r_max - REACH_MARGIN + past, 0.0, 0.025)  # inside the arm's reach, outside the usable one
     rejection = unreachable(problem, hand)
     assert rejection is not None
     found = re.search(r"would be ([\d.]+) m .*\(usable reach there: ([\d.]+) to ([\d.]+) m", rejection.why)

@@ -26,13 +26,25 @@ def unreachable(problem: Problem, hand: np.ndarray) -> Rejection | None:
         return None
     r_min, r_max = problem.arm.reach(float(hand[2, 3]))
     radius = float(np.hypot(*(hand[:2, 3] - problem.arm.base[:2, 3])))
+    low, high = r_min + REACH_MARGIN, r_max - REACH_MARGIN
+    d = _digits_outside(radius, low, high)
     return Rejection(
         Kind.REACH,
-        f"the hand would be {radius:.3f} m from the arm's base at height {hand[2, 3]:.3f} m "
-        f"(usable reach there: {r_min + REACH_MARGIN:.3f} to {r_max - REACH_MARGIN:.3f} m, the arm's "
+        f"the hand would be {radius:.{d}f} m from the arm's base at height {hand[2, 3]:.3f} m "
+        f"(usable reach there: {low:.{d}f} to {high:.{d}f} m, the arm's "
         f"{r_min:.3f} to {r_max:.3f} m less {REACH_MARGIN * 1000:g} mm kept for inverse kinematics)",
         distance,
     )
+
+
+def _digits_outside(radius: float, low: float, high: float) -> int:
+    """The fewest decimals, from 3 (millimetres) to 6, that print `radius` outside the printed `low` to `high`:
+    a hand 0.4 mm past the usable reach must not read `0.799 m (usable reach there: ... to 0.799 m)`."""
+    for digits in range(3, 7):
+        shown = [round(v, digits) for v in (radius, low, high)]
+        if not shown[1] <= shown[0] <= shown[2]:
+            return digits
+    return 6
 
 
 def reach_violation(problem: Problem, point: np.ndarray) -> float:
