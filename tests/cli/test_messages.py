@@ -98,6 +98,23 @@ def test_the_reason_of_a_chain_puts_each_step_on_its_line() -> None:
     ]
 
 
+def test_a_timeout_reason_says_why_its_closest_miss_failed() -> None:
+    """A timed-out search names its closest miss and, on a line of its own, why it failed: a door beside the
+    arm's ready pose blocks every plan, and the sequence alone does not say so."""
+    from types import SimpleNamespace
+
+    from vkgl.plan.problem.rejection import Kind, Rejection
+    from vkgl.plan.search.stats import SearchStats, timeout_reason
+
+    stats = SearchStats()
+    stats.reject(Rejection(Kind.POSITION, "drawer ends 3.0 cm from its goal", 0.03), "add A on drawer")
+    stats.reject(Rejection(Kind.TRANSIT, "where the arm starts the arm keeps less than ...", 1.0), "add B on drawer")
+    lines = timeout_reason(SimpleNamespace(timeout=60.0), stats).splitlines()  # type: ignore[arg-type]
+    assert lines[0].endswith("; the closest miss: add B on drawer")
+    assert lines[1] == "why the closest miss failed: where the arm starts the arm keeps less than ..."
+    assert lines[2] == "raise `timeout` in the task's search block or pass --timeout"
+
+
 def test_the_reach_numbers_agree_with_the_verdict(user_folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     _, out, _ = _solve_no_tools(user_folder, capsys)
     # the goal at 0.95 m, the block's contacts 5 cm nearer at the closest: at least 0.9 m less the goal's 1 cm
