@@ -125,10 +125,10 @@ def test_the_reach_numbers_agree_with_the_verdict(user_folder: Path, capsys: pyt
     ) in out
 
 
-@pytest.mark.parametrize("past", [0.001, 0.0004, 0.00002])
-def test_a_hand_just_past_the_usable_reach_is_shown_outside_it(past: float) -> None:
-    """The 0.799 m of the issue: outside the usable reach, which the message now prints, not inside the arm's;
-    a hand less than a millimetre past it is printed with the decimals that show it outside."""
+@pytest.mark.parametrize(("past", "words"), [(0.001, "1.0 mm"), (0.0004, "0.4 mm"), (2e-7, "less than 0.1 mm")])
+def test_a_hand_just_past_the_usable_reach_is_said_to_be_outside_it(past: float, words: str) -> None:
+    """The 0.799 m of the issue: outside the usable reach, which the message prints, not inside the arm's; the
+    distance and the interval agree at millimetres (`0.794 m`, `... to 0.794 m`), so it says how far outside."""
     import re
 
     import vkgl
@@ -144,8 +144,7 @@ def test_a_hand_just_past_the_usable_reach_is_shown_outside_it(past: float) -> N
     assert rejection is not None
     found = re.search(r"would be ([\d.]+) m .*\(usable reach there: ([\d.]+) to ([\d.]+) m", rejection.why)
     assert found is not None, rejection.why
-    radius, low, high = (float(v) for v in found.groups())
-    assert not low <= radius <= high  # the printed interval excludes the printed distance
+    assert f"usable reach there: {found.group(2)} to {found.group(3)} m, the hand {words} outside it;" in rejection.why
 
 
 def test_the_plan_header_counts_steps_and_says_what_depth_counts(capsys: pytest.CaptureFixture[str]) -> None:
