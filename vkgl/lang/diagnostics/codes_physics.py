@@ -45,7 +45,8 @@ GOAL_OFF_TABLE = _code(
         "At its goal (at the goal's yaw, or at the best heading when the yaw is free, within the goal's "
         "tolerances) the body would pass the table's edge by more than 1 mm plus the position tolerance. Move "
         "the goal onto the table. As for E421, a note names the smaller length unit that would put a far goal "
-        "on the table (`(600, 100) m` for millimetres)."
+        "on the table (`(600, 100) m` for millimetres). A region goal is E423 when its body fits in the region "
+        "but not in the part of it that lies on the table."
     ),
 )
 GOAL_IN_ROBOT_BASE = _code(

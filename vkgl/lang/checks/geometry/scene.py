@@ -80,7 +80,7 @@ def check_scenes(program: Program, ctx: CheckContext) -> None:
 def _check_scene(
     scene: ir.Scene, program: Program, shapes: dict[str, list[Piece] | None], ctx: CheckContext
 ) -> tuple[Table | None, list[Placed], list[Base]]:
-    table = _table(scene)
+    table = scene_table(scene)
     bases = _bases(scene, program)
     bodies: list[Placed] = []
     seen: set[str] = set()
@@ -118,7 +118,8 @@ def _check_scene(
     return table, bodies, bases
 
 
-def _table(scene: ir.Scene) -> Table | None:
+def scene_table(scene: ir.Scene) -> Table | None:
+    """The scene's table as a rectangle and the height of its top; None when it has none or a bad one."""
     if scene.table is None:
         return None
     size, position = scene.table.size.values, scene.table.position.values
@@ -344,7 +345,8 @@ def _report_goal_off(
         what = f"makes `{item.name}` overhang the table's edge by {_cm(_overhang(box, table))}"
     else:
         what = f"puts `{item.name}` off the table"
-    slip = unit_slip_note(goal.position, table) if goal.position is not None and not inside else ""
+    # a relative goal's position is computed from a displacement: no unit was written for it
+    slip = unit_slip_note(goal.position, table) if goal.position is not None and not (inside or goal.relative) else ""
     ctx.error(
         codes.GOAL_OFF_TABLE,
         f"the goal {what}: there it spans {extent}, the table {_span_xy(table.low, table.high)}",
