@@ -79,6 +79,16 @@ JOINT_BODY_TOUCHES = _code(
         "placed lower in its cabinet."
     ),
 )
+CONTRADICTORY_GOALS = _code(
+    "E427",
+    "goals of one body that cannot both hold",
+    (
+        "Two goals of a task name the same body, and no pose meets both: their positions lie farther apart "
+        "than the sum of their position tolerances, their headings farther than the sum of their heading "
+        "tolerances, or their joint openings farther than the sum of theirs (relative goals compared as the "
+        "poses they stand for; a region goal is not compared). Keep one of them, or widen the tolerances."
+    ),
+)
 
 # motion ranges (builder.py, checks.py)
 RANGE_WITHOUT_STATE = _code(
