@@ -1,11 +1,14 @@
-"""How to get the affordances of a body that a goal names but nothing can move (W601's note).
+"""Where the stdlib declares what a program lacks: notes for W601 and E301.
 
-The stdlib's module when it has one (`use stdlib.affordances.block`); otherwise the `vkgc learn` command
-for the body's own file, since suggesting a stdlib module that does not exist sends the reader to E501.
+W601 (a goal body nothing can move): the stdlib's affordance module when it has one (`use
+stdlib.affordances.block`); otherwise the `vkgc learn` command for the body's own file, since suggesting a
+stdlib module that does not exist sends the reader to E501. E301 (an unknown body or robot): the stdlib
+module that declares it, or one with a close name, when nothing in scope is close (a forgotten `use`).
 """
 
 from __future__ import annotations
 
+import difflib
 import os
 import re
 import shlex
@@ -22,6 +25,31 @@ def affordance_hint(body: ir.Body) -> str:
         return f"add `use {module}` or learn one with `vkgc learn`"
     command = "vkgc learn" + (f" {shlex.quote(_shown(body.span.file))}" if body.span is not None else "")
     return f"the stdlib has none for `{body.name}`: learn them with `{command}` and `use` the module it writes"
+
+
+def stdlib_use_hint(name: str, kind: str) -> str:
+    """E301's note for an unknown body or robot `name`: the `use` of the stdlib module that declares it (or a
+    name close to it); '' when the stdlib has nothing close."""
+    declared = _declarations().get(kind, {})
+    if name in declared:
+        return f"the stdlib declares {kind} `{name}`: add `use {declared[name]}`"
+    match = difflib.get_close_matches(name, sorted(declared), n=1, cutoff=0.6)
+    if match:
+        return f"did you mean `{match[0]}`? the stdlib declares it: add `use {declared[match[0]]}`"
+    return ""
+
+
+@cache
+def _declarations() -> dict[str, dict[str, str]]:
+    """Kind (`body`, `robot`) -> name -> dotted module, for every declaration of the installed stdlib."""
+    found: dict[str, dict[str, str]] = {"body": {}, "robot": {}}
+    root = stdlib_dir()
+    for path in sorted(root.rglob("*.vkg")):
+        text = path.read_text(encoding="utf-8", errors="replace")
+        module = ".".join(("stdlib", *path.relative_to(root).with_suffix("").parts))
+        for kind, name in re.findall(r"^(body|robot)\s+([A-Za-z_][A-Za-z0-9_]*)", text, flags=re.MULTILINE):
+            found[kind].setdefault(name, module)
+    return found
 
 
 def stdlib_affordance_module(body: str) -> str | None:
