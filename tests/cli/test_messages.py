@@ -112,7 +112,11 @@ def test_a_timeout_reason_says_why_its_closest_miss_failed() -> None:
     lines = timeout_reason(SimpleNamespace(timeout=60.0), stats).splitlines()  # type: ignore[arg-type]
     assert lines[0].endswith("; the closest miss: add B on drawer")
     assert lines[1] == "why the closest miss failed: where the arm starts the arm keeps less than ..."
-    assert lines[2] == "raise `timeout` in the task's search block or pass --timeout"
+    assert lines[2] == (
+        "rejected so far: 1 found no collision-free way for the arm between contacts, 1 cannot bring a body to "
+        "its goal position"
+    )
+    assert lines[3] == "raise `timeout` in the task's search block or pass --timeout"
 
 
 def test_the_reach_numbers_agree_with_the_verdict(user_folder: Path, capsys: pytest.CaptureFixture[str]) -> None:

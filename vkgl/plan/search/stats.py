@@ -146,6 +146,7 @@ def timeout_reason(problem: Problem, stats: SearchStats) -> str:
         + (f"; the closest miss: {closest}" if closest else "")
         + "\n"
         + (f"why the closest miss failed: {why}\n" if why else "")
+        + (f"rejected so far: {summary(stats)}\n" if stats.rejections else "")
         + "raise `timeout` in the task's search block or pass --timeout"
     )
 
