@@ -98,6 +98,27 @@ def test_the_reason_of_a_chain_puts_each_step_on_its_line() -> None:
     ]
 
 
+def test_a_timeout_reason_says_why_its_closest_miss_failed() -> None:
+    """A timed-out search names its closest miss and, on a line of its own, why it failed: a door beside the
+    arm's ready pose blocks every plan, and the sequence alone does not say so."""
+    from types import SimpleNamespace
+
+    from vkgl.plan.problem.rejection import Kind, Rejection
+    from vkgl.plan.search.stats import SearchStats, timeout_reason
+
+    stats = SearchStats()
+    stats.reject(Rejection(Kind.POSITION, "drawer ends 3.0 cm from its goal", 0.03), "add A on drawer")
+    stats.reject(Rejection(Kind.TRANSIT, "where the arm starts the arm keeps less than ...", 1.0), "add B on drawer")
+    lines = timeout_reason(SimpleNamespace(timeout=60.0), stats).splitlines()  # type: ignore[arg-type]
+    assert lines[0].endswith("; the closest miss: add B on drawer")
+    assert lines[1] == "why the closest miss failed: where the arm starts the arm keeps less than ..."
+    assert lines[2] == (
+        "rejected so far: 1 found no collision-free way for the arm between contacts, 1 cannot bring a body to "
+        "its goal position"
+    )
+    assert lines[3] == "raise `timeout` in the task's search block or pass --timeout"
+
+
 def test_the_reach_numbers_agree_with_the_verdict(user_folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     _, out, _ = _solve_no_tools(user_folder, capsys)
     # the goal at 0.95 m, the block's contacts 5 cm nearer at the closest: at least 0.9 m less the goal's 1 cm
@@ -108,25 +129,26 @@ def test_the_reach_numbers_agree_with_the_verdict(user_folder: Path, capsys: pyt
     ) in out
 
 
-def test_a_hand_just_past_the_usable_reach_is_shown_outside_it() -> None:
-    """The 0.799 m of the issue: outside the usable reach, which the message now prints, not inside the arm's."""
+@pytest.mark.parametrize(("past", "words"), [(0.001, "1.0 mm"), (0.0004, "0.4 mm"), (2e-7, "less than 0.1 mm")])
+def test_a_hand_just_past_the_usable_reach_is_said_to_be_outside_it(past: float, words: str) -> None:
+    """The 0.799 m of the issue: outside the usable reach, which the message prints, not inside the arm's; the
+    distance and the interval agree at millimetres (`0.794 m`, `... to 0.794 m`), so it says how far outside."""
     import re
 
     import vkgl
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.task_space.workspace import unreachable
+    from vkgl.plan.task_space.workspace import REACH_MARGIN, unreachable
 
     program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
     problem = build_problem(program, program.task())
     r_max = problem.arm.reach(0.025)[1]
     hand = np.eye(4)
-    hand[:3, 3] = (r_max - 0.001, 0.0, 0.025)  # inside the arm's reach, outside the usable one
+    hand[:3, 3] = (r_max - REACH_MARGIN + past, 0.0, 0.025)  # inside the arm's reach, outside the usable one
     rejection = unreachable(problem, hand)
     assert rejection is not None
     found = re.search(r"would be ([\d.]+) m .*\(usable reach there: ([\d.]+) to ([\d.]+) m", rejection.why)
     assert found is not None, rejection.why
-    radius, low, high = (float(v) for v in found.groups())
-    assert not low <= radius <= high  # the printed interval excludes the printed distance
+    assert f"usable reach there: {found.group(2)} to {found.group(3)} m, the hand {words} outside it;" in rejection.why
 
 
 def test_the_plan_header_counts_steps_and_says_what_depth_counts(capsys: pytest.CaptureFixture[str]) -> None:

@@ -96,3 +96,17 @@ def test_a_pose_goal_and_a_free_bodys_deviation_carry_no_opening():
     data = _report().to_json()
     assert data["goals"][0]["opening"] is None and data["steps"][0]["bodies"]["block"]["opening"] is None
     assert data["final_openings"] == {}
+
+
+def test_a_value_that_rounds_to_zero_is_shown_without_a_sign():
+    """A shut door whose solver left it at -1e-12 rad reads `open 0.0 deg`, and a heading of -0.01 deg reads
+    `yaw 0.0 deg`: a `-0.0` looks like a direction that is not there."""
+    from vkgl.formats.execution_report import _planar, joint_value_text
+
+    assert joint_value_text("revolute", -1e-12) == "0.0 deg"
+    assert joint_value_text("prismatic", -0.0004) == "0.0 cm"
+    assert joint_value_text("revolute", np.radians(-0.06)) == "-0.1 deg"
+    pose = np.eye(4)
+    pose[:3, :3] = [[1.0, 1e-4, 0.0], [-1e-4, 1.0, 0.0], [0.0, 0.0, 1.0]]  # turned by -0.006 deg
+    pose[:2, 3] = (-0.0001, 0.25)
+    assert _planar(pose) == "(0.000, 0.250) m yaw    0.0 deg"

@@ -213,3 +213,13 @@ def test_a_corner_written_twice_bounds_nothing() -> None:
         planes = region.halfplanes()
     assert translation_fits(planes, np.full(len(planes), 0.05), 0.0)  # a 10 x 10 cm square: it just fits
     assert not translation_fits(planes, np.full(len(planes), 0.06), 0.0)
+
+
+def test_a_region_goal_must_leave_the_body_room_on_the_table() -> None:
+    """The Block (10 x 20 cm) fits in the region, but on the table it must fit in the region's part there: 12 cm
+    of a box that passes the table's edge at x = 1.3 m is room (yaw 0deg), 3 cm is not (E423), nor any of a
+    region written in millimetres as metres."""
+    task = "task t {{\n    scene s\n    goal block in region ({x0}, -0.2) to ({x1}, 0.2) {unit} yaw 0deg\n}}\n"
+    compile_source(SCENE + task.format(x0=1.18, x1=1.5, unit="m"), base_dir=ROOT)
+    assert _codes(task.format(x0=1.27, x1=1.5, unit="m")) == ["E423"]
+    assert _codes(task.format(x0=600, x1=800, unit="m")) == ["E423"]

@@ -231,3 +231,20 @@ def test_a_robot_without_simple_collision_geometry_has_a_base_of_10_cm_radius(tm
     for x, expected in (("0.15", []), ("0.14", ["E420"])):
         text = f"{bare}\nscene s {{\n{table}    block : Block on table at ({x}, 0) m\n}}\n"
         assert [d.code for d in _check(tmp_path, text)] == expected
+
+
+@pytest.mark.parametrize(
+    ("goal", "note"),
+    [
+        ("block at (600, 100) m", "did you mean `mm`? `(600, 100) mm` is (0.6, 0.1) m, on the table"),
+        ("block at (45, 10) m", "did you mean `cm`? `(45, 10) cm` is (0.45, 0.1) m, on the table"),
+        ("block at (1.4, 0.1) m", None),  # just past the edge: a goal past the edge, not a unit written wrong
+        ("block at (4500, 100) mm", None),  # 4.5 m: no smaller unit than `mm`
+        ("block moved by (1500, 0) cm", None),  # a displacement: the position checked was never written
+    ],
+)
+def test_a_far_goal_names_the_unit_that_would_put_it_on_the_table(tmp_path: Path, goal: str, note: str | None) -> None:
+    found = _scene(tmp_path, "block : Block on table at (0.45, 0.0) m", task=f"task t {{ scene s goal {goal} }}")
+    (error,) = [d for d in found if d.code == "E423"]
+    slips = [n for n in error.notes if n.startswith("did you mean")]
+    assert slips == ([note] if note else []), error.notes

@@ -42,3 +42,41 @@ def test_the_plan_reports_both_stages() -> None:
     assert 0 < details["transit_time_s"] < plan.stats["solve_time_s"]
     # each rounded to 0.1 ms
     assert abs(details["search_time_s"] + details["transit_time_s"] - plan.stats["solve_time_s"]) < 2e-4
+
+
+DOOR_BESIDE_THE_READY_POSE = """
+use stdlib.robots.panda
+use stdlib.bodies.drawer
+use stdlib.bodies.door
+use stdlib.furniture.drawer_cabinet
+use stdlib.furniture.door_cabinet
+use stdlib.affordances.drawer
+
+scene kitchenette {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    cabinet : DrawerCabinet on table at (0.65, 0.3) m yaw 180deg
+    drawer : Drawer in cabinet
+    cupboard : DoorCabinet on table at (0.6, -0.3) m yaw 180deg   # the door's edge 10 cm off the arm's centre
+    door : Door in cupboard
+}
+
+task open_drawer {
+    scene kitchenette
+    goal drawer open 10 cm within 1 cm
+    search { max_depth 2 }
+}
+"""
+
+
+def test_a_body_beside_the_arms_ready_pose_is_named_as_blocking_where_the_arm_starts(tmp_path) -> None:
+    """The door's edge within the 1 cm of room a transit keeps, but not touching the hand: the reason says that
+    it is where the arm starts (its ready pose, where every plan begins) and that only the room is missing."""
+    task = tmp_path / "task.vkg"
+    task.write_text(DOOR_BESIDE_THE_READY_POSE, encoding="utf-8")
+    plan = vkgl.solve(vkgl.compile(task))
+    assert plan.status == "infeasible"
+    assert "where the arm starts (its ready pose, the hand at (0.60, 0.00, 0.44) m, before the first step)" in (
+        plan.reason
+    )
+    assert "the arm keeps less than the 1 cm of room a transit needs" in plan.reason

@@ -83,6 +83,21 @@ def test_the_door_starts_open_and_the_far_drawer_is_out_of_the_fingertips_reach(
     assert np.hypot(*handle[:2, 3]) > reach + 0.05  # the handle starts out of the fingertip's reach
 
 
+def test_two_joints_of_one_scene_open_one_after_the_other(compiled):
+    """Task q: the drawer pulled 10 cm, then the shut door 30 deg, each by the fingertip behind its handle (depth
+    4); the cabinets stay put, and the independent replay holds."""
+    plan = solve(compiled("q_drawer_and_door"))
+    assert plan.status == "solved", plan.reason
+    assert plan.depth == 4
+    assert [s.body for s in plan.steps if s.op == "add"] == ["drawer", "door"]
+    assert all(s.effector == "arm.fingertip" for s in plan.steps)
+    bodies = plan.problem.bodies
+    assert bodies["drawer"].joint_state(plan.final["drawer"]) == pytest.approx(0.10, abs=0.01)
+    assert bodies["door"].joint_state(plan.final["door"]) == pytest.approx(math.radians(30), abs=math.radians(5))
+    assert all(np.allclose(plan.final[name], plan.start[name]) for name in ("cabinet", "cupboard"))
+    assert check_plan(compiled("q_drawer_and_door"), json.loads(json.dumps(plan.to_json()))) == []
+
+
 @pytest.mark.parametrize("name", [*PAPER, *JOINTS])
 def test_independent_replay_of_the_json_plan_holds(plans, compiled, name):
     plan_json = json.loads(json.dumps(plans[name].to_json()))

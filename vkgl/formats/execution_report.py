@@ -26,14 +26,22 @@ step's `grip` (the held tool's slip in the hand and the load on the grip; docs/e
 
 
 def _planar(pose: np.ndarray) -> str:
-    return f"({pose[0, 3]:.3f}, {pose[1, 3]:.3f}) m yaw {np.degrees(yaw_of(pose)):6.1f} deg"
+    x, y = (_unsigned_zero(pose[k, 3], ".3f") for k in (0, 1))
+    return f"({x}, {y}) m yaw {_unsigned_zero(np.degrees(yaw_of(pose)), '6.1f')} deg"
 
 
 def joint_value_text(joint: str, value: float) -> str:
     """A joint coordinate in words: `18.7 cm` for a prismatic joint, `45.0 deg` for a revolute one."""
     if joint == "prismatic":
-        return f"{value * 100:.1f} cm"
-    return f"{np.degrees(value):.1f} deg"
+        return f"{_unsigned_zero(value * 100, '.1f')} cm"
+    return f"{_unsigned_zero(np.degrees(value), '.1f')} deg"
+
+
+def _unsigned_zero(value: float, spec: str) -> str:
+    """`value` formatted by `spec`, a value that rounds to zero without its sign: a shut door reads `open 0.0
+    deg`, not `open -0.0 deg` (the solver's last bits are not a direction)."""
+    text = format(float(value), spec)
+    return format(0.0, spec) if float(text) == 0.0 else text
 
 
 def _joint_error_text(joint: str, value: float) -> str:

@@ -29,8 +29,10 @@ from vkgl.lang.checks.geometry.placement import place_relative_bodies
 from vkgl.lang.checks.geometry.regions import check_regions
 from vkgl.lang.checks.geometry.relative import place_relative_goals
 from vkgl.lang.checks.geometry.scene import check_scenes
+from vkgl.lang.checks.goal_pairs import check_goal_pairs
 from vkgl.lang.checks.grasps import check_grasp_affordance
 from vkgl.lang.checks.joints import check_joint_goals
+from vkgl.lang.checks.learn_hint import affordance_hint
 from vkgl.lang.checks.ranges import check_evidence_ranges, check_search_ranges
 from vkgl.lang.checks.tipping import check_tipping
 from vkgl.lang.diagnostics import codes
@@ -65,6 +67,7 @@ def check_program(
     place_relative_goals(program, ctx)  # `moved by`, `turned by`: the pose goal from the body's start
     check_regions(program, ctx)  # regions in order and convex (E450, E451); a goal's `in NAME` resolved
     check_scenes(program, ctx)  # scene geometry: overlaps, table edges, resting, goals (E420–E425)
+    check_goal_pairs(program, ctx)  # goals of one body that cannot all hold (E427)
     return program, ctx.diagnostics
 
 
@@ -264,7 +267,7 @@ def _check_tasks_can_move(program: Program, ctx: CheckContext) -> None:
                 codes.NOTHING_CAN_MOVE,
                 f"no affordance of `{kind}` is imported, so nothing can move `{goal.body.name}`",
                 goal.body.span,
-                f"add `use stdlib.affordances.{kind.lower()}` or learn one with `vkgc learn`",
+                affordance_hint(program.bodies[kind]),
             )
 
 

@@ -12,6 +12,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from vkgl.lang.checks.learn_hint import stdlib_use_hint
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.diagnostics.codes import Code
 from vkgl.lang.diagnostics.diagnostic import Diagnostic
@@ -70,7 +71,11 @@ def lookup(ref: ir.Ref, kind: str, ctx: CheckContext) -> Any:
     entry = ctx.names.get(ref.name)
     if entry is None:
         candidates = [n for n, (d, _) in ctx.names.items() if d.kind == kind]
-        ctx.error(codes.UNKNOWN_NAME, f"unknown {kind} `{ref.name}`", ref.span, did_you_mean(ref.name, candidates))
+        note = did_you_mean(ref.name, candidates)
+        if kind in ("body", "robot") and not note.startswith("did you mean"):
+            note = stdlib_use_hint(ref.name, kind) or note  # a forgotten `use` of the stdlib
+            note = note or f"declare `{kind} {ref.name} {{ ... }}` or `use` the module that declares it"
+        ctx.error(codes.UNKNOWN_NAME, f"unknown {kind} `{ref.name}`", ref.span, note)
         return None
     decl = entry[0]
     if decl.kind != kind:

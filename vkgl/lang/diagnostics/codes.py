@@ -344,6 +344,7 @@ TIPPING_HEIGHT = _code(
 # scene geometry (E42x), motion ranges (E43x), joints (E44x): registered after the codes above
 from vkgl.lang.diagnostics.codes_physics import (  # noqa: E402
     BODIES_OVERLAP,
+    CONTRADICTORY_GOALS,
     FLOATING_BODY,
     GOAL_IN_FIXED_BODY,
     GOAL_IN_ROBOT_BASE,
@@ -401,6 +402,7 @@ __all__ = [
     "BODIES_OVERLAP",
     "CODES",
     "CONTACT_OFF_SURFACE",
+    "CONTRADICTORY_GOALS",
     "COUNT_OUT_OF_RANGE",
     "DUPLICATE_NAME",
     "FAMILY_BAD_ARC",

@@ -116,7 +116,8 @@ NOTHING_CAN_MOVE = _code(
     "a goal body that no imported affordance can move",
     (
         "A warning (exit 0): a task's goal body has no affordance in the compilation, so no plan can move it."
-        " `use` its affordance module (`use stdlib.affordances.block`) or learn one with `vkgc learn`."
+        " `use` its affordance module (`use stdlib.affordances.block`) or learn one with `vkgc learn`; for a"
+        " body the stdlib has no affordances for, the note gives the `vkgc learn` command for the body's file."
     ),
 )
 TOOL_WITHOUT_CORRESPONDENCE = _code(

@@ -24,7 +24,8 @@ OFF_TABLE = _code(
         "A body without a physical `joint` must lie on the table: the shadow of its shape on the table may "
         "pass the table's rectangle by at most 1 mm. The message gives the body's extent and the table's. Any "
         "body farther than 1 km from the table's centre (`-1e308`) is far off the table. Move the body onto "
-        "the table, or make the table larger."
+        "the table, or make the table larger. A position more than three table diagonals away that a smaller "
+        "length unit would put on the table (`(45, 10) m` for centimetres) gets a note saying so."
     ),
 )
 FLOATING_BODY = _code(
@@ -43,7 +44,9 @@ GOAL_OFF_TABLE = _code(
     (
         "At its goal (at the goal's yaw, or at the best heading when the yaw is free, within the goal's "
         "tolerances) the body would pass the table's edge by more than 1 mm plus the position tolerance. Move "
-        "the goal onto the table."
+        "the goal onto the table. As for E421, a note names the smaller length unit that would put a far goal "
+        "on the table (`(600, 100) m` for millimetres). A region goal is E423 when its body fits in the region "
+        "but not in the part of it that lies on the table."
     ),
 )
 GOAL_IN_ROBOT_BASE = _code(
@@ -74,6 +77,16 @@ JOINT_BODY_TOUCHES = _code(
         "moves on its joint it rubs on that body and drags it along (a drawer touching its cabinet's top "
         "dragged the cabinet 20 cm in DART). Move it so that it has room on every side, e.g. a drawer "
         "placed lower in its cabinet."
+    ),
+)
+CONTRADICTORY_GOALS = _code(
+    "E427",
+    "goals of one body that cannot both hold",
+    (
+        "Two goals of a task name the same body, and no pose meets both: their positions lie farther apart "
+        "than the sum of their position tolerances, their headings farther than the sum of their heading "
+        "tolerances, or their joint openings farther than the sum of theirs (relative goals compared as the "
+        "poses they stand for; a region goal is not compared). Keep one of them, or widen the tolerances."
     ),
 )
 

@@ -48,7 +48,7 @@ from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
 from vkgl.plan.arm.approaches import DOWN
 from vkgl.plan.arm.remembered import Remembered, Replay, step_key
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
-from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.geometry.bodies import TRANSIT_CLEARANCE, GeometryCheck
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.robot.pad import FINGERTIP_RADIUS
@@ -406,14 +406,32 @@ class ArmPathPlanner:
         return found
 
     def _blocker(self, reason: str, transit: PendingTransit) -> str:
-        """The transit's failure in words, naming what blocks an end configuration when one is blocked."""
+        """The transit's failure in words, naming what blocks an end configuration when one is blocked: where
+        the arm stands before the first step is named as such (a scene body beside the arm's ready pose blocks
+        every plan), and a body only the transit's room reaches is told from one the arm would enter."""
         for name, q in (("start", transit.start), ("goal", transit.goal)):
             clash = self.moves.first_overlap(
                 np.asarray([q]), transit.poses, transit.held, set(), collision=self.geometry.transit_collision
             )
-            if clash is not None:
-                return f"at the {name} of the transit {clash[0]}"
+            if clash is None:
+                continue
+            where = f"at the {name} of the transit"
+            if name == "start" and transit.step == 0 and transit.at == 0:
+                where = f"where the arm starts ({self._start_words(q)})"
+            real = self.moves.first_overlap(np.asarray([q]), transit.poses, transit.held, set())
+            if real is None:
+                return (
+                    f"{where} the arm keeps less than the {TRANSIT_CLEARANCE * 100:g} cm of room a transit needs "
+                    f"({clash[0]}, with the bodies grown by that room)"
+                )
+            return f"{where} {real[0]}"
         return reason
+
+    def _start_words(self, q: np.ndarray) -> str:
+        """The arm's start in words: the hand's position, and whether it is the arm's ready pose."""
+        x, y, z = self.problem.arm.fk(q)[:3, 3]
+        ready = "its ready pose, " if np.allclose(q, self.problem.arm.home) else ""
+        return f"{ready}the hand at ({x:.2f}, {y:.2f}, {z:.2f}) m, before the first step"
 
 
 class _ClosestMiss:

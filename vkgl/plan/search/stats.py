@@ -137,22 +137,28 @@ MAX_DEPTH_HINT = 12
 def timeout_reason(problem: Problem, stats: SearchStats) -> str:
     """Why the search timed out: how far it got, what it spent, its closest miss, and what to raise."""
     done = f"every sequence that could reach the goal in fewer than {stats.level:g} graphs was checked"
-    closest = closest_miss(stats)
+    closest, why = closest_miss(stats)
     return (
         f"no plan within the timeout of {problem.timeout:g} s: the time ran out while checking sequences of "
         f"{stats.level:g} graphs or more ({done}; {stats.sequences} sequences made, "
         f"{stats.task_space_checks} checked in task space, {stats.work.optimisations} optimisations, "
-        f"{stats.work.ik_calls} IK calls)" + (f"; the closest miss: {closest}" if closest else "") + "\n"
-        "raise `timeout` in the task's search block or pass --timeout"
+        f"{stats.work.ik_calls} IK calls)"
+        + (f"; the closest miss: {closest}" if closest else "")
+        + "\n"
+        + (f"why the closest miss failed: {why}\n" if why else "")
+        + (f"rejected so far: {summary(stats)}\n" if stats.rejections else "")
+        + "raise `timeout` in the task's search block or pass --timeout"
     )
 
 
-def closest_miss(stats: SearchStats) -> str:
-    """The rejection that got farthest towards a plan (the latest stage, then the smallest excess), in words."""
+def closest_miss(stats: SearchStats) -> tuple[str, str]:
+    """The rejection that got farthest towards a plan (the latest stage, then the smallest excess): its
+    sequence and why it failed, in words; empty when nothing was rejected."""
     if not stats.examples:
-        return ""
+        return "", ""
     kind = min(stats.examples, key=lambda k: (-Kind(k).stage, stats.examples[k][0], k))
-    return stats.examples[kind][1]
+    _, label, why = stats.examples[kind]
+    return label, why
 
 
 class Progress:

@@ -26,13 +26,20 @@ def unreachable(problem: Problem, hand: np.ndarray) -> Rejection | None:
         return None
     r_min, r_max = problem.arm.reach(float(hand[2, 3]))
     radius = float(np.hypot(*(hand[:2, 3] - problem.arm.base[:2, 3])))
+    low, high = r_min + REACH_MARGIN, r_max - REACH_MARGIN
     return Rejection(
         Kind.REACH,
         f"the hand would be {radius:.3f} m from the arm's base at height {hand[2, 3]:.3f} m "
-        f"(usable reach there: {r_min + REACH_MARGIN:.3f} to {r_max - REACH_MARGIN:.3f} m, the arm's "
+        f"(usable reach there: {low:.3f} to {high:.3f} m, the hand {_outside_words(distance)} it; the arm's "
         f"{r_min:.3f} to {r_max:.3f} m less {REACH_MARGIN * 1000:g} mm kept for inverse kinematics)",
         distance,
     )
+
+
+def _outside_words(distance: float) -> str:
+    """How far (m, > 0) the hand lies outside the usable reach, in words: at millimetres the printed distance and
+    interval agree to the last digit (`0.794 m`, `... to 0.794 m`), and the reader must not take it for inside."""
+    return f"{distance * 1000:.1f} mm outside" if distance >= 0.00005 else "less than 0.1 mm outside"
 
 
 def reach_violation(problem: Problem, point: np.ndarray) -> float:

@@ -16,8 +16,11 @@ import math
 from typing import TYPE_CHECKING, Any
 
 from vkgl.lang.checks.context import CheckContext, did_you_mean
-from vkgl.lang.checks.geometry.placed import TOUCH
+from vkgl.lang.checks.geometry.placed import TOUCH, Table
+from vkgl.lang.checks.geometry.placed import m as _m
 from vkgl.lang.checks.geometry.relative import start_pose
+from vkgl.lang.checks.geometry.scene import EDGE, scene_table
+from vkgl.lang.checks.geometry.unit_slip import unit_slip_note
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.program import Program
@@ -119,12 +122,11 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
         return
     level = _level(start) @ points.T  # the body's points about its origin, its start tilt kept, heading 0
     planes = goal.region.halfplanes()
-    for yaw in _headings(goal):
-        c, s = math.cos(yaw), math.sin(yaw)
-        turned = np.array([[c, -s], [s, c]]) @ level[:2]
-        reach = (planes[:, :2] @ turned).max(axis=1)  # per edge, how far out the footprint reaches from its origin
-        if translation_fits(planes, reach, tolerance):
-            return
+    if _fits(planes, level, goal, tolerance):
+        table = scene_table(scene)
+        if table is not None and body.joint is None and not _fits(_on_table(planes, table), level, goal, tolerance):
+            _report_region_off_table(goal, table, ctx)
+        return
     width = np.ptp(level[:2], axis=1)
     region = goal.region.points()
     ctx.error(
@@ -134,6 +136,44 @@ def _check_fits(goal: ir.Goal, scene: ir.Scene, program: Program, ctx: CheckCont
         f"{_cm(width[0])} x {_cm(width[1])} unturned",
         goal.region.span or goal.span,
         "make the region larger" + (", or leave the heading free" if goal.yaw is not None else ""),
+    )
+
+
+def _fits(planes: np.ndarray, level: np.ndarray, goal: ir.Goal, tolerance: float) -> bool:
+    """Whether the footprint of the body's points `level` (about its origin, heading 0) fits inside `planes`
+    at some heading the goal allows, within `tolerance`."""
+    import numpy as np
+
+    for yaw in _headings(goal):
+        c, s = math.cos(yaw), math.sin(yaw)
+        turned = np.array([[c, -s], [s, c]]) @ level[:2]
+        reach = (planes[:, :2] @ turned).max(axis=1)  # per edge, how far out the footprint reaches from its origin
+        if translation_fits(planes, reach, tolerance):
+            return True
+    return False
+
+
+def _on_table(planes: np.ndarray, table: Table) -> np.ndarray:
+    """The region's half-planes and the table's four edges, each `EDGE` farther out (as E423 allows a goal)."""
+    import numpy as np
+
+    (x0, y0), (x1, y1) = table.low, table.high
+    edges = [(-1.0, 0.0, -x0 + EDGE), (1.0, 0.0, x1 + EDGE), (0.0, -1.0, -y0 + EDGE), (0.0, 1.0, y1 + EDGE)]
+    return np.vstack([planes, np.array(edges)])
+
+
+def _report_region_off_table(goal: ir.Goal, table: Table, ctx: CheckContext) -> None:
+    """E423 for a region goal: the body fits in its region, but not where the region lies on the table."""
+    region = goal.region
+    assert region is not None
+    corner = region.corners[0]
+    slip = unit_slip_note(corner, table) if not region.name else ""
+    ctx.error(
+        codes.GOAL_OFF_TABLE,
+        f"the goal's {region.words()} leaves no room for `{goal.body.name}` on the table: the table spans "
+        f"x from {_m(table.low[0])} to {_m(table.high[0])} m and y from {_m(table.low[1])} to {_m(table.high[1])} m",
+        region.span or goal.span,
+        slip or "move the region onto the table",
     )
 
 

@@ -46,6 +46,7 @@ from vkgl.lang.checks.geometry.solids import (
     shape_pieces,
     yawed,
 )
+from vkgl.lang.checks.geometry.unit_slip import unit_slip_note
 from vkgl.lang.checks.joints import opening_problem
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
@@ -79,7 +80,7 @@ def check_scenes(program: Program, ctx: CheckContext) -> None:
 def _check_scene(
     scene: ir.Scene, program: Program, shapes: dict[str, list[Piece] | None], ctx: CheckContext
 ) -> tuple[Table | None, list[Placed], list[Base]]:
-    table = _table(scene)
+    table = scene_table(scene)
     bases = _bases(scene, program)
     bodies: list[Placed] = []
     seen: set[str] = set()
@@ -117,7 +118,8 @@ def _check_scene(
     return table, bodies, bases
 
 
-def _table(scene: ir.Scene) -> Table | None:
+def scene_table(scene: ir.Scene) -> Table | None:
+    """The scene's table as a rectangle and the height of its top; None when it has none or a bad one."""
     if scene.table is None:
         return None
     size, position = scene.table.size.values, scene.table.position.values
@@ -181,7 +183,7 @@ def _report_far(scene_body: ir.SceneBody, pose: Rigid, table: Table, ctx: CheckC
         f"`{scene_body.name}` is far off the table: it is at (x, y) = ({_m(x)}, {_m(y)}) m, and the table spans "
         f"{_span_xy(table.low, table.high)}",
         _where(scene_body),
-        "move it onto the table",
+        unit_slip_note(scene_body.placement.pose.position, table) or "move it onto the table",
     )
 
 
@@ -195,7 +197,9 @@ def _report_off_table(item: Placed, overhang: float, table: Table, ctx: CheckCon
         codes.OFF_TABLE,
         f"`{item.name}` {what}: it spans {_span_xy(lo, hi)}, the table {_span_xy(table.low, table.high)}",
         _where(item.scene_body),
-        "move it onto the table" if not inside else "move it inward, or turn it along the edge",
+        "move it inward, or turn it along the edge"
+        if inside
+        else unit_slip_note(item.scene_body.placement.pose.position, table) or "move it onto the table",
     )
 
 
@@ -341,11 +345,13 @@ def _report_goal_off(
         what = f"makes `{item.name}` overhang the table's edge by {_cm(_overhang(box, table))}"
     else:
         what = f"puts `{item.name}` off the table"
+    # a relative goal's position is computed from a displacement: no unit was written for it
+    slip = unit_slip_note(goal.position, table) if goal.position is not None and not (inside or goal.relative) else ""
     ctx.error(
         codes.GOAL_OFF_TABLE,
         f"the goal {what}: there it spans {extent}, the table {_span_xy(table.low, table.high)}",
         _goal_span(goal),
-        _free_yaw_note(goal) or "move the goal onto the table",
+        slip or _free_yaw_note(goal) or "move the goal onto the table",
     )
 
 
