@@ -20,6 +20,7 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
+from vkgl.plan.search.clear_first import clear_first
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats
 
@@ -53,6 +54,11 @@ def solve(
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
     result = search(problem, deadline=deadline, progress=progress)
+    cleared = None
+    if result.status == "infeasible":
+        cleared = clear_first(problem, result, deadline=deadline, progress=progress)
+        if cleared is not None:
+            result = replace(cleared.result, reason=cleared.words)
     if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
         result = replace(result, reason=f"{result.reason}\n{hint}")
     if result.status == "infeasible" and (tips := _tipping_hint(problem)):
