@@ -54,11 +54,13 @@ def solve(
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
     result = search(problem, deadline=deadline, progress=progress)
-    cleared = None
-    if result.status == "infeasible":
-        cleared = clear_first(problem, result, deadline=deadline, progress=progress)
-        if cleared is not None:
+    if result.status == "infeasible" and (
+        cleared := clear_first(problem, result, deadline=deadline, progress=progress)
+    ):
+        if cleared.result is not None:
             result = replace(cleared.result, reason=cleared.words)
+        else:
+            result = replace(result, reason=f"{result.reason}\n{cleared.words}")
     if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
         result = replace(result, reason=f"{result.reason}\n{hint}")
     if result.status == "infeasible" and (tips := _tipping_hint(problem)):

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Iterator
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -50,41 +50,56 @@ from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
 CLEAR_DEPTH = 5
 """Graphs of a plan that clears one blocker, G0 included: the push (2), or a tool's grasp first (3)."""
 
+CLEAR_SHARE = 0.25
+"""The least part of the time left that one search for a plan clearing a blocker to one side may take (with
+`k` sides still to try, `1 / (k + 1)` when that is more): a side no plan reaches may take as long as the whole
+level of `CLEAR_DEPTH` graphs, and must leave time for the other sides and for the goal."""
+
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
 
 
 @dataclass(frozen=True)
 class Cleared:
-    """What `clear_first` found: the combined plan's search result and how it was found, in words."""
+    """What `clear_first` did: the combined plan's search result (None: no plan found) and, in words, how it was
+    found and whether it is shortest, or what was tried."""
 
-    result: SearchResult
+    result: SearchResult | None
     words: str
 
 
-def clear_first(
-    problem: Problem, before: SearchResult, *, deadline: float, progress: bool = False
-) -> Cleared | None:
+def clear_first(problem: Problem, before: SearchResult, *, deadline: float, progress: bool = False) -> Cleared | None:
     """A plan that clears the bodies in a goal body's way first, then reaches the goals (see the module's
-    docstring), searched until `deadline`; None when none is found (or nothing lies in the way, or no sequence
-    of any length reaches the goal). `before` is the search that ended without a plan; its counters are added
-    to the plan's."""
+    docstring), searched until `deadline`; None when nothing was tried (nothing lies in the way, or clear of
+    its straight way, or no sequence of any length reaches the goal). `before` is the search that ended
+    without a plan; the counters of every search tried here are added to its."""
     start = start_sequence(problem)
     blocking = _blocking(problem)
     if not blocking or math.isinf(Bound(problem)(start)):
         return None
     proven = _proven(problem, before)
-    stats = before.stats
-    for prefix, cleared in _prefixes(problem, blocking, start, deadline, progress, stats):
-        deeper = replace(problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + problem.max_depth))
+    walk = _Walk(problem, deadline, progress, before.stats)
+    for prefix, values, cleared in walk.prefixes(blocking, start):
+        if not cleared:
+            return None  # every body in the way lies clear of the straight way already: nothing to search anew
+        deeper = replace(problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + problem.max_depth), pinned=values)
         result = search(deeper, deadline=deadline, progress=progress, root=prefix)
-        add_stats(stats, result.stats)
+        add_stats(walk.stats, result.stats)
+        if result.status == "infeasible":  # the blockers' values free again: moved farther aside where need be
+            result = search(replace(deeper, pinned=()), deadline=deadline, progress=progress, root=prefix)
+            add_stats(walk.stats, result.stats)
+        moved = ", then ".join(f"{name} {side.words} of the way" for name, side in cleared)
         if result.status == "solved":
             assert result.sequence is not None
-            return Cleared(replace(result, stats=stats), _words(cleared, prefix, result.sequence.depth, proven))
+            words = _words(moved, prefix, result.sequence.depth, proven)
+            return Cleared(replace(result, stats=walk.stats), words)
+        walk.log.append(f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs")
         if time.perf_counter() > deadline:
             break
-    return None
+    if not walk.log:
+        return None
+    ran_out = " (the time ran out)" if time.perf_counter() > deadline else ""
+    return Cleared(None, "clearing the way first found no plan either" + ran_out + ": " + "; ".join(walk.log))
 
 
 def _blocking(problem: Problem) -> list[tuple[GoalSpec, str]]:
@@ -106,50 +121,73 @@ def _proven(problem: Problem, before: SearchResult) -> int:
     return max(1, math.ceil(before.stats.level) - 1)  # every sequence of fewer graphs than its level was checked
 
 
-def _prefixes(
-    problem: Problem,
-    blocking: list[tuple[GoalSpec, str]],
-    root: Sequence,
-    deadline: float,
-    progress: bool,
-    stats: SearchStats,
-) -> Iterator[tuple[Sequence, list[tuple[str, Side]]]]:
-    """Plans that clear every blocker in turn starting from `root` (depth first over each blocker's sides), each
-    with the blockers and the sides they were cleared to."""
-    if not blocking:
-        yield root, []
-        return
-    (goal, blocker), rest = blocking[0], blocking[1:]
-    sides = way_sides(problem, goal, blocker)
-    if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
-        yield from _prefixes(problem, rest, root, deadline, progress, stats)
-        return
-    for side in sides:
-        if time.perf_counter() > deadline:
+@dataclass
+class _Walk:
+    """The depth-first walk over the blockers and their sides: the searches' counters and what failed, in words."""
+
+    problem: Problem
+    deadline: float
+    progress: bool
+    stats: SearchStats
+    log: list[str] = field(default_factory=list)
+
+    def prefixes(
+        self, blocking: list[tuple[GoalSpec, str]], root: Sequence, pinned: tuple[float, ...] = ()
+    ) -> Iterator[tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]]:
+        """Plans that clear every blocker in turn starting from `root` (each blocker's sides in turn), each with
+        its motion values (`root`'s are `pinned`) and the blockers and the sides they were cleared to (none when
+        every one lies clear of the way already)."""
+        if not blocking:
+            yield root, pinned, []
             return
-        sub = replace(
-            _only_moving(problem, blocker, side),
-            goals=[side_goal(problem, goal, blocker, side)],
-            max_depth=root.depth - 1 + CLEAR_DEPTH,
-        )
-        found = search(sub, deadline=deadline, progress=progress, root=root)
-        add_stats(stats, found.stats)
-        if found.status != "solved" or found.sequence is None:
-            continue
-        for prefix, cleared in _prefixes(problem, rest, found.sequence, deadline, progress, stats):
-            yield prefix, [(blocker, side), *cleared]
+        (goal, blocker), rest = blocking[0], blocking[1:]
+        sides = way_sides(self.problem, goal, blocker)
+        if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
+            yield from self.prefixes(rest, root, pinned)
+            return
+        for k, side in enumerate(sides):
+            if time.perf_counter() > self.deadline:
+                return
+            sub = replace(
+                _only_moving(self.problem, blocker, side),
+                goals=[side_goal(self.problem, goal, blocker, side)],
+                max_depth=root.depth - 1 + CLEAR_DEPTH,
+                pinned=pinned,
+            )
+            left = self.deadline - time.perf_counter()
+            share = min(self.deadline, time.perf_counter() + max(CLEAR_SHARE, 1.0 / (len(sides) - k + 1)) * left)
+            found = search(sub, deadline=share, progress=self.progress, root=root)
+            add_stats(self.stats, found.stats)
+            if found.status != "solved" or found.sequence is None:
+                ended = (
+                    f"no plan of at most {sub.max_depth} graphs" if found.status == "infeasible" else "no plan in time"
+                )
+                self.log.append(f"{blocker} {side.words} of the way: {ended}")
+                continue
+            assert found.task is not None
+            values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
+            for prefix, kept, cleared in self.prefixes(rest, found.sequence, values):
+                yield prefix, kept, [(blocker, side), *cleared]
 
 
 def _only_moving(problem: Problem, blocker: str, side: Side) -> Problem:
     """`problem` in which only the goal bodies and the tools keep their affordances, and `blocker` those one
     motion of which takes it to `side` (all of them when none does): the plan that clears a blocker moves it,
     with the hand or a tool, after moving a goal body out of the tool's way at most; the other bodies stay
-    where they lie (they still count in every collision check)."""
+    where they lie (they still count in every collision check). A tool keeps only the grasps with which it can
+    also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
+    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
     bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
     own = problem.bodies[blocker]
     movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
     bodies[blocker] = replace(own, affordances=movers)
+    wrong = frozenset().union(*(need.wrong_grasps for need in Bound(problem).needs))
+    for tool in {e.tool for e in problem.effectors if e.tool is not None}:
+        body = bodies[tool]
+        right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
+        if any(a.motion.type == "free" for a in right):
+            bodies[tool] = replace(body, affordances=right)
     return replace(problem, bodies=bodies)
 
 
@@ -167,17 +205,16 @@ def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> Goa
     )
 
 
-def _words(cleared: list[tuple[str, Side]], prefix: Sequence, depth: int, proven: int) -> str:
+def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
     """How the plan was found, and whether it is proven shortest."""
-    moves = ", then ".join(f"{name} {side.words} of the way" for name, side in cleared)
     shortest = (
         f"a shortest plan (no plan of at most {proven} graphs exists)"
         if depth <= proven + 1
         else f"not proven shortest (no plan of at most {proven} graphs exists; this one has {depth})"
     )
     return (
-        f"cleared first: {moves} (a plan of {prefix.depth} graphs), then the goal from there, {depth} graphs "
-        f"in all: {shortest}"
+        f"cleared the way first: {moved} (a plan of {prefix.depth} graphs), then the goal from there, {depth} "
+        f"graphs in all: {shortest}"
     )
 
 

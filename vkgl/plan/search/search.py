@@ -69,9 +69,7 @@ class SearchResult:
     paths: StraightPaths[PlanStep] | None = None  # a candidate's straight moves, its transits still to plan
 
 
-def search(
-    problem: Problem, *, deadline: float, progress: bool = False, root: Sequence | None = None
-) -> SearchResult:
+def search(problem: Problem, *, deadline: float, progress: bool = False, root: Sequence | None = None) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
     Sequences are checked in the order of their depth plus `Bound` (an admissible lower bound of the graphs

@@ -227,7 +227,9 @@ class Side:
     """A half-plane beyond one side of a goal body's straight way to its goal: `halfplane` (nx, ny, d: inside
     when `n . p <= d`), `words` naming the side, `distance` the blocker must move across the edge to lie in it
     (m), the shortest slide of the blocker's own affordances that takes it there (`slide`, m), whether a turn
-    does (`turn`), and the affordances one motion of which does (`movers`, their names)."""
+    does (`turn`), the affordances one motion of which does (`movers`, their names), and whether the arm
+    reaches through it to the goal body (`arm_side`: beyond the goal of a body pulled towards the arm's base,
+    where the hand and the tool pass)."""
 
     words: str
     halfplane: np.ndarray
@@ -235,14 +237,16 @@ class Side:
     slide: float = math.inf
     turn: bool = False
     movers: tuple[str, ...] = ()
+    arm_side: bool = False
 
     @property
-    def rank(self) -> tuple[int, float]:
+    def rank(self) -> tuple[bool, int, float]:
         """The order sides are tried in: those one slide reaches, the shortest slide first; then those one
-        turn reaches; then the rest; each nearest first."""
+        turn reaches; then the rest; each nearest first; the arm's side after all others (a blocker moved there
+        lies where the hand passes to pull the goal body)."""
         if math.isfinite(self.slide):
-            return 0, self.slide
-        return (1 if self.turn else 2), self.distance
+            return self.arm_side, 0, self.slide
+        return self.arm_side, (1 if self.turn else 2), self.distance
 
 
 def way_corridor(problem: Problem, goal: GoalSpec) -> np.ndarray:
@@ -271,6 +275,8 @@ def way_sides(problem: Problem, goal: GoalSpec, blocker: str) -> list[Side]:
     u = along / length
     normal = np.array([-u[1], u[0]])
     shape = footprint(problem, blocker, problem.bodies[blocker].rest)
+    base = problem.arm.base[:2, 3]
+    pulled = np.linalg.norm(np.asarray(goal.position[:2], dtype=float) - base) < np.linalg.norm(start - base)
     sides = []
     for words, out in (("left", normal), ("right", -normal), ("beyond the goal", u)):
         edge = float(np.max(corridor @ out)) + MARGIN + SIDE_TOLERANCE
@@ -278,7 +284,8 @@ def way_sides(problem: Problem, goal: GoalSpec, blocker: str) -> list[Side]:
         distance = max(0.0, edge - float(np.min(shape @ out)))
         if distance == 0.0:
             return [Side(words, halfplane, 0.0, 0.0)]
-        sides.append(_one_motion_reaches(problem, blocker, Side(words, halfplane, distance)))
+        arm_side = bool(pulled) and words == "beyond the goal"
+        sides.append(_one_motion_reaches(problem, blocker, Side(words, halfplane, distance, arm_side=arm_side)))
     return sorted(sides, key=lambda side: side.rank)
 
 
@@ -309,18 +316,18 @@ def _one_motion_reaches(problem: Problem, blocker: str, side: Side) -> Side:
 
 __all__ = [
     "CORRIDOR_SAMPLES",
-    "SIDE_TOLERANCE",
-    "Side",
-    "way_corridor",
-    "way_sides",
     "GRID",
     "MARGIN",
     "RESOLUTION",
+    "SIDE_TOLERANCE",
     "Blocker",
+    "Side",
     "blockers",
     "cleared_values",
     "clearing_value",
     "corridors",
     "footprint",
     "polygon_distance",
+    "way_corridor",
+    "way_sides",
 ]
