@@ -68,6 +68,21 @@ class Cleared:
     words: str
 
 
+SEARCH_SHARE = 0.5
+"""The part of the timeout the search itself gets when a body lies in a goal body's way (`blocked`): the rest is
+left for clearing it first when the search times out. On the physical bench the tasks with a body in the way
+that the search solves take at most a third of the 20 s timeout (docs/physical_bench.md)."""
+
+
+def blocked(problem: Problem) -> bool:
+    """Whether `clear_first` could try anything: a body lies across a goal body's straight way (not clear of its
+    corridor) and some sequence could reach the goal (the bound at G0 is finite)."""
+    for goal, blocker in _blocking(problem):
+        if min((side.distance for side in way_sides(problem, goal, blocker, motions=False)), default=0.0) > 0.0:
+            return not math.isinf(Bound(problem)(start_sequence(problem)))
+    return False
+
+
 def clear_first(problem: Problem, before: SearchResult, *, deadline: float, progress: bool = False) -> Cleared | None:
     """A plan that clears the bodies in a goal body's way first, then reaches the goals (see the module's
     docstring), searched until `deadline`; None when nothing was tried (nothing lies in the way, or clear of
@@ -99,7 +114,8 @@ def clear_first(problem: Problem, before: SearchResult, *, deadline: float, prog
     if not walk.log:
         return None
     ran_out = " (the time ran out)" if time.perf_counter() > deadline else ""
-    return Cleared(None, "clearing the way first found no plan either" + ran_out + ": " + "; ".join(walk.log))
+    share = f" in the time the search left ({1 - SEARCH_SHARE:.0%} of it)" if before.status == "timeout" else ""
+    return Cleared(None, f"clearing the way first{share} found no plan either{ran_out}: " + "; ".join(walk.log))
 
 
 def _blocking(problem: Problem) -> list[tuple[GoalSpec, str]]:
@@ -233,4 +249,4 @@ def add_stats(total: SearchStats, part: SearchStats) -> None:
     total.rejections.update(part.rejections)
 
 
-__all__ = ["CLEAR_DEPTH", "Cleared", "add_stats", "clear_first", "side_goal"]
+__all__ = ["CLEAR_DEPTH", "SEARCH_SHARE", "Cleared", "add_stats", "blocked", "clear_first", "side_goal"]

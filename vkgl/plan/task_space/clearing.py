@@ -261,10 +261,11 @@ def way_corridor(problem: Problem, goal: GoalSpec) -> np.ndarray:
     return convex_hull(np.vstack([footprint(problem, goal.body, body.rest), footprint(problem, goal.body, end)]))
 
 
-def way_sides(problem: Problem, goal: GoalSpec, blocker: str) -> list[Side]:
+def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool = True) -> list[Side]:
     """The sides of `goal`'s straight way (`way_corridor`) that `blocker` could be moved to: left, right and
     beyond the goal (not behind the goal body, which stands there), those one motion of the blocker's own
-    reaches first, then the nearest; a side it already lies in comes back alone with distance 0."""
+    reaches first, then the nearest; a side it already lies in comes back alone with distance 0. Without
+    `motions`, the blocker's motions are not tried (the sides' distances only, nearest first)."""
     assert goal.position is not None
     corridor = way_corridor(problem, goal)
     start = problem.bodies[goal.body].rest[:2, 3]
@@ -284,8 +285,8 @@ def way_sides(problem: Problem, goal: GoalSpec, blocker: str) -> list[Side]:
         distance = max(0.0, edge - float(np.min(shape @ out)))
         if distance == 0.0:
             return [Side(words, halfplane, 0.0, 0.0)]
-        arm_side = bool(pulled) and words == "beyond the goal"
-        sides.append(_one_motion_reaches(problem, blocker, Side(words, halfplane, distance, arm_side=arm_side)))
+        side = Side(words, halfplane, distance, arm_side=bool(pulled) and words == "beyond the goal")
+        sides.append(_one_motion_reaches(problem, blocker, side) if motions else side)
     return sorted(sides, key=lambda side: side.rank)
 
 
