@@ -151,3 +151,13 @@ def test_the_sub_goal_is_a_region_goal_on_the_blocker_with_any_heading() -> None
     assert goal.body == "block2" and goal.position is None and goal.yaw is None
     assert goal.region is not None and goal.region.shape == (1, 3)
     assert "block's way" in goal.region_words
+
+
+def test_a_plan_longer_than_one_past_the_proof_is_not_called_shortest() -> None:
+    from vkgl.plan.graphs.rollout import Sequence
+    from vkgl.plan.search.clear_first import _words
+
+    prefix = Sequence()
+    assert "a shortest plan (no plan of at most 6 graphs exists)" in _words("b left of the way", prefix, 7, 6)
+    longer = _words("b left of the way", prefix, 8, 6)
+    assert "not proven shortest (no plan of at most 6 graphs exists; this one has 8)" in longer
