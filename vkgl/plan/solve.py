@@ -20,6 +20,7 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
+from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats
 
@@ -52,7 +53,17 @@ def solve(
     why = _hopeless(problem)
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
-    result = search(problem, deadline=deadline, progress=progress)
+    way = blocked(problem)  # a body in a goal body's way: part of the time is kept for clearing it first
+    result = search(problem, deadline=started + SEARCH_SHARE * problem.timeout if way else deadline, progress=progress)
+    if (
+        way
+        and result.status != "solved"
+        and (cleared := clear_first(problem, result, deadline=deadline, progress=progress))
+    ):
+        if cleared.result is not None:
+            result = replace(cleared.result, reason=cleared.words)
+        else:
+            result = replace(result, reason=f"{result.reason}\n{cleared.words}")
     if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
         result = replace(result, reason=f"{result.reason}\n{hint}")
     if result.status == "infeasible" and (tips := _tipping_hint(problem)):

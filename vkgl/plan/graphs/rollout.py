@@ -296,6 +296,8 @@ def bounds(problem: Problem, seq: Sequence, *, offsets: bool = False) -> tuple[n
         pairs += [_band(problem, e) for _, e in seq.offsets]
     lower = np.asarray([p[0] for p in pairs], dtype=float)
     upper = np.asarray([p[1] for p in pairs], dtype=float)
+    pinned = problem.pinned[: len(seq.variables)]  # a prefix's values, kept (`Problem.pinned`)
+    lower[: len(pinned)] = upper[: len(pinned)] = pinned
     carry_low, carry_high = carry_bounds(len(seq.carries))
     return np.concatenate([lower, carry_low]), np.concatenate([upper, carry_high])
 

@@ -198,6 +198,9 @@ class Problem:
     """The arm's joints before the first step (None: its home configuration)."""
     keep_out: tuple[KeepOutSpec, ...] = ()
     """The task's keep-out regions: no body they apply to may enter one, along any motion."""
+    pinned: tuple[float, ...] = ()
+    """The first motion values of every sequence, fixed: those of a plan every sequence searched extends (a
+    plan that cleared a body in the way, `vkgl.plan.search.clear_first`); none by default."""
     _footprints: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)

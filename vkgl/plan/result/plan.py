@@ -130,6 +130,8 @@ class Plan:
                     f"yaw {math.degrees(yaw_of(pose)):.1f} deg"
                 )
         lines += self.region_lines()
+        if self.reason:  # how a solved plan was found, when that is worth saying (cleared first: shortest or not)
+            lines.append(self.reason)
         return "\n".join(lines)
 
     def region_lines(self) -> list[str]:

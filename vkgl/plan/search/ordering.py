@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from vkgl.plan.graphs.rollout import Sequence
-from vkgl.plan.problem.problem import PlanBody, Problem
+from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 
 
 class InTheWay:
@@ -33,6 +33,7 @@ class InTheWay:
         goal_bodies = {g.body for g in problem.goals}
         movable = [b for name, b in problem.bodies.items() if name not in tools | goal_bodies and b.joint is None]
         found: set[str] = set()
+        pairs: list[tuple[GoalSpec, str]] = []
         for goal in problem.goals:
             if goal.position is None:
                 continue
@@ -43,7 +44,9 @@ class InTheWay:
                 reach = _radius(body) + _radius(other)
                 if _distance_to_segment(other.rest[:2, 3], start, end) < reach:
                     found.add(other.name)
+                    pairs.append((goal, other.name))
         self.bodies = frozenset(found)
+        self.blocking = tuple(pairs)  # (goal, body in its way), in the goals' order, then the bodies' order
 
     def left(self, seq: Sequence) -> int:
         """How many bodies in the way `seq` has not moved yet."""

@@ -69,13 +69,15 @@ class SearchResult:
     paths: StraightPaths[PlanStep] | None = None  # a candidate's straight moves, its transits still to plan
 
 
-def search(problem: Problem, *, deadline: float, progress: bool = False) -> SearchResult:
+def search(problem: Problem, *, deadline: float, progress: bool = False, root: Sequence | None = None) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
     Sequences are checked in the order of their depth plus `Bound` (an admissible lower bound of the graphs
     still needed, `vkgl.plan.search.bound`), ties broken by the bodies in the way they have not moved
     (`vkgl.plan.search.ordering`), then by the breadth-first order of their actions, and those whose depth plus
-    bound passes `max_depth` are never made: the plan is a shortest one, found sooner.
+    bound passes `max_depth` are never made: the plan is a shortest one, found sooner. `root` (G0 alone by
+    default) is the sequence every one searched extends (`vkgl.plan.search.clear_first`: a plan that clears a
+    body in the way): the plan is then a shortest among those that start with it.
     """
     stats = SearchStats()
     reporter = Progress(progress)
@@ -83,7 +85,7 @@ def search(problem: Problem, *, deadline: float, progress: bool = False) -> Sear
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
     bound = Bound(problem)
     order = _Order(bound, InTheWay(problem))
-    root = start_sequence(problem)
+    root = start_sequence(problem) if root is None else root
     if goal_holds(problem, root.zero_poses):
         return _check(problem, root, stats, deadline, checks) or SearchResult("infeasible", "", stats)
     frontier: list[_Entry] = []

@@ -17,19 +17,27 @@ the corridor are convex, and the footprint moves along a line), so the smallest 
 boundary the bisection finds. For a turn the same search is done along the angle (the grid is fine enough for
 the footprints the stdlib's bodies have; the sweep check in the search has the last word either way). Several
 blockers are cleared in turn, each against the corridors of the motions after its own.
+
+Before any sequence exists, `way_sides` gives the sub-goals of "clear first, then solve"
+(`vkgl.plan.search.clear_first`): the half-planes beyond each side of the corridor a goal body sweeps going
+straight to its goal (its left, its right, and beyond its goal), each as far out as `MARGIN` plus
+`SIDE_TOLERANCE`, and how far the blocker must move to lie in it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from vkgl.lang.ir.regions import convex_hull
 from vkgl.lang.ir.regions import footprint as region_footprint
 from vkgl.plan.graphs.graph import Engagement
-from vkgl.plan.graphs.rollout import ModeTrace, Sequence, motion_matrices, rollout, tool_pose_on
-from vkgl.plan.problem.problem import Problem
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, motion_matrices, rollout, tool_pose_on, value_bounds
+from vkgl.plan.problem.problem import GoalSpec, Problem
+from vkgl.rotations import yaw_matrix
+from vkgl.se3 import wrap_angle, yaw_of
 
 MARGIN = 0.01
 """m: a cleared blocker stays this far from every later corridor (the sweep check allows 1 mm of touching)."""
@@ -209,16 +217,118 @@ def cleared_values(
     return out
 
 
+SIDE_TOLERANCE = 0.005
+"""m: the tolerance of a side's region goal (a footprint may pass the half-plane's edge by this much and hold):
+the half-plane lies `MARGIN + SIDE_TOLERANCE` out, so a blocker that holds it stays `MARGIN` clear."""
+
+
+@dataclass(frozen=True)
+class Side:
+    """A half-plane beyond one side of a goal body's straight way to its goal: `halfplane` (nx, ny, d: inside
+    when `n . p <= d`), `words` naming the side, `distance` the blocker must move across the edge to lie in it
+    (m), the shortest slide of the blocker's own affordances that takes it there (`slide`, m), whether a turn
+    does (`turn`), the affordances one motion of which does (`movers`, their names), and whether the arm
+    reaches through it to the goal body (`arm_side`: beyond the goal of a body pulled towards the arm's base,
+    where the hand and the tool pass)."""
+
+    words: str
+    halfplane: np.ndarray
+    distance: float
+    slide: float = math.inf
+    turn: bool = False
+    movers: tuple[str, ...] = ()
+    arm_side: bool = False
+
+    @property
+    def rank(self) -> tuple[bool, int, float]:
+        """The order sides are tried in: those one slide reaches, the shortest slide first; then those one
+        turn reaches; then the rest; each nearest first; the arm's side after all others (a blocker moved there
+        lies where the hand passes to pull the goal body)."""
+        if math.isfinite(self.slide):
+            return self.arm_side, 0, self.slide
+        return self.arm_side, (1 if self.turn else 2), self.distance
+
+
+def way_corridor(problem: Problem, goal: GoalSpec) -> np.ndarray:
+    """The convex footprint (k x 2) of the goal body swept straight from where it rests to its goal position
+    (turned to the goal's heading, when it has one): the hull of its footprints at both ends."""
+    body = problem.bodies[goal.body]
+    assert goal.position is not None
+    end = body.rest.copy()
+    if goal.yaw is not None:
+        end[:3, :3] = np.asarray(yaw_matrix(wrap_angle(goal.yaw - yaw_of(body.rest))), dtype=float) @ end[:3, :3]
+    end[:2, 3] = np.asarray(goal.position[:2], dtype=float)
+    return convex_hull(np.vstack([footprint(problem, goal.body, body.rest), footprint(problem, goal.body, end)]))
+
+
+def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool = True) -> list[Side]:
+    """The sides of `goal`'s straight way (`way_corridor`) that `blocker` could be moved to: left, right and
+    beyond the goal (not behind the goal body, which stands there), those one motion of the blocker's own
+    reaches first, then the nearest; a side it already lies in comes back alone with distance 0. Without
+    `motions`, the blocker's motions are not tried (the sides' distances only, nearest first)."""
+    assert goal.position is not None
+    corridor = way_corridor(problem, goal)
+    start = problem.bodies[goal.body].rest[:2, 3]
+    along = np.asarray(goal.position[:2], dtype=float) - start
+    length = float(np.linalg.norm(along))
+    if length < 1e-9:
+        return []
+    u = along / length
+    normal = np.array([-u[1], u[0]])
+    shape = footprint(problem, blocker, problem.bodies[blocker].rest)
+    base = problem.arm.base[:2, 3]
+    pulled = np.linalg.norm(np.asarray(goal.position[:2], dtype=float) - base) < np.linalg.norm(start - base)
+    sides = []
+    for words, out in (("left", normal), ("right", -normal), ("beyond the goal", u)):
+        edge = float(np.max(corridor @ out)) + MARGIN + SIDE_TOLERANCE
+        halfplane = np.array([-out[0], -out[1], -edge])  # inside: out . p >= edge
+        distance = max(0.0, edge - float(np.min(shape @ out)))
+        if distance == 0.0:
+            return [Side(words, halfplane, 0.0, 0.0)]
+        side = Side(words, halfplane, distance, arm_side=bool(pulled) and words == "beyond the goal")
+        sides.append(_one_motion_reaches(problem, blocker, side) if motions else side)
+    return sorted(sides, key=lambda side: side.rank)
+
+
+def _one_motion_reaches(problem: Problem, blocker: str, side: Side) -> Side:
+    """`side` with the shortest slide of `blocker`'s own affordances that puts its footprint inside its
+    half-plane (m, `inf`: none), whether a turn does, and the affordances that do (each motion tried at `GRID`
+    values over its range)."""
+    body = problem.bodies[blocker]
+    slide, turn, movers = math.inf, False, []
+    halfplane = side.halfplane
+    for affordance in body.affordances:
+        motion = affordance.motion
+        if motion.type not in ("prismatic", "revolute"):
+            continue
+        low, high = value_bounds(motion)
+        values = np.linspace(low, high, GRID + 1)
+        for value, pose in zip(values, body.rest @ motion_matrices(motion, values), strict=True):
+            shape = footprint(problem, blocker, pose)
+            if float(np.max(shape @ halfplane[:2] - halfplane[2])) <= 0.0:
+                if motion.type == "prismatic":
+                    slide = min(slide, float(value))
+                else:
+                    turn = True
+                movers.append(affordance.name)
+                break
+    return replace(side, slide=slide, turn=turn, movers=tuple(movers))
+
+
 __all__ = [
     "CORRIDOR_SAMPLES",
     "GRID",
     "MARGIN",
     "RESOLUTION",
+    "SIDE_TOLERANCE",
     "Blocker",
+    "Side",
     "blockers",
     "cleared_values",
     "clearing_value",
     "corridors",
     "footprint",
     "polygon_distance",
+    "way_corridor",
+    "way_sides",
 ]

@@ -1,0 +1,252 @@
+"""Clear first, then solve: a plan for a goal body with another body in its way, deeper than the search affords.
+
+A goal body with a body lying across its straight way (`vkgl.plan.search.ordering.InTheWay`) needs a plan that
+moves that body aside first, then the goal body, often with a tool: on the physical bench that is 7 graphs or
+more, one past the default `max_depth`, and the search cannot afford the level of 7 graphs in a cluttered scene
+(thousands of sequences, each checked by the optimiser). A person splits the task in two, and so does
+`clear_first`, once the search has ended without a plan:
+
+1. **Clear.** For the blocker nearest the goal body's start, a sub-problem whose only goal is a region goal: the
+   blocker's footprint beyond one side of the goal body's straight corridor with a margin
+   (`vkgl.plan.task_space.clearing.way_sides`: left, right, or beyond the goal; the sides one motion of the
+   blocker's own affordances reaches first, then the nearest). It is searched like any problem, to at most
+   `CLEAR_DEPTH` graphs (G0, a tool's grasp, the push that clears it, one more), and its plan passes every
+   check a plan passes. Several blockers are cleared in turn, each sub-problem starting where the one before
+   ended.
+2. **Then solve.** The original problem is searched again from that plan (`search(..., root=prefix)`): every
+   sequence extends it, with up to `max_depth - 1` graphs more, so the tool the prefix holds is still in hand
+   and its contact still in force. The plan found is one graph sequence like any other: its motion values are
+   chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
+   `clearing.cleared_values`), and it passes every check; the plan format does not change.
+
+Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the deadline passes.
+
+**Shortest or not.** The search before proved that no plan of at most `proven` graphs exists (every sequence
+of `max_depth` graphs when it ended without a plan, those of fewer than its level when the time ran out). A plan
+of `proven + 1` graphs found here is therefore a shortest one; a deeper one may not be (a plan that clears no
+blocker, or clears it otherwise, might be shorter) and its words say "not proven shortest".
+
+Where the bound says that no sequence of any length reaches the goal, nothing here is tried: the answer stays
+immediate.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field, fields, replace
+
+import numpy as np
+
+from vkgl.plan.graphs.rollout import Sequence, start_sequence
+from vkgl.plan.problem.problem import GoalSpec, Problem
+from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.ordering import InTheWay
+from vkgl.plan.search.search import SearchResult, search
+from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
+
+CLEAR_DEPTH = 5
+"""Graphs of a plan that clears one blocker, G0 included: the push (2), or a tool's grasp first (3)."""
+
+CLEAR_SHARE = 0.25
+"""The least part of the time left that one search for a plan clearing a blocker to one side may take (with
+`k` sides still to try, `1 / (k + 1)` when that is more): a side no plan reaches may take as long as the whole
+level of `CLEAR_DEPTH` graphs, and must leave time for the other sides and for the goal."""
+
+MAX_DEPTH = 12
+"""The deepest plan tried (the CLI's `--max-depth` limit)."""
+
+
+@dataclass(frozen=True)
+class Cleared:
+    """What `clear_first` did: the combined plan's search result (None: no plan found) and, in words, how it was
+    found and whether it is shortest, or what was tried."""
+
+    result: SearchResult | None
+    words: str
+
+
+SEARCH_SHARE = 0.5
+"""The part of the timeout the search itself gets when a body lies in a goal body's way (`blocked`): the rest is
+left for clearing it first when the search times out. On the physical bench the tasks with a body in the way
+that the search solves take at most a third of the 20 s timeout (docs/physical_bench.md)."""
+
+
+def blocked(problem: Problem) -> bool:
+    """Whether `clear_first` could try anything: a body lies across a goal body's straight way (not clear of its
+    corridor) and some sequence could reach the goal (the bound at G0 is finite)."""
+    for goal, blocker in _blocking(problem):
+        if min((side.distance for side in way_sides(problem, goal, blocker, motions=False)), default=0.0) > 0.0:
+            return not math.isinf(Bound(problem)(start_sequence(problem)))
+    return False
+
+
+def clear_first(problem: Problem, before: SearchResult, *, deadline: float, progress: bool = False) -> Cleared | None:
+    """A plan that clears the bodies in a goal body's way first, then reaches the goals (see the module's
+    docstring), searched until `deadline`; None when nothing was tried (nothing lies in the way, or clear of
+    its straight way, or no sequence of any length reaches the goal). `before` is the search that ended
+    without a plan; the counters of every search tried here are added to its."""
+    start = start_sequence(problem)
+    blocking = _blocking(problem)
+    if not blocking or math.isinf(Bound(problem)(start)):
+        return None
+    proven = _proven(problem, before)
+    walk = _Walk(problem, deadline, progress, before.stats)
+    for prefix, values, cleared in walk.prefixes(blocking, start):
+        if not cleared:
+            return None  # every body in the way lies clear of the straight way already: nothing to search anew
+        deeper = replace(problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + problem.max_depth), pinned=values)
+        result = search(deeper, deadline=deadline, progress=progress, root=prefix)
+        add_stats(walk.stats, result.stats)
+        if result.status == "infeasible":  # the blockers' values free again: moved farther aside where need be
+            result = search(replace(deeper, pinned=()), deadline=deadline, progress=progress, root=prefix)
+            add_stats(walk.stats, result.stats)
+        moved = ", then ".join(f"{name} {side.words} of the way" for name, side in cleared)
+        if result.status == "solved":
+            assert result.sequence is not None
+            words = _words(moved, prefix, result.sequence.depth, proven)
+            return Cleared(replace(result, stats=walk.stats), words)
+        walk.log.append(f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs")
+        if time.perf_counter() > deadline:
+            break
+    if not walk.log:
+        return None
+    ran_out = " (the time ran out)" if time.perf_counter() > deadline else ""
+    share = f" in the time the search left ({1 - SEARCH_SHARE:.0%} of it)" if before.status == "timeout" else ""
+    return Cleared(None, f"clearing the way first{share} found no plan either{ran_out}: " + "; ".join(walk.log))
+
+
+def _blocking(problem: Problem) -> list[tuple[GoalSpec, str]]:
+    """Each body in a goal body's way once, with that goal, nearest the goal body first."""
+    seen: set[str] = set()
+    out = []
+    for goal, name in InTheWay(problem).blocking:
+        if name not in seen:
+            seen.add(name)
+            out.append((goal, name))
+    rest = {name: b.rest[:2, 3] for name, b in problem.bodies.items()}
+    return sorted(out, key=lambda pair: float(np.linalg.norm(rest[pair[1]] - rest[pair[0].body])))
+
+
+def _proven(problem: Problem, before: SearchResult) -> int:
+    """The most graphs a plan could have that the search `before` proved there is none of."""
+    if before.status == "infeasible":
+        return problem.max_depth
+    return max(1, math.ceil(before.stats.level) - 1)  # every sequence of fewer graphs than its level was checked
+
+
+@dataclass
+class _Walk:
+    """The depth-first walk over the blockers and their sides: the searches' counters and what failed, in words."""
+
+    problem: Problem
+    deadline: float
+    progress: bool
+    stats: SearchStats
+    log: list[str] = field(default_factory=list)
+
+    def prefixes(
+        self, blocking: list[tuple[GoalSpec, str]], root: Sequence, pinned: tuple[float, ...] = ()
+    ) -> Iterator[tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]]:
+        """Plans that clear every blocker in turn starting from `root` (each blocker's sides in turn), each with
+        its motion values (`root`'s are `pinned`) and the blockers and the sides they were cleared to (none when
+        every one lies clear of the way already)."""
+        if not blocking:
+            yield root, pinned, []
+            return
+        (goal, blocker), rest = blocking[0], blocking[1:]
+        sides = way_sides(self.problem, goal, blocker)
+        if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
+            yield from self.prefixes(rest, root, pinned)
+            return
+        for k, side in enumerate(sides):
+            if time.perf_counter() > self.deadline:
+                return
+            sub = replace(
+                _only_moving(self.problem, blocker, side),
+                goals=[side_goal(self.problem, goal, blocker, side)],
+                max_depth=root.depth - 1 + CLEAR_DEPTH,
+                pinned=pinned,
+            )
+            left = self.deadline - time.perf_counter()
+            share = min(self.deadline, time.perf_counter() + max(CLEAR_SHARE, 1.0 / (len(sides) - k + 1)) * left)
+            found = search(sub, deadline=share, progress=self.progress, root=root)
+            add_stats(self.stats, found.stats)
+            if found.status != "solved" or found.sequence is None:
+                ended = (
+                    f"no plan of at most {sub.max_depth} graphs" if found.status == "infeasible" else "no plan in time"
+                )
+                self.log.append(f"{blocker} {side.words} of the way: {ended}")
+                continue
+            assert found.task is not None
+            values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
+            for prefix, kept, cleared in self.prefixes(rest, found.sequence, values):
+                yield prefix, kept, [(blocker, side), *cleared]
+
+
+def _only_moving(problem: Problem, blocker: str, side: Side) -> Problem:
+    """`problem` in which only the goal bodies and the tools keep their affordances, and `blocker` those one
+    motion of which takes it to `side` (all of them when none does): the plan that clears a blocker moves it,
+    with the hand or a tool, after moving a goal body out of the tool's way at most; the other bodies stay
+    where they lie (they still count in every collision check). A tool keeps only the grasps with which it can
+    also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
+    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again."""
+    keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
+    bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
+    own = problem.bodies[blocker]
+    movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
+    bodies[blocker] = replace(own, affordances=movers)
+    wrong = frozenset().union(*(need.wrong_grasps for need in Bound(problem).needs))
+    for tool in {e.tool for e in problem.effectors if e.tool is not None}:
+        body = bodies[tool]
+        right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
+        if any(a.motion.type == "free" for a in right):
+            bodies[tool] = replace(body, affordances=right)
+    return replace(problem, bodies=bodies)
+
+
+def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
+    """The region goal that puts `blocker`'s footprint beyond `side` of `goal`'s straight way, any heading."""
+    return GoalSpec(
+        blocker,
+        None,
+        None,
+        SIDE_TOLERANCE,
+        math.pi,
+        region=side.halfplane[np.newaxis, :],
+        footprint=problem.footprint_points(blocker),
+        region_words=f"{side.words} of {goal.body}'s way",
+    )
+
+
+def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
+    """How the plan was found, and whether it is proven shortest."""
+    shortest = (
+        f"a shortest plan (no plan of at most {proven} graphs exists)"
+        if depth <= proven + 1
+        else f"not proven shortest (no plan of at most {proven} graphs exists; this one has {depth})"
+    )
+    return (
+        f"cleared the way first: {moved} (a plan of {prefix.depth} graphs), then the goal from there, {depth} "
+        f"graphs in all: {shortest}"
+    )
+
+
+def add_stats(total: SearchStats, part: SearchStats) -> None:
+    """Add the counters of another search (`part`) to `total`: sequences, checks, rejections, times (what
+    describes where one search ended, its level and cut sequences, stays `total`'s)."""
+    kept = {"level", "depth_reached", "shortest_cut", "cut_at_start", "examples"}
+    for f in fields(SearchStats):
+        if f.name in kept:
+            continue
+        mine, theirs = getattr(total, f.name), getattr(part, f.name)
+        if isinstance(mine, (int, float)):
+            setattr(total, f.name, mine + theirs)
+    for f in fields(total.work):
+        setattr(total.work, f.name, getattr(total.work, f.name) + getattr(part.work, f.name))
+    total.rejections.update(part.rejections)
+
+
+__all__ = ["CLEAR_DEPTH", "SEARCH_SHARE", "Cleared", "add_stats", "blocked", "clear_first", "side_goal"]
