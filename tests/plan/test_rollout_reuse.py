@@ -2,8 +2,9 @@
 
 The optimiser's evaluations go through `Rollouts`; the search must do the same work with it as with
 `rollout`, so the two are compared exactly (the same operations on the same inputs: no tolerance), over random
-sequences of the rotate-push example (tools, families with offsets, releases) and random value vectors, some of
-them finite-difference steps of others (one value moved: the case the reuse is for).
+sequences of the rotate-push and pick-and-place examples (tools, families with offsets, releases, carries) and
+random value vectors, some of them finite-difference steps of others (one value moved: the case the reuse is
+for).
 """
 
 from __future__ import annotations
@@ -23,6 +24,12 @@ from vkgl.plan.problem.problem import Problem, build_problem
 @pytest.fixture(scope="module")
 def problem(compiled):
     program = compiled("d_rotate_push")
+    return build_problem(program, program.task())
+
+
+@pytest.fixture(scope="module")
+def carrying(compiled):
+    program = compiled("n_pick_place")
     return build_problem(program, program.task())
 
 
@@ -46,6 +53,7 @@ def _same(a: list[ModeTrace], b: list[ModeTrace]) -> None:
         assert len(x.hand) == len(y.hand) and all(np.array_equal(p, q) for p, q in zip(x.hand, y.hand))
         assert x.yaw_free == y.yaw_free and x.values == y.values
         assert x.carried.keys() == y.carried.keys()
+        assert all(np.array_equal(x.carried[e], y.carried[e]) for e in x.carried)
 
 
 @settings(max_examples=40, deadline=None)
@@ -54,8 +62,19 @@ def _same(a: list[ModeTrace], b: list[ModeTrace]) -> None:
     fractions=st.lists(st.floats(0.0, 1.0), min_size=1, max_size=4),
     steps=st.lists(st.integers(0, 20), max_size=6),
 )
-def test_a_reused_rollout_equals_the_full_rollout(problem, choices, fractions, steps):
-    seq = _walk(problem, choices)
+def test_a_reused_rollout_equals_the_full_rollout(problem, carrying, choices, fractions, steps):
+    for each in (problem, carrying):
+        _check_points(each, _walk(each, choices), fractions, steps)
+
+
+def test_a_reused_rollout_of_a_carry_equals_the_full_rollout(carrying):
+    walks = ([a, b, c] for a in range(6) for b in range(6) for c in range(6))
+    seq = next(s for s in (_walk(carrying, w) for w in walks) if s.carries and s.variables)
+    _check_points(carrying, seq, [0.0, 0.3, 0.8], [0, 1, 2, 3, 4, 5])
+
+
+def _check_points(problem: Problem, seq: Sequence, fractions: list[float], steps: list[int]) -> None:
+    """Points at `fractions` of every value's range, then steps of the last of them: reused == full."""
     lower, upper = bounds(problem, seq, offsets=True)
     upper = np.minimum(upper, lower + 1.0)  # (the caps are 2 m and pi: a metre is plenty)
     rollouts = Rollouts(problem, seq, 5)
