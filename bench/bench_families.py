@@ -40,7 +40,7 @@ import vkgl  # noqa: E402
 from vkgl.infer.library import infer_library  # noqa: E402
 from vkgl.lang.ir.families import at_offset, offset_bounds  # noqa: E402
 from vkgl.lang.ir.nodes import Affordance, PrismaticC, RevoluteC  # noqa: E402
-from vkgl.plan.graphs.rollout import motion_matrix  # noqa: E402
+from vkgl.plan.graphs.motions import motion_matrix  # noqa: E402
 from vkgl.sim.explore import run_trial  # noqa: E402
 from vkgl.sim.policy import TrialSpec, plan_trials  # noqa: E402
 

@@ -104,7 +104,7 @@ def on_arc(spec: g.TaskSpec, folder: Path, library: dict[str, Path | None]) -> g
     """`spec` with its goal where the hook-side turn leaves the body: `spec.goal` holds (turn in deg, fraction of
     the family's band, None) and becomes the position that member reaches after that turn (heading free)."""
     from vkgl.lang.ir.families import at_offset, offset_bounds
-    from vkgl.plan.graphs.rollout import motion_matrix
+    from vkgl.plan.graphs.motions import motion_matrix
     from vkgl.plan.problem.problem import build_problem
 
     turn, fraction, _ = spec.goal

@@ -22,7 +22,7 @@ from replay_check import check_plan
 from vkgl.api import solve
 from vkgl.lang.compiler import compile_source
 from vkgl.lang.ir.regions import footprint, overlap_depth
-from vkgl.plan.graphs.rollout import motion_matrices
+from vkgl.plan.graphs.motions import motion_matrices
 from vkgl.se3 import yaw_of
 
 

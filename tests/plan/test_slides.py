@@ -15,7 +15,8 @@ from hypothesis import strategies as st
 from vkgl.lang.compiler import compile_file
 from vkgl.lang.ir.nodes import RevoluteC, Vector
 from vkgl.plan.graphs.graph import successors
-from vkgl.plan.graphs.rollout import Sequence, _motion_matrices, bounds, extend, rollout, start_sequence
+from vkgl.plan.graphs.motions import _motion_matrices
+from vkgl.plan.graphs.rollout import Sequence, bounds, extend, rollout, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.closed_form import closed_form

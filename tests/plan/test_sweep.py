@@ -11,7 +11,8 @@ from vkgl.lang.ir.nodes import PrismaticC, RevoluteC, Vector
 from vkgl.motion.collision import TABLE, CollisionScene, pair
 from vkgl.plan.geometry.sweep import MAX_SLIP, STEP, sample_values, sweep, sweep_mode
 from vkgl.plan.graphs.graph import Engagement
-from vkgl.plan.graphs.rollout import ModeTrace, motion_matrix, tool_pose_on
+from vkgl.plan.graphs.motions import motion_matrix
+from vkgl.plan.graphs.rollout import ModeTrace, tool_pose_on
 from vkgl.plan.problem.problem import build_problem, collision_scene
 
 ALONG_X = PrismaticC(axis=Vector(values=(1.0, 0.0, 0.0)))

@@ -18,7 +18,8 @@ import numpy as np
 from vkgl.lang.ir.regions import footprint, overlap_depth
 from vkgl.motion.collision import TOUCH_TOL
 from vkgl.plan.geometry.sweep import STEP, moving_groups, sample_values
-from vkgl.plan.graphs.rollout import ModeTrace, motion_matrices
+from vkgl.plan.graphs.motions import motion_matrices
+from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 

@@ -1,6 +1,6 @@
 """Bodies moving along a prismatic or revolute motion, checked against the bodies that stay still.
 
-The motion is the planner's (`vkgl.plan.graphs.rollout.motion_matrices`): a body at
+The motion is the planner's (`vkgl.plan.graphs.motions.motion_matrices`): a body at
 `F` moved by value `v` is at `F @ M(v)`, and whatever is rigidly attached to it
 (a tool pushing it, a tool held against it) moves with it. `sweep` samples the
 motion densely enough that no overlap can slip between two samples:
@@ -36,7 +36,8 @@ import numpy as np
 
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.motion.collision import TABLE, TOUCH_TOL, CollisionScene, Contact, pair
-from vkgl.plan.graphs.rollout import ModeTrace, motion_matrices, unit_axis_and_center
+from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
+from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem
 
 MAX_SLIP = 0.005

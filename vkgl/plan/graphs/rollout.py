@@ -23,10 +23,11 @@ from vkgl.lang.ir.families import member_name, offset_bounds
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, is_grasp, motion_type
-from vkgl.plan.graphs.members import action_at, has_family, pivot_shift
+from vkgl.plan.graphs.members import action_at, has_family
+from vkgl.plan.graphs.motions import member_motions
 from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import Problem
-from vkgl.rotations import rotvec_matrices, yaw_matrix
+from vkgl.rotations import yaw_matrix
 
 PRISMATIC_MAX = 2.0
 """m: the longest slide of one mode (beyond any table the examples use)."""
@@ -192,80 +193,6 @@ def hand_pose_at(problem: Problem, graph: KGraph, poses: dict[str, np.ndarray], 
     return None if chain is None else poses[e.body] @ chain[0]
 
 
-def motion_matrix(constraint: object, value: float) -> np.ndarray:
-    """The motion of a body by `value` (m or rad) under a prismatic or revolute constraint, in its own frame."""
-    return motion_matrices(constraint, np.array([value]))[0]
-
-
-_MOTIONS: dict[tuple[int, bytes], tuple[object, np.ndarray]] = {}
-_MOTIONS_KEPT = 4096
-"""Motion matrices remembered (the optimiser's finite differences move one value at a time: the other modes'
-motions repeat, and a SciPy rotation costs tens of microseconds)."""
-_MOTION_PATH = 16
-"""Paths up to this many values are remembered (a rollout's have 5 or 6): at most about 8 MB."""
-
-
-def motion_matrices(constraint: object, values: np.ndarray) -> np.ndarray:
-    """`motion_matrix` for each of `values` at once (n x 4 x 4, read-only): one scipy call for a whole path."""
-    if len(values) > _MOTION_PATH:  # long scans (closed_form's 181 angles) are not kept
-        m = _motion_matrices(constraint, values)
-        m.flags.writeable = False
-        return m
-    key = (id(constraint), np.asarray(values, dtype=float).tobytes())
-    cached = _MOTIONS.get(key)
-    if cached is not None and cached[0] is constraint:  # the constraint is kept, so that its id stays its own
-        return cached[1]
-    if len(_MOTIONS) >= _MOTIONS_KEPT:
-        _MOTIONS.clear()
-    m = _motion_matrices(constraint, values)
-    m.flags.writeable = False
-    _MOTIONS[key] = (constraint, m)
-    return m
-
-
-def member_motions(problem: Problem, engagement: Engagement, offset: float, values: np.ndarray) -> np.ndarray:
-    """`motion_matrices` of an engagement's motion at `offset` along its family (a turn's pivot moved)."""
-    motion = problem.affordance(engagement.body, engagement.affordance).motion
-    shift = pivot_shift(problem, engagement.body, engagement.affordance, offset)
-    if shift is None:
-        return motion_matrices(motion, values)
-    return _motion_matrices(motion, values, shift)
-
-
-def _motion_matrices(constraint: object, values: np.ndarray, shift: np.ndarray | None = None) -> np.ndarray:
-    axis, center = unit_axis_and_center(constraint)
-    if center is not None and shift is not None:
-        center = center + shift
-    m = np.zeros((len(values), 4, 4))
-    m[:, 3, 3] = 1.0
-    if center is None:  # prismatic (or anything that does not move: axis zero)
-        m[:, 0, 0] = m[:, 1, 1] = m[:, 2, 2] = 1.0
-        m[:, :3, 3] = np.outer(values, axis)
-        return m
-    rotations = rotvec_matrices(np.outer(values, axis))
-    m[:, :3, :3] = rotations
-    m[:, :3, 3] = center - rotations @ center
-    return m
-
-
-_AXES: dict[int, tuple[object, np.ndarray, np.ndarray | None]] = {}
-
-
-def unit_axis_and_center(constraint: object) -> tuple[np.ndarray, np.ndarray | None]:
-    """(unit axis, centre) of a revolute constraint, (unit axis, None) of a prismatic one, zero axis otherwise."""
-    cached = _AXES.get(id(constraint))
-    if cached is not None and cached[0] is constraint:
-        return cached[1], cached[2]
-    if isinstance(constraint, (PrismaticC, RevoluteC)):
-        axis = constraint.axis.array()
-        axis = axis / np.linalg.norm(axis)
-    else:
-        axis = np.zeros(3)
-    center = constraint.center.array() if isinstance(constraint, RevoluteC) else None
-    _AXES[id(constraint)] = (constraint, axis, center)  # the constraint is kept so that its id stays unique
-    return axis, center
-
-
 RANGE_MARGIN = 0.0
 """m or rad: how far past its `range` upper bound one mode may move a motion (none: learned bounds are rounded down)."""
 
@@ -372,49 +299,84 @@ class ModeTrace:
         return moved | {e.body for e in self.carried} if self.carried else moved
 
 
-def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 5) -> list[ModeTrace]:
-    """Every mode of `seq` with motion values `values` (`samples` hand poses along each moving mode)."""
-    poses = {n: b.rest.copy() for n, b in problem.bodies.items()}
-    by_mode: dict[int, list[tuple[Engagement, float]]] = {}
+@dataclass(frozen=True)
+class ModeValues:
+    """What a vector of values gives each mode: `moves[k]` the (engagement, value) pairs of mode k's motions,
+    `offsets[(k, e)]` the offset of the contact `e` added at the transition into mode k, `carries[k]` the carry
+    values of the grasps carried during mode k."""
+
+    moves: dict[int, list[tuple[Engagement, float]]]
+    offsets: dict[tuple[int, Engagement], float]
+    carries: dict[int, dict[Engagement, np.ndarray]]
+
+
+def mode_values(seq: Sequence, values: np.ndarray) -> ModeValues:
+    """`values` (the motions, then the contacts' offsets (absent once `materialise` named the members), then the
+    carries) sorted by the mode each one acts in."""
+    moves: dict[int, list[tuple[Engagement, float]]] = {}
     for (mode, e), v in zip(seq.variables, values):
-        by_mode.setdefault(mode, []).append((e, float(v)))
-    # the values: motions, then the contacts' offsets (absent once `materialise` named the members), then carries
+        moves.setdefault(mode, []).append((e, float(v)))
     first_carry = len(values) - CARRY_VALUES * len(seq.carries)
-    offset_of = dict(zip(seq.offsets, (float(v) for v in values[len(seq.variables) : first_carry])))
-    live: dict[Engagement, float] = {}  # the offsets of the family engagements in force
+    offsets = dict(zip(seq.offsets, (float(v) for v in values[len(seq.variables) : first_carry])))
     carries: dict[int, dict[Engagement, np.ndarray]] = {}
     if seq.carries:  # (the optimiser's hot path: nothing to do for the sequences that carry nothing)
         carry_values = np.asarray(values[first_carry:], dtype=float).reshape(-1, CARRY_VALUES)
         for (mode, e), c in zip(seq.carries, carry_values):
             carries.setdefault(mode, {})[e] = c
-    traces = []
-    for k, graph in enumerate(seq.graphs):
-        if k > 0:
-            action = seq.actions[k - 1]
-            if action.op == "add":
-                live[action.engagement] = offset_of.get((k, action.engagement), 0.0)
-            _transition(problem, poses, action, live.get(action.engagement, 0.0))
-            if action.op == "remove":
-                live.pop(action.engagement, None)
-        start = dict(poses)
-        moves = by_mode.get(k, [])
-        paths = {}  # the body's motion at `samples` fractions of its value, for the hand path
-        for e, v in moves:
-            paths[e] = member_motions(problem, e, live.get(e, 0.0), _FRACTIONS[samples] * v)
-            poses[e.body] = start[e.body] @ paths[e][-1]
-        carried = carries.get(k, _NOTHING_CARRIED)
-        for e, c in carried.items():
-            poses[e.body] = carried_pose(start[e.body], c)
-        for e in graph.engaged:
-            tool = problem.effector(e.effector).tool
-            if tool is not None:
-                poses[tool] = tool_pose_on(problem, e, poses[e.body], live.get(e, 0.0))
-        if carried:
-            hand, yaw_free = _carry_hand_path(problem, carried, start, poses), False
-        else:
-            hand, yaw_free = _hand_path(problem, seq, k, start, paths, live)
-        traces.append(ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, carried))
-    return traces
+    return ModeValues(moves, offsets, carries)
+
+
+def rest_poses(problem: Problem) -> dict[str, np.ndarray]:
+    """Every body at its rest pose (copies): where a rollout starts."""
+    return {n: b.rest.copy() for n, b in problem.bodies.items()}
+
+
+def rollout(problem: Problem, seq: Sequence, values: np.ndarray, samples: int = 5) -> list[ModeTrace]:
+    """Every mode of `seq` with motion values `values` (`samples` hand poses along each moving mode)."""
+    given = mode_values(seq, values)
+    poses = rest_poses(problem)
+    live: dict[Engagement, float] = {}  # the offsets of the family engagements in force
+    return [roll_mode(problem, seq, k, poses, live, given, samples) for k in range(len(seq.graphs))]
+
+
+def roll_mode(
+    problem: Problem,
+    seq: Sequence,
+    k: int,
+    poses: dict[str, np.ndarray],
+    live: dict[Engagement, float],
+    given: ModeValues,
+    samples: int,
+) -> ModeTrace:
+    """Mode k of a rollout: the transition into it, then its motions, from the bodies at `poses` after mode
+    k - 1 with the family offsets `live` in force then (both advanced in place, to after mode k; the pose arrays
+    are replaced, never written to)."""
+    graph = seq.graphs[k]
+    if k > 0:
+        action = seq.actions[k - 1]
+        if action.op == "add":
+            live[action.engagement] = given.offsets.get((k, action.engagement), 0.0)
+        _transition(problem, poses, action, live.get(action.engagement, 0.0))
+        if action.op == "remove":
+            live.pop(action.engagement, None)
+    start = dict(poses)
+    moves = given.moves.get(k, [])
+    paths = {}  # the body's motion at `samples` fractions of its value, for the hand path
+    for e, v in moves:
+        paths[e] = member_motions(problem, e, live.get(e, 0.0), _FRACTIONS[samples] * v)
+        poses[e.body] = start[e.body] @ paths[e][-1]
+    carried = given.carries.get(k, _NOTHING_CARRIED)
+    for e, c in carried.items():
+        poses[e.body] = carried_pose(start[e.body], c)
+    for e in graph.engaged:
+        tool = problem.effector(e.effector).tool
+        if tool is not None:
+            poses[tool] = tool_pose_on(problem, e, poses[e.body], live.get(e, 0.0))
+    if carried:
+        hand, yaw_free = _carry_hand_path(problem, carried, start, poses), False
+    else:
+        hand, yaw_free = _hand_path(problem, seq, k, start, paths, live)
+    return ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, carried)
 
 
 _NOTHING_CARRIED: dict[Engagement, np.ndarray] = {}

@@ -117,7 +117,8 @@ import numpy as np
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
-from vkgl.plan.graphs.rollout import Sequence, unit_axis_and_center, value_bounds
+from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.rollout import Sequence, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.goal_reach import ends_beyond_the_hand
 from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical

@@ -36,7 +36,7 @@ import numpy as np
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.members import family_vectors, has_family
-from vkgl.plan.graphs.rollout import unit_axis_and_center
+from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.task_space.workspace import REACH_MARGIN
 from vkgl.se3 import yaw_of

@@ -17,7 +17,8 @@ import numpy as np
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.members import family_vectors
-from vkgl.plan.graphs.rollout import unit_axis_and_center, value_bounds
+from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody
 from vkgl.se3 import wrap_angle, yaw_of
 

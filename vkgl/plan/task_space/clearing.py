@@ -34,7 +34,8 @@ import numpy as np
 from vkgl.lang.ir.regions import convex_hull
 from vkgl.lang.ir.regions import footprint as region_footprint
 from vkgl.plan.graphs.graph import Engagement
-from vkgl.plan.graphs.rollout import ModeTrace, Sequence, motion_matrices, rollout, tool_pose_on, value_bounds
+from vkgl.plan.graphs.motions import motion_matrices
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, rollout, tool_pose_on, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.rotations import yaw_matrix
 from vkgl.se3 import wrap_angle, yaw_of

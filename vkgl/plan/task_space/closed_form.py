@@ -27,12 +27,8 @@ import numpy as np
 
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.plan.graphs.graph import Engagement, motion_type
-from vkgl.plan.graphs.rollout import (
-    Sequence,
-    acting_engagement,
-    hand_chain,
-    unit_axis_and_center,
-)
+from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.rollout import Sequence, acting_engagement, hand_chain
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach, value_limits

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
+from vkgl.plan.graphs.reuse import Rollouts
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
@@ -90,6 +91,7 @@ class _Evaluator:
         self.problem, self.seq = problem, seq
         self._memo: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
         self._placed: dict[tuple[str, bytes], list[float]] = {}  # `body_constraints` by body and end pose
+        self.rollouts = Rollouts(problem, seq, TASK_SAMPLES)  # the modes a step leaves unchanged are reused
         self.last_x = np.zeros(seq.size)
 
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -105,7 +107,7 @@ class _Evaluator:
         return self._memo[key]
 
     def _compute(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        traces = rollout(self.problem, self.seq, x, TASK_SAMPLES)
+        traces = self.rollouts.rollout(x)
         if len(self._placed) > PLACED_REMEMBERED:
             self._placed.clear()
         return goal_residuals(self.problem, traces[-1].end), constraint_values(self.problem, traces, self._placed)

@@ -18,7 +18,8 @@ import numpy as np
 
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.plan.graphs.members import family_vectors
-from vkgl.plan.graphs.rollout import Sequence, motion_matrices, unit_axis_and_center, value_bounds
+from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
+from vkgl.plan.graphs.rollout import Sequence, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
