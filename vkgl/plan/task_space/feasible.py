@@ -183,7 +183,7 @@ def constraint_values(
     hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
     out = list(reach_violations(problem, np.array(hands))) if hands else []
     for trace in traces:
-        for name in trace.moved:
+        for name in sorted(trace.moved):  # a set of str: its order changes with the hash seed
             pose = trace.end[name]
             if placed is None:
                 out.extend(body_constraints(problem, name, pose))
