@@ -44,20 +44,23 @@ ON_PART = 1e-3
 
 
 class BesideParts:
-    """The tool parts beside each tool effector's contact, checked against the bodies (built lazily, per
-    effector)."""
+    """The tool parts beside each tool effector's contact, checked against the bodies it acts on (a small
+    collision scene per effector and body, built when first asked)."""
 
     def __init__(self, problem: Problem) -> None:
         """Checks for `problem`'s tools."""
         self.problem = problem
-        self._scenes: dict[str, tuple[CollisionScene, list[str]] | None] = {}
+        self._scenes: dict[tuple[str, str], tuple[CollisionScene, list[str]] | None] = {}
 
     def overlap(self, effector: EffectorSpec, body: str, poses: Mapping[str, np.ndarray]) -> Contact | None:
         """The deepest overlap of a part of `effector`'s tool beside its contact with `body` grown by
         `BESIDE_CLEARANCE` (named as the tool and the body), the bodies at `poses`; None when they stand clear or
         the tool has no part beside the contact."""
         assert effector.tool is not None, "only a tool has parts beside its contact"
-        found = self._scene(effector)
+        key = (effector.name, body)
+        if key not in self._scenes:
+            self._scenes[key] = self._built(effector, body)
+        found = self._scenes[key]
         if found is None:
             return None
         scene, parts = found
@@ -68,23 +71,17 @@ class BesideParts:
             return None
         return Contact(effector.tool, body, deepest.depth, deepest.point)
 
-    def _scene(self, effector: EffectorSpec) -> tuple[CollisionScene, list[str]] | None:
-        if effector.name not in self._scenes:
-            self._scenes[effector.name] = self._built(effector)
-        return self._scenes[effector.name]
-
-    def _built(self, effector: EffectorSpec) -> tuple[CollisionScene, list[str]] | None:
-        """A collision scene of the tool's parts beside the contact (each its own body, exact) and every other
-        body grown by the clearance, with those parts' names; None without such parts."""
+    def _built(self, effector: EffectorSpec, body: str) -> tuple[CollisionScene, list[str]] | None:
+        """A collision scene of the tool's parts beside the contact (each its own body, exact) and `body` grown by
+        the clearance, with those parts' names; None without such parts."""
         assert effector.tool is not None
         shape = self.problem.bodies[effector.tool].type.shape
         if not isinstance(shape, UnionShape):
             return None
         origin = effector.frame[:3, 3]
-        vertices = tool_parts(shape)
         on = [
             bool(np.all(v.min(axis=0) - ON_PART <= origin) and np.all(origin <= v.max(axis=0) + ON_PART))
-            for v in vertices
+            for v in tool_parts(shape)
         ]
         if not any(on):
             return None  # a frame off every part: no part to tell the contact by
@@ -95,12 +92,12 @@ class BesideParts:
         }
         if not beside:
             return None
-        bodies = {name: b for name, b in self.problem.bodies.items() if name != effector.tool}
-        # grown by the clearance and the tolerance: a part that touches a grown body is closer than the clearance
+        acted_on = self.problem.bodies[body]
+        # grown by the clearance and the tolerance: a part that touches the grown body is closer than the clearance
         scene = CollisionScene(
-            {**{name: b.type.shape for name, b in bodies.items()}, **beside},
+            {body: acted_on.type.shape, **beside},
             margin=BESIDE_CLEARANCE + TOUCH_TOL,
             exact=beside,
-            lifts={name: JOINT_LIFT for name, b in bodies.items() if b.joint_limits is not None},
+            lifts={body: JOINT_LIFT} if acted_on.joint_limits is not None else None,
         )
         return scene, list(beside)
