@@ -91,11 +91,12 @@ class ContactChains:
         leans = {pitch: _Lean() for pitch in pitches}
         poses: list[np.ndarray] = []
         # a grasp's other configurations: its chains solved backwards from the end (`_grasp_chains`), as before
-        passes = [((step.q_start, arm.home), False)] + ([] if grasp else [(arm.spread_seeds()[1:], True)])
-        for seeds, others in passes:
+        for others in (False, True) if not grasp else (False,):
             for pitch in pitches:
                 if others and not leans[pitch].worth_others:
                     continue
+                # the spread seeds only when wanted: drawing them costs a solve's start (`InverseKinematics`)
+                seeds = arm.spread_seeds()[1:] if others else (step.q_start, arm.home)
                 hand = upright @ _pitched_back(pitch)
                 poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
                 lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""

@@ -30,7 +30,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from vkgl.lang.ir.geometry import JOINT_LIFT
-from vkgl.lang.ir.nodes import ShapePart, UnionShape
+from vkgl.lang.ir.nodes import UnionShape
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene, Contact
 from vkgl.plan.graphs.tool_faces import PART_CLEARANCE, tool_parts
 from vkgl.plan.problem.problem import EffectorSpec, Problem
@@ -50,7 +50,7 @@ class BesideParts:
     def __init__(self, problem: Problem) -> None:
         """Checks for `problem`'s tools."""
         self.problem = problem
-        self._scenes: dict[tuple[str, str], tuple[CollisionScene, list[str]] | None] = {}
+        self._scenes: dict[tuple[str, str], tuple[CollisionScene, list[tuple[str, np.ndarray]]] | None] = {}
 
     def overlap(self, effector: EffectorSpec, body: str, poses: Mapping[str, np.ndarray]) -> Contact | None:
         """The deepest overlap of a part of `effector`'s tool beside its contact with `body` grown by
@@ -65,15 +65,16 @@ class BesideParts:
             return None
         scene, parts = found
         scene.place({body: poses[body]})
-        contacts = [c for part in parts for c in scene.against(part, poses[effector.tool], [body])]
+        tool = poses[effector.tool]
+        contacts = [c for part, at in parts for c in scene.against(part, tool @ at, [body])]
         deepest = max(contacts, key=lambda c: c.depth, default=None)
         if deepest is None:
             return None
         return Contact(effector.tool, body, deepest.depth, deepest.point)
 
-    def _built(self, effector: EffectorSpec, body: str) -> tuple[CollisionScene, list[str]] | None:
+    def _built(self, effector: EffectorSpec, body: str) -> tuple[CollisionScene, list[tuple[str, np.ndarray]]] | None:
         """A collision scene of the tool's parts beside the contact (each its own body, exact) and `body` grown by
-        the clearance, with those parts' names; None without such parts."""
+        the clearance, with those parts' names and poses in the tool's frame; None without such parts."""
         assert effector.tool is not None
         shape = self.problem.bodies[effector.tool].type.shape
         if not isinstance(shape, UnionShape):
@@ -85,8 +86,9 @@ class BesideParts:
         ]
         if not any(on):
             return None  # a frame off every part: no part to tell the contact by
+        # each part a body of its own, placed where it sits in the tool (its own shape: no IR node is made)
         beside = {
-            f"{effector.tool}#beside{i}": UnionShape(parts=[ShapePart(shape=part.shape, pose=part.pose)])
+            f"{effector.tool}#beside{i}": (part.shape, part.pose.matrix())
             for i, (part, touching) in enumerate(zip(shape.parts, on, strict=True))
             if not touching
         }
@@ -95,9 +97,9 @@ class BesideParts:
         acted_on = self.problem.bodies[body]
         # grown by the clearance and the tolerance: a part that touches the grown body is closer than the clearance
         scene = CollisionScene(
-            {body: acted_on.type.shape, **beside},
+            {body: acted_on.type.shape, **{name: part for name, (part, _) in beside.items()}},
             margin=BESIDE_CLEARANCE + TOUCH_TOL,
             exact=beside,
             lifts={body: JOINT_LIFT} if acted_on.joint_limits is not None else None,
         )
-        return scene, list(beside)
+        return scene, [(name, at) for name, (_, at) in beside.items()]
