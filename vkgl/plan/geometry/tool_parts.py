@@ -32,12 +32,12 @@ import numpy as np
 from vkgl.lang.ir.geometry import JOINT_LIFT
 from vkgl.lang.ir.nodes import UnionShape
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene, Contact
-from vkgl.plan.graphs.tool_faces import PART_CLEARANCE, tool_parts
+from vkgl.plan.problem.over import PART_CLEARANCE, tool_parts
 from vkgl.plan.problem.problem import EffectorSpec, Problem
 
 BESIDE_CLEARANCE = PART_CLEARANCE
 """m: how far a tool's parts beside its contact stay from the body it acts on (the same room as a straight pull
-off the centre leaves the Hook's shaft, `vkgl.plan.graphs.tool_faces.PART_CLEARANCE`)."""
+off the centre leaves the Hook's shaft, `vkgl.plan.problem.over.PART_CLEARANCE`)."""
 
 ON_PART = 1e-3
 """m: a tool frame this close to a part's box lies on that part."""
