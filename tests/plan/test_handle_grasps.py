@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 from conftest import EXAMPLES
+from grasped_door import grasped_door
 
 import vkgl
 from vkgl.plan.graphs.graph import is_grasp
@@ -23,8 +24,11 @@ TASKS = {  # task: (body, affordance, joint goal)
 
 
 @pytest.fixture(scope="module")
-def plans():
-    return {name: vkgl.solve(vkgl.compile(EXAMPLES / "tasks" / f"{name}.vkg")) for name in TASKS}
+def plans(tmp_path_factory):
+    # the Door by its grasp alone: the example's plan hooks the fingertip behind the bar (`grasped_door`)
+    door = grasped_door(tmp_path_factory.mktemp("door"))
+    programs = {name: vkgl.compile(EXAMPLES / "tasks" / f"{name}.vkg") for name in TASKS if name != "o_open_door"}
+    return {name: vkgl.solve(program) for name, program in {"o_open_door": door, **programs}.items()}
 
 
 @pytest.mark.parametrize("name", list(TASKS))

@@ -40,29 +40,17 @@ from typing import Generic, TypeVar
 import numpy as np
 
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
-from vkgl.motion.approach import CartesianFailure, follow_poses
 from vkgl.motion.arm_collision import Held
 from vkgl.motion.moves import GRASP_STANDOFF
 from vkgl.motion.transit import TransitFailure
 from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
 from vkgl.plan.arm.approaches import DOWN
+from vkgl.plan.arm.contact_chains import ContactChains
 from vkgl.plan.arm.remembered import Remembered, Replay, step_key
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.geometry.bodies import TRANSIT_CLEARANCE, GeometryCheck
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.pad import FINGERTIP_RADIUS
-from vkgl.rotations import axis_matrix
-from vkgl.se3 import screw_motion
-
-CHAIN_SPACING = 0.01
-"""m of hand travel between two checked configurations of a contact's motion."""
-
-CHAIN_LEVER = 0.2
-"""m: a turn of the hand counts as this lever arm times its angle, for `CHAIN_SPACING`."""
-
-PITCHES = tuple(np.radians((0.0, 30.0, 45.0, 60.0)))
-"""rad: how far the hand may lean back from upright at a contact (tried in turn)."""
 
 StepT = TypeVar("StepT", bound=PlanStepRecord)
 
@@ -100,6 +88,7 @@ class ArmPathPlanner:
         self.problem = problem
         self.geometry = geometry
         self.moves = StraightMoves(problem, geometry)
+        self.chains = ContactChains(problem, self.moves)
         self._chains: Remembered[Replay[np.ndarray | Rejection]] = Remembered()
         self.transit_count = 0
         self.seconds = 0.0  # in the first stage (IK of straight moves and contact chains, their checks)
@@ -210,109 +199,8 @@ class ArmPathPlanner:
     def _solved_contact_chain(
         self, step: PlanStepRecord, state: ArmState, label: str
     ) -> Iterator[np.ndarray | Rejection]:
-        """Joints every `CHAIN_SPACING` along a contact's motion, in one arm configuration from start to end.
-
-        The plan's configuration at the contact first; if the arm would have
-        to switch configuration on the way (a joint jump: IK branch switch) or
-        its links hit a body on the way (the hand of a vertical gripper
-        overhangs the pad by 2.5 cm, so it meets a face more than about 4 cm
-        above the contact), IK from the arm's home, then the hand pitched back about the pad's axis by
-        `PITCHES` (the pad touches the face the same way, the hand leans away
-        from it).
-        """
-        arm = self.problem.arm
-        motion = screw_motion(step.poses_start[step.body], step.poses_end[step.body])
-        upright = arm.fk(step.q_start)
-        if step.effector == self.problem.robot_effector.name:
-            # the pad pushes flat on the face only when it lies along it: the action frame's yaw, not whatever
-            # yaw IK chose where the search let the hand's yaw free
-            _, _, name = step.affordance.partition(".")
-            upright = step.poses_start[step.body] @ self.problem.action(step.body, name)
-        turn = float(np.linalg.norm(motion.rotvec))
-        end = motion.at(1.0)
-        travel = float(np.linalg.norm(end[:3, :3] @ upright[:3, 3] + end[:3, 3] - upright[:3, 3]))
-        count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
-        closest = _ClosestMiss()
-        # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
-        # nor may a grasp lean: the fingers close on the handle as the grasp says
-        grasp = self.moves.grasps(step)
-        for pitch in PITCHES if state.held is None and not grasp else PITCHES[:1]:
-            hand = upright @ _pitched_back(pitch)
-            poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
-            lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""
-            for seed in (step.q_start, arm.home):
-                q0 = arm.ik(hand, q0=seed)
-                if q0 is None:
-                    # IK restarts from home and the same fixed seeds after the given one: from home it would
-                    # fail again (19 local runs for nothing)
-                    closest.note((0, 0.0), f"{lean}no IK solution at the contact")
-                    break
-                chain = follow_poses(arm, poses, q0)
-                if isinstance(chain, CartesianFailure):
-                    closest.note((1, chain.index / len(poses)), lean + chain.reason)
-                    continue
-                clash = self._contact_clash(step, state, chain.joints)
-                if clash is not None:
-                    closest.note((2, -clash[1]), lean + clash[0])
-                    continue
-                yield chain.joints.copy()
-        if grasp:
-            yield from self._grasp_chains(step, state, poses, closest)
-        yield Rejection(
-            Kind.IK, f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0
-        )
-
-    def _grasp_chains(
-        self, step: PlanStepRecord, state: ArmState, poses: list[np.ndarray], closest: _ClosestMiss
-    ) -> Iterator[np.ndarray]:
-        """More arm configurations for a grasped handle's motion (a door's arc turns the hand with it, which the
-        configuration at its start may not carry to its end): chains solved backwards from the motion's end,
-        from the arm's spread IK seeds, each kept when it carries the whole motion clear of the bodies."""
-        arm = self.problem.arm
-        for seed in arm.spread_seeds():
-            q_end = arm.ik(poses[-1], q0=seed)
-            if q_end is None:
-                continue
-            chain = follow_poses(arm, poses[::-1], q_end)
-            if isinstance(chain, CartesianFailure):
-                closest.note((1, chain.index / len(poses)), "solved from the end: " + chain.reason)
-                continue
-            joints = chain.joints[::-1].copy()
-            clash = self._contact_clash(step, state, joints)
-            if clash is not None:
-                closest.note((2, -clash[1]), clash[0])
-                continue
-            yield joints
-
-    def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
-        """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
-        spaced along the motion) with the moving bodies where the motion has them then. Only the pad may touch
-        the pushed body; the rest of the hand, leaned back or turned, sweeps past the bodies beside it."""
-        held = state.held
-        if held is not None:
-            held = Held(held.body, held.in_hand, frozenset({step.body}))
-        grasp = self.moves.grasps(step)
-        fractions = np.linspace(0.0, 1.0, len(chain))
-        moving = {
-            name: screw_motion(pose, step.poses_end[name]).along(fractions) @ pose
-            for name, pose in step.poses_start.items()
-            if name in step.poses_end and np.abs(pose - step.poses_end[name]).max() > 1e-9
-        }
-        for i, q in enumerate(chain):
-            poses = {**step.poses_start, **{name: along[i] for name, along in moving.items()}}
-            if grasp:  # the fingers close on the body: only they may touch it
-                clash = self.moves.grasp_overlap(np.asarray([q]), poses, held, step.body)
-                if clash is not None:
-                    where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
-                    return f"{where} {clash[0]}", clash[1]
-                continue
-            clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
-            if clash is not None:
-                where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
-                return f"{where} {clash[0]}", clash[1]
-        return None
-
-    # ------------------------------------------------------------ step kinds
+        """The contact's chains in one arm configuration each (`vkgl.plan.arm.contact_chains`), then why none."""
+        return self.chains.solve(step, state, label)
 
     def _step(
         self, k: int, step: PlanStepRecord, state: ArmState, *, releases_next: bool = False, places: bool = False
@@ -434,20 +322,6 @@ class ArmPathPlanner:
         return f"{ready}the hand at ({x:.2f}, {y:.2f}, {z:.2f}) m, before the first step"
 
 
-class _ClosestMiss:
-    """The failure that came closest among a contact's arm configurations: an IK failure at the contact is
-    farthest, then a chain that broke off (the later, the closer), then one whose links overlap the body (the
-    shallower, the closer); the first among equals."""
-
-    def __init__(self) -> None:
-        self.rank: tuple[int, float] | None = None
-        self.words = "no configuration tried"
-
-    def note(self, rank: tuple[int, float], words: str) -> None:
-        if self.rank is None or rank > self.rank:
-            self.rank, self.words = rank, words
-
-
 def _places(step: PlanStepRecord, previous: PlanStepRecord | None) -> bool:
     """Whether `step` lets go of a body carried since the step before grasped it (pick and place: the search
     lets go of a tool it has just grasped never, `vkgl.plan.graphs.graph.successors`)."""
@@ -471,16 +345,6 @@ def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:
         and following.motion == "free"
         and following.body == held.body
     )
-
-
-def _pitched_back(angle: float) -> np.ndarray:
-    """The effector frame turned by `angle` about the pad's axis (the frame's y through the pad's centre),
-    leaning the hand away from the face it pushes (the frame's z toward -x)."""
-    about = np.eye(4)
-    about[:3, :3] = axis_matrix(1, -angle)
-    to_axis = np.eye(4)
-    to_axis[0, 3] = -FINGERTIP_RADIUS
-    return to_axis @ about @ np.linalg.inv(to_axis)
 
 
 __all__ = ["ArmPathPlanner", "PendingTransit", "StraightPaths"]

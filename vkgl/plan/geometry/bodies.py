@@ -10,7 +10,9 @@ for the arm once joint space found its configurations (`arm`):
   (`vkgl.plan.geometry.keep_out`);
 - every mode's start and end poses free of overlap (a tool and the body it
   acts on may touch, by no more than the tool's thickness: `_tool_through`;
-  a released tool must land clear of the others);
+  a released tool must land clear of the others), and a tool's parts beside
+  its contact (a hook's shaft) `BESIDE_CLEARANCE` clear of the body it acts on
+  (`vkgl.plan.geometry.tool_parts`);
 - the arm's links at the configurations inverse kinematics returned, and a
   held tool in its hand, against the bodies and the table (the body the hand
   touches excepted).
@@ -26,10 +28,11 @@ from collections.abc import Iterable
 import numpy as np
 
 from vkgl.motion.arm_collision import ArmCollision, Held
-from vkgl.motion.collision import CollisionScene, Contact, pair
+from vkgl.motion.collision import TOUCH_TOL, CollisionScene, Contact, pair
 from vkgl.plan.geometry.grip_load import grip_rejection
 from vkgl.plan.geometry.keep_out import keep_out_rejection
 from vkgl.plan.geometry.sweep import sweep_mode
+from vkgl.plan.geometry.tool_parts import BESIDE_CLEARANCE, BesideParts
 from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem, collision_scene
@@ -64,6 +67,7 @@ class GeometryCheck:
         self._held_transit: dict[tuple[str, str | None], ArmCollision] = {}
         self._thicknesses: dict[str, float] = {}
         self._palm: ArmCollision | None = None
+        self.beside = BesideParts(problem)
         self.queries = 0
 
     @property
@@ -129,6 +133,9 @@ class GeometryCheck:
             if through is not None:
                 where = f"at the start of mode {k} (a tool touches what it acts on at its tip only)"
                 return _rejection([through], where)
+            beside = self._beside(graph, trace.start, k)
+            if beside is not None:
+                return beside
         return None
 
     def _tool_through(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
@@ -149,6 +156,29 @@ class GeometryCheck:
             deepest = max(found, key=lambda c: c.depth, default=None)
             if deepest is not None and deepest.depth > self._thickness(tool):
                 return deepest
+        return None
+
+    def _beside(self, graph: KGraph, poses: dict[str, np.ndarray], k: int) -> Rejection | None:
+        """Why a tool's part beside its contact (a hook's shaft) stands too close to the body the tool acts on at
+        the start of mode `k` (`vkgl.plan.geometry.tool_parts`), or None."""
+        for e in graph.engaged:
+            effector = self.problem.effector(e.effector)
+            if effector.tool is None:
+                continue
+            self.queries += 1
+            found = self.beside.overlap(effector, e.body, poses)
+            if found is not None:
+                gap = BESIDE_CLEARANCE + TOUCH_TOL - found.depth  # the part's distance from the body (m)
+                at = found.point
+                where = f"{abs(gap) * 100:.2f} cm inside" if gap < 0 else f"only {gap * 100:.2f} cm from"
+                return Rejection(
+                    Kind.COLLISION,
+                    f"{effector.tool}, acting on {e.body} with {effector.name}, would stand {where} {e.body} beside "
+                    f"its contact at ({at[0]:.2f}, {at[1]:.2f}, {at[2]:.2f}) m at the start of mode {k} (a part "
+                    f"beside the contact keeps {BESIDE_CLEARANCE * 100:.1f} cm clear): {e.body} is in the way",
+                    float(found.depth),
+                    (effector.tool, e.body),
+                )
         return None
 
     def _thickness(self, tool: str) -> float:

@@ -1,0 +1,55 @@
+"""A contact's arm configurations (`vkgl.plan.arm.contact_chains`): the arm's other configurations are tried when
+the plan's and home's cannot carry the motion, so that no plan needs a step that moves nothing to seed them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from generated_tasks import fixture_library, task_spec, write_task
+
+import vkgl
+from vkgl.plan.arm.contact_chains import ContactChains
+from vkgl.plan.arm.straight_moves import StraightMoves
+from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.problem.problem import build_problem
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_gen1_024_is_one_arc_push_without_a_0_cm_push_before_it(tmp_path: Path) -> None:
+    # the arc's chain from home broke off (a joint jump near the stretched elbow, the hand leaned back 30 deg) and
+    # the hand upright hit the slab with a finger in every configuration; the search then found the same arc
+    # after a 0 cm push on the other face and its release, whose configuration seeded IK at the arc's contact
+    spec = task_spec(1, 24)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name)
+    assert plan.status == "solved", plan.reason
+    steps = plan.to_json()["steps"]
+    assert [(s["op"], s["affordance"]) for s in steps] == [("add", "SlabW.push_center_nx@-2.90cm")]
+    assert all(s["value"] > 0.01 for s in steps if s["op"] == "add")  # every push moves its body
+
+
+def test_only_the_links_beyond_the_arms_last_joint_and_a_held_tool_move_with_the_hand() -> None:
+    program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
+    problem = build_problem(program, program.task("a_push"))
+    chains = ContactChains(problem, StraightMoves(problem, GeometryCheck(problem)))
+    for part in ("panda_leftfinger", "panda_hand", "panda_link7", "fingertip"):
+        assert chains._rigid_with_hand(f"the arm's {part} would overlap block by 0.2 cm")
+    assert chains._rigid_with_hand("hook would overlap block by 0.3 cm")  # a held tool
+    for part in ("panda_link6", "panda_link4"):  # another elbow or wrist position may pass clear
+        assert not chains._rigid_with_hand(f"the arm's {part} would overlap block by 0.2 cm")
+
+
+def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path) -> None:
+    # a contact whose chain from the plan's configuration carries the motion is given that chain first
+    program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
+    plan = vkgl.solve(program)
+    assert plan.status == "solved" and plan.problem is not None
+    step = plan.steps[0]
+    problem = plan.problem
+    chains = ContactChains(problem, StraightMoves(problem, GeometryCheck(problem)))
+    from vkgl.plan.arm.straight_moves import ArmState
+
+    first = next(chains.solve(step, ArmState(problem.arm.home.copy()), "step 1"))
+    assert isinstance(first, np.ndarray) and np.allclose(first, step.contact)

@@ -1,0 +1,256 @@
+"""A contact's arm configurations: joints along its whole motion, in one configuration from start to end.
+
+The search solved the arm's joints at the start and end of each mode
+(`vkgl.plan.task_space.joint_space`); a contact's motion must also be carried
+without a switch of configuration (a joint jump in contact) and with no link
+hitting a body on the way. `ContactChains.solve` gives the chains that do, in
+turn (`vkgl.plan.arm.paths` takes the first whose approach works):
+
+1. from the plan's configuration at the contact, then from IK started at the
+   arm's home, with the hand upright and then leaned back by `PITCHES`;
+2. only when none of those does, from the arm's other configurations at the
+   contact: IK from its spread seeds (`Arm.spread_seeds`), each distinct answer
+   once. Without them, a contact whose chain from home broke was found only
+   after another contact had left the arm elsewhere, so that the joint-space
+   IK started from there: gen1_024 of the physical bench planned a 0 cm push
+   (and its release) before the arc push it needed (docs/planning.md,
+   "A step that moves nothing").
+3. for a grasped handle, instead of 2, chains solved backwards from the motion's end from the spread seeds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from vkgl.formats.plan import PlanStepRecord
+from vkgl.motion.approach import CartesianFailure, follow_poses
+from vkgl.motion.arm_collision import Held
+from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
+from vkgl.plan.problem.problem import Problem
+from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.robot.pad import FINGERTIP_RADIUS
+from vkgl.rotations import axis_matrix
+from vkgl.se3 import screw_motion
+
+CHAIN_SPACING = 0.01
+"""m of hand travel between two checked configurations of a contact's motion."""
+
+CHAIN_LEVER = 0.2
+"""m: a turn of the hand counts as this lever arm times its angle, for `CHAIN_SPACING`."""
+
+PITCHES = tuple(np.radians((0.0, 30.0, 45.0, 60.0)))
+"""rad: how far the hand may lean back from upright at a contact (tried in turn)."""
+
+SAME_CONFIGURATION = 0.01
+"""rad: IK answers at a contact no joint of which differs by more than this are one arm configuration (the chain
+along the motion from either ends the same way): the spread seeds' answers are followed once each."""
+
+
+class ContactChains:
+    """Solves the arm's chains along contacts' motions for one problem (`solve`)."""
+
+    def __init__(self, problem: Problem, moves: StraightMoves) -> None:
+        """Chains of `problem`'s arm, their links checked with `moves`' collision checks."""
+        self.problem = problem
+        self.moves = moves
+        self._hand_links: frozenset[str] | None = None  # the links beyond the arm's last joint, when first asked
+
+    def solve(self, step: PlanStepRecord, state: ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
+        """Joints every `CHAIN_SPACING` along `step`'s contact motion, in one arm configuration from start to
+        end, in the order of the module docstring; the last item is the Rejection naming the closest miss.
+
+        The plan's configuration at the contact first; if the arm would have
+        to switch configuration on the way (a joint jump: IK branch switch) or
+        its links hit a body on the way (the hand of a vertical gripper
+        overhangs the pad by 2.5 cm, so it meets a face more than about 4 cm
+        above the contact), IK from the arm's home, then the hand pitched back about the pad's axis by
+        `PITCHES` (the pad touches the face the same way, the hand leans away
+        from it); then the arm's other configurations.
+        """
+        arm = self.problem.arm
+        motion = screw_motion(step.poses_start[step.body], step.poses_end[step.body])
+        upright = arm.fk(step.q_start)
+        if step.effector == self.problem.robot_effector.name:
+            # the pad pushes flat on the face only when it lies along it: the action frame's yaw, not whatever
+            # yaw IK chose where the search let the hand's yaw free
+            _, _, name = step.affordance.partition(".")
+            upright = step.poses_start[step.body] @ self.problem.action(step.body, name)
+        turn = float(np.linalg.norm(motion.rotvec))
+        end = motion.at(1.0)
+        travel = float(np.linalg.norm(end[:3, :3] @ upright[:3, 3] + end[:3, 3] - upright[:3, 3]))
+        count = max(2, int(np.ceil(max(travel, turn * CHAIN_LEVER) / CHAIN_SPACING)) + 1)
+        closest = _ClosestMiss()
+        # leaning the hand back keeps the pad where it is, but would turn a tool held in the hand
+        # nor may a grasp lean: the fingers close on the handle as the grasp says
+        grasp = self.moves.grasps(step)
+        pitches = PITCHES if state.held is None and not grasp else PITCHES[:1]
+        leans = {pitch: _Lean() for pitch in pitches}
+        poses: list[np.ndarray] = []
+        # a grasp's other configurations: its chains solved backwards from the end (`_grasp_chains`), as before
+        for others in (False, True) if not grasp else (False,):
+            for pitch in pitches:
+                if others and not leans[pitch].worth_others:
+                    continue
+                # the spread seeds only when wanted: drawing them costs a solve's start (`InverseKinematics`)
+                seeds = arm.spread_seeds()[1:] if others else (step.q_start, arm.home)
+                hand = upright @ _pitched_back(pitch)
+                poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
+                lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""
+                yield from self._from_seeds(step, state, (hand, poses), seeds, leans[pitch], closest, lean)
+        if grasp:
+            yield from self._grasp_chains(step, state, poses, closest)
+        yield Rejection(
+            Kind.IK, f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0
+        )
+
+    def _from_seeds(
+        self,
+        step: PlanStepRecord,
+        state: ArmState,
+        hand_and_poses: tuple[np.ndarray, list[np.ndarray]],
+        seeds: Sequence[np.ndarray],
+        lean: _Lean,
+        closest: _ClosestMiss,
+        words: str,
+    ) -> Iterator[np.ndarray]:
+        """The chains along the poses that carry the motion clear of the bodies, from the IK answers at the hand
+        from `seeds` in turn (`lean` keeps what was tried at this lean, and whether other configurations may
+        do better; `closest` notes why a chain fails, `words` says how the hand leans)."""
+        arm = self.problem.arm
+        hand, poses = hand_and_poses
+        first = not lean.tried
+        for seed in seeds:
+            q0 = arm.ik(hand, q0=seed)
+            if q0 is None:
+                # IK restarts from home and the same fixed seeds after the given one: from another seed it would
+                # fail again (19 local runs for nothing)
+                closest.note((0, 0.0), f"{words}no IK solution at the contact")
+                lean.worth_others = False
+                return
+            # the plan's and home's answers are always followed (as before the spread seeds); later ones once each
+            if not first and any(np.abs(q0 - other).max() < SAME_CONFIGURATION for other in lean.tried):
+                continue
+            lean.tried.append(q0)
+            chain = follow_poses(arm, poses, q0)
+            if isinstance(chain, CartesianFailure):
+                closest.note((1, chain.index / len(poses)), words + chain.reason)
+                lean.worth_others = True  # a joint jump: another elbow may follow the poses smoothly
+                continue
+            clash = self._contact_clash(step, state, chain.joints)
+            if clash is not None:
+                closest.note((2, -clash[1]), words + clash[0])
+                # a link before the wrist may pass elsewhere in another configuration; the hand (and what it
+                # holds) is where the contact puts it in every one
+                lean.worth_others |= not self._rigid_with_hand(clash[0])
+                continue
+            yield chain.joints.copy()
+
+    def _rigid_with_hand(self, clash: str) -> bool:
+        """Whether the part named first in `clash` (`StraightMoves.first_overlap`'s words: a held tool, or "the
+        arm's LINK") moves rigidly with the hand: a held tool, or a link beyond the arm's last joint."""
+        if self._hand_links is None:
+            collision = self.moves.geometry.arm_collision
+            last = collision.skeleton.getJoint(self.problem.arm.joint_names[-1]).getChildBodyNode()
+            self._hand_links = frozenset(_subtree(last))
+        part = clash.split(" would overlap ", 1)[0]
+        if not part.startswith("the arm's "):
+            return True  # a held tool
+        return part.removeprefix("the arm's ") in self._hand_links
+
+    def _grasp_chains(
+        self, step: PlanStepRecord, state: ArmState, poses: list[np.ndarray], closest: _ClosestMiss
+    ) -> Iterator[np.ndarray]:
+        """More arm configurations for a grasped handle's motion (a door's arc turns the hand with it, which the
+        configuration at its start may not carry to its end): chains solved backwards from the motion's end,
+        from the arm's spread IK seeds, each kept when it carries the whole motion clear of the bodies."""
+        arm = self.problem.arm
+        for seed in arm.spread_seeds():
+            q_end = arm.ik(poses[-1], q0=seed)
+            if q_end is None:
+                continue
+            chain = follow_poses(arm, poses[::-1], q_end)
+            if isinstance(chain, CartesianFailure):
+                closest.note((1, chain.index / len(poses)), "solved from the end: " + chain.reason)
+                continue
+            joints = chain.joints[::-1].copy()
+            clash = self._contact_clash(step, state, joints)
+            if clash is not None:
+                closest.note((2, -clash[1]), clash[0])
+                continue
+            yield joints
+
+    def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
+        """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
+        spaced along the motion) with the moving bodies where the motion has them then. Only the pad may touch
+        the pushed body; the rest of the hand, leaned back or turned, sweeps past the bodies beside it."""
+        held = state.held
+        if held is not None:
+            held = Held(held.body, held.in_hand, frozenset({step.body}))
+        grasp = self.moves.grasps(step)
+        fractions = np.linspace(0.0, 1.0, len(chain))
+        moving = {
+            name: screw_motion(pose, step.poses_end[name]).along(fractions) @ pose
+            for name, pose in step.poses_start.items()
+            if name in step.poses_end and np.abs(pose - step.poses_end[name]).max() > 1e-9
+        }
+        for i, q in enumerate(chain):
+            poses = {**step.poses_start, **{name: along[i] for name, along in moving.items()}}
+            if grasp:  # the fingers close on the body: only they may touch it
+                clash = self.moves.grasp_overlap(np.asarray([q]), poses, held, step.body)
+                if clash is not None:
+                    where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
+                    return f"{where} {clash[0]}", clash[1]
+                continue
+            clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
+            if clash is not None:
+                where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
+                return f"{where} {clash[0]}", clash[1]
+        return None
+
+
+@dataclass
+class _Lean:
+    """What was tried for a contact at one lean of the hand: the IK answers followed, and whether the arm's
+    other configurations may do better (a chain broke off, or a link before the wrist hit a body; not when
+    there is no IK answer, nor when only the hand or what it holds hit something)."""
+
+    tried: list[np.ndarray] = field(default_factory=list)
+    worth_others: bool = False
+
+
+def _subtree(node: Any) -> Iterator[str]:
+    """The names of a DART body node and of every body node below it."""
+    yield node.getName()
+    for i in range(node.getNumChildBodyNodes()):
+        yield from _subtree(node.getChildBodyNode(i))
+
+
+class _ClosestMiss:
+    """The failure that came closest among a contact's arm configurations: an IK failure at the contact is
+    farthest, then a chain that broke off (the later, the closer), then one whose links overlap the body (the
+    shallower, the closer); the first among equals."""
+
+    def __init__(self) -> None:
+        self.rank: tuple[int, float] | None = None
+        self.words = "no configuration tried"
+
+    def note(self, rank: tuple[int, float], words: str) -> None:
+        if self.rank is None or rank > self.rank:
+            self.rank, self.words = rank, words
+
+
+def _pitched_back(angle: float) -> np.ndarray:
+    """The effector frame turned by `angle` about the pad's axis (the frame's y through the pad's centre),
+    leaning the hand away from the face it pushes (the frame's z toward -x)."""
+    about = np.eye(4)
+    about[:3, :3] = axis_matrix(1, -angle)
+    to_axis = np.eye(4)
+    to_axis[0, 3] = -FINGERTIP_RADIUS
+    return to_axis @ about @ np.linalg.inv(to_axis)
+
+
+__all__ = ["CHAIN_LEVER", "CHAIN_SPACING", "PITCHES", "ContactChains"]
