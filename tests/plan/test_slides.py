@@ -179,6 +179,9 @@ def test_remembered_body_constraints_give_the_numbers_computed_afresh(problem) -
 def test_closed_form_is_remembered_per_sequence_and_answers_as_computed_afresh(problem, monkeypatch) -> None:
     from vkgl.plan.task_space import closed_form as module
 
+    # The memo is cleared when full: one left nearly full by earlier tests in this process would be cleared between
+    # the two rounds below and the test would depend on the order of tests.
+    monkeypatch.setattr(module, "_CLOSED_FORMS", {})
     sequences = _moving(problem, 3)
     first = [module.remembered_closed_form(problem, seq) for seq in sequences]
     calls: list[Sequence] = []
