@@ -45,10 +45,10 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/test_docs_api.py",  # 17
     "tests/lang/test_robustness.py",  # 15
     "tests/lang/test_printer.py",  # 12
-    "tests/cli/test_startup_imports.py",  # 12
     "tests/execute/test_goal_forms_in_dart.py",  # 11
     "tests/sim/test_explore.py",  # 10
     "tests/sim/test_furniture.py",  # 9
+    "tests/cli/test_startup_imports.py",  # 9: 15 fresh Python processes
     "tests/lang/test_checks_rays.py",  # 9
     "tests/sim/test_interrupt.py",  # 9
     "tests/execute/test_stick_clears_blocker.py",  # 9
