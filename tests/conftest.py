@@ -3,52 +3,81 @@
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 from pathlib import Path
+from typing import Any
 
 import pytest
 
-# the arm's reach kept between processes (vkgl.formats.reach_cache): in a folder of this test run, never the
-# user's; subprocesses the tests start inherit it
-os.environ.setdefault("VKGL_CACHE_DIR", tempfile.mkdtemp(prefix="vkgl-test-cache-"))
+_MEMORY = Path("/dev/shm")
+
+
+def _cache_folder() -> str:
+    """A new folder for this run's caches: in memory where there is a tmpfs (Linux), else in the temp folder.
+
+    Every parse of a module file read from disk is kept there through vkgl's atomic writer, which fsyncs:
+    the 5000 mutants of tests/lang/test_robustness.py alone made 5000 fsyncs, 5 to 50 s of waiting for the
+    disk. On a tmpfs the same code runs (write, fsync, rename) without the wait."""
+    memory = _MEMORY.is_dir() and os.access(_MEMORY, os.W_OK | os.X_OK)
+    return tempfile.mkdtemp(prefix="vkgl-test-cache-", dir=str(_MEMORY) if memory else None)
+
+
+# the reach, parses and tables kept between processes (vkgl.resources.cache_folder): in a folder of this test
+# run, never the user's; pytest-xdist's workers and the subprocesses the tests start inherit it
+_OWN_CACHE = "VKGL_CACHE_DIR" not in os.environ
+if _OWN_CACHE:
+    os.environ["VKGL_CACHE_DIR"] = _cache_folder()
 
 REPO = Path(__file__).resolve().parent.parent
 EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
-SLOWEST_FIRST = [
-    "tests/execute/test_closed_loop.py",
-    "tests/execute/test_tall_bodies.py",
-    "tests/execute/test_hook_drawer.py",
-    "tests/infer/test_learn.py",
-    "tests/test_tooling.py",
-    "tests/test_docs_api.py",
-    "tests/lang/test_robustness.py",
-    "tests/sim/test_ray_runner.py",
-    "tests/sim/test_furniture.py",
-    "tests/plan/test_geometry_check.py",
-    "tests/execute/test_execute_cli.py",
-    "tests/lang/test_printer.py",
-    "tests/execute/test_drawer_and_door.py",
-    "tests/sim/test_interrupt.py",
-    "tests/execute/test_contact_chain.py",
-    "tests/execute/test_generated_execution.py",
-    "tests/sim/test_explore.py",
-    "tests/execute/test_disturbed.py",
-    "tests/execute/test_animate.py",
-    "tests/execute/test_long_stick.py",
-    "tests/plan/test_picture.py",
-    "tests/cli/test_execution_progress.py",
-    "tests/execute/test_resolving.py",
-    "tests/test_docs_samples.py",
+SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers busy)
+    "tests/execute/test_closed_loop.py",  # 50
+    "tests/infer/test_learn.py",  # 47: learns the whole stdlib, in 2 processes
+    "tests/execute/test_generated_execution.py",  # 30
+    "tests/execute/test_tall_bodies.py",  # 29
+    "tests/test_tooling.py",  # 27: mypy of a fresh clone
+    "tests/execute/test_wide_pulls.py",  # 21
+    "tests/plan/test_geometry_check.py",  # 19
+    "tests/execute/test_contact_chain.py",  # 18
+    "tests/test_docs_api.py",  # 17
+    "tests/lang/test_robustness.py",  # 15
+    "tests/lang/test_printer.py",  # 12
+    "tests/execute/test_goal_forms_in_dart.py",  # 11
+    "tests/sim/test_explore.py",  # 10
+    "tests/sim/test_furniture.py",  # 9
+    "tests/cli/test_startup_imports.py",  # 9: 15 fresh Python processes
+    "tests/lang/test_checks_rays.py",  # 9
+    "tests/sim/test_interrupt.py",  # 9
+    "tests/execute/test_stick_clears_blocker.py",  # 9
+    "tests/execute/test_execute_cli.py",  # 9
+    "tests/execute/test_resolving.py",  # 9
+    "tests/execute/test_arc_push.py",  # 9
+    "tests/execute/test_disturbed.py",  # 8
+    "tests/execute/test_open_slides.py",  # 7
+    "tests/lang/test_checks_scene.py",  # 7
+    "tests/infer/test_ending.py",  # 7
+    "tests/execute/test_animate.py",  # 6; 1 when test_closed_loop.py ran in its worker (a_push_recorded)
+    "tests/sim/test_explore_errors.py",  # 6
+    "tests/execute/test_hook_drawer.py",  # 6
+    "tests/test_docs_samples.py",  # 5
+    "tests/execute/test_drawer_and_door.py",  # 5
+    "tests/cli/test_execution_progress.py",  # 5
+    "tests/execute/test_long_stick.py",  # 5
+    "tests/execute/test_handle_grasps_in_dart.py",  # 5
+    "tests/plan/test_picture.py",  # 4
+    "tests/sim/test_ray_runner.py",  # 4
+    "tests/bench/test_generated_plans.py",  # 4
 ]
-"""The test files that take longest (all their tests together, measured with `--durations=0`), slowest first.
+"""The test files that take longest, slowest first: every file of 4 CPU-seconds or more (the others take 0 to 3).
 
 They run first, in this order, and the many quick files after them, as collected: xdist hands each worker a
 whole file at a time (`--dist loadfile`, `--no-loadscope-reorder` in pyproject.toml), so a long file started
 last would keep one worker busy while the other has nothing left to do. Its own default order (files with more
-tests first) put the one-test physics files and mypy at the very end.
-"""
+tests first) put the one-test physics files and mypy at the very end. A new file of 4 CPU-seconds or more goes
+into its place here; how to measure: docs/internals.md, "The test run's time"."""
 
 
 @pytest.hookimpl(tryfirst=True)
@@ -58,6 +87,12 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     missing = [path for path in SLOWEST_FIRST if not (REPO / path).is_file()]
     assert not missing, f"SLOWEST_FIRST names files that are not there: {missing}"
     items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))  # stable: in-file order kept
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    """The process that made the run's cache folder (not an xdist worker, which inherits it) removes it."""
+    if _OWN_CACHE:
+        shutil.rmtree(os.environ["VKGL_CACHE_DIR"], ignore_errors=True)
 
 
 @pytest.fixture
@@ -74,3 +109,25 @@ def vkg_files() -> list[Path]:
 def example_tasks() -> list[Path]:
     """The task files of examples/tasks/, sorted."""
     return sorted((EXAMPLES / "tasks").glob("*.vkg"))
+
+
+@pytest.fixture(scope="session")
+def a_push_scripted() -> tuple[Any, Any]:
+    """Task (a) compiled, and its hand-derived plan (push the block 15 cm) as a vkg-plan/6 document."""
+    from plan_script import EXAMPLE_SCRIPTS, scripted_plan
+
+    from vkgl.lang.compiler import compile_file
+
+    program = compile_file(str(EXAMPLES / "tasks" / "a_push.vkg"))
+    return program, scripted_plan(program, "a_push", EXAMPLE_SCRIPTS["a_push"])
+
+
+@pytest.fixture(scope="session")
+def a_push_recorded(a_push_scripted: tuple[Any, Any]) -> Any:
+    """That plan carried out once in DART, open loop, with frames recorded: tests/execute/test_closed_loop.py
+    and tests/execute/test_animate.py both read it (4 to 5 CPU-s of physics saved when pytest-xdist gives both
+    files to one worker)."""
+    from vkgl.execute.closed_loop import execute
+
+    program, plan = a_push_scripted
+    return execute(program, "a_push", plan, record=True)

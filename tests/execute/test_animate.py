@@ -8,14 +8,10 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import EXAMPLES
 from PIL import Image
-from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 from vkgl.execute.animate import animate, trace_group, trace_lines
-from vkgl.execute.closed_loop import execute
 from vkgl.execute.scene_world import FRAME_PERIOD
-from vkgl.lang.compiler import compile_file
 from vkgl.motion.picture_paths import effector_track
 from vkgl.robot import Arm
 
@@ -23,11 +19,11 @@ TASK = "a_push"
 
 
 @pytest.fixture(scope="module")
-def recorded() -> tuple[Any, Any, Any]:
-    """Task (a): its plan (transit and approach, then the push) and its recorded execution; the arm model."""
-    program = compile_file(str(EXAMPLES / "tasks" / f"{TASK}.vkg"))
-    plan = scripted_plan(program, TASK, EXAMPLE_SCRIPTS[TASK])
-    report = execute(program, TASK, plan, record=True)
+def recorded(a_push_scripted, a_push_recorded) -> tuple[Any, Any, Any]:
+    """Task (a): its plan (transit and approach, then the push) and its recorded execution (shared with
+    test_closed_loop.py: tests/conftest.py); the arm model."""
+    program, plan = a_push_scripted
+    report = a_push_recorded
     scene = program.scenes[program.task(TASK).scene.name]
     robot = next(r for r in scene.robots if r.name == plan.robot.name)
     arm = Arm.load(program.robots[robot.type.name], plan.robot.effector, robot.pose.matrix())

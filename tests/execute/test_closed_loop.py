@@ -30,17 +30,15 @@ TASK = "a_push"
 
 
 @pytest.fixture(scope="module")
-def task_a() -> tuple[Program, PlanDocument]:
-    """Task (a) compiled, and its plan (push the block 15 cm) as a vkg-plan/6 document."""
-    program = compile_file(str(EXAMPLES / "tasks" / "a_push.vkg"))
-    return program, scripted_plan(program, TASK, EXAMPLE_SCRIPTS[TASK])
+def task_a(a_push_scripted) -> tuple[Program, PlanDocument]:
+    """Task (a) compiled, and its plan (push the block 15 cm) as a vkg-plan/6 document (tests/conftest.py)."""
+    return a_push_scripted
 
 
 @pytest.fixture(scope="module")
-def open_loop(task_a) -> Any:
-    """The plan of task (a) replayed once, open loop, with frames recorded."""
-    program, plan = task_a
-    return execute(program, TASK, plan, record=True)
+def open_loop(a_push_recorded) -> Any:
+    """The plan of task (a) replayed once, open loop, with frames recorded (shared with test_animate.py)."""
+    return a_push_recorded
 
 
 def _push_steps(plan: dict[str, Any]) -> list[dict[str, Any]]:

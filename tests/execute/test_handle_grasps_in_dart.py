@@ -7,7 +7,6 @@ a free body it grasps does not hold a handle at all, and the door stays shut.
 
 from __future__ import annotations
 
-import importlib.util
 import math
 
 import pytest
@@ -19,11 +18,7 @@ from vkgl.execute.closed_loop import execute
 
 TASKS = {"o_open_door": ("door", math.radians(3)), "p_knob_drawer": ("drawer", 0.01)}
 
-FINGERS_HOLD = importlib.util.find_spec("vkgl.execute.grip") is not None
-"""Whether the executor holds a grasp by the fingers' friction (`vkgl.execute.grip`, branch grasp-exec)."""
 
-
-@pytest.mark.skipif(not FINGERS_HOLD, reason="needs the executor's finger grip (vkgl.execute.grip) to hold a handle")
 @pytest.mark.parametrize("name", list(TASKS))
 def test_the_grasped_handle_is_moved_to_its_goal(name, tmp_path) -> None:
     # the Door by its grasp alone: the example's plan hooks the fingertip behind the bar (`grasped_door`)

@@ -7,8 +7,6 @@ step ends with it in the hand where it lay, the release's path carries it (lift,
 
 from __future__ import annotations
 
-import importlib.util
-
 import numpy as np
 import pytest
 from conftest import EXAMPLES
@@ -50,16 +48,9 @@ def test_the_cube_is_carried_over_the_blocks_open_loop(task_n) -> None:
     _blocks_still(report)
 
 
-FINGERS_OPEN = importlib.util.find_spec("vkgl.execute.grip") is not None
-"""Whether the executor opens the Panda's fingers before a grasp (`vkgl.execute.grip`, branch grasp-exec)."""
-
-
-@pytest.mark.skipif(
-    not FINGERS_OPEN,
-    reason="needs the executor to open the fingers before a grasp (vkgl.execute.grip): without it the Panda's "
-    "fingers, closed at rest, turn the cube by 3 deg as the hand comes down, and the closed loop re-solves from that",
-)
 def test_closed_loop_re_solves_for_a_cube_found_2_cm_off_and_carries_it(task_n) -> None:
+    """The executor opens the fingers before a grasp (`vkgl.execute.grip`): closed, as at rest, they would turn
+    the cube by 3 deg as the hand comes down, and the closed loop would re-solve from that."""
     program, plan = task_n
     task = program.task(TASK)
     start = np.array(plan.steps[0].poses_start["cube"])

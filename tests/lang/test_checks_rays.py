@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import vkgl
@@ -97,14 +97,26 @@ def test_the_stdlibs_bodies_are_trimeshs_triangles() -> None:
         _same_triangles(shape)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60, deadline=None, derandomize=True)
 @given(_union())
 def test_a_union_is_trimeshs_triangles(shape: UnionShape) -> None:
     _same_triangles(shape)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=150, deadline=None, derandomize=True)
 @given(_union(), st.tuples(CM, CM, CM) | st.tuples(FREE, FREE, FREE), DIRECTIONS)
+@example(  # onto the vertical edge of a cylinder's mesh at angle 0: two triangles at one distance
+    UnionShape(
+        parts=[
+            ShapePart(
+                shape=CylinderShape(radius=Quantity(value=0.005), height=Quantity(value=0.01)),
+                pose=Pose(position=Vector(values=(0.0, 0.0, 0.0))),
+            )
+        ]
+    ),
+    (0.01, 0.0, 0.0),
+    (-1.0, 0.0, 0.0),
+)
 def test_a_ray_meets_what_trimeshs_mesh_meets(
     shape: UnionShape, start: tuple[float, float, float], direction: tuple[float, float, float]
 ) -> None:
@@ -115,13 +127,31 @@ def test_a_ray_meets_what_trimeshs_mesh_meets(
     assert (ours is None) == (theirs is None)
     if ours is not None and theirs is not None:
         assert np.allclose(ours[0], theirs[0], rtol=0, atol=1e-12)
-        assert np.allclose(ours[1], theirs[1], rtol=0, atol=1e-9)
+        # on an edge or a corner the ray meets two or more triangles at one distance, equal to the last bits or
+        # nearly: numpy's sums and Python's round it differently, so either may take another of them (a ray
+        # along -x onto a cylinder's vertical edge at angle 0). Any of those triangles' normals is the answer.
+        assert any(np.allclose(ours[1], normal, rtol=0, atol=1e-9) for normal in _tied_normals(shape, start, direction))
+
+
+def _tied_normals(shape: UnionShape, start: tuple[float, float, float], direction: tuple[float, float, float]):
+    """The normals of the mesh's triangles the ray meets within 1e-12 m of the nearest (trimesh's test)."""
+    import trimesh  # here: tests/lang/test_geometry_vertices.py asserts that checking imports no trimesh
+
+    mesh = geometry.shape_mesh(shape)
+    ray = np.array(direction)
+    facing = np.abs(mesh.face_normals @ ray) > 1e-12
+    triangles, normals = mesh.triangles[facing], mesh.face_normals[facing]
+    distance = np.einsum("ij,ij->i", triangles[:, 0] - np.array(start), normals) / (normals @ ray)
+    points = np.array(start) + distance[:, None] * ray
+    inside = (distance > 0) & np.all(trimesh.triangles.points_to_barycentric(triangles, points) >= -1e-9, axis=1)
+    nearest = distance[inside].min()
+    return normals[inside & (distance <= nearest + 1e-12)]
 
 
 FACES = st.sampled_from(["+x", "-x", "+y", "-y", "+z"])
 
 
-@settings(max_examples=80, deadline=None)
+@settings(max_examples=80, deadline=None, derandomize=True)
 @given(_union(), FACES, st.integers(1, 12), st.integers(1, 4))
 def test_the_first_missing_contact_point_is_the_explorers(
     shape: UnionShape, face: str, steps: int, heights: int
@@ -152,7 +182,7 @@ def _explorers_first_miss(shape: Shape, face: str, steps: int, heights: int) -> 
     return None
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=150, deadline=None, derandomize=True)
 @given(_union(), st.tuples(CM, CM, CM) | st.tuples(FREE, FREE, FREE), DIRECTIONS)
 def test_a_contact_frame_gets_the_same_words(
     shape: UnionShape, origin: tuple[float, float, float], x: tuple[float, float, float]

@@ -1,7 +1,8 @@
 """`vkgc learn --ray`: the trials run on a local Ray instance and the modules are byte-identical to the pool's.
 
 Ray is a hard requirement of this test (installed by .ci/run through the `ray`
-extra): without it the import below fails the run instead of skipping.
+extra): without it the import in the test fails it instead of skipping. It is imported there, not at the top:
+importing Ray takes about a second, and every pytest-xdist worker imports every test module to collect it.
 
 Both runs are on this machine, so the bytes compare determinism, not CPUs. On a cluster whose nodes
 have other CPUs the trials may differ in their last bits; the modules are printed rounded, which absorbs
@@ -13,7 +14,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-import ray
 
 from vkgl import cli
 from vkgl.sim import explore as explore_module
@@ -47,6 +47,8 @@ def test_learn_on_ray_writes_the_same_modules_as_the_process_pool(
     monkeypatch: pytest.MonkeyPatch,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
+    import ray
+
     pool, on_ray = tmp_path / "pool", tmp_path / "ray"
     assert cli.main(["learn", str(bodies), "-o", str(pool), "--jobs", "2"]) == 0
 
