@@ -10,8 +10,7 @@
    95 % up to 5 mm / 2 deg, median axis error < 2 deg, centre error < 1 cm,
    < 10 ms per trial.
 2. Real tracks (Sturm et al.'s, not in the repository: `sturm_tracks.npz` and
-   `labels.json` read in place from `$VKGL_ARTICULATION_DATA`, by default
-   `shared/data/articulation` beside the checkout's folder; skipped, saying
+   `labels.json` read in place from the folder `$VKGL_ARTICULATION_DATA` names; skipped, saying
    where it looked, when absent): the confusion table by mechanism; target >=
    95 % correct.
 
@@ -39,7 +38,7 @@ from synthetic import score, synthetic_trials  # noqa: E402
 from vkgl.formats.trials import Trials  # noqa: E402
 from vkgl.infer.trial import infer_trial, infer_trials  # noqa: E402
 
-REAL = Path(os.environ.get("VKGL_ARTICULATION_DATA") or REPO.parent / "shared" / "data" / "articulation")
+REAL = Path(os.environ.get("VKGL_ARTICULATION_DATA", "")) if os.environ.get("VKGL_ARTICULATION_DATA") else None
 NOISE_LEVELS = [(0.0, 0.0), (0.001, 0.5), (0.002, 1.0), (0.005, 2.0), (0.01, 3.0)]
 
 
@@ -77,8 +76,9 @@ def confusion_rows(per_type: int, seed: int) -> list[str]:
 
 
 def real_table() -> list[str]:
-    if not (REAL / "sturm_tracks.npz").is_file():
-        return [f"(real tracks not found: no sturm_tracks.npz in {REAL}; set VKGL_ARTICULATION_DATA: skipped)"]
+    if REAL is None or not (REAL / "sturm_tracks.npz").is_file():
+        where = f"no sturm_tracks.npz in {REAL}" if REAL else "VKGL_ARTICULATION_DATA is not set"
+        return [f"(real tracks not found: {where}; set VKGL_ARTICULATION_DATA to their folder: skipped)"]
     trials = Trials.load(REAL / "sturm_tracks.npz")
     labels = json.loads((REAL / "labels.json").read_text())
     started = time.process_time()

@@ -1,9 +1,9 @@
 """Real recorded tracks (Sturm et al.): doors, drawers, a dishwasher, a sliding cabinet; positions only.
 
 The data is not in the repository (its licence is its own): `sturm_tracks.npz` (`vkg-trials/1`) and
-`labels.json` are read in place, never copied, from the folder `$VKGL_ARTICULATION_DATA` names, by default
-`shared/data/articulation` beside the folder that holds the checkout. Without them these tests skip, and
-the skip says which files were looked for where; every other inference test runs on synthetic data.
+`labels.json` are read in place, never copied, from the folder `$VKGL_ARTICULATION_DATA` names. Without it
+(or without the files there) these tests skip, and the skip says what to set; every other inference test runs
+on synthetic data.
 """
 
 from __future__ import annotations
@@ -18,14 +18,15 @@ from vkgl.formats.trials import Trials
 from vkgl.infer.library import infer_library
 
 ENV = "VKGL_ARTICULATION_DATA"
-DATA = Path(os.environ.get(ENV) or Path(__file__).resolve().parents[3] / "shared" / "data" / "articulation")
 FILES = ("sturm_tracks.npz", "labels.json")
-MISSING = [name for name in FILES if not (DATA / name).is_file()]
+DATA = Path(os.environ.get(ENV, ""))
+MISSING = list(FILES) if not os.environ.get(ENV) else [name for name in FILES if not (DATA / name).is_file()]
 
 pytestmark = pytest.mark.skipif(
     bool(MISSING),
-    reason=f"optional real articulation tracks not found: {', '.join(MISSING)} not in {DATA} "
-    f"(set {ENV} to the folder that holds {' and '.join(FILES)})",
+    reason=f"optional real articulation tracks not found: {', '.join(MISSING)} "
+    + (f"not in {DATA}" if os.environ.get(ENV) else f"({ENV} is not set)")
+    + f" (set {ENV} to the folder that holds {' and '.join(FILES)})",
 )
 
 
