@@ -21,7 +21,7 @@ from typing import Any
 
 import pytest
 from contact_chain_check import check_contact_chains
-from generated_tasks import fixture_library, task_spec, write_task
+from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 from plan_geometry import check_plan
 
 import vkgl
@@ -50,7 +50,7 @@ def test_a_generated_tasks_plan_passes_the_independent_check(
 ) -> None:
     spec = task_spec(seed, index)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, library))
-    plan = vkgl.solve(program, spec.name)
+    plan = vkgl.solve(program, spec.name, timeout=TEST_SOLVE_TIMEOUT_S)
     assert plan.status == "solved", f"{spec.name} (selected as one the planner solves): {plan.reason}"
     plan_json: dict[str, Any] = plan.to_json()
     assert check_plan(program, spec.name, plan_json, samples=20) == []

@@ -8,7 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from generated_tasks import fixture_library, task_spec, write_task
+from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
 
@@ -19,7 +19,7 @@ def test_the_hand_does_not_sweep_a_bystander_while_it_pushes(tmp_path: Path) -> 
     # it 15 cm: the planner now checks the arm along the whole contact, and the plan takes the stick instead
     spec = task_spec(1, 28)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
-    plan = vkgl.solve(program, spec.name)
+    plan = vkgl.solve(program, spec.name, timeout=TEST_SOLVE_TIMEOUT_S)
     assert plan.status == "solved", plan.reason
     report = vkgl.execute(program, spec.name, plan)
     assert report.status == "reached", report.reason
@@ -36,7 +36,7 @@ def test_leaving_a_hook_pull_near_the_base_does_not_throw_the_cube(tmp_path: Pat
     # one control period and threw the cube 139 cm, off the table
     spec = task_spec(5, 7)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
-    plan = vkgl.solve(program, spec.name)
+    plan = vkgl.solve(program, spec.name, timeout=TEST_SOLVE_TIMEOUT_S)
     assert plan.status == "solved", plan.reason
     assert plan.steps[-1].op == "add" and plan.steps[-1].effector == "hook.tip"  # it ends pulling with the hook
     report = vkgl.execute(program, spec.name, plan)
@@ -52,7 +52,7 @@ def test_a_tall_crate_turned_then_pushed_reaches_its_goal(tmp_path: Path) -> Non
     # (vkgl.sim.world.new_world: tests/execute/test_one_physics.py)
     spec = task_spec(1, 12)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
-    plan = vkgl.solve(program, spec.name)
+    plan = vkgl.solve(program, spec.name, timeout=TEST_SOLVE_TIMEOUT_S)
     assert plan.status == "solved", plan.reason
     assert any(s.op == "add" and s.motion == "revolute" for s in plan.steps)  # the crate is turned
     report = vkgl.execute(program, spec.name, plan)

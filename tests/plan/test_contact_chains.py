@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from generated_tasks import fixture_library, task_spec, write_task
+from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
 from vkgl.plan.arm.contact_chains import ContactChains
@@ -23,7 +23,7 @@ def test_gen1_024_is_one_arc_push_without_a_0_cm_push_before_it(tmp_path: Path) 
     # after a 0 cm push on the other face and its release, whose configuration seeded IK at the arc's contact
     spec = task_spec(1, 24)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
-    plan = vkgl.solve(program, spec.name)
+    plan = vkgl.solve(program, spec.name, timeout=TEST_SOLVE_TIMEOUT_S)
     assert plan.status == "solved", plan.reason
     steps = plan.to_json()["steps"]
     assert [(s["op"], s["affordance"]) for s in steps] == [("add", "SlabW.push_center_nx@-2.90cm")]

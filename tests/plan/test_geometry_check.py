@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import EXAMPLES
-from generated_tasks import fixture_library, task_spec, write_task
+from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 from plan_geometry import check_plan
 
 import vkgl
@@ -150,7 +150,7 @@ def test_a_held_tools_transits_keep_clear_of_every_body(tmp_path: Path) -> None:
     # travel of any point of the arm or the tool: they touch nothing on any transit
     spec = task_spec(3, 27)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
-    plan = vkgl.solve(program, spec.name)
+    plan = vkgl.solve(program, spec.name, timeout=TEST_SOLVE_TIMEOUT_S)
     assert plan.status == "solved", plan.reason
     scene = program.scenes[program.task(spec.name).scene.name]
     shapes = {b.name: program.bodies[b.type.name].shape for b in scene.bodies}
