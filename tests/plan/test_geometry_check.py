@@ -203,3 +203,15 @@ def test_a_tool_touches_the_body_it_acts_on_at_its_tip_and_never_passes_through_
     toward_base[2] = 0.0
     why = clash(0.08 * toward_base)
     assert why is not None and "hook would pass through block" in why and "at its tip only" in why, why
+
+
+def test_a_tool_at_its_contact_does_not_rest_on_a_bystander(tmp_path: Path) -> None:
+    # gen9_015: the Hook, pulling a 12 cm cube at its mid-height, lay with its underside on the top of a 5 cm slab
+    # beside the cube (a touch, allowed then); in DART it dragged the slab 3.5 cm and turned 6 deg in the hand.
+    # At 3 graphs that pull was the only plan: now the tool keeps 2 mm from every body it does not act on
+    spec = task_spec(9, 15)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name, max_depth=3, timeout=TEST_SOLVE_TIMEOUT_S)
+    assert plan.status == "infeasible", plan.reason
+    assert "hook would stand" in plan.reason and "mm inside clutter3" in plan.reason, plan.reason
+    assert "keeps 2 mm from every body but the one it acts on" in plan.reason

@@ -12,7 +12,8 @@ for the arm once joint space found its configurations (`arm`):
   acts on may touch, by no more than the tool's thickness: `_tool_through`;
   a released tool must land clear of the others), and a tool's parts beside
   its contact (a hook's shaft) `BESIDE_CLEARANCE` clear of the body it acts on
-  (`vkgl.plan.geometry.tool_parts`);
+  (`vkgl.plan.geometry.tool_parts`), and the tool `BYSTANDER_CLEARANCE` clear of
+  every other body (a tool resting on a bystander drags it);
 - the arm's links at the configurations inverse kinematics returned, and a
   held tool in its hand, against the bodies and the table (the body the hand
   touches excepted).
@@ -55,6 +56,15 @@ too (`transit_space(held)`), and this tighter space only when that way is blocke
 it was to pull passed 2 mm over its top and touched it in DART."""
 
 
+BYSTANDER_CLEARANCE = HELD_TRANSIT_CLEARANCE
+"""m: a tool at a contact keeps this far (less the 1 mm tolerance of a touch) from every body but the one it acts on,
+at the start and the end of the contact's mode. Touching is not enough room there: the tool and what it acts on
+move together, and a tool resting on a bystander drags it. gen9_015 of the physical bench: the Hook, pulling a
+12 cm cube at its mid-height, lay with its underside on the top of a 5 cm slab beside the cube (0 mm apart, a
+touch); in DART the slab was dragged 3.5 cm and the Hook turned 6 deg in the hand. The same room as a held tool's
+transit keeps from the bodies it does not go to (`HELD_TRANSIT_CLEARANCE`)."""
+
+
 class GeometryCheck:
     """The collision checks of one planning problem (built lazily: most sequences never get this far)."""
 
@@ -68,6 +78,7 @@ class GeometryCheck:
         self._thicknesses: dict[str, float] = {}
         self._palm: ArmCollision | None = None
         self.beside = BesideParts(problem)
+        self._bystanders: dict[str, CollisionScene] = {}
         self.queries = 0
 
     @property
@@ -136,6 +147,32 @@ class GeometryCheck:
             beside = self._beside(graph, trace.start, k)
             if beside is not None:
                 return beside
+            for when, poses in (("start", trace.start), ("end", trace.end)):
+                close = self._bystander(graph, poses)
+                if close is not None:
+                    return _bystander_rejection(close, f"at the {when} of mode {k}")
+        return None
+
+    def _bystander(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
+        """The deepest overlap of a tool at its contact with a body it does not act on, grown by
+        `BYSTANDER_CLEARANCE`, or None (the table is not grown: a tool pushes a low body just above it)."""
+        for e in graph.engaged:
+            tool = self.problem.effector(e.effector).tool
+            if tool is None:
+                continue
+            acted_on = {x.body for x in graph.engaged if self.problem.effector(x.effector).tool == tool}
+            others = [name for name in poses if name != tool and name not in acted_on]
+            if not others:
+                continue
+            if tool not in self._bystanders:
+                self._bystanders[tool] = collision_scene(self.problem, margin=BYSTANDER_CLEARANCE, exact={tool})
+            scene = self._bystanders[tool]
+            scene.place({name: poses[name] for name in others})
+            self.queries += 1
+            found = scene.against(tool, poses[tool], others)
+            deepest = max(found, key=lambda c: c.depth, default=None)
+            if deepest is not None:
+                return deepest
         return None
 
     def _tool_through(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
@@ -247,6 +284,21 @@ def _engagement_words(problem: Problem, e: Engagement, value: float) -> str:
     motion = problem.affordance(e.body, e.affordance).motion.type
     amount = f"{value * 100:.1f} cm" if motion == "prismatic" else f"{np.degrees(value):.1f} deg"
     return f"{e.effector} moves {e.body} by {amount} ({problem.bodies[e.body].type.name}.{e.affordance})"
+
+
+def _bystander_rejection(close: Contact, where: str) -> Rejection:
+    """A tool at its contact too close to a body it does not act on (`GeometryCheck._bystander`)."""
+    gap = BYSTANDER_CLEARANCE - close.depth  # m: the tool's distance from the body (negative: inside it)
+    at = close.point
+    how = f"{-gap * 1000:.1f} mm inside" if gap < 0 else f"only {gap * 1000:.1f} mm from"
+    return Rejection(
+        Kind.COLLISION,
+        f"{close.body_a} would stand {how} {close.body_b} at ({at[0]:.2f}, {at[1]:.2f}, {at[2]:.2f}) m {where} "
+        f"(a tool at its contact keeps {(BYSTANDER_CLEARANCE - TOUCH_TOL) * 1000:.0f} mm from every body but the one "
+        f"it acts on: it would drag what it rests on): {close.body_b} is in the way",
+        float(close.depth),
+        (close.body_a, close.body_b),
+    )
 
 
 def _rejection(
