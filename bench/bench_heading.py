@@ -50,18 +50,6 @@ def task_text(body: str, affordances: str, dx: float, dyaw: float) -> str:
     )
 
 
-def _uses(name: str, folder: Path) -> str | None:
-    """The `use` lines that bring body `name` and its affordances (None: learning found none)."""
-    if name == "Block":
-        return "use stdlib.bodies.block\nuse stdlib.affordances.block\n"
-    module = generated_tasks.fixture_library()[name]
-    if module is None:
-        return None
-    (folder / "body.vkg").write_text(module.with_name("body.vkg").read_text(encoding="utf-8"), encoding="utf-8")
-    (folder / "affordances.vkg").write_text(module.read_text(encoding="utf-8"), encoding="utf-8")
-    return 'use "affordances.vkg"\n'
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--execute", action="store_true", help="carry each plan out in DART")
@@ -73,7 +61,7 @@ def main(argv: list[str] | None = None) -> int:
         for name in names:
             folder = Path(tmp) / name
             folder.mkdir()
-            uses = _uses(name, folder)
+            uses = generated_tasks.body_uses(name, folder)
             solved, found, clean = 0, [], 0
             for dx, dyaw in GOALS if uses is not None else ():
                 task = folder / "task.vkg"

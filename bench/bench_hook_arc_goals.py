@@ -58,18 +58,6 @@ def task_text(body: str, uses: str, dx: float, dyaw: float) -> str:
     )
 
 
-def _uses(name: str, folder: Path) -> str | None:
-    """The `use` lines that bring body `name` and its affordances (None: learning found none)."""
-    if name == "Block":
-        return "use stdlib.bodies.block\nuse stdlib.affordances.block\n"
-    module = generated_tasks.fixture_library()[name]
-    if module is None:
-        return None
-    (folder / "body.vkg").write_text(module.with_name("body.vkg").read_text(encoding="utf-8"), encoding="utf-8")
-    (folder / "affordances.vkg").write_text(module.read_text(encoding="utf-8"), encoding="utf-8")
-    return 'use "affordances.vkg"\n'
-
-
 def _yaw(pose: np.ndarray) -> float:
     return math.degrees(math.atan2(pose[1, 0], pose[0, 0]))
 
@@ -93,7 +81,7 @@ def main(argv: list[str] | None = None) -> int:
         for name in args.bodies.split(","):
             folder = Path(tmp) / name
             folder.mkdir()
-            uses = _uses(name, folder)
+            uses = generated_tasks.body_uses(name, folder)
             for dx, dyaw in GOALS if uses is not None else ():
                 task = folder / "task.vkg"
                 task.write_text(task_text(name, uses, dx, dyaw), encoding="utf-8")  # type: ignore[arg-type]

@@ -491,3 +491,16 @@ def fixture_library(names: tuple[str, ...] | None = None, *, slide_steps: int = 
         module = folder / f"{body.name.lower()}.vkg"
         library[body.name] = module if module.is_file() else None
     return library
+
+
+def body_uses(name: str, folder: Path) -> str | None:
+    """The `use` lines that bring body type `name` and its affordances into a task written in `folder` (the stdlib
+    Block's modules, or the learned fixture's copied into `folder`); None when learning found no affordance."""
+    if name == "Block":
+        return "use stdlib.bodies.block\nuse stdlib.affordances.block\n"
+    module = fixture_library()[name]
+    if module is None:
+        return None
+    (folder / "body.vkg").write_text(module.with_name("body.vkg").read_text(encoding="utf-8"), encoding="utf-8")
+    (folder / "affordances.vkg").write_text(module.read_text(encoding="utf-8"), encoding="utf-8")
+    return 'use "affordances.vkg"\n'
