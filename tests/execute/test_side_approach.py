@@ -123,13 +123,13 @@ def _wide_pull(tmp_path, body: str):
     return vkgl.solve(vkgl.compile(task), "wide", max_depth=3)
 
 
-def test_a_hook_pull_of_a_wide_crate_names_the_hook_inside_it(tmp_path):
+def test_a_hook_pull_of_a_wide_crate_rolls_the_hook_over_its_top(tmp_path):
     """A 30 cm wide crate: the shaft is 4 cm inside it at the centre, and no contact along the face leaves the
-    cross-piece over its centre line with the shaft clear (`tool_faces`)."""
+    cross-piece over its centre line with the shaft clear (`tool_faces`); the hook rolled 35 deg about the pull and
+    lifted 4.5 cm passes its shaft over the crate's top (`vkgl.plan.problem.over`)."""
     plan = _wide_pull(tmp_path, "CrateM")
-    assert plan.status != "solved"
-    assert "add CrateM.push_center_nx on target with hook.tip" in plan.reason
-    assert "hook would pass through target by 4.0 cm" in plan.reason
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps] == ["Hook.wield", "CrateM.push_center_nx/over+35deg+4.50cm"]
 
 
 def test_a_24_cm_crate_is_pulled_straight_from_off_its_centre(tmp_path):
