@@ -281,8 +281,9 @@ class ArmPathPlanner:
         try:
             for collision in spaces:
                 found = transit_segment(
-                    collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
-                )
+                    collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1,
+                    time_limit=limit, exact=self.geometry.arm_collision,
+                )  # fmt: skip
                 if not isinstance(found, TransitFailure):
                     break
         finally:
