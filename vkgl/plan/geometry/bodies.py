@@ -54,6 +54,12 @@ corner of a Block beside its next contact. The arm's paths try a held tool's tra
 too (`transit_space(held)`), and this tighter space only when that way is blocked: a hook swinging over a 25 cm crate
 it was to pull passed 2 mm over its top and touched it in DART."""
 
+TARGET_CLEARANCE = 0.002
+"""m: in that tighter space the body the transit leads to is grown by this (less the 1 mm tolerance of a touch:
+the tool keeps 1 mm from it), and so is it where the approach's stand-off is checked: with its exact shape a
+touch within the tolerance passed, and a hook whose stand-off lay 0.06 mm inside a turned crate it was to pull
+ended its transit touching it in DART."""
+
 
 class GeometryCheck:
     """The collision checks of one planning problem (built lazily: most sequences never get this far)."""
@@ -87,14 +93,14 @@ class GeometryCheck:
 
     def transit_space(self, held: Held | None, toward: str | None = None) -> ArmCollision:
         """What the configurations of a transit to a contact with `toward` must be free in: `transit_collision`
-        for the bare arm; with a held tool, the bodies grown by `HELD_TRANSIT_CLEARANCE`, but the tool and
-        `toward`."""
+        for the bare arm; with a held tool, the bodies grown by `HELD_TRANSIT_CLEARANCE`, but the tool (exact)
+        and `toward` (grown by `TARGET_CLEARANCE`)."""
         if held is None:
             return self.transit_collision
         key = (held.body, toward)
         if key not in self._held_transit:
-            exact = {held.body} | ({toward} if toward is not None else set())
-            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact=exact)
+            close = {toward: TARGET_CLEARANCE} if toward is not None else None
+            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact={held.body}, margins=close)
             self._held_transit[key] = ArmCollision(grown, self.problem.arm)
         return self._held_transit[key]
 
