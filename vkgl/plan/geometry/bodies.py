@@ -44,7 +44,8 @@ and the bodies are not exactly where the plan has them)."""
 
 HELD_TRANSIT_CLEARANCE = 0.003
 """m: with a tool in the hand the bodies are grown by this for transits, but for the tool itself and the body the
-transit leads to (the tool works close to it: the hook's stand-off 1 cm from the Block it is to pull in task c),
+transit leads to (the tool works close to it: the hook's stand-off 1 cm from the Block it is to pull in task c;
+that body is grown by `TARGET_CLEARANCE`),
 so that, less the 1 mm tolerance of a touch, the tool and the links keep 2 mm from every other body; no more: a
 tool's stand-off may be tight beside another body (the hook from the side of a Drawer's bar, 3 mm below a ledge:
 tests/execute/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
