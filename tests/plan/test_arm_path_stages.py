@@ -10,7 +10,7 @@ import numpy as np
 from conftest import EXAMPLES
 
 import vkgl
-from vkgl.plan.arm.paths import ArmPathPlanner
+from vkgl.plan.arm.paths import ArmPathPlanner, PendingTransit
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -97,3 +97,22 @@ def test_a_door_touching_the_hand_at_the_ready_pose_is_left_and_the_drawer_opene
     assert all(exact.free(q) for q in joints)
     report = vkgl.execute(program, None, plan)
     assert report.status == "reached", report.reason
+
+
+def test_a_transit_blocked_elsewhere_does_not_blame_a_start_it_can_leave(tmp_path) -> None:
+    """From the ready pose beside the door (a way out of the room exists) to a goal with the hand in the door:
+    the reason names the goal, not where the arm starts."""
+    task = tmp_path / "task.vkg"
+    task.write_text(DOOR_BESIDE_THE_READY_POSE, encoding="utf-8")
+    program = vkgl.compile(task)
+    problem = build_problem(program, program.tasks["open_drawer"])
+    planner = ArmPathPlanner(problem, GeometryCheck(problem))
+    home = np.asarray(problem.arm.home, dtype=float)
+    into = problem.arm.fk(home)
+    into[1, 3] -= 0.04  # 4 cm into the door
+    goal = problem.arm.ik(into, q0=home)
+    assert goal is not None
+    poses = {name: body.rest for name, body in problem.bodies.items()}
+    rejection = planner._transit(PendingTransit(0, 0, home, goal, poses, None, "step 1 (test)"), None)
+    assert isinstance(rejection, Rejection) and rejection.kind == Kind.TRANSIT
+    assert "at the goal of the transit" in rejection.why and "where the arm starts" not in rejection.why
