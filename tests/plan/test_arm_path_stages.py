@@ -6,10 +6,13 @@ candidate; the plan reports each stage's count and time.
 
 from __future__ import annotations
 
+import numpy as np
 from conftest import EXAMPLES
 
 import vkgl
-from vkgl.plan.arm.paths import ArmPathPlanner
+from vkgl.plan.arm.paths import ArmPathPlanner, PendingTransit
+from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
 
@@ -69,14 +72,47 @@ task open_drawer {
 """
 
 
-def test_a_body_beside_the_arms_ready_pose_is_named_as_blocking_where_the_arm_starts(tmp_path) -> None:
-    """The door's edge within the 1 cm of room a transit keeps, but not touching the hand: the reason says that
-    it is where the arm starts (its ready pose, where every plan begins) and that only the room is missing."""
+def test_a_door_touching_the_hand_at_the_ready_pose_is_left_and_the_drawer_opened_in_dart(tmp_path) -> None:
+    """The door's edge touches the side of the hand at the ready pose (within the 1 cm of room a transit keeps,
+    the real shapes clear): the first transit leaves the room by a short straight hand move away from the door,
+    the rest keeps the room, and the plan runs clean in DART. Before, every transit from the start was refused."""
     task = tmp_path / "task.vkg"
     task.write_text(DOOR_BESIDE_THE_READY_POSE, encoding="utf-8")
-    plan = vkgl.solve(vkgl.compile(task))
-    assert plan.status == "infeasible"
-    assert "where the arm starts (its ready pose, the hand at (0.60, 0.00, 0.44) m, before the first step)" in (
-        plan.reason
-    )
-    assert "the arm keeps less than the 1 cm of room a transit needs" in plan.reason
+    program = vkgl.compile(task)
+    plan = vkgl.solve(program)
+    assert plan.status == "solved", plan.reason
+    transit = plan.steps[0].path[0]
+    assert transit.phase == "transit"
+    problem = build_problem(program, program.tasks["open_drawer"])
+    geometry = GeometryCheck(problem)
+    poses = {name: body.rest for name, body in problem.bodies.items()}
+    room, exact = geometry.transit_collision, geometry.arm_collision
+    room.scene.place(poses)
+    exact.scene.place(poses)
+    joints = transit.joints
+    assert np.allclose(joints[0], problem.arm.home) and not room.free(joints[0])
+    inside = [room.free(q) for q in joints].index(True)  # the first configuration with the room
+    assert 1 <= inside <= 8  # left within ESCAPE_REACH (5 mm a step)
+    assert all(room.free(q) for q in joints[inside:])  # and never entered again
+    assert all(exact.free(q) for q in joints)
+    report = vkgl.execute(program, None, plan)
+    assert report.status == "reached", report.reason
+
+
+def test_a_transit_blocked_elsewhere_does_not_blame_a_start_it_can_leave(tmp_path) -> None:
+    """From the ready pose beside the door (a way out of the room exists) to a goal with the hand in the door:
+    the reason names the goal, not where the arm starts."""
+    task = tmp_path / "task.vkg"
+    task.write_text(DOOR_BESIDE_THE_READY_POSE, encoding="utf-8")
+    program = vkgl.compile(task)
+    problem = build_problem(program, program.tasks["open_drawer"])
+    planner = ArmPathPlanner(problem, GeometryCheck(problem))
+    home = np.asarray(problem.arm.home, dtype=float)
+    into = problem.arm.fk(home)
+    into[1, 3] -= 0.04  # 4 cm into the door
+    goal = problem.arm.ik(into, q0=home)
+    assert goal is not None
+    poses = {name: body.rest for name, body in problem.bodies.items()}
+    rejection = planner._transit(PendingTransit(0, 0, home, goal, poses, None, "step 1 (test)"), None)
+    assert isinstance(rejection, Rejection) and rejection.kind == Kind.TRANSIT
+    assert "at the goal of the transit" in rejection.why and "where the arm starts" not in rejection.why

@@ -81,6 +81,7 @@ class CollisionScene:
         margin: float = 0.0,
         lifts: Mapping[str, float] | None = None,
         exact: Iterable[str] = (),
+        margins: Mapping[str, float] | None = None,
     ) -> None:
         """Bodies named by `shapes` (IR shapes, body frame).
 
@@ -92,7 +93,7 @@ class CollisionScene:
         `margin` (m) grows every box and cylinder of the bodies (not the table)
         by that much on each side: a scene in which "free" means at least that
         clear of them (meshes keep their size); the bodies named in `exact` keep
-        their own size.
+        their own size, those in `margins` are grown by their own margin.
         """
         if TABLE in shapes:
             raise ValueError(f"a body may not be called `{TABLE}` in a collision scene: that name is the table's")
@@ -111,7 +112,7 @@ class CollisionScene:
         self._support: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}  # body -> parts' (kind, size, pose)
         kept = set(exact)
         for name, shape in shapes.items():
-            grow = margin if name not in kept else 0.0
+            grow = (margins or {}).get(name, margin if name not in kept else 0.0)
             parts = [(_grown(part, grow), local) for part, local in dart_shapes(shape)] if grow else dart_shapes(shape)
             # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
             self._add(name, parts, _extent(shape) * 1.005 + tol + self.lifts.get(name, 0.0))

@@ -7,6 +7,11 @@ RRTConnect (`vkgl.motion.transit.plan_transit`). Valid configurations keep the
 arm's links (and a held tool) clear of every body and the table
 (`vkgl.motion.arm_collision`). The path is timed within the URDF's joint velocity
 limits scaled by `TRANSIT_SPEED_SCALE` (`vkgl.motion.timing`).
+
+Given the real shapes (`exact`), an end inside the transit's room (the bodies
+grown) where the arm touches nothing is left (the goal: entered) by the
+shortest straight hand move out of the room (`vkgl.motion.escape.way_out`):
+the arm's ready pose beside a cupboard starts every plan there.
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ import numpy as np
 from vkgl.formats.plan import ArmSegment
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.density import DEFAULT_TOLERANCE, edge_resolution, link_reach
+from vkgl.motion.escape import way_out
 from vkgl.motion.timing import arm_velocity_limits, time_path
 from vkgl.motion.transit import TransitFailure, plan_transit
 from vkgl.robot import Arm
@@ -48,8 +54,13 @@ def transit_segment(
     *,
     seed: int,
     time_limit: float = TRANSIT_TIME_LIMIT,
+    exact: ArmCollision | None = None,
 ) -> ArmSegment | TransitFailure:
-    """A timed, collision-free transit from `start` to `goal` with the bodies at `poses`, or why there is none."""
+    """A timed, collision-free transit from `start` to `goal` with the bodies at `poses`, or why there is none.
+
+    `exact`: the arm against the bodies' real shapes, where `collision` checks them grown by a room: an end
+    inside the room that touches nothing is left along `vkgl.motion.escape.way_out` (the goal entered along it
+    reversed), and the rest keeps the room."""
     arm = collision.arm
     collision.scene.place(poses)
 
@@ -57,16 +68,39 @@ def transit_segment(
         return collision.free(q, held=held)
 
     reach = 0.0 if held is None else tool_reach(collision, held)
+    out, into = _ways_out(collision, exact, start, goal, poses, held, reach)
     advance = (collision.clearance(held), link_reach(arm, reach))
     found = plan_transit(
-        start, goal, valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
+        out[-1], into[-1], valid, arm.lower, arm.upper, seed=seed, time_limit=time_limit,
         resolution=edge_resolution(arm, DEFAULT_TOLERANCE if held is None else HELD_TOLERANCE, reach),
-        via=_over_when_asked(arm, start, goal), advance=advance,
+        via=_over_when_asked(arm, out[-1], into[-1]), advance=advance,
     )  # fmt: skip
     if isinstance(found, TransitFailure):
         return found
-    timed = time_path(found.waypoints, _velocity(arm), velocity_scale=TRANSIT_SPEED_SCALE)
-    return ArmSegment("transit", np.asarray(timed.times, dtype=float), found.waypoints)
+    waypoints = np.vstack([out[:-1], found.waypoints, into[::-1][1:]])
+    timed = time_path(waypoints, _velocity(arm), velocity_scale=TRANSIT_SPEED_SCALE)
+    return ArmSegment("transit", np.asarray(timed.times, dtype=float), waypoints)
+
+
+def _ways_out(
+    collision: ArmCollision,
+    exact: ArmCollision | None,
+    start: np.ndarray,
+    goal: np.ndarray,
+    poses: Mapping[str, np.ndarray],
+    held: Held | None,
+    reach: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ways out of the room from the start and from the goal (each k x n, the end first; just the end when
+    it is clear of the room, has no way out, or no `exact` geometry is given: the transit then fails there)."""
+    ends = []
+    for q in (np.asarray(start, dtype=float), np.asarray(goal, dtype=float)):
+        found = None
+        if exact is not None and not collision.free(q, held=held):
+            exact.scene.place(poses)
+            found = way_out(collision, exact, q, held, reach)
+        ends.append(q[None] if found is None else found)
+    return ends[0], ends[1]
 
 
 def over(arm: Arm, start: np.ndarray, goal: np.ndarray) -> list[np.ndarray]:

@@ -41,6 +41,7 @@ import numpy as np
 
 from vkgl.formats.plan import ArmSegment, PlanStepRecord
 from vkgl.motion.arm_collision import Held
+from vkgl.motion.escape import way_out
 from vkgl.motion.moves import GRASP_STANDOFF
 from vkgl.motion.transit import TransitFailure
 from vkgl.motion.transit_segment import TRANSIT_TIME_LIMIT, transit_segment
@@ -281,8 +282,9 @@ class ArmPathPlanner:
         try:
             for collision in spaces:
                 found = transit_segment(
-                    collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1, time_limit=limit
-                )
+                    collision, transit.start, transit.goal, transit.poses, held, seed=transit.step + 1,
+                    time_limit=limit, exact=self.geometry.arm_collision,
+                )  # fmt: skip
                 if not isinstance(found, TransitFailure):
                     break
         finally:
@@ -307,6 +309,8 @@ class ArmPathPlanner:
             if name == "start" and transit.step == 0 and transit.at == 0:
                 where = f"where the arm starts ({self._start_words(q)})"
             real = self.moves.first_overlap(np.asarray([q]), transit.poses, transit.held, set())
+            if real is None and self._has_way_out(q, transit):
+                continue  # the transit leaves the room from there (`vkgl.motion.escape`): not what blocks it
             if real is None:
                 return (
                     f"{where} the arm keeps less than the {TRANSIT_CLEARANCE * 100:g} cm of room a transit needs "
@@ -314,6 +318,13 @@ class ArmPathPlanner:
                 )
             return f"{where} {real[0]}"
         return reason
+
+    def _has_way_out(self, q: np.ndarray, transit: PendingTransit) -> bool:
+        """Whether the arm at `q` (inside the transit's room, clear of the real shapes) has a way out of the room."""
+        room, exact = self.geometry.transit_collision, self.geometry.arm_collision
+        room.scene.place(transit.poses)
+        exact.scene.place(transit.poses)
+        return way_out(room, exact, q, transit.held) is not None
 
     def _start_words(self, q: np.ndarray) -> str:
         """The arm's start in words: the hand's position, and whether it is the arm's ready pose."""

@@ -45,7 +45,8 @@ and the bodies are not exactly where the plan has them)."""
 
 HELD_TRANSIT_CLEARANCE = 0.003
 """m: with a tool in the hand the bodies are grown by this for transits, but for the tool itself and the body the
-transit leads to (the tool works close to it: the hook's stand-off 1 cm from the Block it is to pull in task c),
+transit leads to (the tool works close to it: the hook's stand-off 1 cm from the Block it is to pull in task c;
+that body is grown by `TARGET_CLEARANCE`),
 so that, less the 1 mm tolerance of a touch, the tool and the links keep 2 mm from every other body; no more: a
 tool's stand-off may be tight beside another body (the hook from the side of a Drawer's bar, 3 mm below a ledge:
 tests/execute/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
@@ -54,6 +55,12 @@ transit on any touch. With the exact geometry (and its tolerance) gen3_027's hoo
 corner of a Block beside its next contact. The arm's paths try a held tool's transit with the body it goes to grown
 too (`transit_space(held)`), and this tighter space only when that way is blocked: a hook swinging over a 25 cm crate
 it was to pull passed 2 mm over its top and touched it in DART."""
+
+TARGET_CLEARANCE = 0.002
+"""m: in that tighter space the body the transit leads to is grown by this (less the 1 mm tolerance of a touch:
+the tool keeps 1 mm from it), and so is it where the approach's stand-off is checked: with its exact shape a
+touch within the tolerance passed, and a hook whose stand-off lay 0.06 mm inside a turned crate it was to pull
+ended its transit touching it in DART."""
 
 
 BYSTANDER_CLEARANCE = HELD_TRANSIT_CLEARANCE
@@ -98,14 +105,14 @@ class GeometryCheck:
 
     def transit_space(self, held: Held | None, toward: str | None = None) -> ArmCollision:
         """What the configurations of a transit to a contact with `toward` must be free in: `transit_collision`
-        for the bare arm; with a held tool, the bodies grown by `HELD_TRANSIT_CLEARANCE`, but the tool and
-        `toward`."""
+        for the bare arm; with a held tool, the bodies grown by `HELD_TRANSIT_CLEARANCE`, but the tool (exact)
+        and `toward` (grown by `TARGET_CLEARANCE`)."""
         if held is None:
             return self.transit_collision
         key = (held.body, toward)
         if key not in self._held_transit:
-            exact = {held.body} | ({toward} if toward is not None else set())
-            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact=exact)
+            close = {toward: TARGET_CLEARANCE} if toward is not None else None
+            grown = collision_scene(self.problem, margin=HELD_TRANSIT_CLEARANCE, exact={held.body}, margins=close)
             self._held_transit[key] = ArmCollision(grown, self.problem.arm)
         return self._held_transit[key]
 

@@ -10,7 +10,7 @@ feasibility checks never look at the IR again.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -460,10 +460,14 @@ def _keep_out_spec(task: Task, keep: KeepOut, bodies: dict[str, PlanBody]) -> Ke
 
 
 def collision_scene(
-    problem: Problem, tol: float = TOUCH_TOL, margin: float = 0.0, exact: Iterable[str] = ()
+    problem: Problem,
+    tol: float = TOUCH_TOL,
+    margin: float = 0.0,
+    exact: Iterable[str] = (),
+    margins: Mapping[str, float] | None = None,
 ) -> CollisionScene:
-    """The collision scene of `problem`: its bodies' shapes (grown by `margin`, but those named in `exact`) and its
-    table (if the scene has one).
+    """The collision scene of `problem`: its bodies' shapes (grown by `margin`, but those named in `exact`, and
+    those in `margins` by their own) and its table (if the scene has one).
 
     A body on a physical joint is where the simulator hangs it: `JOINT_LIFT` above its planned pose.
     """
@@ -478,4 +482,5 @@ def collision_scene(
         margin=margin,
         lifts=lifts,
         exact=exact,
+        margins=margins,
     )
