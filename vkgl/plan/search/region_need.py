@@ -1,0 +1,108 @@
+"""What a region goal needs of slides and turns: part 1 of the search's bound for a goal "in a region" or "beyond a
+half-plane" (a user's `in region` goal, or the clearing sub-problem's side of a goal body's way,
+`vkgl.plan.search.clear_first`).
+
+A region goal holds when no point of the body's footprint (the body-frame points of its convex hull, `GoalSpec.
+footprint`) passes an edge of the region (rows `n, d`: inside when `n . p <= d`) by more than the tolerance `t`
+(`vkgl.plan.task_space.feasible.goal_holds`). **Admissibility.** Let `e = max_i max_p (n_i . p - d_i) / |n_i|`,
+over the footprint points `p` where the body rests and the edges `i`, attained at point `p*` and edge `i*`. For
+the goal to hold, `p*` (a material point of the body: the footprint's points move with it) must end with
+`n_i* . p*' - d_i* <= t`, so its (x, y) must move by at least `D = e - t / |n_i*|` towards the inside (Cauchy-
+Schwarz: a move of length `s` changes `n . p` by at most `|n| s`); its 3-D displacement is no shorter. Only the
+body's own moving modes move it (`vkgl.plan.search.bound`, part 1). One slide translates the body, so every point
+by at most the slide's upper end `S`. One turn by `θ <= θmax` about an axis fixed in the body's frame moves a point
+at distance `r` from the axis by the chord `2 r sin(θ / 2) <= 2 r sin(min(θmax, π) / 2)`, and `r` of `p*` is at
+most the largest over the footprint's points and, for a turn whose pivot moves along its family (`offset *
+drift`), over the band's two ends (the distance to a line is convex in the line's offset): the largest such chord
+is `C`. Then `k` turns and `j` slides bring `p*` at most `k C + j S` (triangle inequality), so they number at
+least `fewest_modes(D, Ψ, S, T, C)` (`vkgl.plan.search.motions`, with the heading `Ψ` a yaw goal still needs
+and `T` the most one turn gives it). The bound's part 2 (`PoseNeed.left`) and parts 3-6 apply unchanged: they only
+use that every mode of `b` moves each footprint point by at most `S` (slides) or `C` (turns).
+
+A body that already lies in the region (`e <= t`) needs nothing; one with no moving affordance that lies outside
+needs `inf` (never): nothing else moves it.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from vkgl.lang.ir.families import offset_bounds
+from vkgl.lang.ir.nodes import Affordance
+from vkgl.plan.graphs.members import family_vectors
+from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.rollout import value_bounds
+from vkgl.plan.problem.problem import GoalSpec, PlanBody
+from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, vertical
+from vkgl.se3 import wrap_angle, yaw_of
+
+
+def region_gap(body: PlanBody, goal: GoalSpec) -> float:
+    """How far the footprint point farthest outside an edge of `goal`'s region must move at least (m, less the
+    tolerance; <= 0 when the goal's region already holds `body` where it rests)."""
+    assert goal.region is not None and goal.footprint is not None, "not a region goal"
+    normals = np.linalg.norm(goal.region[:, :2], axis=1)
+    outside = goal.region_excess(body.rest) / normals - goal.tol_position / normals
+    return float(np.max(outside))
+
+
+def point_chord(affordance: Affordance, points: np.ndarray) -> float:
+    """The farthest one mode of turn `affordance` moves any of the body-frame `points` (n x 3, m): the chord of
+    the largest distance from its axis, over the family's band when its pivot moves with the contact."""
+    upper = value_bounds(affordance.motion)[1]
+    axis, center = unit_axis_and_center(affordance.motion)
+    assert center is not None, "not a turn"
+    _, drift = family_vectors(affordance)
+    ends = offset_bounds(affordance) if drift is not None else (0.0, 0.0)
+    radius = 0.0
+    for s in ends:
+        pivot = center if drift is None else center + s * drift
+        rel = points - pivot
+        radius = max(radius, float(np.max(np.linalg.norm(rel - np.outer(rel @ axis, axis), axis=1))))
+    return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
+
+
+def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> PoseNeed | None:
+    """What a region goal needs of slides and turns (the module's docstring), or None when it holds already and
+    its heading (if any) too."""
+    distance = max(0.0, region_gap(body, goal))
+    heading = 0.0
+    if goal.yaw is not None:
+        heading = max(0.0, abs(wrap_angle(yaw_of(body.rest) - goal.yaw)) - goal.tol_yaw)
+    if distance <= SLACK and heading <= SLACK:
+        return None
+    assert goal.footprint is not None
+    turners = [a for a in movers if a.motion.type == "revolute"]
+    level = all(vertical(body.rest, a) for a in turners)  # else one turn may tilt the others' axes
+    return PoseNeed(
+        distance=distance,
+        heading=heading,
+        slide=max((value_bounds(a.motion)[1] for a in movers if a.motion.type == "prismatic"), default=0.0),
+        turn=max((value_bounds(a.motion)[1] if level else math.pi for a in turners), default=0.0),
+        chord=max((point_chord(a, goal.footprint) for a in turners), default=0.0),
+    )
+
+
+def region_modes(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tuple[float, str, PoseNeed | None]:
+    """The moving modes a region goal needs at least, why in words (when more than one, or never), and its
+    `PoseNeed` for the bound's part 2 (None: the goal holds already)."""
+    need = region_pose_need(body, goal, movers)
+    if need is None:
+        return 0.0, "", None
+    modes = fewest_modes(need.distance, need.heading, need.slide, need.turn, need.chord)
+    where = goal.region_words or "its goal region"
+    if math.isinf(modes):
+        return modes, f"{body.name} lies outside {where} and nothing of {body.type.name} moves it there", need
+    if modes <= 1:
+        return modes, "", need
+    return (
+        modes,
+        (
+            f"{body.name}'s footprint lies {need.distance * 100:.1f} cm outside {where} (beyond the tolerance); a "
+            f"slide of {body.type.name} moves it at most {need.slide * 100:.1f} cm, a turn at most "
+            f"{need.chord * 100:.1f} cm: at least {modes:g} contacts"
+        ),
+        need,
+    )
