@@ -426,3 +426,13 @@ def test_a_region_far_beyond_short_slides_needs_a_contact_and_a_break_per_slide(
     assert "at least 3 contacts" in bound.explain()
     inside = _beyond(base, (1.0, 0.0), back - 0.01)
     assert Bound(inside)(start_sequence(inside)) == 0  # it lies there already
+
+
+def test_a_region_beside_a_body_that_slides_straight_needs_a_turn(tmp_path):
+    # the block slides along x only (push_px) until it turns: a half-plane 3 cm beyond its left side is never
+    # reached by pushes alone, however far they go
+    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
+    problem = _beyond(base, (0.0, 1.0), float(np.min(base.footprint_points("block")[:, 1])) + 0.03)
+    bound = Bound(problem)
+    pushed = next(c for c in _children(problem, start_sequence(problem)) if c.last.engagement.affordance == "push_px")
+    assert bound(pushed) == 2  # let go of the push, make a turn

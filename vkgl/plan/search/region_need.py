@@ -19,6 +19,14 @@ least `fewest_modes(D, Ψ, S, T, C)` (`vkgl.plan.search.motions`, with the headi
 and `T` the most one turn gives it). The bound's part 2 (`PoseNeed.left`) and parts 3-6 apply unchanged: they only
 use that every mode of `b` moves each footprint point by at most `S` (slides) or `C` (turns).
 
+**Sharper before the first turn** (`RegionNeed.left`). Slides keep the heading, so until the body's first turn
+each slide moves it along its axis as it lies at rest: by at most `A` (`across`, the largest over its slides of
+`max(v (-n_i* . R a))` over the slide's values `v`, `R a` the world axis) against the edge's normal. A plan whose
+remaining modes make no turn therefore needs at least `ceil(D' / A)` slides (`inf` when `A` is 0: a body that
+slides only along the edge never crosses it), `D'` what the slides made so far left (each gained at most `A`);
+one that makes a turn needs at least `fewest_modes` with one turn at least. The fewer of the two is a lower
+bound; after a turn (or with a heading still to change) the general count stands.
+
 A body that already lies in the region (`e <= t`) needs nothing; one with no moving affordance that lies outside
 needs `inf` (never): nothing else moves it.
 """
@@ -26,6 +34,7 @@ needs `inf` (never): nothing else moves it.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -39,13 +48,46 @@ from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, vertical
 from vkgl.se3 import wrap_angle, yaw_of
 
 
-def region_gap(body: PlanBody, goal: GoalSpec) -> float:
+@dataclass(frozen=True)
+class RegionNeed(PoseNeed):
+    """`PoseNeed` of a region goal, with `across` (m): the most one slide moves the body towards the inside of
+    the edge its footprint passes farthest while its heading is still its rest's (before its first turn)."""
+
+    across: float = 0.0
+
+    def left(self, slides: int, turns: int) -> float:
+        """The fewest moving modes still needed after `slides` slides and `turns` turns (part 2): while no turn
+        has been made, the rest either makes none (each slide gains at most `across`) or makes one at least."""
+        anyhow = super().left(slides, turns)
+        if turns > 0 or self.heading > SLACK:
+            return anyhow
+        rest = self.distance - slides * self.across
+        straight = 0.0 if rest <= SLACK else (math.ceil(rest / self.across - SLACK) if self.across > 0 else math.inf)
+        return max(anyhow, min(straight, self._with_a_turn(self.distance - slides * self.slide)))
+
+    def _with_a_turn(self, distance: float) -> float:
+        """The fewest modes, one turn at least among them, that cover `distance` (`fewest_modes`)."""
+        if self.turn <= 0:
+            return math.inf
+        return fewest_modes(distance, self.turn, self.slide, self.turn, self.chord)  # a heading of one full turn
+
+
+def region_gap(body: PlanBody, goal: GoalSpec) -> tuple[float, np.ndarray]:
     """How far the footprint point farthest outside an edge of `goal`'s region must move at least (m, less the
-    tolerance; <= 0 when the goal's region already holds `body` where it rests)."""
+    tolerance; <= 0 when the goal's region already holds `body` where it rests), and that edge's unit normal."""
     assert goal.region is not None and goal.footprint is not None, "not a region goal"
     normals = np.linalg.norm(goal.region[:, :2], axis=1)
     outside = goal.region_excess(body.rest) / normals - goal.tol_position / normals
-    return float(np.max(outside))
+    worst = int(np.argmax(outside))
+    return float(outside[worst]), goal.region[worst, :2] / normals[worst]
+
+
+def slide_across(rest: np.ndarray, affordance: Affordance, normal: np.ndarray) -> float:
+    """The most one slide of `affordance` moves its body against `normal` (m; the body at `rest`'s heading)."""
+    low, high = value_bounds(affordance.motion)
+    axis = rest[:2, :3] @ unit_axis_and_center(affordance.motion)[0]
+    inward = -float(axis @ normal)
+    return max(0.0, high * inward, low * inward)
 
 
 def point_chord(affordance: Affordance, points: np.ndarray) -> float:
@@ -67,7 +109,8 @@ def point_chord(affordance: Affordance, points: np.ndarray) -> float:
 def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> PoseNeed | None:
     """What a region goal needs of slides and turns (the module's docstring), or None when it holds already and
     its heading (if any) too."""
-    distance = max(0.0, region_gap(body, goal))
+    gap, normal = region_gap(body, goal)
+    distance = max(0.0, gap)
     heading = 0.0
     if goal.yaw is not None:
         heading = max(0.0, abs(wrap_angle(yaw_of(body.rest) - goal.yaw)) - goal.tol_yaw)
@@ -76,12 +119,13 @@ def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -
     assert goal.footprint is not None
     turners = [a for a in movers if a.motion.type == "revolute"]
     level = all(vertical(body.rest, a) for a in turners)  # else one turn may tilt the others' axes
-    return PoseNeed(
+    return RegionNeed(
         distance=distance,
         heading=heading,
         slide=max((value_bounds(a.motion)[1] for a in movers if a.motion.type == "prismatic"), default=0.0),
         turn=max((value_bounds(a.motion)[1] if level else math.pi for a in turners), default=0.0),
         chord=max((point_chord(a, goal.footprint) for a in turners), default=0.0),
+        across=max((slide_across(body.rest, a, normal) for a in movers if a.motion.type == "prismatic"), default=0.0),
     )
 
 
@@ -91,7 +135,7 @@ def region_modes(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tu
     need = region_pose_need(body, goal, movers)
     if need is None:
         return 0.0, "", None
-    modes = fewest_modes(need.distance, need.heading, need.slide, need.turn, need.chord)
+    modes = need.left(0, 0)
     where = goal.region_words or "its goal region"
     if math.isinf(modes):
         return modes, f"{body.name} lies outside {where} and nothing of {body.type.name} moves it there", need
@@ -101,8 +145,8 @@ def region_modes(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tu
         modes,
         (
             f"{body.name}'s footprint lies {need.distance * 100:.1f} cm outside {where} (beyond the tolerance); a "
-            f"slide of {body.type.name} moves it at most {need.slide * 100:.1f} cm, a turn at most "
-            f"{need.chord * 100:.1f} cm: at least {modes:g} contacts"
+            f"slide of {body.type.name} moves it at most {need.slide * 100:.1f} cm ({need.across * 100:.1f} cm "
+            f"towards it before a turn), a turn at most {need.chord * 100:.1f} cm: at least {modes:g} contacts"
         ),
         need,
     )
