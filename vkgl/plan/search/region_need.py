@@ -106,7 +106,7 @@ def point_chord(affordance: Affordance, points: np.ndarray) -> float:
     return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
 
 
-def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> PoseNeed | None:
+def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> RegionNeed | None:
     """What a region goal needs of slides and turns (the module's docstring), or None when it holds already and
     its heading (if any) too."""
     gap, normal = region_gap(body, goal)
