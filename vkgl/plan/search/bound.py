@@ -315,7 +315,7 @@ def _goal_modes(
     parts: list[tuple[float, str]] = [(0.0, "")]
     pose = pose_need(body, goal, movers)
     if goal.region is not None:  # part 1 for a region: its footprint's farthest point (`region_need`)
-        modes, why, pose = region_modes(body, goal, movers)
+        modes, why, pose = region_modes(problem, body, goal, movers)
         parts.append((modes, why))
     rest = body.rest
     kind = body.type.name

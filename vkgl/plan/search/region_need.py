@@ -24,7 +24,10 @@ each slide moves it along its axis as it lies at rest: by at most `A` (`across`,
 `max(v (-n_i* . R a))` over the slide's values `v`, `R a` the world axis) against the edge's normal. A plan whose
 remaining modes make no turn therefore needs at least `ceil(D' / A)` slides (`inf` when `A` is 0: a body that
 slides only along the edge never crosses it), `D'` what the slides made so far left (each gained at most `A`);
-one that makes a turn needs at least `fewest_modes` with one turn at least. The fewer of the two is a lower
+one that makes a turn needs at least `fewest_modes` with one turn at least. And the end of every mode keeps the
+body's outline on the table (`feasible.body_constraints`): the unturned poses lie in a box of translations (on a
+line when all the slides are parallel), so when none of them gains `D` against the normal (`straight_reach`), a
+turn is needed whatever the slides' ranges (an `open` slide may go 2 m by its range alone). The fewer of the two is a lower
 bound; after a turn (or with a heading still to change) the general count stands.
 
 A body that already lies in the region (`e <= t`) needs nothing; one with no moving affordance that lies outside
@@ -43,7 +46,7 @@ from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.members import family_vectors
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
-from vkgl.plan.problem.problem import GoalSpec, PlanBody
+from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, vertical
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -54,6 +57,7 @@ class RegionNeed(PoseNeed):
     the edge its footprint passes farthest while its heading is still its rest's (before its first turn)."""
 
     across: float = 0.0
+    reach_straight: float = math.inf  # the most any unturned pose on the table gains (m), `straight_reach`
 
     def left(self, slides: int, turns: int) -> float:
         """The fewest moving modes still needed after `slides` slides and `turns` turns (part 2): while no turn
@@ -62,6 +66,8 @@ class RegionNeed(PoseNeed):
         if turns > 0 or self.heading > SLACK:
             return anyhow
         rest = self.distance - slides * self.across
+        if self.reach_straight < self.distance - SLACK:  # no final pose on the table, still unturned, lies there
+            return max(anyhow, self._with_a_turn(self.distance - slides * self.slide))
         straight = 0.0 if rest <= SLACK else (math.ceil(rest / self.across - SLACK) if self.across > 0 else math.inf)
         return max(anyhow, min(straight, self._with_a_turn(self.distance - slides * self.slide)))
 
@@ -80,6 +86,41 @@ def region_gap(body: PlanBody, goal: GoalSpec) -> tuple[float, np.ndarray]:
     outside = goal.region_excess(body.rest) / normals - goal.tol_position / normals
     worst = int(np.argmax(outside))
     return float(outside[worst]), goal.region[worst, :2] / normals[worst]
+
+
+def straight_reach(problem: Problem, body: PlanBody, normal: np.ndarray, movers: list[Affordance]) -> float:
+    """The most any pose of `body` that its slides alone reach from rest, with its outline on the table, lies
+    against `normal` from its rest (m, `inf` when it does not lie on a table): the end of a mode keeps the outline
+    on the table (`feasible.body_constraints`), slides keep the heading and move the body along their axes (a
+    line when they are all parallel, else the plane), and the translations that keep the outline on the table form
+    a box."""
+    if not body.on_table or problem.table_center is None or problem.table_size is None:
+        return math.inf
+    axes = [body.rest[:2, :3] @ unit_axis_and_center(a.motion)[0] for a in movers if a.motion.type == "prismatic"]
+    axes = [a / float(np.linalg.norm(a)) for a in axes if float(np.linalg.norm(a)) > 1e-9]
+    if not axes:
+        return 0.0
+    corners = (body.outline @ body.rest[:3, :3].T + body.rest[:3, 3])[:, :2]
+    half = np.asarray(problem.table_size, dtype=float) / 2
+    centre = np.asarray(problem.table_center, dtype=float)
+    low = centre - half - corners.min(axis=0)  # the translations (per axis) that keep every corner on the table
+    high = centre + half - corners.max(axis=0)
+    if np.any(low > high + 1e-12):
+        return math.inf  # it does not fit where it lies: nothing to say
+    if any(abs(float(axes[0] @ a)) < 1.0 - 1e-9 for a in axes[1:]):
+        return max(float(-normal @ np.array([x, y])) for x in (low[0], high[0]) for y in (low[1], high[1]))
+    line = axes[0]  # the translations t * line inside the box: t in [t0, t1]
+    t0, t1 = -math.inf, math.inf
+    for k in range(2):
+        if abs(line[k]) < 1e-12:
+            if not low[k] - 1e-12 <= 0.0 <= high[k] + 1e-12:
+                return math.inf
+            continue
+        a, b = sorted((low[k] / line[k], high[k] / line[k]))
+        t0, t1 = max(t0, a), min(t1, b)
+    if t0 > t1:
+        return math.inf
+    return max(0.0, float(-normal @ line) * t0, float(-normal @ line) * t1)
 
 
 def slide_across(rest: np.ndarray, affordance: Affordance, normal: np.ndarray) -> float:
@@ -106,7 +147,7 @@ def point_chord(affordance: Affordance, points: np.ndarray) -> float:
     return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
 
 
-def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> RegionNeed | None:
+def region_pose_need(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> RegionNeed | None:
     """What a region goal needs of slides and turns (the module's docstring), or None when it holds already and
     its heading (if any) too."""
     gap, normal = region_gap(body, goal)
@@ -126,13 +167,16 @@ def region_pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -
         turn=max((value_bounds(a.motion)[1] if level else math.pi for a in turners), default=0.0),
         chord=max((point_chord(a, goal.footprint) for a in turners), default=0.0),
         across=max((slide_across(body.rest, a, normal) for a in movers if a.motion.type == "prismatic"), default=0.0),
+        reach_straight=straight_reach(problem, body, normal, movers),
     )
 
 
-def region_modes(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> tuple[float, str, PoseNeed | None]:
+def region_modes(
+    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]
+) -> tuple[float, str, PoseNeed | None]:
     """The moving modes a region goal needs at least, why in words (when more than one, or never), and its
     `PoseNeed` for the bound's part 2 (None: the goal holds already)."""
-    need = region_pose_need(body, goal, movers)
+    need = region_pose_need(problem, body, goal, movers)
     if need is None:
         return 0.0, "", None
     modes = need.left(0, 0)
