@@ -27,8 +27,8 @@ slides only along the edge never crosses it), `D'` what the slides made so far l
 one that makes a turn needs at least `fewest_modes` with one turn at least. And the end of every mode keeps the
 body's outline on the table (`feasible.body_constraints`): the unturned poses lie in a box of translations (on a
 line when all the slides are parallel), so when none of them gains `D` against the normal (`straight_reach`), a
-turn is needed whatever the slides' ranges (an `open` slide may go 2 m by its range alone). The fewer of the two is a lower
-bound; after a turn (or with a heading still to change) the general count stands.
+turn is needed whatever the slides' ranges (an `open` slide may go 2 m by its range alone). The fewer of the
+two is a lower bound; after a turn (or with a heading still to change) the general count stands.
 
 A body that already lies in the region (`e <= t`) needs nothing; one with no moving affordance that lies outside
 needs `inf` (never): nothing else moves it.
