@@ -392,7 +392,7 @@ def _beyond(problem: Problem, normal: tuple[float, float], edge: float) -> Probl
 @given(
     x=st.sampled_from([0.45, 0.6]),
     normal=st.sampled_from([(1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.0, 1.0)]),
-    past=st.sampled_from([-0.02, 0.03, 0.08, 0.2]),
+    past=st.sampled_from([-0.02, 0.01, 0.03, 0.08, 0.2]),
     slide=st.sampled_from([6, 10]),
     turn=st.sampled_from([15, 25]),
     family=st.booleans(),
@@ -436,3 +436,28 @@ def test_a_region_beside_a_body_that_slides_straight_needs_a_turn(tmp_path):
     bound = Bound(problem)
     pushed = next(c for c in _children(problem, start_sequence(problem)) if c.last.engagement.affordance == "push_px")
     assert bound(pushed) == 2  # let go of the push, make a turn
+
+
+def test_a_region_one_turn_reaches_is_never_said_to_need_two(tmp_path):
+    from vkgl.plan.graphs.motions import motion_matrices
+    from vkgl.plan.search.region_need import one_turn_reaches
+
+    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
+    body = base.bodies["block"]
+    turn = next(a for a in body.affordances if a.motion.type == "revolute")
+    turned = body.rest @ motion_matrices(turn.motion, np.array([np.radians(25.0)]))[0]
+    points = base.footprint_points("block") @ turned[:3, :3].T + turned[:3, 3]
+    resting = base.footprint_points("block") @ body.rest[:3, :3].T + body.rest[:3, 3]
+    directions = [(np.cos(a), np.sin(a)) for a in np.linspace(0.0, 2 * np.pi, 16, endpoint=False)]
+    gains = {n: float(np.min(points[:, :2] @ n) - np.min(resting[:, :2] @ n)) for n in directions}
+    normal = max(gains, key=lambda n: gains[n])
+    assert gains[normal] > 0.01  # the turn takes the footprint's back past a line it lay behind
+    edge = float(np.min(points[:, :2] @ np.array(normal)))
+    problem = _beyond(base, normal, edge)  # where the turn ends it
+    goal = problem.goals[0]
+    assert one_turn_reaches(body, goal, [turn])
+    assert Bound(problem)(start_sequence(problem)) == 1  # the one ADD of that turn
+    seen: list[tuple[Sequence, float]] = []
+    assert _remaining(problem, start_sequence(problem), seen) == 1
+    far = _beyond(base, normal, edge + 0.1)
+    assert not one_turn_reaches(body, far.goals[0], [turn])  # 10 cm farther than the turn takes it

@@ -27,8 +27,10 @@ slides only along the edge never crosses it), `D'` what the slides made so far l
 one that makes a turn needs at least `fewest_modes` with one turn at least. And the end of every mode keeps the
 body's outline on the table (`feasible.body_constraints`): the unturned poses lie in a box of translations (on a
 line when all the slides are parallel), so when none of them gains `D` against the normal (`straight_reach`), a
-turn is needed whatever the slides' ranges (an `open` slide may go 2 m by its range alone). The fewer of the
-two is a lower bound; after a turn (or with a heading still to change) the general count stands.
+turn is needed whatever the slides' ranges (an `open` slide may go 2 m by its range alone). While nothing has
+moved the body, a plan with a turn needs two modes at least when no one turn from rest puts the footprint in the
+region (`one_turn_reaches`, rigorous on its grid of angles and family offsets). The fewer of the two (no turn,
+a turn) is a lower bound; after a turn (or with a heading still to change) the general count stands.
 
 A body that already lies in the region (`e <= t`) needs nothing; one with no moving affordance that lies outside
 needs `inf` (never): nothing else moves it.
@@ -44,7 +46,7 @@ import numpy as np
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.members import family_vectors
-from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, vertical
@@ -58,6 +60,7 @@ class RegionNeed(PoseNeed):
 
     across: float = 0.0
     reach_straight: float = math.inf  # the most any unturned pose on the table gains (m), `straight_reach`
+    one_turn: bool = True  # whether one turn from rest may put the footprint in the region (`one_turn_reaches`)
 
     def left(self, slides: int, turns: int) -> float:
         """The fewest moving modes still needed after `slides` slides and `turns` turns (part 2): while no turn
@@ -66,16 +69,19 @@ class RegionNeed(PoseNeed):
         if turns > 0 or self.heading > SLACK:
             return anyhow
         rest = self.distance - slides * self.across
+        turned = self._with_a_turn(self.distance - slides * self.slide, moved=slides > 0)
         if self.reach_straight < self.distance - SLACK:  # no final pose on the table, still unturned, lies there
-            return max(anyhow, self._with_a_turn(self.distance - slides * self.slide))
+            return max(anyhow, turned)
         straight = 0.0 if rest <= SLACK else (math.ceil(rest / self.across - SLACK) if self.across > 0 else math.inf)
-        return max(anyhow, min(straight, self._with_a_turn(self.distance - slides * self.slide)))
+        return max(anyhow, min(straight, turned))
 
-    def _with_a_turn(self, distance: float) -> float:
-        """The fewest modes, one turn at least among them, that cover `distance` (`fewest_modes`)."""
+    def _with_a_turn(self, distance: float, moved: bool = True) -> float:
+        """The fewest modes, one turn at least among them, that cover `distance` (`fewest_modes`); two at least
+        when nothing has moved the body yet and no one turn from rest reaches the region."""
         if self.turn <= 0:
             return math.inf
-        return fewest_modes(distance, self.turn, self.slide, self.turn, self.chord)  # a heading of one full turn
+        modes = fewest_modes(distance, self.turn, self.slide, self.turn, self.chord)  # a heading of one full turn
+        return modes if moved or self.one_turn else max(modes, 2.0)
 
 
 def region_gap(body: PlanBody, goal: GoalSpec) -> tuple[float, np.ndarray]:
@@ -123,6 +129,43 @@ def straight_reach(problem: Problem, body: PlanBody, normal: np.ndarray, movers:
     return max(0.0, float(-normal @ line) * t0, float(-normal @ line) * t1)
 
 
+TURN_SAMPLES = 64
+"""Angles (and `TURN_SAMPLES // 8` family offsets) at which `one_turn_reaches` tries a turn."""
+
+
+def one_turn_reaches(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> bool:
+    """Whether one turn of `body` from rest may put its footprint within `goal`'s region (False: none can).
+
+    Rigorous on a grid: between two samples `h` apart in angle a point at distance `r` from the axis moves at
+    most `r h / 2` from the nearer sample, and a pivot moved by `delta` (a family's offset) moves a point by at
+    most `2 |delta|` (`p = c + Rot (p0 - c)`), so a turn is ruled out only when every sample misses by more."""
+    assert goal.region is not None and goal.footprint is not None
+    normals = goal.region[:, :2] / np.linalg.norm(goal.region[:, :2], axis=1, keepdims=True)
+    limits = goal.region[:, 2] / np.linalg.norm(goal.region[:, :2], axis=1) + goal.tol_position
+    points = np.c_[goal.footprint, np.ones(len(goal.footprint))]
+    for affordance in movers:
+        if affordance.motion.type != "revolute":
+            continue
+        low, high = value_bounds(affordance.motion)
+        angles = np.linspace(low, high, TURN_SAMPLES + 1)
+        _, drift = family_vectors(affordance)
+        ends = offset_bounds(affordance) if drift is not None else (0.0, 0.0)
+        offsets = np.linspace(ends[0], ends[1], TURN_SAMPLES // 8 + 1)
+        step = 0.0 if drift is None else float(np.linalg.norm(drift)) * float(offsets[1] - offsets[0])
+        room = point_chord(affordance, goal.footprint) / max(2.0 * math.sin(min(high, math.pi) / 2.0), 1e-12)
+        slack = room * (high - low) / TURN_SAMPLES / 2.0 + step  # the radius times half an angle step, the pivot's
+        for offset in offsets:
+            shift = np.eye(4)
+            if drift is not None:
+                shift[:3, 3] = offset * np.asarray(drift, dtype=float)
+            for matrix in motion_matrices(affordance.motion, angles):
+                pose = body.rest @ shift @ matrix @ np.linalg.inv(shift)
+                xy = (points @ pose.T)[:, :2]
+                if float(np.max(np.max(xy @ normals.T, axis=0) - limits)) <= slack:
+                    return True
+    return False
+
+
 def slide_across(rest: np.ndarray, affordance: Affordance, normal: np.ndarray) -> float:
     """The most one slide of `affordance` moves its body against `normal` (m; the body at `rest`'s heading)."""
     low, high = value_bounds(affordance.motion)
@@ -168,6 +211,7 @@ def region_pose_need(problem: Problem, body: PlanBody, goal: GoalSpec, movers: l
         chord=max((point_chord(a, goal.footprint) for a in turners), default=0.0),
         across=max((slide_across(body.rest, a, normal) for a in movers if a.motion.type == "prismatic"), default=0.0),
         reach_straight=straight_reach(problem, body, normal, movers),
+        one_turn=one_turn_reaches(body, goal, movers),
     )
 
 
