@@ -373,3 +373,91 @@ def test_a_grasp_called_wrong_has_every_hand_pose_out_of_reach(tmp_path):
                     ]
                     pose[:3, 3] = (*(goal.position[:2] + rng.uniform(-0.007, 0.007, 2)), block.rest[2, 3])
                     assert unreachable(problem, pose @ chain[0]) is not None, (grasp, affordance.name)
+
+
+def _beyond(problem: Problem, normal: tuple[float, float], edge: float) -> Problem:
+    """`problem` whose only goal puts the block's footprint beyond the line `normal . p = edge` (the half-plane
+    `normal . p >= edge`, as `clear_first`'s side goals), any heading."""
+    from dataclasses import replace
+
+    from vkgl.plan.problem.problem import GoalSpec
+
+    n = np.asarray(normal, dtype=float) / np.linalg.norm(normal)
+    region = np.array([[-n[0], -n[1], -edge]])
+    goal = GoalSpec("block", None, None, 0.005, math.pi, region=region, footprint=problem.footprint_points("block"))
+    return replace(problem, goals=[goal])
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    x=st.sampled_from([0.45, 0.6]),
+    normal=st.sampled_from([(1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.0, 1.0)]),
+    past=st.sampled_from([-0.02, 0.01, 0.03, 0.08, 0.2]),
+    slide=st.sampled_from([6, 10]),
+    turn=st.sampled_from([15, 25]),
+    family=st.booleans(),
+)
+def test_the_bound_of_a_region_goal_never_exceeds_the_true_remaining_depth(
+    tmp_path, x, normal, past, slide, turn, family
+):
+    # a half-plane whose line lies `past` beyond the block's back (negative: it lies beyond already): the
+    # footprint's farthest point, not the origin, must cross the line, and a turn moves a corner more than the origin
+    fields = {"x": x, "gx": x, "gy": 0, "yaw": "", "slide": slide, "turn": turn, "stick": ""}
+    base = _problem(tmp_path, **fields, family=FAMILY if family else "")
+    n = np.asarray(normal) / np.linalg.norm(normal)
+    points = base.footprint_points("block") @ base.bodies["block"].rest[:2, :3].T + base.bodies["block"].rest[:2, 3]
+    problem = _beyond(base, normal, float(np.min(points @ n)) + past)
+    bound = Bound(problem)
+    seen: list[tuple[Sequence, float]] = []
+    _remaining(problem, start_sequence(problem), seen)
+    for seq, true in seen:
+        assert bound(seq) <= true, (
+            f"bound {bound(seq)} > true remaining {true} after {[a.label(problem) for a in seq.actions]}"
+        )
+
+
+def test_a_region_far_beyond_short_slides_needs_a_contact_and_a_break_per_slide(tmp_path):
+    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=8, turn=25, stick="")
+    back = float(np.min(base.footprint_points("block")[:, 0])) + 0.45  # its whole footprint must pass the line
+    problem = _beyond(base, (1.0, 0.0), back + 0.205)  # 20.5 cm, 0.5 cm tolerance: 20 cm in slides of 8 cm
+    bound = Bound(problem)
+    root = start_sequence(problem)
+    assert bound(root) == 5  # 3 modes (slides of 8 cm, turns moving a corner 9.4 cm), 2 breaks between them
+    assert "at least 3 contacts" in bound.explain()
+    inside = _beyond(base, (1.0, 0.0), back - 0.01)
+    assert Bound(inside)(start_sequence(inside)) == 0  # it lies there already
+
+
+def test_a_region_beside_a_body_that_slides_straight_needs_a_turn(tmp_path):
+    # the block slides along x only (push_px) until it turns: a half-plane 3 cm beyond its left side is never
+    # reached by pushes alone, however far they go
+    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
+    problem = _beyond(base, (0.0, 1.0), float(np.min(base.footprint_points("block")[:, 1])) + 0.03)
+    bound = Bound(problem)
+    pushed = next(c for c in _children(problem, start_sequence(problem)) if c.last.engagement.affordance == "push_px")
+    assert bound(pushed) == 2  # let go of the push, make a turn
+
+
+def test_a_region_one_turn_reaches_is_never_said_to_need_two(tmp_path):
+    from vkgl.plan.graphs.motions import motion_matrices
+    from vkgl.plan.search.region_need import one_turn_reaches
+
+    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
+    body = base.bodies["block"]
+    turn = next(a for a in body.affordances if a.motion.type == "revolute")
+    turned = body.rest @ motion_matrices(turn.motion, np.array([np.radians(25.0)]))[0]
+    points = base.footprint_points("block") @ turned[:3, :3].T + turned[:3, 3]
+    resting = base.footprint_points("block") @ body.rest[:3, :3].T + body.rest[:3, 3]
+    directions = [(np.cos(a), np.sin(a)) for a in np.linspace(0.0, 2 * np.pi, 16, endpoint=False)]
+    gains = {n: float(np.min(points[:, :2] @ n) - np.min(resting[:, :2] @ n)) for n in directions}
+    normal = max(gains, key=lambda n: gains[n])
+    assert gains[normal] > 0.01  # the turn takes the footprint's back past a line it lay behind
+    edge = float(np.min(points[:, :2] @ np.array(normal)))
+    problem = _beyond(base, normal, edge)  # where the turn ends it
+    goal = problem.goals[0]
+    assert one_turn_reaches(body, goal, [turn])
+    assert Bound(problem)(start_sequence(problem)) == 1  # the one ADD of that turn
+    seen: list[tuple[Sequence, float]] = []
+    assert _remaining(problem, start_sequence(problem), seen) == 1
+    far = _beyond(base, normal, edge + 0.1)
+    assert not one_turn_reaches(body, far.goals[0], [turn])  # 10 cm farther than the turn takes it

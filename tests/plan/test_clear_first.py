@@ -161,3 +161,59 @@ def test_a_plan_longer_than_one_past_the_proof_is_not_called_shortest() -> None:
     assert "a shortest plan (no plan of at most 6 graphs exists)" in _words("b left of the way", prefix, 7, 6)
     longer = _words("b left of the way", prefix, 8, 6)
     assert "not proven shortest (no plan of at most 6 graphs exists; this one has 8)" in longer
+
+
+HOOKED = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.bodies.hook
+use stdlib.affordances.block
+use stdlib.affordances.hook
+use stdlib.tools
+
+scene cluttered {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.45, 0) m yaw 0deg
+    block2 : Block on table at (0.62, 0) m yaw 90deg
+    hook : Hook on table at (0.3, 0.4) m yaw 0deg
+}
+
+task through {
+    scene cluttered
+    goal block at (0.75, 0) m within 1 cm
+}
+"""
+
+
+def test_a_blocker_moved_beside_the_way_lies_clear_of_the_hook_that_may_move_the_goal_body() -> None:
+    """With a hook that can slide the block towards its goal, left and right lie farther out by how far the hook
+    reaches past the block there: block2 moved to either lies `MARGIN` clear of the hook's footprint wherever
+    the hook carries the block along its straight way, and one side lies farther out than without the hook."""
+    from vkgl.plan.graphs.graph import Engagement
+    from vkgl.plan.graphs.motions import unit_axis_and_center
+    from vkgl.plan.graphs.rollout import tool_pose_on
+    from vkgl.plan.problem.problem import build_problem
+
+    program = vkgl.compile_source(HOOKED, "hooked.vkg", base_dir=_HERE)
+    problem = build_problem(program, program.tasks["through"])
+    goal = problem.goals[0]
+    rest, block2 = problem.bodies["block"].rest, problem.bodies["block2"].rest
+    sides = {side.words: side for side in way_sides(problem, goal, "block2")}
+    plain = {side.words: side for side in way_sides(_problem(0.0), _problem(0.0).goals[0], "block2")}
+    assert max(sides[w].distance - plain[w].distance for w in ("left", "right")) > 0.02  # the hook's bar
+    pushes = [a.name for a in problem.bodies["block"].affordances if a.motion.type == "prismatic"]
+    for words in ("left", "right"):
+        moved = block2.copy()
+        moved[:2, 3] += sides[words].distance * -sides[words].halfplane[:2]
+        shape = footprint(problem, "block2", moved)
+        for fraction in np.linspace(0.0, 1.0, 5):
+            pose = rest.copy()
+            pose[0, 3] += fraction * (goal.position[0] - rest[0, 3])
+            for name in pushes:
+                engagement = Engagement("hook.tip", "block", name)
+                axis = pose[:2, :3] @ unit_axis_and_center(problem.affordance("block", name).motion)[0]
+                if float(axis[0]) < np.cos(np.radians(45.0)) * float(np.linalg.norm(axis)):
+                    continue  # a slide away from the goal: not how the hook moves it there
+                tool = footprint(problem, "hook", tool_pose_on(problem, engagement, pose))
+                assert polygon_distance(shape, tool) >= MARGIN - 1e-9, (words, name, fraction)

@@ -57,6 +57,8 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    (`m_b`), and a body not moving now at least one ADD (and a REMOVE first when
    something holds it still): the bound is the larger of the largest `m_b` and
    the sum of those actions.
+   A **region goal** (in a region, beyond a half-plane) needs its footprint's farthest point moved, not its
+   origin: `vkgl.plan.search.region_need` gives part 1 for it (and proves it), parts 2 to 6 apply unchanged.
 4. **The grasp a tool needs first.** A body still at rest whose every moving
    affordance puts the hand out of the arm's reach can only be moved through a
    tool: the search never adds the hand's own contact there (it cuts that
@@ -122,6 +124,7 @@ from vkgl.plan.graphs.rollout import Sequence, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.goal_reach import ends_beyond_the_hand
 from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
+from vkgl.plan.search.region_need import region_modes
 from vkgl.plan.task_space.feasible import goal_holds
 from vkgl.plan.task_space.workspace import unreachable
 from vkgl.se3 import wrap_angle, yaw_of
@@ -311,6 +314,9 @@ def _goal_modes(
     position and heading need of slides and turns (None when neither is off)."""
     parts: list[tuple[float, str]] = [(0.0, "")]
     pose = pose_need(body, goal, movers)
+    if goal.region is not None:  # part 1 for a region: its footprint's farthest point (`region_need`)
+        modes, why, pose = region_modes(problem, body, goal, movers)
+        parts.append((modes, why))
     rest = body.rest
     kind = body.type.name
     far: _Gap | None = None

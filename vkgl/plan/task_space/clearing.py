@@ -21,7 +21,10 @@ blockers are cleared in turn, each against the corridors of the motions after it
 Before any sequence exists, `way_sides` gives the sub-goals of "clear first, then solve"
 (`vkgl.plan.search.clear_first`): the half-planes beyond each side of the corridor a goal body sweeps going
 straight to its goal (its left, its right, and beyond its goal), each as far out as `MARGIN` plus
-`SIDE_TOLERANCE`, and how far the blocker must move to lie in it.
+`SIDE_TOLERANCE`, and how far the blocker must move to lie in it. Left and right lie farther out by the most a
+tool reaches past the goal body's footprint on that side while it enacts a slide of the goal body towards its
+goal (from the tool's geometry, where the body rests: a hook's bar reaches 7 cm past a Cube): the tool sweeps
+that strip too, and a blocker moved only clear of the body's own corridor would lie in the tool's way.
 """
 
 from __future__ import annotations
@@ -31,10 +34,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from vkgl.lang.ir.families import OVER_MARK
 from vkgl.lang.ir.regions import convex_hull
 from vkgl.lang.ir.regions import footprint as region_footprint
 from vkgl.plan.graphs.graph import Engagement
-from vkgl.plan.graphs.motions import motion_matrices
+from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, rollout, tool_pose_on, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.rotations import yaw_matrix
@@ -265,8 +269,9 @@ def way_corridor(problem: Problem, goal: GoalSpec) -> np.ndarray:
 def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool = True) -> list[Side]:
     """The sides of `goal`'s straight way (`way_corridor`) that `blocker` could be moved to: left, right and
     beyond the goal (not behind the goal body, which stands there), those one motion of the blocker's own
-    reaches first, then the nearest; a side it already lies in comes back alone with distance 0. Without
-    `motions`, the blocker's motions are not tried (the sides' distances only, nearest first)."""
+    reaches first, then the nearest; left and right lie farther out by how far a tool that can slide the goal
+    body towards its goal reaches past it there (`_overhang`); a side it already lies in comes back alone with
+    distance 0. Without `motions`, the blocker's motions are not tried (the sides' distances only, nearest first)."""
     assert goal.position is not None
     corridor = way_corridor(problem, goal)
     start = problem.bodies[goal.body].rest[:2, 3]
@@ -280,8 +285,11 @@ def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool =
     base = problem.arm.base[:2, 3]
     pulled = np.linalg.norm(np.asarray(goal.position[:2], dtype=float) - base) < np.linalg.norm(start - base)
     sides = []
-    for words, out in (("left", normal), ("right", -normal), ("beyond the goal", u)):
-        edge = float(np.max(corridor @ out)) + MARGIN + SIDE_TOLERANCE
+    reach = _movers_reach(problem, goal.body, u)
+    for words, out, across in (("left", normal, True), ("right", -normal, True), ("beyond the goal", u, False)):
+        # beside the way, a tool moving the goal body sweeps past its footprint (a hook's bar); beyond the goal
+        # lies its shaft's projection, rising to the hand (the arm's side of a pull, tried last): not widened
+        edge = float(np.max(corridor @ out)) + (_overhang(reach, out) if across else 0.0) + MARGIN + SIDE_TOLERANCE
         halfplane = np.array([-out[0], -out[1], -edge])  # inside: out . p >= edge
         distance = max(0.0, edge - float(np.min(shape @ out)))
         if distance == 0.0:
@@ -289,6 +297,41 @@ def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool =
         side = Side(words, halfplane, distance, arm_side=bool(pulled) and words == "beyond the goal")
         sides.append(_one_motion_reaches(problem, blocker, side) if motions else side)
     return sorted(sides, key=lambda side: side.rank)
+
+
+TOWARDS = math.cos(math.radians(45.0))
+"""The least cosine between a slide's axis (in the world, where its body rests) and the goal body's straight way
+for its tool to count in `_overhang`: the slides that can carry the body towards its goal."""
+
+
+def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """For each tool frame that can enact a slide of `body` towards its goal (along `u` within `TOWARDS`), the
+    footprints (k x 2) of `body` at rest and of the tool enacting that slide there: the tools that may sweep the
+    goal body's way."""
+    plan_body = problem.bodies[body]
+    rest = plan_body.rest
+    out = []
+    for affordance in plan_body.affordances:
+        if affordance.motion.type != "prismatic":
+            continue
+        axis = (rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]
+        if float(np.linalg.norm(axis)) < 1e-9 or float(axis @ u) / float(np.linalg.norm(axis)) < TOWARDS:
+            continue
+        for effector in problem.effectors:
+            if effector.tool is None or effector.tool == body:
+                continue
+            if OVER_MARK in affordance.name and (affordance.name, effector.name) not in plan_body.tool_members:
+                continue
+            tool_pose = tool_pose_on(problem, Engagement(effector.name, body, affordance.name), rest)
+            out.append((footprint(problem, body, rest), footprint(problem, effector.tool, tool_pose)))
+    return out
+
+
+def _overhang(reach: list[tuple[np.ndarray, np.ndarray]], out: np.ndarray) -> float:
+    """How far past the goal body's footprint, in direction `out`, a tool that moves it reaches (m, the largest
+    over `_movers_reach`; 0 with none): the tool sweeps that much beside the goal body's corridor, so a blocker
+    cleared to that side must lie that much farther out."""
+    return max((max(0.0, float(np.max(tool @ out) - np.max(body @ out))) for body, tool in reach), default=0.0)
 
 
 def _one_motion_reaches(problem: Problem, blocker: str, side: Side) -> Side:
