@@ -136,13 +136,7 @@ def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, y
         grasp=GRASP if grasp else "",
         family=FAMILY if family else "",
     )
-    bound = Bound(problem)
-    seen: list[tuple[Sequence, float]] = []
-    _remaining(problem, start_sequence(problem), seen)
-    for seq, true in seen:
-        assert bound(seq) <= true, (
-            f"bound {bound(seq)} > true remaining {true} after {[a.label(problem) for a in seq.actions]}"
-        )
+    _assert_the_bound_never_exceeds_the_true_remaining_depth(problem)
 
 
 def test_the_bound_is_the_true_depth_of_three_short_pushes(tmp_path):
@@ -407,13 +401,7 @@ def test_the_bound_of_a_region_goal_never_exceeds_the_true_remaining_depth(
     n = np.asarray(normal) / np.linalg.norm(normal)
     points = base.footprint_points("block") @ base.bodies["block"].rest[:2, :3].T + base.bodies["block"].rest[:2, 3]
     problem = _beyond(base, normal, float(np.min(points @ n)) + past)
-    bound = Bound(problem)
-    seen: list[tuple[Sequence, float]] = []
-    _remaining(problem, start_sequence(problem), seen)
-    for seq, true in seen:
-        assert bound(seq) <= true, (
-            f"bound {bound(seq)} > true remaining {true} after {[a.label(problem) for a in seq.actions]}"
-        )
+    _assert_the_bound_never_exceeds_the_true_remaining_depth(problem)
 
 
 def test_a_region_far_beyond_short_slides_needs_a_contact_and_a_break_per_slide(tmp_path):
@@ -461,3 +449,14 @@ def test_a_region_one_turn_reaches_is_never_said_to_need_two(tmp_path):
     assert _remaining(problem, start_sequence(problem), seen) == 1
     far = _beyond(base, normal, edge + 0.1)
     assert not one_turn_reaches(body, far.goals[0], [turn])  # 10 cm farther than the turn takes it
+
+
+def _assert_the_bound_never_exceeds_the_true_remaining_depth(problem) -> None:
+    """Every sequence of `problem` enumerated to its max_depth: the bound is at most its true remaining depth."""
+    bound = Bound(problem)
+    seen: list[tuple[Sequence, float]] = []
+    _remaining(problem, start_sequence(problem), seen)
+    for seq, true in seen:
+        assert bound(seq) <= true, (
+            f"bound {bound(seq)} > true remaining {true} after {[a.label(problem) for a in seq.actions]}"
+        )
