@@ -18,14 +18,22 @@ import numpy as np
 import vkgl
 
 
+def _far_pull(
+    tmp_path, name: str, target: generated_tasks.Placement, goal: tuple, tolerance: float, slide_steps: int = 1
+):
+    """The program and the plan (at most 3 graphs) of a far pull of `target` to `goal`, the stdlib tools beside it,
+    its body's learned fixture (explored with long pushes at `slide_steps` points a face)."""
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec(name, 0, 0, (target, *tools), goal, "far-pull", False, tolerance)
+    library = generated_tasks.fixture_library((target.type,), slide_steps=slide_steps)
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / name, library, slide_steps=slide_steps))
+    return program, vkgl.solve(program, name, max_depth=3)
+
+
 def test_the_hook_pulls_a_wide_slab_off_its_far_face_centre_and_it_ends_where_planned(tmp_path):
     target = generated_tasks.Placement("target", "SlabW", 1.0, 0.0, 0.0)
-    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
-    spec = generated_tasks.TaskSpec("wide", 0, 0, (target, *tools), (0.809, 0.1025, None), "far-pull", False, 0.22)
     steps = generated_tasks.WIDE_SLIDE_STEPS
-    library = generated_tasks.fixture_library(("SlabW",), slide_steps=steps)
-    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "wide", library, slide_steps=steps))
-    plan = vkgl.solve(program, "wide", max_depth=3)
+    program, plan = _far_pull(tmp_path, "wide", target, (0.809, 0.1025, None), 0.22, slide_steps=steps)
     assert plan.status == "solved", plan.reason
     assert plan.steps[0].affordance == "Hook.wield"
     pull = plan.steps[1]
@@ -50,11 +58,7 @@ def test_the_hook_pulls_a_24_cm_crate_straight_back_off_its_far_face_centre_and_
     side it still covers the crate's centre line by 1 cm, its shaft 1 cm clear: the slide as learned, heading kept
     (`vkgl.plan.graphs.tool_faces`); DART's crate ends where the plan says."""
     target = generated_tasks.Placement("target", "CrateT", 0.93, 0.05, 0.0)
-    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
-    spec = generated_tasks.TaskSpec("kept", 0, 0, (target, *tools), (0.78, 0.05, 0.0), "far-pull", False, 0.15)
-    library = generated_tasks.fixture_library(("CrateT",))
-    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "kept", library))
-    plan = vkgl.solve(program, "kept", max_depth=3)
+    program, plan = _far_pull(tmp_path, "kept", target, (0.78, 0.05, 0.0), 0.15)
     assert plan.status == "solved", plan.reason
     assert [s.affordance for s in plan.steps] == ["Hook.wield", "CrateT.push_center_nx@+2.00cm/straight"]
     pull = plan.steps[1]
@@ -74,12 +78,8 @@ def test_the_hook_rolled_over_a_30_cm_slab_pulls_it_straight_back_and_it_keeps_i
     the pull, its shaft passes over the slab's top and the cross-piece slants down behind the far face, across the
     centre line (`vkgl.plan.problem.over`): the slide as learned, heading kept; DART's slab ends where planned."""
     target = generated_tasks.Placement("target", "SlabW", 0.95, -0.1, 5.0)
-    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
     goal = (round(0.95 - 0.1 * math.cos(math.radians(5)), 4), round(-0.1 - 0.1 * math.sin(math.radians(5)), 4), 5.0)
-    spec = generated_tasks.TaskSpec("over", 0, 0, (target, *tools), goal, "far-pull", False, 0.1)
-    library = generated_tasks.fixture_library(("SlabW",))
-    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "over", library))
-    plan = vkgl.solve(program, "over", max_depth=3)
+    program, plan = _far_pull(tmp_path, "over", target, goal, 0.1)
     assert plan.status == "solved", plan.reason
     assert [s.affordance for s in plan.steps] == ["Hook.wield", "SlabW.push_center_nx/over+20deg+1.00cm"]
     pull = plan.steps[1]
