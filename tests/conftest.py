@@ -40,16 +40,16 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/execute/test_tall_bodies.py",  # 29
     "tests/test_tooling.py",  # 27: mypy of a fresh clone
     "tests/execute/test_wide_pulls.py",  # 21
-    "tests/plan/test_geometry_check.py",  # 19
+    "tests/plan/geometry/test_geometry_check.py",  # 19
     "tests/execute/test_contact_chain.py",  # 18
     "tests/test_docs_api.py",  # 17
     "tests/lang/test_robustness.py",  # 15
-    "tests/lang/test_printer.py",  # 12
+    "tests/lang/syntax/test_printer.py",  # 12
     "tests/execute/test_goal_forms_in_dart.py",  # 11
     "tests/sim/test_explore.py",  # 10
     "tests/sim/test_furniture.py",  # 9
     "tests/cli/test_startup_imports.py",  # 9: 15 fresh Python processes
-    "tests/lang/test_checks_rays.py",  # 9
+    "tests/lang/checks/test_checks_rays.py",  # 9
     "tests/sim/test_interrupt.py",  # 9
     "tests/execute/test_stick_clears_blocker.py",  # 9
     "tests/execute/test_execute_cli.py",  # 9
@@ -57,7 +57,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/execute/test_arc_push.py",  # 9
     "tests/execute/test_disturbed.py",  # 8
     "tests/execute/test_open_slides.py",  # 7
-    "tests/lang/test_checks_scene.py",  # 7
+    "tests/lang/checks/test_checks_scene.py",  # 7
     "tests/infer/test_ending.py",  # 7
     "tests/execute/test_animate.py",  # 6; 1 when test_closed_loop.py ran in its worker (a_push_recorded)
     "tests/sim/test_explore_errors.py",  # 6
@@ -67,7 +67,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/cli/test_execution_progress.py",  # 5
     "tests/execute/test_long_stick.py",  # 5
     "tests/execute/test_handle_grasps_in_dart.py",  # 5
-    "tests/plan/test_picture.py",  # 4
+    "tests/plan/result/test_picture.py",  # 4
     "tests/sim/test_ray_runner.py",  # 4
     "tests/bench/test_generated_plans.py",  # 4
 ]

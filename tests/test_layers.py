@@ -121,3 +121,29 @@ def test_no_folder_holds_more_than_a_dozen_modules() -> None:
         if (n := len([p for p in folder.glob("*.py") if p.name != "__init__.py"])) > 12
     }
     assert not crowded, f"give these folders rooms: {crowded}"
+
+
+# Folders of tests that are not a package's mirror: shared helpers, golden cases, the benches' own tests.
+NOT_MIRRORS = {"support", "golden", "lib", "bench", "learned", "__pycache__"}
+
+
+def mirror_folders_without_package(tests: Path, package: Path) -> list[str]:
+    """The test folders under `tests` with no package folder of the same path under `package`."""
+    return [
+        str(folder.relative_to(tests))
+        for folder in sorted(p for p in tests.rglob("*") if p.is_dir())
+        if not NOT_MIRRORS & set(folder.relative_to(tests).parts)
+        and not (package / folder.relative_to(tests)).is_dir()
+    ]
+
+
+def test_every_test_folder_mirrors_a_package_folder() -> None:
+    """Tests mirror the package: tests/plan/search/ tests vkgl/plan/search/, so a reader finds them by name."""
+    strays = mirror_folders_without_package(REPO / "tests", PACKAGE)
+    assert not strays, f"these test folders name no package folder: {strays}"
+
+
+def test_the_mirror_check_sees_a_stray_folder(tmp_path: Path) -> None:
+    (tmp_path / "tests" / "plan" / "nowhere").mkdir(parents=True)
+    (tmp_path / "pkg" / "plan").mkdir(parents=True)
+    assert mirror_folders_without_package(tmp_path / "tests", tmp_path / "pkg") == ["plan/nowhere"]

@@ -3,7 +3,7 @@
 `Pose.matrix()`, the checker's scene geometry, `joint_pose`, the planner's rollouts and screw motions, and
 the arm's IK compute their rotations with `vkgl.rotations`; they used SciPy's `Rotation` for the same numbers
 before. Plans must not change with the shortcut, so these tests hold every result to SciPy's to the last
-bit, as tests/lang/test_geometry_vertices.py holds the vertices to trimesh's.
+bit, as tests/lang/ir/test_geometry_vertices.py holds the vertices to trimesh's.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@
 
 Each code's section shows its explanation, the input of each golden case
 (tests/lang/golden/<CODE>_*.vkg), the helper modules it uses and the exact
-`vkgc check` output (<same>.expected). tests/lang/test_golden.py checks that
+`vkgc check` output (<same>.expected). tests/lang/diagnostics/test_golden.py checks that
 docs/errors.md is exactly this text.
 """
 

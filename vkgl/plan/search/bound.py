@@ -105,7 +105,7 @@ max_depth` loses no plan within `max_depth`, and, checking sequences in the
 order of `depth + bound`, it returns a shortest plan (ties: first the sequences
 that moved the bodies in a goal body's way, `vkgl.plan.search.ordering`, then
 the breadth-first order of their actions; with no body in the way, the very
-plan breadth-first search returns; tests/plan/test_bound.py checks the bound
+plan breadth-first search returns; tests/plan/search/test_bound.py checks the bound
 against exhaustive breadth-first search).
 """
 

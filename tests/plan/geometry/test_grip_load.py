@@ -7,7 +7,7 @@ from pathlib import Path
 import vkgl
 import vkgl.plan.geometry.grip_load as grip_load
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "tasks"
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "tasks"
 
 
 def test_the_stick_pushes_the_block_within_the_grip():

@@ -19,7 +19,7 @@ import vkgl
 from vkgl.lang.ir.geometry import shape_mesh, shape_vertices
 from vkgl.lang.ir.nodes import BoxShape, CylinderShape, Pose, Quantity, ShapePart, UnionShape, Vector
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 
 
 def _part(shape: BoxShape | CylinderShape, position: tuple[float, float, float], **turn: object) -> ShapePart:

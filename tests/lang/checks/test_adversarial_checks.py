@@ -15,7 +15,7 @@ import pytest
 
 from vkgl.lang.compiler import check_files
 
-GOLDEN_LIB = Path(__file__).resolve().parent / "golden" / "lib"
+GOLDEN_LIB = Path(__file__).resolve().parents[1] / "golden" / "lib"
 DRAWER = """body Drawer {{
     shape box (30, 40, 10) cm
     mass 1 kg

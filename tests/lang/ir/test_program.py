@@ -12,7 +12,7 @@ from vkgl.errors import CompileError, InputError
 from vkgl.lang.compiler import compile_file, compile_source
 from vkgl.lang.ir.nodes import DEFAULT_TOL_POSITION, DEFAULT_TOL_YAW, Goal, Quantity, Ref
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 A_PUSH = REPO / "examples" / "tasks" / "a_push.vkg"
 
 TWO_TASKS = """\

@@ -19,7 +19,7 @@ from vkgl.lang.ir.geometry import scene_body_pose
 from vkgl.lang.syntax.parser import parse_module
 from vkgl.lang.syntax.printer import print_module
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 HEADER = """\
 use stdlib.robots.panda
 use stdlib.bodies.drawer

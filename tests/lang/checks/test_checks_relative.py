@@ -31,7 +31,7 @@ scene s {
     other : Block on table at (0.45, -0.3) m yaw 90deg
 }
 """
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _goal(goal: str):

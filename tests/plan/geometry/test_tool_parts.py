@@ -15,7 +15,7 @@ from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem, build_problem
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ interval, half a last digit (0.5 mm or more) from a boundary: orders of magnitud
 
 To regenerate the .expected files after an intended change of a message, run
 
-    VKG_UPDATE_GOLDEN=1 .venv/bin/pytest tests/lang/test_golden.py
+    VKG_UPDATE_GOLDEN=1 .venv/bin/pytest tests/lang/diagnostics/test_golden.py
 
 then review the diff (`git diff tests/lang/golden/`) and regenerate docs/errors.md, which
 quotes every output (a test checks it is exactly the generated text):
@@ -35,7 +35,7 @@ from vkgl.lang.diagnostics.codes import CODES
 from vkgl.lang.diagnostics.errors_doc import errors_doc
 from vkgl.resources import stdlib_dir
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 GOLDEN = REPO / "tests" / "lang" / "golden"
 ERRORS_DOC = REPO / "docs" / "errors.md"
 UPDATE = os.environ.get("VKG_UPDATE_GOLDEN", "") not in ("", "0")
@@ -93,7 +93,7 @@ def past_the_size_limits() -> None:
     if not HUGE_MESH.is_file() or HUGE_MESH.stat().st_size != size:
         with open(HUGE_MESH, "wb") as stream:
             stream.write(
-                b"binary STL made by tests/lang/test_golden.py".ljust(80, b" ") + (600_000).to_bytes(4, "little")
+                b"binary STL made by test_golden.py".ljust(80, b" ") + (600_000).to_bytes(4, "little")
             )
             stream.truncate(size)
 

@@ -9,7 +9,7 @@ import pytest
 from vkgl.errors import CompileError
 from vkgl.lang.compiler import compile_source
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENE = """\
 use stdlib.robots.panda
 use stdlib.bodies.block

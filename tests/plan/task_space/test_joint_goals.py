@@ -275,7 +275,7 @@ def test_the_plan_picture_outlines_the_body_at_its_joint_goal() -> None:
 
 def test_the_joint_goals_example_of_the_language_reference_solves(tmp_path: Path) -> None:
     """docs/language.md, "Joint goals", says `vkgc solve` solves both of its tasks with one contact each."""
-    text = (HERE.parents[1] / "docs" / "language.md").read_text(encoding="utf-8")
+    text = (HERE.parents[2] / "docs" / "language.md").read_text(encoding="utf-8")
     section = text.split("### Joint goals", 1)[1]
     snippet = section.split("```vkg\n", 1)[1].split("```", 1)[0]
     program = compile_file(str(write(tmp_path, snippet, "kitchen.vkg")))
@@ -346,7 +346,7 @@ def test_a_start_opening_counts_in_what_the_motions_must_add_and_in_the_limits()
 def test_vkgc_solve_says_no_plan_with_the_numbers_for_the_stdlib_door_and_drawer_past_their_limits(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], scene: str, goal: str, words: str
 ) -> None:
-    examples = HERE.parents[1] / "examples"
+    examples = HERE.parents[2] / "examples"
     task = write(
         tmp_path,
         f'use "{(examples / "scenes" / "kitchen.vkg").as_posix()}"\nuse stdlib.affordances.drawer\n'

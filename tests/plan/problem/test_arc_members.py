@@ -13,7 +13,7 @@ from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import RevoluteC
 from vkgl.plan.problem.arcs import arc_members
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 TOLERANCES = (0.01, math.radians(3.0))
 
 

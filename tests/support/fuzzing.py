@@ -1,6 +1,6 @@
 """What the robustness tests share: a time limit per case and the shape every result must have.
 
-Used by tests/lang/test_robustness.py (mutants) and tests/lang/test_fuzz_targeted.py (targeted cases).
+Used by tests/lang/test_robustness.py (mutants) and tests/lang/syntax/test_fuzz_targeted.py (targeted cases).
 """
 
 from __future__ import annotations

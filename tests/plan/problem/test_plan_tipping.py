@@ -104,7 +104,7 @@ def test_the_stdlib_bodies_lose_no_affordance() -> None:
 
     from vkgl.plan.problem.problem import build_problem
 
-    task = Path(__file__).resolve().parents[2] / "examples" / "tasks" / "e_rotate_stick_push.vkg"
+    task = Path(__file__).resolve().parents[3] / "examples" / "tasks" / "e_rotate_stick_push.vkg"
     program = vkgl.compile(task)
     assert all(not clauses for clauses in program.tipping.values())
     problem = build_problem(program, next(iter(program.tasks.values())))

@@ -25,7 +25,7 @@ from vkgl.lang.checks.geometry.rays import MeshSurface, Triangles, shape_surface
 from vkgl.lang.ir import geometry
 from vkgl.lang.ir.nodes import BoxShape, CylinderShape, Pose, Quantity, Shape, ShapePart, UnionShape, Vector
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 
 CM = st.integers(-25, 25).map(lambda v: v / 100)
 SIZE = st.integers(1, 30).map(lambda v: v / 100)
@@ -135,7 +135,7 @@ def test_a_ray_meets_what_trimeshs_mesh_meets(
 
 def _tied_normals(shape: UnionShape, start: tuple[float, float, float], direction: tuple[float, float, float]):
     """The normals of the mesh's triangles the ray meets within 1e-12 m of the nearest (trimesh's test)."""
-    import trimesh  # here: tests/lang/test_geometry_vertices.py asserts that checking imports no trimesh
+    import trimesh  # here: tests/lang/ir/test_geometry_vertices.py asserts that checking imports no trimesh
 
     mesh = geometry.shape_mesh(shape)
     ray = np.array(direction)

@@ -11,7 +11,7 @@ from vkgl.lang.compiler import check_files
 from vkgl.lang.syntax.parser import parse_collecting, parse_module
 from vkgl.lang.syntax.printer import print_module
 
-GOLDEN_LIB = Path(__file__).resolve().parent / "golden" / "lib"
+GOLDEN_LIB = Path(__file__).resolve().parents[1] / "golden" / "lib"
 
 
 def codes_of(text: str) -> list[str]:

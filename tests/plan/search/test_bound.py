@@ -26,7 +26,7 @@ from vkgl.plan.search.bound import Bound
 from vkgl.plan.task_space.feasible import Counters, task_space
 from vkgl.plan.task_space.workspace import unreachable
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 PROGRAM = """
 use stdlib.robots.panda

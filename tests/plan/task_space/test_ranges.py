@@ -9,7 +9,7 @@ import pytest
 
 from vkgl.api import solve
 
-SCENES = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "tabletop.vkg"
+SCENES = Path(__file__).resolve().parents[3] / "examples" / "scenes" / "tabletop.vkg"
 
 BLOCK_PUSH = """
 affordances Block {{

@@ -14,7 +14,7 @@ from vkgl.plan.arm.straight_moves import StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import build_problem
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 
 
 def test_gen1_024_is_one_arc_push_without_a_0_cm_push_before_it(tmp_path: Path) -> None:

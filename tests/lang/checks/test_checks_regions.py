@@ -21,7 +21,7 @@ from vkgl.lang.ir.regions import Region, excess, overlap_depth, region_problem
 from vkgl.lang.syntax.parser import parse_module
 from vkgl.lang.syntax.printer import print_module
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SCENE = """\
 use stdlib.robots.panda
 use stdlib.bodies.block
