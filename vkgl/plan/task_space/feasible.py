@@ -34,7 +34,6 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
-from vkgl.plan.task_space.idle import idle_contact
 from vkgl.plan.task_space.workspace import reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
@@ -333,8 +332,6 @@ def task_space(
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
             x = _near_edge(problem, seq, evaluator, x)
-            if (idle := idle_contact(problem, seq, x)) is not None:
-                return idle  # the sequence without that contact reaches the goal: it was checked first
             named, values = materialise(problem, seq, x)
             renamed = named if named.actions != seq.actions else None
             return TaskSolution(values, rollout(problem, named, values, JOINT_SAMPLES), not pinned, renamed)
@@ -422,7 +419,7 @@ def task_space_alternatives(
         if float(c.max()) > 1e-6 or any(np.allclose(x, other, atol=1e-3) for other in given):
             continue
         traces = rollout(problem, seq, x, JOINT_SAMPLES)
-        if goal_holds(problem, traces[-1].end) and idle_contact(problem, seq, x) is None:
+        if goal_holds(problem, traces[-1].end):
             given.append(x)
             yield TaskSolution(x, traces, free=True)
 

@@ -1,17 +1,21 @@
-"""A contact that moves nothing: a sequence whose motion values leave one of its contacts idle is not a plan of
-its depth.
+"""A contact that moves nothing: a candidate whose motion values leave one of its contacts idle is not a plan of
+its sequence's depth.
 
 The task-space optimiser starts a motion value that the goal does not need at 0 and leaves it there: a sequence
-such as "push the slab 0 cm, let go, push it along its arc" reaches the goal with the first push idle. Such a
-sequence is never the shortest one. Take the contact added at the transition into mode k whose values are 0 in
-every mode it is in force, and delete its ADD and its REMOVE (if the sequence has one): the graphs after the REMOVE
-are the same (`KGraph.apply` keeps the order of the others), every other motion value is unchanged, and each body
-starts and ends every remaining mode where it did (an engagement moves its body by its value only, and a tool at
-an idle contact rests on a body that does not move). So every goal and task-space constraint holds for the shorter
-sequence, which has 2 graphs fewer (1 when the idle contact is never removed) and which the best-first search
-checked before (`vkgl.plan.search.search`; where `successors` does not generate it, the equivalent it does
-generate is shorter still: ADD x, REMOVE x, ADD x is ADD x alone, and picking a tool up and putting it back is
-nothing). Rejecting the idle sequence therefore loses no plan that task space and the bodies' geometry accept.
+such as "push the slab 0 cm, let go, push it along its arc" reaches the goal with the first push idle. The search
+passes over such a candidate (`vkgl.plan.search.search._check`), after the bodies' geometry. Take the contact
+added at the transition into mode k whose values are 0 in every mode it is in force, and delete its ADD and its
+REMOVE (if the sequence has one): the graphs after the REMOVE are the same (`KGraph.apply` keeps the order of the
+others), every other motion value is unchanged, and each body starts and ends every remaining mode where it did
+(an engagement moves its body by its value only, and a tool at an idle contact rests on a body that does not
+move). So the goal, every task-space constraint and the bodies' sweeps of the kept modes are the same for the
+shorter sequence, which has 2 graphs fewer (1 when the idle contact is never removed) and which the best-first
+search checked before (`vkgl.plan.search.search`; where `successors` does not generate it, the equivalent it
+does generate is shorter still: ADD x, REMOVE x, ADD x is ADD x alone, and picking a tool up and putting it back
+is nothing). Passing over the idle candidate therefore loses no plan that task space and the bodies' geometry
+accept. Only the candidate is passed over, not the sequence: where the idle values make bodies pass through one
+another, the values that move a body out of the way (`feasible.task_space_alternatives`) are other candidates
+of the same sequence, and there the contact moves something.
 
 What the shorter sequence does differently is the arm's: it skips an approach and a retreat (a plan that needed
 the idle contact only for the arm's configuration at a later one, gen1_024 of the physical bench once, is found
