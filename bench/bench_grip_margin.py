@@ -77,9 +77,22 @@ class Case:
         return f"grip{self.index:02d}"
 
 
+HOOK_PULLS = (  # (grasp, index into BODIES, distance m): the Hook wielded pulls every body; its top grasps one
+    ("wield", 1, 0.2),
+    ("wield", 3, 0.28),
+    ("wield", 0, 0.12),
+    ("wield", 2, 0.2),
+    ("wield", 4, 0.28),
+    ("wield", 5, 0.12),
+    ("grasp_top_y_p0", 1, 0.12),
+    ("grasp_top_x_p1", 1, 0.28),
+    ("grasp_top_x_tip", 1, 0.2),
+)
+
+
 def cases() -> list[Case]:
     """The Stick's every grasp pushing four of the bodies (in turn) away from the arm at the three distances (in
-    turn); then the Hook's every grasp pulling two bodies towards the arm (pushing away, the hand holding the Hook
+    turn); then the Hook pulling bodies towards the arm (`HOOK_PULLS`; pushing away, the hand holding the Hook
     would be out of reach: no plan)."""
     out: list[Case] = []
     turn = 0
@@ -88,11 +101,9 @@ def cases() -> list[Case]:
             body, mass, mu = BODIES[turn % len(BODIES)]
             out.append(Case(len(out), "Stick", grasp, body, mass, mu, DISTANCES[turn % len(DISTANCES)]))
             turn += 1
-    turn = 28  # (the distances the Hook's pulls were measured with, docs/planning.md)
-    for grasp in GRASPS["Hook"]:
-        for body, mass, mu in (BODIES[1], BODIES[3]):
-            out.append(Case(len(out), "Hook", grasp, body, mass, mu, DISTANCES[turn % len(DISTANCES)], pull=True))
-            turn += 1
+    for grasp, which, distance in HOOK_PULLS:
+        body, mass, mu = BODIES[which]
+        out.append(Case(len(out), "Hook", grasp, body, mass, mu, distance, pull=True))
     return out
 
 
