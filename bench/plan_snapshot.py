@@ -1,6 +1,6 @@
 """Record every plan of the examples and of generated tasks, or compare plans against such a recording.
 
-    python bench/plan_snapshot.py record before.json [--seed 1] [--count 50] [--timeout 60]
+    python bench/plan_snapshot.py record before.json [--seed 1] [--count 50] [--timeout 60] [--only 3,7-9]
     python bench/plan_snapshot.py compare before.json after.json [--rtol 0]
 
 For a refactoring that must not change any plan: record on the old code, record on the new, compare. Each task
@@ -26,15 +26,20 @@ REPO = Path(__file__).resolve().parent.parent
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
 
-def task_files(seed: int, count: int, scratch: Path) -> list[tuple[str, str, str | None]]:
-    """(key, task file, task name) of every example and of `count` generated tasks of `seed`."""
+def task_files(
+    seed: int, count: int, scratch: Path, only: list[int] | None = None
+) -> list[tuple[str, str, str | None]]:
+    """(key, task file, task name) of every example and of `count` generated tasks of `seed` (`only`: those
+    generated tasks alone, no example)."""
     import generated_tasks
 
     jobs: list[tuple[str, str, str | None]] = [
         (f"example:{f.stem}", str(f), None) for f in sorted((REPO / "examples" / "tasks").glob("*.vkg"))
     ]
+    if only is not None:
+        jobs = []
     library = generated_tasks.fixture_library()
-    for index in range(count):
+    for index in range(count) if only is None else only:
         spec = generated_tasks.task_spec(seed, index)
         path = generated_tasks.write_task(spec, scratch / spec.name, library)
         jobs.append((f"generated:{spec.name}", str(path), spec.name))
@@ -58,11 +63,11 @@ def solve_one(job: tuple[str, str, str | None, float]) -> dict[str, Any]:
     return out
 
 
-def record(out: Path, seed: int, count: int, timeout: float) -> int:
-    """Solve every task and write the recording."""
+def record(out: Path, seed: int, count: int, timeout: float, only: list[int] | None = None) -> int:
+    """Solve every task (`only`: those generated tasks) and write the recording."""
     results: dict[str, Any] = {}
     with tempfile.TemporaryDirectory() as scratch:
-        jobs = [(*job, timeout) for job in task_files(seed, count, Path(scratch))]
+        jobs = [(*job, timeout) for job in task_files(seed, count, Path(scratch), only)]
         with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
             for done in pool.map(solve_one, jobs):
                 results.update(done)
@@ -109,6 +114,15 @@ def compare(before: Path, after: Path, rtol: float) -> int:
     return 1 if changed else 0
 
 
+def _indices(text: str) -> list[int]:
+    """`3,7-9` -> [3, 7, 8, 9]."""
+    out: list[int] = []
+    for part in text.split(","):
+        low, _, high = part.partition("-")
+        out += range(int(low), int(high or low) + 1)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Record or compare."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -118,13 +132,15 @@ def main(argv: list[str] | None = None) -> int:
     rec.add_argument("--seed", type=int, default=1)
     rec.add_argument("--count", type=int, default=50)
     rec.add_argument("--timeout", type=float, default=60.0, help="per task, s (default 60)")
+    rec.add_argument("--only", help="these generated tasks alone, no example (indices: 3,7-9)")
     cmp_ = sub.add_parser("compare", help="compare two recordings")
     cmp_.add_argument("before", type=Path)
     cmp_.add_argument("after", type=Path)
     cmp_.add_argument("--rtol", type=float, default=0.0)
     args = parser.parse_args(argv)
     if args.command == "record":
-        return record(args.out, args.seed, args.count, args.timeout)
+        only = None if args.only is None else _indices(args.only)
+        return record(args.out, args.seed, args.count, args.timeout, only)
     return compare(args.before, args.after, args.rtol)
 
 

@@ -19,6 +19,7 @@ class Kind(StrEnum):
     YAW = "yaw"
     POSITION = "position"
     GOAL = "goal"
+    IDLE = "idle"
     TABLE = "table"
     COLLISION = "collision"
     IK = "ik"
@@ -44,6 +45,7 @@ _WORDS = {
     Kind.YAW: "cannot give the goal heading",
     Kind.POSITION: "cannot bring a body to its goal position",
     Kind.GOAL: "found no motion values reaching the goal",
+    Kind.IDLE: "had a contact that moves nothing (the same without it is shorter)",
     Kind.TABLE: "would push a body off the table or past its joint's limits",
     Kind.IK: "failed inverse kinematics",
     Kind.GRIP: "would push harder with a held tool than its grip carries",
@@ -61,6 +63,7 @@ _STAGE = {
     Kind.GOAL: 1,
     Kind.TABLE: 1,
     Kind.COLLISION: 2,
+    Kind.IDLE: 2,
     Kind.IK: 2,
     Kind.GRIP: 2,
     Kind.TIMEOUT: 2,

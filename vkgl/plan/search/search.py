@@ -51,6 +51,7 @@ from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
 from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space, task_space_alternatives
+from vkgl.plan.task_space.idle import idle_contact
 from vkgl.plan.task_space.joint_space import JointSolution, joint_space
 from vkgl.plan.task_space.workspace import unreachable
 
@@ -218,7 +219,9 @@ def _check(
     SearchResult when all hold. Motion values whose bodies pass through one another are replaced by others that
     pass clear (`_clear_of_each_other`), each tried through the arm's checks in turn; when a candidate's transits
     cannot be planned (the hand left beside the target by the push that cleared a body in its way), the next
-    one is tried, up to `TRANSIT_TRIES`."""
+    one is tried, up to `TRANSIT_TRIES`. A candidate with a contact that moves nothing is passed over
+    (`vkgl.plan.task_space.idle`): the sequence without that contact, checked before, puts every body where it
+    does; a body in the way moved aside by that contact comes in another candidate."""
     label = " -> ".join(a.label(problem) for a in seq.actions) or "G0"
     if seq.variables or seq.actions:
         stats.task_space_checks += 1
@@ -242,11 +245,16 @@ def _check(
         failed = lambda: _contact_failed(problem, first, clash)  # noqa: E731 (read when each is asked for)
         candidates = itertools.chain(candidates, _while(failed, others))
     first: Rejection | None = None
+    idle: Rejection | None = None  # a candidate with a contact that moves nothing (`idle_contact`), if any
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
     tries = 0  # candidates that passed the arm's checks, then failed their transits
     last: Rejection | None = None  # the last of those rejections
     try:
         for named, candidate in candidates:
+            moves_nothing = idle_contact(problem, named, candidate.values)
+            if moves_nothing is not None:  # the same without that contact puts every body where this one does
+                idle = idle or moves_nothing
+                continue
             for hold in _grasp_turns(named, candidate):
                 found = _arm_checks(problem, named, hold, stats, deadline, checks, reached)
                 if not isinstance(found, Rejection):
@@ -272,7 +280,7 @@ def _check(
         return None
     # one rejection per sequence, so that the counts add up: the arm's, else the bodies' (with the contacts
     # moved, when that was tried: what is left once the tool stands clear)
-    rejection = first or (clashes[-1] if clashes else clash)
+    rejection = first or (clashes[-1] if clashes else clash) or idle
     assert rejection is not None
     stats.reject(rejection, label)
     return None
