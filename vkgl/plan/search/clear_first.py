@@ -42,6 +42,7 @@ import numpy as np
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.clear_tools import far_move_tools
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats
@@ -157,7 +158,7 @@ class _Walk:
             yield root, pinned, []
             return
         (goal, blocker), rest = blocking[0], blocking[1:]
-        sides = way_sides(self.problem, goal, blocker)
+        sides = way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
