@@ -45,7 +45,7 @@ from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.clear_tools import far_move_tools
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.search.stats import SearchStats, closest_miss
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
 
 CLEAR_DEPTH = 5
@@ -109,7 +109,9 @@ def clear_first(problem: Problem, before: SearchResult, *, deadline: float, prog
             assert result.sequence is not None
             words = _words(moved, prefix, result.sequence.depth, proven)
             return Cleared(replace(result, stats=walk.stats), words)
-        walk.log.append(f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs")
+        walk.log.append(
+            f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs{_closest(result)}"
+        )
         if time.perf_counter() > deadline:
             break
     if not walk.log:
@@ -179,12 +181,20 @@ class _Walk:
                 ended = (
                     f"no plan of at most {sub.max_depth} graphs" if found.status == "infeasible" else "no plan in time"
                 )
-                self.log.append(f"{blocker} {side.words} of the way: {ended}")
+                self.log.append(f"{blocker} {side.words} of the way: {ended}{_closest(found)}")
                 continue
             assert found.task is not None
             values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
             for prefix, kept, cleared in self.prefixes(rest, found.sequence, values):
                 yield prefix, kept, [(blocker, side), *cleared]
+
+
+def _closest(found: SearchResult) -> str:
+    """The closest miss of a search for a plan that clears a blocker, in words (" (closest: ...)"), or "": what
+    a user needs to see why the blocker could not be moved there (the hand a few millimetres beyond the arm's
+    reach, the blocker through the goal body)."""
+    _, why = closest_miss(found.stats)
+    return f" (closest: {why})" if why else ""
 
 
 def _only_moving(problem: Problem, blocker: str, side: Side) -> Problem:
