@@ -91,3 +91,17 @@ def test_a_side_is_kept_free_for_one_tool_that_carries_the_goal_body_not_for_eve
             pose[0, 3] += fraction * (goal.position[0] - rest[0, 3])
             stick = footprint(pushed, "stick", tool_pose_on(pushed, Engagement("stick.tip", "block", push), pose))
             assert polygon_distance(shape, stick) >= MARGIN - 1e-9, (words, fraction)
+
+
+def test_a_far_goal_body_keeps_only_its_slides_while_its_way_is_cleared(pushed: Problem) -> None:
+    """In the sub-problem that clears block2 from the far block's way, the block may step out of the tool's way
+    by a slide, never turn; block2 keeps the motions that reach the side, the tools their grasps."""
+    from vkgl.plan.search.clear_first import _only_moving
+
+    goal = pushed.goals[0]
+    side = way_sides(pushed, goal, "block2", tools=far_move_tools(pushed, goal))[0]
+    sub = _only_moving(pushed, goal, "block2", side)
+    kinds = {a.motion.type for a in sub.bodies["block"].affordances}
+    assert kinds == {"prismatic"}
+    assert {a.motion.type for a in pushed.bodies["block"].affordances} >= {"prismatic", "revolute"}
+    assert sub.bodies["block2"].affordances and any(a.motion.type == "free" for a in sub.bodies["stick"].affordances)

@@ -168,7 +168,7 @@ class _Walk:
             if time.perf_counter() > self.deadline:
                 return
             sub = replace(
-                _only_moving(self.problem, blocker, side),
+                _only_moving(self.problem, goal, blocker, side),
                 goals=[side_goal(self.problem, goal, blocker, side)],
                 max_depth=root.depth - 1 + CLEAR_DEPTH,
                 pinned=pinned,
@@ -197,15 +197,25 @@ def _closest(found: SearchResult) -> str:
     return f" (closest: {why})" if why else ""
 
 
-def _only_moving(problem: Problem, blocker: str, side: Side) -> Problem:
+def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> Problem:
     """`problem` in which only the goal bodies and the tools keep their affordances, and `blocker` those one
     motion of which takes it to `side` (all of them when none does): the plan that clears a blocker moves it,
     with the hand or a tool, after moving a goal body out of the tool's way at most; the other bodies stay
     where they lie (they still count in every collision check). A tool keeps only the grasps with which it can
     also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
-    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again."""
+    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again.
+
+    A goal body that only a tool can carry to its goal (`far_move_tools`) keeps only its slides here: in the
+    plan that clears its way it moves at most once, out of the tool's way (a Block pushed back 5 cm with the
+    fingertip before the Stick pushes the cube in its way aside), and its turns, each a branch of the search,
+    would only leave it at a heading the far move must undo (on the physical bench's gen9_041, the same plan
+    clearing the way in 1.3 s of CPU instead of 3.9 s)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
     bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
+    far = bodies[goal.body]
+    slides = tuple(a for a in far.affordances if a.motion.type == "prismatic")
+    if slides and far_move_tools(problem, goal) is not None:
+        bodies[goal.body] = replace(far, affordances=slides)
     own = problem.bodies[blocker]
     movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
     bodies[blocker] = replace(own, affordances=movers)
