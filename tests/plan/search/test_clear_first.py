@@ -217,3 +217,18 @@ def test_a_blocker_moved_beside_the_way_lies_clear_of_the_hook_that_may_move_the
                     continue  # a slide away from the goal: not how the hook moves it there
                 tool = footprint(problem, "hook", tool_pose_on(problem, engagement, pose))
                 assert polygon_distance(shape, tool) >= MARGIN - 1e-9, (words, name, fraction)
+
+
+def test_a_side_no_plan_reaches_says_its_closest_miss() -> None:
+    """What the clearing tried names, per side, why its closest sequence failed (the hand a few millimetres
+    beyond the arm's reach), and nothing when no sequence was rejected (the bound said no side is reachable)."""
+    from vkgl.plan.problem.rejection import Kind, Rejection
+    from vkgl.plan.search.clear_first import _closest
+    from vkgl.plan.search.search import SearchResult
+    from vkgl.plan.search.stats import SearchStats
+
+    stats = SearchStats()
+    assert _closest(SearchResult("infeasible", "", stats)) == ""
+    stats.reject(Rejection(Kind.REACH, "the hand 5.6 mm outside it", 0.0056), "add Hook.wield on hook")
+    stats.reject(Rejection(Kind.REACH, "the hand 9.0 mm outside it", 0.009), "add Stick.wield on stick")
+    assert _closest(SearchResult("infeasible", "", stats)) == " (closest: the hand 5.6 mm outside it)"

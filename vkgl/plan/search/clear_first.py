@@ -42,9 +42,10 @@ import numpy as np
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.clear_tools import far_move_tools
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.search.stats import SearchStats, closest_miss
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
 
 CLEAR_DEPTH = 5
@@ -108,7 +109,9 @@ def clear_first(problem: Problem, before: SearchResult, *, deadline: float, prog
             assert result.sequence is not None
             words = _words(moved, prefix, result.sequence.depth, proven)
             return Cleared(replace(result, stats=walk.stats), words)
-        walk.log.append(f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs")
+        walk.log.append(
+            f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs{_closest(result)}"
+        )
         if time.perf_counter() > deadline:
             break
     if not walk.log:
@@ -157,7 +160,7 @@ class _Walk:
             yield root, pinned, []
             return
         (goal, blocker), rest = blocking[0], blocking[1:]
-        sides = way_sides(self.problem, goal, blocker)
+        sides = way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
@@ -165,7 +168,7 @@ class _Walk:
             if time.perf_counter() > self.deadline:
                 return
             sub = replace(
-                _only_moving(self.problem, blocker, side),
+                _only_moving(self.problem, goal, blocker, side),
                 goals=[side_goal(self.problem, goal, blocker, side)],
                 max_depth=root.depth - 1 + CLEAR_DEPTH,
                 pinned=pinned,
@@ -178,7 +181,7 @@ class _Walk:
                 ended = (
                     f"no plan of at most {sub.max_depth} graphs" if found.status == "infeasible" else "no plan in time"
                 )
-                self.log.append(f"{blocker} {side.words} of the way: {ended}")
+                self.log.append(f"{blocker} {side.words} of the way: {ended}{_closest(found)}")
                 continue
             assert found.task is not None
             values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
@@ -186,15 +189,33 @@ class _Walk:
                 yield prefix, kept, [(blocker, side), *cleared]
 
 
-def _only_moving(problem: Problem, blocker: str, side: Side) -> Problem:
+def _closest(found: SearchResult) -> str:
+    """The closest miss of a search for a plan that clears a blocker, in words (" (closest: ...)"), or "": what
+    a user needs to see why the blocker could not be moved there (the hand a few millimetres beyond the arm's
+    reach, the blocker through the goal body)."""
+    _, why = closest_miss(found.stats)
+    return f" (closest: {why})" if why else ""
+
+
+def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> Problem:
     """`problem` in which only the goal bodies and the tools keep their affordances, and `blocker` those one
     motion of which takes it to `side` (all of them when none does): the plan that clears a blocker moves it,
     with the hand or a tool, after moving a goal body out of the tool's way at most; the other bodies stay
     where they lie (they still count in every collision check). A tool keeps only the grasps with which it can
     also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
-    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again."""
+    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again.
+
+    A goal body that only a tool can carry to its goal (`far_move_tools`) keeps only its slides here: in the
+    plan that clears its way it moves at most once, out of the tool's way (a Block pushed back 5 cm with the
+    fingertip before the Stick pushes the cube in its way aside), and its turns, each a branch of the search,
+    would only leave it at a heading the far move must undo (on the physical bench's gen9_041, the same plan
+    clearing the way in 1.3 s of CPU instead of 3.9 s)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
     bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
+    far = bodies[goal.body]
+    slides = tuple(a for a in far.affordances if a.motion.type == "prismatic")
+    if slides and far_move_tools(problem, goal) is not None:
+        bodies[goal.body] = replace(far, affordances=slides)
     own = problem.bodies[blocker]
     movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
     bodies[blocker] = replace(own, affordances=movers)

@@ -266,12 +266,18 @@ def way_corridor(problem: Problem, goal: GoalSpec) -> np.ndarray:
     return convex_hull(np.vstack([footprint(problem, goal.body, body.rest), footprint(problem, goal.body, end)]))
 
 
-def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool = True) -> list[Side]:
+def way_sides(
+    problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool = True, tools: frozenset[str] | None = None
+) -> list[Side]:
     """The sides of `goal`'s straight way (`way_corridor`) that `blocker` could be moved to: left, right and
     beyond the goal (not behind the goal body, which stands there), those one motion of the blocker's own
     reaches first, then the nearest; left and right lie farther out by how far a tool that can slide the goal
     body towards its goal reaches past it there (`_overhang`); a side it already lies in comes back alone with
-    distance 0. Without `motions`, the blocker's motions are not tried (the sides' distances only, nearest first)."""
+    distance 0. Without `motions`, the blocker's motions are not tried (the sides' distances only, nearest first).
+    With `tools` (the tools that can carry the goal body along its way, `clear_first`), each side is widened only
+    by the least that one of those tools reaches past the body there: the goal body is then moved by that tool,
+    whose sweep the side leaves free (a stick pushing a cube reaches past it on one side, a hook's bar on the
+    other); without, by the most any tool reaches."""
     assert goal.position is not None
     corridor = way_corridor(problem, goal)
     start = problem.bodies[goal.body].rest[:2, 3]
@@ -289,7 +295,8 @@ def way_sides(problem: Problem, goal: GoalSpec, blocker: str, *, motions: bool =
     for words, out, across in (("left", normal, True), ("right", -normal, True), ("beyond the goal", u, False)):
         # beside the way, a tool moving the goal body sweeps past its footprint (a hook's bar); beyond the goal
         # lies its shaft's projection, rising to the hand (the arm's side of a pull, tried last): not widened
-        edge = float(np.max(corridor @ out)) + (_overhang(reach, out) if across else 0.0) + MARGIN + SIDE_TOLERANCE
+        overhang = _overhang(reach, out, tools) if across else 0.0
+        edge = float(np.max(corridor @ out)) + overhang + MARGIN + SIDE_TOLERANCE
         halfplane = np.array([-out[0], -out[1], -edge])  # inside: out . p >= edge
         distance = max(0.0, edge - float(np.min(shape @ out)))
         if distance == 0.0:
@@ -304,10 +311,10 @@ TOWARDS = math.cos(math.radians(45.0))
 for its tool to count in `_overhang`: the slides that can carry the body towards its goal."""
 
 
-def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """For each tool frame that can enact a slide of `body` towards its goal (along `u` within `TOWARDS`), the
-    footprints (k x 2) of `body` at rest and of the tool enacting that slide there: the tools that may sweep the
-    goal body's way."""
+def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """For each tool frame that can enact a slide of `body` towards its goal (along `u` within `TOWARDS`), its
+    tool and the footprints (k x 2) of `body` at rest and of the tool enacting that slide there: the tools that
+    may sweep the goal body's way."""
     plan_body = problem.bodies[body]
     rest = plan_body.rest
     out = []
@@ -323,15 +330,24 @@ def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[np.n
             if OVER_MARK in affordance.name and (affordance.name, effector.name) not in plan_body.tool_members:
                 continue
             tool_pose = tool_pose_on(problem, Engagement(effector.name, body, affordance.name), rest)
-            out.append((footprint(problem, body, rest), footprint(problem, effector.tool, tool_pose)))
+            out.append((effector.tool, footprint(problem, body, rest), footprint(problem, effector.tool, tool_pose)))
     return out
 
 
-def _overhang(reach: list[tuple[np.ndarray, np.ndarray]], out: np.ndarray) -> float:
+def _overhang(
+    reach: list[tuple[str, np.ndarray, np.ndarray]], out: np.ndarray, tools: frozenset[str] | None = None
+) -> float:
     """How far past the goal body's footprint, in direction `out`, a tool that moves it reaches (m, the largest
     over `_movers_reach`; 0 with none): the tool sweeps that much beside the goal body's corridor, so a blocker
-    cleared to that side must lie that much farther out."""
-    return max((max(0.0, float(np.max(tool @ out) - np.max(body @ out))) for body, tool in reach), default=0.0)
+    cleared to that side must lie that much farther out. With `tools`, the least over those tools of each one's
+    largest (0 when none of them moves the body towards its goal): the side is left free for one of them."""
+    per_tool: dict[str, float] = {}
+    for tool, body, shape in reach:
+        past = max(0.0, float(np.max(shape @ out) - np.max(body @ out)))
+        per_tool[tool] = max(per_tool.get(tool, 0.0), past)
+    if tools is None:
+        return max(per_tool.values(), default=0.0)
+    return min((past for tool, past in per_tool.items() if tool in tools), default=0.0)
 
 
 def _one_motion_reaches(problem: Problem, blocker: str, side: Side) -> Side:
