@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.families import at_offset, member_name, member_offset
-from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC
+from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC, RevoluteC
 
 STEP = 1e-4  # m: offsets are tried every 0.01 cm (what a member's name keeps)
 
@@ -60,6 +60,7 @@ def arc_members(
     sense of each family at most, and none for a family whose straight push already reaches it.
     """
     found = []
+    reach = 1.0 if goal_yaw is None or not _beyond_turns(affordances, rest, goal_yaw, tolerances[1]) else math.inf
     for affordance in affordances:
         arc = _arc_geometry(affordance, rest)
         if arc is None:
@@ -67,7 +68,7 @@ def arc_members(
         if goal_yaw is None:
             picks = _free_heading_offsets(arc, rest, goal, tolerances[0])
         else:
-            picks = [p for p in [_best_offset(arc, rest, goal, goal_yaw, tolerances[0])] if p is not None]
+            picks = [p for p in [_best_offset(arc, rest, goal, goal_yaw, tolerances[0], reach)] if p is not None]
         for index in picks:
             # the offset as the member's name gives it back (`push@+0.32cm` -> 0.0032): planner and executor agree
             name = member_name(affordance.name, float(arc.offsets[index]))
@@ -127,17 +128,26 @@ def _arc_geometry(slide: Affordance, rest: np.ndarray) -> _ArcGeometry | None:
     )
 
 
+def _beyond_turns(affordances: tuple[Affordance, ...], rest: np.ndarray, goal_yaw: float, tol_yaw: float) -> bool:
+    """Whether the goal's change of heading (less its tolerance) is more than any written turn of the body makes in
+    one contact: then only an arc member turns it so far at once."""
+    wanted = abs(math.remainder(goal_yaw - math.atan2(rest[1, 0], rest[0, 0]), math.tau)) - tol_yaw
+    turns = [a.motion for a in affordances if isinstance(a.motion, RevoluteC) and not is_arc_member(a.name)]
+    largest = max((HALF_TURN if t.range is None or t.range.open else t.range.upper.value for t in turns), default=0.0)
+    return wanted > largest
+
+
 def _best_offset(
-    arc: _ArcGeometry, rest: np.ndarray, goal: np.ndarray, goal_yaw: float, tolerance: float
+    arc: _ArcGeometry, rest: np.ndarray, goal: np.ndarray, goal_yaw: float, tolerance: float, reach: float = 1.0
 ) -> int | None:
     """The index of the offset whose member, turned by the goal's change of heading, ends nearest the goal's
-    position; None when none ends inside the `tolerance` (m)."""
+    position; None when none ends within `reach` times the `tolerance` (m)."""
     wanted = math.remainder(goal_yaw - math.atan2(rest[1, 0], rest[0, 0]), math.tau)
     usable = (arc.senses * wanted > 0) & (np.abs(wanted) <= arc.max_turns)
     ends = _turned(arc.pivots, rest[:2, 3], np.full(len(arc.offsets), wanted))
     score = np.where(usable, np.hypot(*(ends - goal[:2]).T) / tolerance, np.inf)
     index = int(np.argmin(score))
-    return index if score[index] <= 1.0 else None
+    return index if score[index] <= reach else None
 
 
 def _free_heading_offsets(arc: _ArcGeometry, rest: np.ndarray, goal: np.ndarray, tolerance: float) -> list[int]:

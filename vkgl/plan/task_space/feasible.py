@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
+from vkgl.plan.graphs.members import arc_seed, turn_cap
 from vkgl.plan.graphs.reuse import Rollouts
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.graphs.tool_faces import slide_band
@@ -313,6 +314,8 @@ def task_space(
     evaluator = _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq, offsets=True)
     n, m = len(seq.variables), len(seq.offsets)  # the values: motions, then offsets, then carries
+    if offsets is None or np.any(offsets):
+        _cap_arc_turns(problem, seq, lower, upper)
     if offsets is not None:
         lower[n : n + m] = upper[n : n + m] = offsets
     else:  # a tool's slide keeps its written contact here: it moves only when that contact fails (`other_contacts`)
@@ -334,11 +337,37 @@ def task_space(
             x = _near_edge(problem, seq, evaluator, x)
             named, values = materialise(problem, seq, x)
             renamed = named if named.actions != seq.actions else None
-            return TaskSolution(values, rollout(problem, named, values, JOINT_SAMPLES), not pinned, renamed)
+            traces = rollout(problem, named, values, JOINT_SAMPLES)
+            if renamed is not None and offsets is None and not goal_holds(problem, traces[-1].end):
+                # the members' names keep the offsets to 0.01 cm, and an arc's pivot moves by centimetres per
+                # 0.01 cm near the centre: solved again with the contacts where the names put them
+                return task_space(problem, seq, deadline, counters, offsets=_named_offsets(problem, seq, x))
+            return TaskSolution(values, traces, not pinned, renamed)
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)
     return _why_not(problem, seq, best[1] if best is not None else guess)
+
+
+def _cap_arc_turns(problem: Problem, seq: Sequence, lower: np.ndarray, upper: np.ndarray) -> None:
+    """Bound each arc member's turn (in place) by the least its slide's range allows over its band
+    (`members.turn_cap`): its own range holds at its own offset only. A prefix's pinned values are kept."""
+    for i, (_, e) in enumerate(seq.variables):
+        if i >= len(problem.pinned):
+            upper[i] = min(upper[i], turn_cap(problem, e.body, e.affordance))
+            lower[i] = min(lower[i], upper[i])
+
+
+def _named_offsets(problem: Problem, seq: Sequence, x: np.ndarray) -> np.ndarray:
+    """The contacts' offsets of `x` rounded to what the members' names keep (0.01 cm of the offset along the
+    face: an arc member's own offset plus the change, rounded together)."""
+    n = len(seq.variables)
+    out = []
+    for (_, e), value in zip(seq.offsets, x[n : n + len(seq.offsets)]):
+        seed = arc_seed(problem, e.body, e.affordance)
+        own = 0.0 if seed is None else seed.offset
+        out.append(round((own + float(value)) * 1e4) / 1e4 - own)
+    return np.asarray(out, dtype=float)
 
 
 REGION_TRIM_STEPS = 20
