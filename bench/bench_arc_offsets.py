@@ -32,6 +32,7 @@ sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 import generated_tasks  # noqa: E402
 
 import vkgl  # noqa: E402
+from vkgl.lang.ir.nodes import PrismaticC  # noqa: E402
 from vkgl.plan.problem.problem import build_problem  # noqa: E402
 
 GOALS = ((0.15, 0.03, -45.0), (0.20, 0.0, -50.0), (0.10, 0.05, 35.0), (0.12, -0.04, 40.0))
@@ -56,10 +57,13 @@ def task_text(body: str, affordances: str, dx: float, dy: float, dyaw: float) ->
     )
 
 
-def offered(program: vkgl.Program) -> set[str]:
-    """The arc members the problem offers the goal body (`NAME@+S.SScm`, `vkgl.plan.problem.arcs`)."""
+def moved_arc(program: vkgl.Program, name: str) -> bool:
+    """Whether `name` (a plan step's affordance, without the body type) is a member of a slide's arc family that
+    the problem did not offer the goal body (`vkgl.plan.problem.arcs`): its offset moved in the task space."""
     problem = build_problem(program, program.tasks["turn_far"])
-    return {a.name for a in problem.bodies["it"].affordances if "@" in a.name}
+    base = name.split("@", 1)[0]
+    offered = {a.name for a in problem.bodies["it"].affordances}
+    return "@" in name and name not in offered and isinstance(problem.affordance("it", base).motion, PrismaticC)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -89,7 +93,7 @@ def main(argv: list[str] | None = None) -> int:
                 found.append(str(plan.depth))
                 depths.append(int(plan.depth))  # type: ignore[arg-type]
                 last = plan.steps[-1].affordance.split(".", 1)[1] if plan.steps else ""
-                moved += "@" in last and last not in offered(program)
+                moved += moved_arc(program, last)
                 if args.execute:
                     clean += vkgl.execute(program, "turn_far", plan).status == "reached"
             shown = f"{clean}/{solved}" if args.execute else "-"

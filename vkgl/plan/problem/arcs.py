@@ -21,11 +21,18 @@ turn). A family whose straight push (offset 0) already ends there gets none.
 A member of an `open` slide turns on as far as the planner lets one turn go
 (half a turn; the table and the collision checks decide).
 
-The member is a plain turn named `NAME@+0.32cm`: the task-space search
-chooses its angle like any turn's, and the executor resolves the same name to
-the same member (`vkgl.lang.ir.families.find_member`), so the plan promises
-exactly what the member does. It is offered for the body's rest pose only: a
-body moved first by another contact keeps its written affordances.
+The member is a turn named `NAME@+0.32cm`: the task-space search chooses its
+angle like any turn's and its offset too, within half to twice its own
+(`vkgl.plan.graphs.members.ArcSeed`), and the executor resolves the name of
+the member chosen to the same member (`vkgl.lang.ir.families.find_member`),
+so the plan promises exactly what the member does. The member is chosen for
+the body's rest pose; a body moved first by another contact gets the same
+member, whose offset the task space then fits to where the body lies. For a
+goal whose change of heading (less its tolerance) is more than any written
+turn of the body makes in one contact, the member nearest the goal is offered
+however far its exact turn ends from it (a seed): only an arc turns the body
+that far at once, and after an earlier contact (a push, a turn) its offset
+reaches goals its own arc from rest misses.
 """
 
 from __future__ import annotations
@@ -51,6 +58,7 @@ def arc_members(
     goal: np.ndarray,
     goal_yaw: float | None,
     tolerances: tuple[float, float],
+    reach: float | None = None,
 ) -> tuple[Affordance, ...]:
     """The members (named `NAME@+S.SScm`) of the arc families among `affordances` that take a body resting at `rest`
     (4x4 world pose) to the planar position `goal` (m) in one turn, within `tolerances` (m, rad).
@@ -58,9 +66,15 @@ def arc_members(
     With a heading `goal_yaw` (rad): the member turned by exactly the goal's change of heading, one per family at
     most. Without (`None`, the heading free): the members whose arc passes through the goal, one per turning
     sense of each family at most, and none for a family whose straight push already reaches it.
+
+    `reach`: how many position tolerances from the goal the exact turn of a place-and-heading goal's member may
+    end; by default 1, or any distance (a seed) when the goal's change of heading is more than every written turn
+    of the body makes (`_beyond_turns`).
     """
     found = []
-    reach = 1.0 if goal_yaw is None or not _beyond_turns(affordances, rest, goal_yaw, tolerances[1]) else math.inf
+    if reach is None:
+        beyond = goal_yaw is not None and _beyond_turns(affordances, rest, goal_yaw, tolerances[1])
+        reach = math.inf if beyond else 1.0
     for affordance in affordances:
         arc = _arc_geometry(affordance, rest)
         if arc is None:

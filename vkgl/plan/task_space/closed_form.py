@@ -134,15 +134,15 @@ def _arc_slack(
     """How far the arc members among `turns` may end the body from where their members as named put it (m): the
     task space moves their contacts along the face (`members.ArcSeed`), which moves each pivot by up to `p` and
     the final position by the chord `2 p sin(a / 2)` at the turn's angle `a` (one turn: at most the goal's change
-    of heading and its tolerance); and it may turn within the heading's tolerance, not exactly, which moves the
-    later path by at most `LEVER_BOUND` per radian."""
+    of heading and its tolerance), as a turn family's drift does (`slides._drift_bound`). Like every turn here,
+    the test is made at the goal's heading exactly."""
     slack = 0.0
     for i, (_, high) in zip(turns, limits):
         e = seq.variables[i][1]
         travel = pivot_travel(problem, e.body, e.affordance) if arc_seed(problem, e.body, e.affordance) else 0.0
         if travel > 0.0:
             largest = min(high, abs(needed) + goal.tol_yaw) if len(turns) == 1 else high
-            slack += 2.0 * travel * math.sin(min(largest, math.pi) / 2.0) + goal.tol_yaw * LEVER_BOUND
+            slack += 2.0 * travel * math.sin(min(largest, math.pi) / 2.0)
     return slack
 
 

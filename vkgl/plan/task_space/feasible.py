@@ -297,7 +297,7 @@ def task_space(
     written arc), free within their bands; `offsets` pins them. A solution that moved a contact comes with its
     sequence renamed (`materialise`).
     """
-    if seq.offsets and offsets is None:
+    if seq.offsets and offsets is None and not _seeds_only(problem, seq):
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
         if not isinstance(written, Rejection) or written.kind not in (Kind.REACH, Kind.GOAL):
             return written
@@ -324,7 +324,8 @@ def task_space(
                 lower[n + j] = upper[n + j] = 0.0
     guess = np.clip(np.concatenate([guess, np.zeros(m), carry_guess]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
-    for x0 in [guess, *([] if pinned else _restarts(lower, upper))]:
+    restarts = [] if pinned or (offsets is None and _seeds_only(problem, seq)) else _restarts(lower, upper)
+    for x0 in [guess, *restarts]:
         if time.perf_counter() > deadline:
             break
         x = _optimise(evaluator, x0, lower, upper, deadline)
@@ -347,6 +348,14 @@ def task_space(
         if best is None or score < best[0]:
             best = (score, x)
     return _why_not(problem, seq, best[1] if best is not None else guess)
+
+
+def _seeds_only(problem: Problem, seq: Sequence) -> bool:
+    """Whether every contact that may move along its face is an arc member offered as a seed (`PlanBody.arc_seeds`:
+    its exact turn from rest misses the goal): its offset is free from the start, and one run from the closed
+    form's start does (a seed is offered to every sequence that turns its body: restarts would cost each failing
+    sequence four runs more)."""
+    return bool(seq.offsets) and all(e.affordance in problem.bodies[e.body].arc_seeds for _, e in seq.offsets)
 
 
 def _cap_arc_turns(problem: Problem, seq: Sequence, lower: np.ndarray, upper: np.ndarray) -> None:
