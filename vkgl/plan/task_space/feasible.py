@@ -26,12 +26,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
-from vkgl.plan.graphs.members import arc_seed, turn_cap
 from vkgl.plan.graphs.reuse import Rollouts
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
@@ -297,7 +297,7 @@ def task_space(
     written arc), free within their bands; `offsets` pins them. A solution that moved a contact comes with its
     sequence renamed (`materialise`).
     """
-    if seq.offsets and offsets is None and not _seeds_only(problem, seq):
+    if seq.offsets and offsets is None and not seeds_only(problem, seq):
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
         if not isinstance(written, Rejection) or written.kind not in (Kind.REACH, Kind.GOAL):
             return written
@@ -315,7 +315,7 @@ def task_space(
     lower, upper = bounds(problem, seq, offsets=True)
     n, m = len(seq.variables), len(seq.offsets)  # the values: motions, then offsets, then carries
     if offsets is None or np.any(offsets):
-        _cap_arc_turns(problem, seq, lower, upper)
+        cap_arc_turns(problem, seq, lower, upper)
     if offsets is not None:
         lower[n : n + m] = upper[n : n + m] = offsets
     else:  # a tool's slide keeps its written contact here: it moves only when that contact fails (`other_contacts`)
@@ -324,7 +324,7 @@ def task_space(
                 lower[n + j] = upper[n + j] = 0.0
     guess = np.clip(np.concatenate([guess, np.zeros(m), carry_guess]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
-    restarts = [] if pinned or (offsets is None and _seeds_only(problem, seq)) else _restarts(lower, upper)
+    restarts = [] if pinned or (offsets is None and seeds_only(problem, seq)) else _restarts(lower, upper)
     for x0 in [guess, *restarts]:
         if time.perf_counter() > deadline:
             break
@@ -342,41 +342,12 @@ def task_space(
             if renamed is not None and offsets is None and not goal_holds(problem, traces[-1].end):
                 # the members' names keep the offsets to 0.01 cm, and an arc's pivot moves by centimetres per
                 # 0.01 cm near the centre: solved again with the contacts where the names put them
-                return task_space(problem, seq, deadline, counters, offsets=_named_offsets(problem, seq, x))
+                return task_space(problem, seq, deadline, counters, offsets=named_offsets(problem, seq, x))
             return TaskSolution(values, traces, not pinned, renamed)
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)
     return _why_not(problem, seq, best[1] if best is not None else guess)
-
-
-def _seeds_only(problem: Problem, seq: Sequence) -> bool:
-    """Whether every contact that may move along its face is an arc member offered as a seed (`PlanBody.arc_seeds`:
-    its exact turn from rest misses the goal): its offset is free from the start, and one run from the closed
-    form's start does (a seed is offered to every sequence that turns its body: restarts would cost each failing
-    sequence four runs more)."""
-    return bool(seq.offsets) and all(e.affordance in problem.bodies[e.body].arc_seeds for _, e in seq.offsets)
-
-
-def _cap_arc_turns(problem: Problem, seq: Sequence, lower: np.ndarray, upper: np.ndarray) -> None:
-    """Bound each arc member's turn (in place) by the least its slide's range allows over its band
-    (`members.turn_cap`): its own range holds at its own offset only. A prefix's pinned values are kept."""
-    for i, (_, e) in enumerate(seq.variables):
-        if i >= len(problem.pinned):
-            upper[i] = min(upper[i], turn_cap(problem, e.body, e.affordance))
-            lower[i] = min(lower[i], upper[i])
-
-
-def _named_offsets(problem: Problem, seq: Sequence, x: np.ndarray) -> np.ndarray:
-    """The contacts' offsets of `x` rounded to what the members' names keep (0.01 cm of the offset along the
-    face: an arc member's own offset plus the change, rounded together)."""
-    n = len(seq.variables)
-    out = []
-    for (_, e), value in zip(seq.offsets, x[n : n + len(seq.offsets)]):
-        seed = arc_seed(problem, e.body, e.affordance)
-        own = 0.0 if seed is None else seed.offset
-        out.append(round((own + float(value)) * 1e4) / 1e4 - own)
-    return np.asarray(out, dtype=float)
 
 
 REGION_TRIM_STEPS = 20
