@@ -14,7 +14,7 @@ A member of a slide's arc family (`NAME@+0.32cm`, offered by
 `vkgl.plan.problem.arcs`) is a turn whose pivot the offset places
 (`vkgl.lang.ir.arcs`): it is an `ArcSeed`. Its offset is a variable too, the
 change `d` from the member's own offset `s0` (so `d = 0` is the member as
-named), within `arc_band`: the same side of the centre (the same turning
+named), within its band (`ArcSeed.band`, `ARC_BAND`): the same side of the centre (the same turning
 sense: the mode's edge type stays a turn), between half and twice `s0`'s
 distance from the centre and inside the family's explored band. At `s0 + d`
 the contact moves by `d * along` and the pivot to where the arc law puts it
@@ -71,7 +71,7 @@ def has_family(problem: Problem, body: str, name: str) -> bool:
 
 def contact_band(problem: Problem, body: str, name: str) -> tuple[float, float]:
     """The offsets (m) the planner may move the contact of affordance `name` by: a turn's family band, an arc
-    member's `arc_band` (relative to its own offset), (0, 0) otherwise."""
+    member's `ArcSeed.band` (relative to its own offset), (0, 0) otherwise."""
     seed = arc_seed(problem, body, name)
     if seed is not None:
         return seed.band

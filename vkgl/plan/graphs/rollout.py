@@ -231,7 +231,7 @@ def bounds(problem: Problem, seq: Sequence, *, offsets: bool = False) -> tuple[n
 
 def _band(problem: Problem, e: Engagement) -> tuple[float, float]:
     """The offsets an engagement's contact may take: a tool's slide off the centre (`tool_faces`), else its
-    family's band (an arc member's: `members.arc_band`, relative to its own offset)."""
+    family's band (an arc member's: `members.ArcSeed.band`, relative to its own offset)."""
     return slide_band(problem, e) or contact_band(problem, e.body, e.affordance)
 
 

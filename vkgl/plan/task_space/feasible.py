@@ -294,8 +294,8 @@ def task_space(
     The contacts' offsets along their families (`seq.offsets`) are variables too: pinned at 0 (as written)
     first, then, after a rejection for the hand's reach or for missing the goal (what moving a contact changes:
     a turn's pivot moves with it, so a hook pulling a wide body off its far face's centre reaches a goal off its
-    written arc), free within their bands; `offsets` pins them. A solution that moved a contact comes with its
-    sequence renamed (`materialise`).
+    written arc), free within their bands (arc seeds: from the start, `arc_offsets.seeds_only`); `offsets` pins
+    them. A solution that moved a contact comes with its sequence renamed (`materialise`).
     """
     if seq.offsets and offsets is None and not seeds_only(problem, seq):
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
