@@ -53,7 +53,18 @@ def member_motions(problem: Problem, engagement: Engagement, offset: float, valu
     shift = pivot_shift(problem, engagement.body, engagement.affordance, offset)
     if shift is None:
         return motion_matrices(motion, values)
-    return _motion_matrices(motion, values, shift)
+    if len(values) > _MOTION_PATH:
+        return _motion_matrices(motion, values, shift)
+    key = (id(motion), np.asarray(values, dtype=float).tobytes() + np.asarray(shift, dtype=float).tobytes())
+    cached = _MOTIONS.get(key)  # the finite differences move one value at a time: the other modes' paths repeat
+    if cached is not None and cached[0] is motion:
+        return cached[1]
+    if len(_MOTIONS) >= _MOTIONS_KEPT:
+        _MOTIONS.clear()
+    m = _motion_matrices(motion, values, shift)
+    m.flags.writeable = False
+    _MOTIONS[key] = (motion, m)
+    return m
 
 
 def _motion_matrices(constraint: object, values: np.ndarray, shift: np.ndarray | None = None) -> np.ndarray:

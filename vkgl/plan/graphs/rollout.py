@@ -19,11 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from vkgl.lang.ir.families import member_name, offset_bounds
+from vkgl.lang.ir.families import member_name
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, is_grasp, motion_type
-from vkgl.plan.graphs.members import action_at, has_family
+from vkgl.plan.graphs.members import action_at, arc_seed, contact_band, has_family
 from vkgl.plan.graphs.motions import member_motions
 from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import Problem
@@ -231,8 +231,8 @@ def bounds(problem: Problem, seq: Sequence, *, offsets: bool = False) -> tuple[n
 
 def _band(problem: Problem, e: Engagement) -> tuple[float, float]:
     """The offsets an engagement's contact may take: a tool's slide off the centre (`tool_faces`), else its
-    family's band."""
-    return slide_band(problem, e) or offset_bounds(problem.affordance(e.body, e.affordance))
+    family's band (an arc member's: `members.ArcSeed.band`, relative to its own offset)."""
+    return slide_band(problem, e) or contact_band(problem, e.body, e.affordance)
 
 
 def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Sequence, np.ndarray]:
@@ -253,13 +253,22 @@ def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Se
     for k, action in enumerate(seq.actions, start=1):
         e = action.engagement
         if action.op == "add" and (k, e) in offset_of:
-            name = member_name(e.affordance, offset_of[(k, e)], straight=slide_band(problem, e) is not None)
-            renamed[e] = Engagement(e.effector, e.body, name)
+            renamed[e] = Engagement(e.effector, e.body, _member_at(problem, e, offset_of[(k, e)]))
         member = renamed.get(e, e)
         if action.op == "remove":
             renamed.pop(e, None)
         out, _ = extend(problem, out, Action(action.op, member))
     return out, kept
+
+
+def _member_at(problem: Problem, e: Engagement, offset: float) -> str:
+    """The name of engagement `e`'s member at `offset` along its face: an arc member's at its own offset plus
+    `offset` (`push@+0.32cm` moved by 0.05 cm: `push@+0.37cm`), a family's `NAME@+S.SScm`."""
+    seed = arc_seed(problem, e.body, e.affordance)
+    if seed is not None:
+        name = member_name(seed.slide, seed.offset + offset)
+        return name if name != seed.slide else e.affordance  # (never 0: the band keeps the member's side)
+    return member_name(e.affordance, offset, straight=slide_band(problem, e) is not None)
 
 
 class _Fractions(dict):

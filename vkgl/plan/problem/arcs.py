@@ -21,11 +21,18 @@ turn). A family whose straight push (offset 0) already ends there gets none.
 A member of an `open` slide turns on as far as the planner lets one turn go
 (half a turn; the table and the collision checks decide).
 
-The member is a plain turn named `NAME@+0.32cm`: the task-space search
-chooses its angle like any turn's, and the executor resolves the same name to
-the same member (`vkgl.lang.ir.families.find_member`), so the plan promises
-exactly what the member does. It is offered for the body's rest pose only: a
-body moved first by another contact keeps its written affordances.
+The member is a turn named `NAME@+0.32cm`: the task-space search chooses its
+angle like any turn's and its offset too, within half to twice its own
+(`vkgl.plan.graphs.members.ArcSeed`), and the executor resolves the name of
+the member chosen to the same member (`vkgl.lang.ir.families.find_member`),
+so the plan promises exactly what the member does. The member is chosen for
+the body's rest pose; a body moved first by another contact gets the same
+member, whose offset the task space then fits to where the body lies. For a
+goal whose change of heading (less its tolerance) is more than any written
+turn of the body makes in one contact, the member nearest the goal is offered
+however far its exact turn ends from it (a seed): only an arc turns the body
+that far at once, and after an earlier contact (a push, a turn) its offset
+reaches goals its own arc from rest misses.
 """
 
 from __future__ import annotations
@@ -36,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from vkgl.lang.ir.families import at_offset, member_name, member_offset
-from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC
+from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC, RevoluteC
 
 STEP = 1e-4  # m: offsets are tried every 0.01 cm (what a member's name keeps)
 
@@ -51,6 +58,7 @@ def arc_members(
     goal: np.ndarray,
     goal_yaw: float | None,
     tolerances: tuple[float, float],
+    reach: float | None = None,
 ) -> tuple[Affordance, ...]:
     """The members (named `NAME@+S.SScm`) of the arc families among `affordances` that take a body resting at `rest`
     (4x4 world pose) to the planar position `goal` (m) in one turn, within `tolerances` (m, rad).
@@ -58,8 +66,15 @@ def arc_members(
     With a heading `goal_yaw` (rad): the member turned by exactly the goal's change of heading, one per family at
     most. Without (`None`, the heading free): the members whose arc passes through the goal, one per turning
     sense of each family at most, and none for a family whose straight push already reaches it.
+
+    `reach`: how many position tolerances from the goal the exact turn of a place-and-heading goal's member may
+    end; by default 1, or any distance (a seed) when the goal's change of heading is more than every written turn
+    of the body makes (`_beyond_turns`).
     """
     found = []
+    if reach is None:
+        beyond = goal_yaw is not None and _beyond_turns(affordances, rest, goal_yaw, tolerances[1])
+        reach = math.inf if beyond else 1.0
     for affordance in affordances:
         arc = _arc_geometry(affordance, rest)
         if arc is None:
@@ -67,7 +82,7 @@ def arc_members(
         if goal_yaw is None:
             picks = _free_heading_offsets(arc, rest, goal, tolerances[0])
         else:
-            picks = [p for p in [_best_offset(arc, rest, goal, goal_yaw, tolerances[0])] if p is not None]
+            picks = [p for p in [_best_offset(arc, rest, goal, goal_yaw, tolerances[0], reach)] if p is not None]
         for index in picks:
             # the offset as the member's name gives it back (`push@+0.32cm` -> 0.0032): planner and executor agree
             name = member_name(affordance.name, float(arc.offsets[index]))
@@ -127,17 +142,26 @@ def _arc_geometry(slide: Affordance, rest: np.ndarray) -> _ArcGeometry | None:
     )
 
 
+def _beyond_turns(affordances: tuple[Affordance, ...], rest: np.ndarray, goal_yaw: float, tol_yaw: float) -> bool:
+    """Whether the goal's change of heading (less its tolerance) is more than any written turn of the body makes in
+    one contact: then only an arc member turns it so far at once."""
+    wanted = abs(math.remainder(goal_yaw - math.atan2(rest[1, 0], rest[0, 0]), math.tau)) - tol_yaw
+    turns = [a.motion for a in affordances if isinstance(a.motion, RevoluteC) and not is_arc_member(a.name)]
+    largest = max((HALF_TURN if t.range is None or t.range.open else t.range.upper.value for t in turns), default=0.0)
+    return wanted > largest
+
+
 def _best_offset(
-    arc: _ArcGeometry, rest: np.ndarray, goal: np.ndarray, goal_yaw: float, tolerance: float
+    arc: _ArcGeometry, rest: np.ndarray, goal: np.ndarray, goal_yaw: float, tolerance: float, reach: float = 1.0
 ) -> int | None:
     """The index of the offset whose member, turned by the goal's change of heading, ends nearest the goal's
-    position; None when none ends inside the `tolerance` (m)."""
+    position; None when none ends within `reach` times the `tolerance` (m)."""
     wanted = math.remainder(goal_yaw - math.atan2(rest[1, 0], rest[0, 0]), math.tau)
     usable = (arc.senses * wanted > 0) & (np.abs(wanted) <= arc.max_turns)
     ends = _turned(arc.pivots, rest[:2, 3], np.full(len(arc.offsets), wanted))
     score = np.where(usable, np.hypot(*(ends - goal[:2]).T) / tolerance, np.inf)
     index = int(np.argmin(score))
-    return index if score[index] <= 1.0 else None
+    return index if score[index] <= reach else None
 
 
 def _free_heading_offsets(arc: _ArcGeometry, rest: np.ndarray, goal: np.ndarray, tolerance: float) -> list[int]:

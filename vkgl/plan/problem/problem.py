@@ -91,6 +91,9 @@ class PlanBody:
     too_high: tuple[TooHigh, ...] = ()
     tool_members: frozenset[tuple[str, str]] = frozenset()
     """(affordance, effector): the members only that tool effector may enact (`vkgl.plan.problem.over`)."""
+    arc_seeds: frozenset[str] = frozenset()
+    """The arc members offered as seeds only (`vkgl.plan.problem.arcs`: their exact turn from rest misses the goal;
+    the task space moves their offset from the start)."""
 
     def joint_state(self, pose: np.ndarray) -> float:
         """The coordinate of the physical joint at world `pose` (m or rad), 0 at `joint_zero`; the body needs a joint.
@@ -311,10 +314,15 @@ def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
     (`vkgl.plan.problem.arcs`)."""
     if goal.position is None or goal.region is not None or goal.opening is not None:
         return body
-    members = arc_members(body.affordances, body.rest, goal.position[:2], goal.yaw, (goal.tol_position, goal.tol_yaw))
+    where, tolerances = goal.position[:2], (goal.tol_position, goal.tol_yaw)
+    members = arc_members(body.affordances, body.rest, where, goal.yaw, tolerances)
     known = {a.name for a in body.affordances}  # two goals on one body may pick the same member
     members = tuple(m for m in members if m.name not in known)
-    return replace(body, affordances=body.affordances + members) if members else body
+    if not members:
+        return body
+    exact = {m.name for m in arc_members(body.affordances, body.rest, where, goal.yaw, tolerances, reach=1.0)}
+    seeds = frozenset(m.name for m in members if m.name not in exact)
+    return replace(body, affordances=body.affordances + members, arc_seeds=body.arc_seeds | seeds)
 
 
 def _with_over_members(body: PlanBody, bodies: dict[str, PlanBody], effectors: list[EffectorSpec]) -> PlanBody:

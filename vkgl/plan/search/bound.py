@@ -323,7 +323,7 @@ def _goal_modes(
     if goal.position is not None:
         far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
         if far.needed > _SLACK:
-            step, name = max(((translation(a), a.name) for a in movers), default=(0.0, ""))
+            step, name = max(((translation(a, body.affordances), a.name) for a in movers), default=(0.0, ""))
             parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
             off = _off_its_line(rest, goal, movers)
             if off is not None and off - goal.tol_position > _SLACK:

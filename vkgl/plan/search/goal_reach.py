@@ -33,9 +33,8 @@ import math
 
 import numpy as np
 
-from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
-from vkgl.plan.graphs.members import family_vectors, has_family
+from vkgl.plan.graphs.members import contact_band, contact_direction
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.task_space.workspace import REACH_MARGIN
@@ -110,8 +109,8 @@ def _contact_beyond(
     assert goal.position is not None
     pose = problem.action(body.name, mover.name)
     action = pose[:3, 3] if chain is None else (pose @ chain)[:3, 3]  # the offset moves the hand as the contact
-    along, _ = family_vectors(mover)
-    lower, upper = offset_bounds(mover) if has_family(problem, body.name, mover.name) else (0.0, 0.0)
+    along = contact_direction(problem, body.name, mover.name)
+    lower, upper = contact_band(problem, body.name, mover.name)  # an arc member's too (`members.ArcSeed`)
     offsets = np.linspace(lower, upper, OFFSET_SAMPLES if upper > lower else 1)
     contacts = (body.rest[:3, :3] @ (action[:, None] + np.outer(along, offsets))).T  # per offset, world axes
     heights = body.rest[2, 3] + contacts[:, 2]

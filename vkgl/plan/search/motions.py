@@ -16,7 +16,7 @@ import numpy as np
 
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.lang.ir.nodes import Affordance
-from vkgl.plan.graphs.members import family_vectors
+from vkgl.plan.graphs.members import arc_seed_in, family_vectors
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody
@@ -61,7 +61,7 @@ def pose_need(body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> PoseN
         heading=max(0.0, heading),
         slide=max((translation(a) for a in movers if a.motion.type == "prismatic"), default=0.0),
         turn=max((value_bounds(a.motion)[1] if level else math.pi for a in turners), default=0.0),
-        chord=max((translation(a) for a in turners), default=0.0),
+        chord=max((translation(a, body.affordances) for a in turners), default=0.0),
     )
 
 
@@ -92,11 +92,14 @@ def fewest_modes(distance: float, heading: float, slide: float, turn: float, cho
     return float(best)
 
 
-def translation(affordance: Affordance) -> float:
+def translation(affordance: Affordance, siblings: tuple[Affordance, ...] = ()) -> float:
     """The farthest one mode of `affordance` moves its body's frame origin (m).
 
     A turn's pivot may move along its family (`offset * drift`, `vkgl.plan.graphs.members`): the radius is the
-    largest over the band, at one of its ends (the distance to the axis is convex in the offset)."""
+    largest over the band, at one of its ends (the distance to the axis is convex in the offset). A member of a
+    slide's arc family among `siblings` (its body's affordances) moves its pivot along a line over its band
+    (`members.ArcSeed`): the largest at one of the band's ends too (its turn is never more than its own range:
+    `members.turn_cap`)."""
     upper = value_bounds(affordance.motion)[1]
     axis, center = unit_axis_and_center(affordance.motion)
     if center is None:
@@ -104,6 +107,9 @@ def translation(affordance: Affordance) -> float:
     _, drift = family_vectors(affordance)
     ends = offset_bounds(affordance) if drift is not None else (0.0, 0.0)
     pivots = [center if drift is None else center + s * drift for s in ends]
+    seed = arc_seed_in(siblings, affordance) if siblings else None
+    if seed is not None:
+        pivots += [center + seed.shift(d) for d in seed.band]
     radius = max(float(np.linalg.norm(p - np.dot(p, axis) * axis)) for p in pivots)
     return 2.0 * radius * math.sin(min(upper, math.pi) / 2.0)
 

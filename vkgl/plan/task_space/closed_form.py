@@ -27,6 +27,7 @@ import numpy as np
 
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.plan.graphs.graph import Engagement, motion_type
+from vkgl.plan.graphs.members import arc_seed, pivot_travel
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, hand_chain
 from vkgl.plan.problem.problem import GoalSpec, Problem
@@ -111,6 +112,7 @@ def _goal_values(
     slide_limits = np.array([value_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
     best = best_row(columns, origins, goal.position, slide_limits)
     slack = goal.tol_position + (0.5 * math.pi / (TURN_GRID - 1) * LEVER_BOUND if len(turns) > 1 else 0.0)
+    slack += _arc_slack(problem, seq, goal, turns, limits, needed)  # type: ignore[arg-type]
     if best[0] > slack:
         how = "along its slides" if slides else "and nothing slides it"
         return Rejection(
@@ -124,6 +126,24 @@ def _goal_values(
     out = {i: (float(a), exact_turns) for i, a in zip(turns, angles[best[1]])}
     out.update({i: (float(v), exact_turns and unique) for i, v in zip(slides, best[2])})
     return out
+
+
+def _arc_slack(
+    problem: Problem, seq: Sequence, goal: GoalSpec, turns: list[int], limits: list[tuple[float, float]], needed: float
+) -> float:
+    """How far the arc members among `turns` may end the body from where their members as named put it (m): the
+    task space moves their contacts along the face (`members.ArcSeed`), which moves each pivot by up to `p` and
+    the final position by the chord `2 p sin(a / 2)` at the turn's angle `a` (one turn: at most the goal's change
+    of heading and its tolerance), as a turn family's drift does (`slides._drift_bound`). Like every turn here,
+    the test is made at the goal's heading exactly."""
+    slack = 0.0
+    for i, (_, high) in zip(turns, limits):
+        e = seq.variables[i][1]
+        travel = pivot_travel(problem, e.body, e.affordance) if arc_seed(problem, e.body, e.affordance) else 0.0
+        if travel > 0.0:
+            largest = min(high, abs(needed) + goal.tol_yaw) if len(turns) == 1 else high
+            slack += 2.0 * travel * math.sin(min(largest, math.pi) / 2.0)
+    return slack
 
 
 def _joint_goal_values(problem: Problem, seq: Sequence, goal: GoalSpec) -> dict[int, tuple[float, bool]] | Rejection:

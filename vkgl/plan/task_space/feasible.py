@@ -31,6 +31,7 @@ from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, r
 from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
@@ -293,10 +294,10 @@ def task_space(
     The contacts' offsets along their families (`seq.offsets`) are variables too: pinned at 0 (as written)
     first, then, after a rejection for the hand's reach or for missing the goal (what moving a contact changes:
     a turn's pivot moves with it, so a hook pulling a wide body off its far face's centre reaches a goal off its
-    written arc), free within their bands; `offsets` pins them. A solution that moved a contact comes with its
-    sequence renamed (`materialise`).
+    written arc), free within their bands (arc seeds: from the start, `arc_offsets.seeds_only`); `offsets` pins
+    them. A solution that moved a contact comes with its sequence renamed (`materialise`).
     """
-    if seq.offsets and offsets is None:
+    if seq.offsets and offsets is None and not seeds_only(problem, seq):
         written = task_space(problem, seq, deadline, counters, offsets=np.zeros(len(seq.offsets)))
         if not isinstance(written, Rejection) or written.kind not in (Kind.REACH, Kind.GOAL):
             return written
@@ -313,6 +314,8 @@ def task_space(
     evaluator = _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq, offsets=True)
     n, m = len(seq.variables), len(seq.offsets)  # the values: motions, then offsets, then carries
+    if offsets is None or np.any(offsets):
+        cap_arc_turns(problem, seq, lower, upper)
     if offsets is not None:
         lower[n : n + m] = upper[n : n + m] = offsets
     else:  # a tool's slide keeps its written contact here: it moves only when that contact fails (`other_contacts`)
@@ -321,7 +324,8 @@ def task_space(
                 lower[n + j] = upper[n + j] = 0.0
     guess = np.clip(np.concatenate([guess, np.zeros(m), carry_guess]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
-    for x0 in [guess, *([] if pinned else _restarts(lower, upper))]:
+    restarts = [] if pinned or (offsets is None and seeds_only(problem, seq)) else _restarts(lower, upper)
+    for x0 in [guess, *restarts]:
         if time.perf_counter() > deadline:
             break
         x = _optimise(evaluator, x0, lower, upper, deadline)
@@ -334,7 +338,12 @@ def task_space(
             x = _near_edge(problem, seq, evaluator, x)
             named, values = materialise(problem, seq, x)
             renamed = named if named.actions != seq.actions else None
-            return TaskSolution(values, rollout(problem, named, values, JOINT_SAMPLES), not pinned, renamed)
+            traces = rollout(problem, named, values, JOINT_SAMPLES)
+            if renamed is not None and offsets is None and not goal_holds(problem, traces[-1].end):
+                # the members' names keep the offsets to 0.01 cm, and an arc's pivot moves by centimetres per
+                # 0.01 cm near the centre: solved again with the contacts where the names put them
+                return task_space(problem, seq, deadline, counters, offsets=named_offsets(problem, seq, x))
+            return TaskSolution(values, traces, not pinned, renamed)
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)

@@ -16,8 +16,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from vkgl.lang.ir.families import offset_bounds
-from vkgl.plan.graphs.members import family_vectors
+from vkgl.plan.graphs.members import pivot_travel
 from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
@@ -108,15 +107,11 @@ def value_limits(problem: Problem, seq: Sequence, index: int) -> tuple[float, fl
 
 
 def _drift_bound(problem: Problem, seq: Sequence, index: int, largest: float) -> float:
-    """How far moving turn `index`'s contact anywhere along its family can move the body's final position
-    (m): the chord of the pivot's largest drift at the turn's largest angle; 0 without a family."""
+    """How far moving turn `index`'s contact anywhere along its band can move the body's final position
+    (m): the chord of the pivot's largest travel at the turn's largest angle (`members.pivot_travel`: a family's
+    drift, an arc member's pivot); 0 without a family."""
     e = seq.variables[index][1]
-    affordance = problem.affordance(e.body, e.affordance)
-    _, drift = family_vectors(affordance)
-    if drift is None:
-        return 0.0
-    farthest = max(abs(v) for v in offset_bounds(affordance)) * float(np.linalg.norm(drift))
-    return 2.0 * farthest * math.sin(min(largest, math.pi) / 2)
+    return 2.0 * pivot_travel(problem, e.body, e.affordance) * math.sin(min(largest, math.pi) / 2)
 
 
 def _pivot_radius(problem: Problem, seq: Sequence, index: int) -> float:
