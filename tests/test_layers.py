@@ -132,8 +132,7 @@ def mirror_folders_without_package(tests: Path, package: Path) -> list[str]:
     return [
         str(folder.relative_to(tests))
         for folder in sorted(p for p in tests.rglob("*") if p.is_dir())
-        if not NOT_MIRRORS & set(folder.relative_to(tests).parts)
-        and not (package / folder.relative_to(tests)).is_dir()
+        if not NOT_MIRRORS & set(folder.relative_to(tests).parts) and not (package / folder.relative_to(tests)).is_dir()
     ]
 
 

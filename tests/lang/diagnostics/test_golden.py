@@ -92,9 +92,7 @@ def past_the_size_limits() -> None:
     size = 84 + 50 * 600_000
     if not HUGE_MESH.is_file() or HUGE_MESH.stat().st_size != size:
         with open(HUGE_MESH, "wb") as stream:
-            stream.write(
-                b"binary STL made by test_golden.py".ljust(80, b" ") + (600_000).to_bytes(4, "little")
-            )
+            stream.write(b"binary STL made by test_golden.py".ljust(80, b" ") + (600_000).to_bytes(4, "little"))
             stream.truncate(size)
 
 
