@@ -27,6 +27,15 @@ The member is the same slide, its action rolled and raised
 (`vkgl.lang.ir.families.over_member`, named `NAME/over+25deg+0.00cm`), and only
 that tool may enact it (`PlanBody.tool_members`). The collision and arm checks
 decide the rest, as for any contact.
+
+An arc's member (`NAME@-1.74cm`, `vkgl.plan.problem.arcs`: the one push off the
+centre that carries the body along an arc to a goal) is rolled the same way when
+the tool lying flat at its offset would stand in the body: a Block's arc more
+than 0.5 cm toward the Hook's shaft puts the shaft inside the Block's side. Its
+offset is what makes its turn, so moving the contact along the face is no
+alternative, and the rolled cross-piece must cover the contact itself, not the
+centre line (a turn, not a straight pull). Named `NAME@-1.74cm/over+20deg+0.50cm`:
+the turn the arc's member makes, enacted rolled and raised.
 """
 
 from __future__ import annotations
@@ -35,9 +44,9 @@ import math
 
 import numpy as np
 
-from vkgl.lang.ir.families import over_member, over_name
+from vkgl.lang.ir.families import MEMBER_MARK, is_straight_member, over_member, over_name
 from vkgl.lang.ir.geometry import shape_vertices
-from vkgl.lang.ir.nodes import Affordance, Body, FixedC, PrismaticC, Shape, UnionShape
+from vkgl.lang.ir.nodes import Affordance, Body, FixedC, PrismaticC, RevoluteC, Shape, UnionShape
 
 COVER_MARGIN = 0.01
 """m: a tool's flat face covers the body's centre line by at least this much on both sides (an uneven pressure
@@ -80,7 +89,10 @@ def over_members(
     pairs: set[tuple[str, str]] = set()
     for affordance in affordances:
         action = affordance.action
-        if not isinstance(affordance.motion, PrismaticC) or not isinstance(action, FixedC) or action.pose is None:
+        turn = is_arc_turn(affordance)
+        if not (isinstance(affordance.motion, PrismaticC) or turn):
+            continue
+        if not isinstance(action, FixedC) or action.pose is None:
             continue
         if action.pose.rpy is not None:
             continue  # only a level push: a yaw alone
@@ -90,7 +102,7 @@ def over_members(
         for effector, tool, frame in tools:
             frame_inverse = np.linalg.inv(frame)
             parts = [p @ frame_inverse[:3, :3].T + frame_inverse[:3, 3] for p in tool_parts(tool.shape)]
-            pose = roll_for(parts, body, float(into_contact[1, 3]))
+            pose = roll_for(parts, body, float(into_contact[1, 3]), turn=turn)
             if pose is None:
                 continue
             name = over_name(affordance.name, *pose)
@@ -99,19 +111,31 @@ def over_members(
     return tuple(found.values()), frozenset(pairs)
 
 
-def roll_for(parts: list[np.ndarray], body: np.ndarray, centre: float) -> tuple[float, float] | None:
+def is_arc_turn(affordance: Affordance) -> bool:
+    """Whether `affordance` is an arc's member (`NAME@+0.32cm`, `vkgl.plan.problem.arcs`): a turn made by a push
+    at that offset along a slide's face."""
+    name = affordance.name
+    return isinstance(affordance.motion, RevoluteC) and MEMBER_MARK in name and not is_straight_member(name)
+
+
+def roll_for(
+    parts: list[np.ndarray], body: np.ndarray, centre: float, *, turn: bool = False
+) -> tuple[float, float] | None:
     """(roll in rad, lift in m) of the least rolled tool that passes over the body (module docstring), or None:
     the tool lying flat stands in nothing, it has no flat face or no part beside it, or no roll clears the top.
 
     `parts`: the tool's convex parts' vertices in its effector frame (x into the body, the contact plane at x = 0);
     `body`: the body's hull points in the same frame (lying flat: z up); `centre`: the body's origin along y.
+    `turn`: the contact is an arc's member (a turn at its own offset): the flat face must cover the contact
+    itself (y = 0), not the centre line, and moving it along the face is no alternative (the offset makes the arc).
     """
     face = [p for p in parts if abs(float(p[:, 0].max())) <= FLAT]
     beside = [p for p in parts if float(p[:, 0].max()) > FLAT]
     if not face or not beside or not any(_stands_in(p, body) for p in beside):
         return None
-    if _slides_aside(face, beside, body, centre):
+    if not turn and _slides_aside(face, beside, body, centre):
         return None  # moved along the face it clears the body lying flat (`vkgl.plan.graphs.tool_faces`)
+    covered = 0.0 if turn else centre
     side = 1.0 if np.mean([p[:, 1].mean() for p in beside]) > centre else -1.0
     bottom, top = float(body[:, 2].min()), float(body[:, 2].max())
     lifts = np.arange(0.0, max(0.0, top / 2) + 1e-9, LIFT_STEP)  # the contact at most half-way to the top
@@ -123,7 +147,7 @@ def roll_for(parts: list[np.ndarray], body: np.ndarray, centre: float) -> tuple[
                 continue  # into the table
             if any(_stands_in(p, body) for p in rolled):  # (only parts past the contact plane can)
                 continue
-            if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, centre):
+            if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, covered):
                 return float(roll), float(lift)
     return None
 
