@@ -16,7 +16,7 @@ import vkgl
 from vkgl.lang.ir.families import find_member, over_name, over_pose
 from vkgl.plan.graphs.graph import Action, Engagement, g0, successors
 from vkgl.plan.graphs.rollout import extend, start_sequence
-from vkgl.plan.problem.over import COVER_MARGIN, PART_CLEARANCE, TABLE_CLEARANCE, _rolled, roll_for
+from vkgl.plan.problem.over import COVER_MARGIN, PART_CLEARANCE, TABLE_CLEARANCE, _rolled, roll_for, roll_over_beside
 from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.task_space.feasible import TaskSolution, task_space
 
@@ -160,3 +160,15 @@ def test_a_free_heading_pull_whose_arc_needs_the_shaft_side_gets_the_rolled_hook
     found = task_space(problem, seq, time.perf_counter() + 60)  # one pull reaches the goal, the hand in reach
     assert isinstance(found, TaskSolution), found
     assert math.degrees(found.values[0]) == pytest.approx(60.3, abs=1.0)
+
+
+def test_an_arc_member_beside_low_bodies_rolls_its_shaft_over_them_and_not_where_flat_clears_them():
+    """A cube's pull whose shaft, lying flat 4 cm up, would sweep a 5 cm Block beside it: the least roll that lifts
+    the shaft 0.5 cm over the Block's top (15 deg: 12 cm out, 3.1 cm up); nothing where nothing stands that high."""
+    cube = _box(0.08, 0.08, 0.08)  # the contact at mid-height: the table at z = -0.04
+    roll, lift = roll_over_beside([CROSS, SHAFT], cube, 0.05)
+    assert math.degrees(roll) == pytest.approx(15.0) and lift == 0.0
+    assert _rolled(SHAFT, roll, 0.0)[:, 2].min() >= -0.04 + 0.05 + PART_CLEARANCE
+    assert _rolled(SHAFT, math.radians(10.0), 0.0)[:, 2].min() < -0.04 + 0.05 + PART_CLEARANCE
+    assert roll_over_beside([CROSS, SHAFT], cube, 0.02) is None  # the shaft flat (3 to 5 cm up) clears 2.5 cm
+    assert roll_over_beside([CROSS, SHAFT], cube, 0.0) is None
