@@ -4,6 +4,7 @@ cross-piece still on the centre line; offered to that tool only, and only where 
 from __future__ import annotations
 
 import math
+import time
 
 import generated_tasks
 import numpy as np
@@ -14,8 +15,10 @@ from hypothesis import strategies as st
 import vkgl
 from vkgl.lang.ir.families import find_member, over_name, over_pose
 from vkgl.plan.graphs.graph import Action, Engagement, g0, successors
-from vkgl.plan.problem.over import COVER_MARGIN, PART_CLEARANCE, TABLE_CLEARANCE, _rolled, roll_for
+from vkgl.plan.graphs.rollout import extend, start_sequence
+from vkgl.plan.problem.over import COVER_MARGIN, PART_CLEARANCE, TABLE_CLEARANCE, _rolled, roll_for, roll_over_beside
 from vkgl.plan.problem.problem import build_problem
+from vkgl.plan.task_space.feasible import TaskSolution, task_space
 
 
 def _problem(tmp_path, body: str, goal=(0.78, 0.05, 0.0)):
@@ -118,3 +121,54 @@ def test_an_over_members_name_gives_back_its_roll_and_lift(degrees, hundredths_c
     roll, lift = math.radians(degrees), hundredths_cm * 1e-4  # what the name keeps: 1 deg, 0.01 cm
     base, roll_back, lift_back = over_pose(over_name(slide, roll, lift))
     assert base == slide and roll_back == pytest.approx(roll) and lift_back == pytest.approx(lift, abs=1e-9)
+
+
+def test_an_arc_member_toward_the_shaft_rolls_over_and_its_cross_piece_covers_the_contact_not_the_centre_line():
+    """A Block's arc member 1.74 cm toward the hook's shaft (the body's centre line at +1.74 cm in the contact's
+    frame): lying flat, the shaft stands 0.74 cm inside the Block; moved along the face it would clear it, but an
+    arc's offset is what makes its turn, so the tool rolls over instead, covering the contact itself."""
+    block = _box(0.10, 0.20, 0.05) + np.array([0.0, 0.0174, 0.0])
+    assert roll_for([CROSS, SHAFT], block, 0.0174) is None  # a slide: moved along the face it clears the Block
+    roll, lift = roll_for([CROSS, SHAFT], block, 0.0174, turn=True)
+    assert math.degrees(roll) == pytest.approx(20.0) and lift == pytest.approx(0.005)
+    assert _rolled(SHAFT, roll, lift)[:, 2].min() >= 0.025 + PART_CLEARANCE  # over the Block's top
+    assert roll_for([CROSS, SHAFT], _box(0.10, 0.20, 0.05) - np.array([0.0, 0.01, 0.0]), -0.01, turn=True) is None
+
+
+def test_a_free_heading_pull_whose_arc_needs_the_shaft_side_gets_the_rolled_hook_one_pull_reaching_the_goal(tmp_path):
+    """gen9_027's Block and goal without its clutter: the one arc through the goal puts the contact 1.74 cm toward
+    the shaft; the hook rolled 20 deg over the Block pulls it there in one contact, a 60 deg turn (solved at depth
+    3 and carried out in DART within 0.02 cm: docs/planning.md, "Arcs toward the shaft")."""
+    target = generated_tasks.Placement("target", "Block", 0.819, 0.379, -5.0)
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec("arc_over", 0, 0, (target, *tools), (0.609, 0.305, None), "far-pull", False, 0.22)
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "arc_over", {}))
+    problem = build_problem(program, program.tasks["arc_over"])
+    name = "push_center_nx@-1.74cm/over+20deg+0.50cm"
+    assert _over(problem) == [name]
+    assert problem.bodies["target"].tool_members == {(name, "hook.tip")}
+    turn, rolled = problem.affordance("target", "push_center_nx@-1.74cm"), problem.affordance("target", name)
+    assert rolled.motion == turn.motion  # the arc's turn, enacted rolled
+    again = find_member(program.affordances["Block"], name)  # what the executor reads
+    assert again is not None and again.action == rolled.action and again.motion == turn.motion
+    seq = start_sequence(problem)
+    for action in (
+        Action("add", Engagement("arm.fingertip", "hook", "wield")),
+        Action("add", Engagement("hook.tip", "target", name)),
+    ):
+        seq, _ = extend(problem, seq, action)
+    found = task_space(problem, seq, time.perf_counter() + 60)  # one pull reaches the goal, the hand in reach
+    assert isinstance(found, TaskSolution), found
+    assert math.degrees(found.values[0]) == pytest.approx(60.3, abs=1.0)
+
+
+def test_an_arc_member_beside_low_bodies_rolls_its_shaft_over_them_and_not_where_flat_clears_them():
+    """A cube's pull whose shaft, lying flat 4 cm up, would sweep a 5 cm Block beside it: the least roll that lifts
+    the shaft 0.5 cm over the Block's top (15 deg: 12 cm out, 3.1 cm up); nothing where nothing stands that high."""
+    cube = _box(0.08, 0.08, 0.08)  # the contact at mid-height: the table at z = -0.04
+    roll, lift = roll_over_beside([CROSS, SHAFT], cube, 0.05)
+    assert math.degrees(roll) == pytest.approx(15.0) and lift == 0.0
+    assert _rolled(SHAFT, roll, 0.0)[:, 2].min() >= -0.04 + 0.05 + PART_CLEARANCE
+    assert _rolled(SHAFT, math.radians(10.0), 0.0)[:, 2].min() < -0.04 + 0.05 + PART_CLEARANCE
+    assert roll_over_beside([CROSS, SHAFT], cube, 0.02) is None  # the shaft flat (3 to 5 cm up) clears 2.5 cm
+    assert roll_over_beside([CROSS, SHAFT], cube, 0.0) is None

@@ -65,10 +65,11 @@ def slide_member(affordance: Affordance, offset: float) -> Affordance:
 
 
 def over_member(affordance: Affordance, roll: float, lift: float) -> Affordance:
-    """A slide enacted by a tool rolled `roll` (rad) about the push direction and raised `lift` (m): its action
-    pose rolled about the action frame's x axis (positive: its y axis toward the body's up) and moved up by `lift`,
-    its motion the same (no family). The planner names such members (`NAME/over+30deg+1.00cm`) for a tool whose parts
-    beside its contact would stand in the body lying flat and pass over its top rolled (`vkgl.plan.problem.over`).
+    """A slide (or an arc's member, a turn) enacted by a tool rolled `roll` (rad) about the push direction and raised
+    `lift` (m): its action pose rolled about the action frame's x axis (positive: its y axis toward the body's up)
+    and moved up by `lift`, its motion the same (no family). The planner names such members
+    (`NAME/over+30deg+1.00cm`, `NAME@-1.74cm/over+20deg+0.50cm`) for a tool whose parts beside its contact would
+    stand in the body lying flat and pass over its top rolled (`vkgl.plan.problem.over`).
 
     Raises ValueError for an action that is not a fixed pose with a yaw alone (a flat face pushed level)."""
     action = affordance.action
@@ -148,10 +149,14 @@ def is_straight_member(name: str) -> bool:
 
 
 def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | None:
-    """The affordance called `name` among `affordances`, or the member `name` names (`push@+3.12cm`), renamed so;
-    None when there is none (or the offset is outside the family's band by more than its rounding)."""
+    """The affordance called `name` among `affordances`, or the member `name` names (`push@+3.12cm`, a slide rolled
+    `push/over+20deg+1.00cm`, an arc's member rolled `push@-1.74cm/over+20deg+0.50cm`), renamed so; None when there
+    is none (or the offset is outside the family's band by more than its rounding)."""
     over = over_pose(name)
     if over is not None:
+        if MEMBER_MARK in over[0] and not is_straight_member(over[0]):  # an arc's member rolled: `push@-1.74cm/over..`
+            turn = find_member(affordances, over[0])
+            return None if turn is None else over_member(turn, over[1], over[2]).model_copy(update={"name": name})
         slide = next((a for a in affordances if a.name == over[0]), None)
         if slide is None or not isinstance(slide.motion, PrismaticC):
             return None

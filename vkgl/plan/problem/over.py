@@ -27,6 +27,15 @@ The member is the same slide, its action rolled and raised
 (`vkgl.lang.ir.families.over_member`, named `NAME/over+25deg+0.00cm`), and only
 that tool may enact it (`PlanBody.tool_members`). The collision and arm checks
 decide the rest, as for any contact.
+
+An arc's member (`NAME@-1.74cm`, `vkgl.plan.problem.arcs`: the one push off the
+centre that carries the body along an arc to a goal) is rolled the same way when
+the tool lying flat at its offset would stand in the body: a Block's arc more
+than 0.5 cm toward the Hook's shaft puts the shaft inside the Block's side. Its
+offset is what makes its turn, so moving the contact along the face is no
+alternative, and the rolled cross-piece must cover the contact itself, not the
+centre line (a turn, not a straight pull). Named `NAME@-1.74cm/over+20deg+0.50cm`:
+the turn the arc's member makes, enacted rolled and raised.
 """
 
 from __future__ import annotations
@@ -35,9 +44,9 @@ import math
 
 import numpy as np
 
-from vkgl.lang.ir.families import over_member, over_name
+from vkgl.lang.ir.families import MEMBER_MARK, is_straight_member, over_member, over_name
 from vkgl.lang.ir.geometry import shape_vertices
-from vkgl.lang.ir.nodes import Affordance, Body, FixedC, PrismaticC, Shape, UnionShape
+from vkgl.lang.ir.nodes import Affordance, Body, FixedC, PrismaticC, RevoluteC, Shape, UnionShape
 
 COVER_MARGIN = 0.01
 """m: a tool's flat face covers the body's centre line by at least this much on both sides (an uneven pressure
@@ -56,6 +65,14 @@ FLAT = 0.001
 ROLLS = np.radians(np.arange(5.0, 90.1, 5.0))
 """rad: the rolls tried, smallest first (the less the hand tilts, the farther the arm reaches)."""
 
+MAX_BESIDE_ROLL = math.radians(45.0)
+"""rad: the most a tool is rolled to pass over bodies beside its contact (`roll_over_beside`): the hand tilts with it,
+and the grip carries the pull's torque about the shaft."""
+
+MAX_BESIDE_HEIGHT = 0.10
+"""m: bodies beside a contact taller than this are no body a rolled tool passes over (a 12 cm lever rolled 45 deg
+lifts its part 8.5 cm)."""
+
 LIFT_STEP = 0.005
 """m: the contact is raised in these steps, up to half-way from the written contact to the body's top."""
 
@@ -72,15 +89,21 @@ def over_members(
     affordances: tuple[Affordance, ...],
     body_points: np.ndarray,
     tools: list[tuple[str, Body, np.ndarray]],
+    beside: float = 0.0,
 ) -> tuple[tuple[Affordance, ...], frozenset[tuple[str, str]]]:
     """The rolled members (module docstring) of the slides among `affordances` of a body lying flat, whose hull
     points (body frame) are `body_points`, for each tool effector in `tools` (its name, the tool's type, its frame
-    in the tool's frame); with the (member, effector) pairs that may enact them."""
+    in the tool's frame); with the (member, effector) pairs that may enact them. `beside`: the height (m above the
+    table) of the tallest other body that a tool at this body could sweep and a roll could pass over
+    (`clearing_height`): an arc's member is also rolled so that the tool's parts beside the contact pass over it."""
     found: dict[str, Affordance] = {}
     pairs: set[tuple[str, str]] = set()
     for affordance in affordances:
         action = affordance.action
-        if not isinstance(affordance.motion, PrismaticC) or not isinstance(action, FixedC) or action.pose is None:
+        turn = is_arc_turn(affordance)
+        if not (isinstance(affordance.motion, PrismaticC) or turn):
+            continue
+        if not isinstance(action, FixedC) or action.pose is None:
             continue
         if action.pose.rpy is not None:
             continue  # only a level push: a yaw alone
@@ -90,7 +113,9 @@ def over_members(
         for effector, tool, frame in tools:
             frame_inverse = np.linalg.inv(frame)
             parts = [p @ frame_inverse[:3, :3].T + frame_inverse[:3, 3] for p in tool_parts(tool.shape)]
-            pose = roll_for(parts, body, float(into_contact[1, 3]))
+            pose = roll_for(parts, body, float(into_contact[1, 3]), turn=turn)
+            if pose is None and turn:
+                pose = roll_over_beside(parts, body, beside)
             if pose is None:
                 continue
             name = over_name(affordance.name, *pose)
@@ -99,19 +124,31 @@ def over_members(
     return tuple(found.values()), frozenset(pairs)
 
 
-def roll_for(parts: list[np.ndarray], body: np.ndarray, centre: float) -> tuple[float, float] | None:
+def is_arc_turn(affordance: Affordance) -> bool:
+    """Whether `affordance` is an arc's member (`NAME@+0.32cm`, `vkgl.plan.problem.arcs`): a turn made by a push
+    at that offset along a slide's face."""
+    name = affordance.name
+    return isinstance(affordance.motion, RevoluteC) and MEMBER_MARK in name and not is_straight_member(name)
+
+
+def roll_for(
+    parts: list[np.ndarray], body: np.ndarray, centre: float, *, turn: bool = False
+) -> tuple[float, float] | None:
     """(roll in rad, lift in m) of the least rolled tool that passes over the body (module docstring), or None:
     the tool lying flat stands in nothing, it has no flat face or no part beside it, or no roll clears the top.
 
     `parts`: the tool's convex parts' vertices in its effector frame (x into the body, the contact plane at x = 0);
     `body`: the body's hull points in the same frame (lying flat: z up); `centre`: the body's origin along y.
+    `turn`: the contact is an arc's member (a turn at its own offset): the flat face must cover the contact
+    itself (y = 0), not the centre line, and moving it along the face is no alternative (the offset makes the arc).
     """
     face = [p for p in parts if abs(float(p[:, 0].max())) <= FLAT]
     beside = [p for p in parts if float(p[:, 0].max()) > FLAT]
     if not face or not beside or not any(_stands_in(p, body) for p in beside):
         return None
-    if _slides_aside(face, beside, body, centre):
+    if not turn and _slides_aside(face, beside, body, centre):
         return None  # moved along the face it clears the body lying flat (`vkgl.plan.graphs.tool_faces`)
+    covered = 0.0 if turn else centre
     side = 1.0 if np.mean([p[:, 1].mean() for p in beside]) > centre else -1.0
     bottom, top = float(body[:, 2].min()), float(body[:, 2].max())
     lifts = np.arange(0.0, max(0.0, top / 2) + 1e-9, LIFT_STEP)  # the contact at most half-way to the top
@@ -123,9 +160,69 @@ def roll_for(parts: list[np.ndarray], body: np.ndarray, centre: float) -> tuple[
                 continue  # into the table
             if any(_stands_in(p, body) for p in rolled):  # (only parts past the contact plane can)
                 continue
-            if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, centre):
+            if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, covered):
                 return float(roll), float(lift)
     return None
+
+
+def roll_over_beside(parts: list[np.ndarray], body: np.ndarray, height: float) -> tuple[float, float] | None:
+    """(roll in rad, 0) of the least roll (`ROLLS`, at most `MAX_BESIDE_ROLL`) that lifts the tool's parts beside
+    the contact `PART_CLEARANCE` above bodies `height` m tall standing beside the body, where lying flat they would
+    not clear them; None when they clear them flat, or no such roll keeps them out of the body, the cross-piece
+    above the table and on the contact.
+
+    Same frames as `roll_for`. The parts beside the contact (the Hook's shaft) lie at the contact's height, 12 cm to
+    its side: a Block or a SlabN (5 cm tall) beside a cube's pull passes under a shaft rolled 15 to 20 deg, and
+    more roll only loads the grip with its torque (the grip check decides).
+    """
+    face = [p for p in parts if abs(float(p[:, 0].max())) <= FLAT]
+    beside = [p for p in parts if float(p[:, 0].max()) > FLAT]
+    bottom, top = float(body[:, 2].min()), float(body[:, 2].max())
+    over = bottom + height + PART_CLEARANCE  # the contact frame's height of the beside bodies' tops, and the margin
+    if not face or not beside or height <= 0.0 or min(float(p[:, 2].min()) for p in beside) >= over:
+        return None
+    side = 1.0 if np.mean([p[:, 1].mean() for p in beside]) > 0.0 else -1.0
+    faces = [_face_grid(p) for p in face]
+    for roll in side * ROLLS[np.abs(ROLLS) <= MAX_BESIDE_ROLL + 1e-9]:
+        rolled = [_rolled(p, float(roll), 0.0) for p in parts]
+        if min(float(p[:, 2].min()) for p in rolled) < bottom + TABLE_CLEARANCE:
+            return None  # more roll only lowers the cross-piece's free end further
+        if any(_stands_in(p, body) for p in rolled):
+            continue
+        lifted = [_rolled(p, float(roll), 0.0) for p in beside]
+        if min(float(p[:, 2].min()) for p in lifted) < over:
+            continue
+        if _covers(np.vstack([_rolled(g, float(roll), 0.0) for g in faces]), bottom, top, 0.0):
+            return float(roll), 0.0
+    return None
+
+
+def clearing_height(
+    rest: np.ndarray,
+    points: np.ndarray,
+    tools: list[Body],
+    others: list[tuple[np.ndarray, np.ndarray]],
+    table: float,
+) -> float:
+    """The height (m above the table top `table`) of the tallest body among `others` (each its world pose and hull
+    points) that comes within a tool's length (the longest of `tools`) of the outline of the body resting at `rest`
+    with hull points `points`, and is at most `MAX_BESIDE_HEIGHT` tall: what a tool rolled over the low bodies
+    beside its contact must pass over. Taller bodies no small roll passes over: the collision checks decide about
+    them as for any tool."""
+    length = max(_diameter(np.vstack(tool_parts(tool.shape))) for tool in tools)
+    reach = length + float(np.linalg.norm(points[:, :2], axis=1).max())
+    tallest = 0.0
+    for pose, hull in others:
+        world = hull @ pose[:3, :3].T + pose[:3, 3]
+        height = float(world[:, 2].max()) - table
+        if height <= MAX_BESIDE_HEIGHT and float(np.hypot(*(world[:, :2] - rest[:2, 3]).T).min()) <= reach:
+            tallest = max(tallest, height)
+    return tallest
+
+
+def _diameter(points: np.ndarray) -> float:
+    """The largest distance between two of `points` (n x 3)."""
+    return float(np.linalg.norm(points[:, None, :] - points[None, :, :], axis=2).max())
 
 
 def _slides_aside(face: list[np.ndarray], beside: list[np.ndarray], body: np.ndarray, centre: float) -> bool:

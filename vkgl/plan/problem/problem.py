@@ -44,7 +44,7 @@ from vkgl.motion.collision import TOUCH_TOL, CollisionScene
 from vkgl.plan.problem.arcs import arc_members
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.hulls import hull_vertices, outline_corners
-from vkgl.plan.problem.over import over_members
+from vkgl.plan.problem.over import clearing_height, over_members
 from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
 from vkgl.robot import Arm
 
@@ -277,7 +277,9 @@ def build_problem(
     effectors += _tool_effectors(program, scene, effector_name)
     goals = [_goal_spec(task, g, bodies) for g in task.goals]
     for goal in goals:
-        bodies[goal.body] = _with_over_members(_with_arc_members(bodies[goal.body], goal), bodies, effectors)
+        bodies[goal.body] = _with_over_members(
+            _with_arc_members(bodies[goal.body], goal), bodies, effectors, table_top(scene)
+        )
     search = task.search
     depth = max_depth if max_depth is not None else (search.max_depth if search and search.max_depth else None)
     limit = timeout if timeout is not None else (search.timeout.value if search and search.timeout else None)
@@ -325,13 +327,20 @@ def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
     return replace(body, affordances=body.affordances + members, arc_seeds=body.arc_seeds | seeds)
 
 
-def _with_over_members(body: PlanBody, bodies: dict[str, PlanBody], effectors: list[EffectorSpec]) -> PlanBody:
-    """`body` with its slides enacted by a tool rolled over its top, where the tool lying flat would stand in it
-    (`vkgl.plan.problem.over`); only a body lying on the table."""
+def _with_over_members(
+    body: PlanBody, bodies: dict[str, PlanBody], effectors: list[EffectorSpec], table: float
+) -> PlanBody:
+    """`body` with its slides enacted by a tool rolled over its top, where the tool lying flat would stand in it,
+    and its arcs' members rolled over the low bodies beside it (`vkgl.plan.problem.over`); only a body lying on the
+    table (`table`: the table top's height)."""
     if not body.on_table or body.joint is not None or abs(body.rest[2, 2]) < 0.99:
         return body
     tools = [(e.name, bodies[e.tool].type, e.frame) for e in effectors if e.tool is not None and e.tool != body.name]
-    members, pairs = over_members(body.affordances, _hull_points(body.type), tools)
+    points, kinds = _hull_points(body.type), {tool.name for _, tool, _ in tools}
+    near = [b for b in bodies.values() if b is not body and b.on_table and b.type.name not in kinds]  # not tools
+    others = [(b.rest, _hull_points(b.type)) for b in near]
+    beside = clearing_height(body.rest, points, [tool for _, tool, _ in tools], others, table) if tools else 0.0
+    members, pairs = over_members(body.affordances, points, tools, beside)
     known = {a.name for a in body.affordances}
     fresh = tuple(m for m in members if m.name not in known)
     if not fresh:
