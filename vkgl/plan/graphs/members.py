@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vkgl.lang.ir.families import is_straight_member, member_offset, offset_bounds
+from vkgl.lang.ir.families import OVER_MARK, is_straight_member, member_offset, offset_bounds
 from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC, RevoluteC
 from vkgl.plan.problem.problem import Problem
 
@@ -154,7 +154,9 @@ def arc_seed_in(affordances: tuple[Affordance, ...], member: Affordance, name: s
     """`arc_seed` of `member` (called `name`, by default its own) among its body's `affordances`, where its
     slide is (no Problem needed: the search's bounds ask it per body)."""
     name = member.name if name is None else name
-    if is_straight_member(name) or not isinstance(member.motion, RevoluteC):
+    # A rolled tool's member (`NAME@-1.74cm/over+20deg+0.50cm`) keeps its offset: its roll and lift were found
+    # for that contact alone (vkgl.plan.problem.over).
+    if is_straight_member(name) or OVER_MARK in name or not isinstance(member.motion, RevoluteC):
         return None
     base, offset = member_offset(name)
     if base == name or offset == 0.0:
