@@ -20,7 +20,7 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
-from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first
+from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first, work_budget
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats
 
@@ -53,12 +53,18 @@ def solve(
     why = _hopeless(problem)
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
-    way = blocked(problem)  # a body in a goal body's way: part of the time is kept for clearing it first
-    result = search(problem, deadline=started + SEARCH_SHARE * problem.timeout if way else deadline, progress=progress)
+    way = blocked(problem)  # a body in a goal body's way: work is counted, part of it kept for clearing it first
+    budget = work_budget(problem) if way else None
+    main = SEARCH_SHARE * budget if budget is not None else None
+    result = search(problem, deadline=deadline, progress=progress, budget=main)
     if (
-        way
+        budget is not None
         and result.status != "solved"
-        and (cleared := clear_first(problem, result, deadline=deadline, progress=progress))
+        and (
+            cleared := clear_first(
+                problem, result, deadline=deadline, budget=budget - result.stats.work_done(), progress=progress
+            )
+        )
     ):
         if cleared.result is not None:
             result = replace(cleared.result, reason=cleared.words)

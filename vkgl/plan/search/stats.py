@@ -41,12 +41,39 @@ class SearchStats:
     rejections: Counter = field(default_factory=Counter)
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
 
+    def work_done(self) -> float:
+        """The work done so far, in units of about one task-space optimisation (`WORK_WEIGHTS`): what a search's
+        `budget` counts. Counts, not seconds: a budget then ends a search at the same sequence on any machine."""
+        w = WORK_WEIGHTS
+        return (
+            self.work.optimisations * w["optimisation"]
+            + self.task_space_checks * w["task_space_check"]
+            + self.graphs_expanded * w["graph_expanded"]
+            + self.work.ik_calls * w["ik_call"]
+            + self.arm_path_checks * w["arm_path_check"]
+            + self.transits * w["transit"]
+        )
+
     def reject(self, rejection: Rejection, label: str) -> None:
         """Count a rejection; keep the closest miss of each kind (the first among equals) as its example."""
         self.rejections[rejection.kind] += 1
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
             self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
+
+
+WORK_WEIGHTS = {
+    "optimisation": 1.0,
+    "task_space_check": 0.05,
+    "graph_expanded": 0.15,
+    "ik_call": 0.4,
+    "arm_path_check": 1.0,
+    "transit": 5.0,
+}
+"""The weight of each counted step in `SearchStats.work_done`, in task-space optimisations (NLopt runs, about 9 ms
+of CPU each): fitted by least squares to the CPU seconds of the searches of the physical bench's blocked tasks
+(`bench/bench_blocked.py`): a graph expanded (its successors made, their reach checked) costs about a sixth of an
+optimisation, an IK call about 0.4, a sequence's straight arm moves about one, an OMPL transit about five."""
 
 
 def kinds(stats: SearchStats) -> list[str]:
@@ -134,12 +161,16 @@ MAX_DEPTH_HINT = 12
 """No deeper search is suggested past this depth (the CLI's --max-depth limit)."""
 
 
-def timeout_reason(problem: Problem, stats: SearchStats) -> str:
-    """Why the search timed out: how far it got, what it spent, its closest miss, and what to raise."""
+def timeout_reason(problem: Problem, stats: SearchStats, budget: float | None = None) -> str:
+    """Why the search timed out (or spent its work `budget`): how far it got, what it spent, its closest miss, and
+    what to raise."""
     done = f"every sequence that could reach the goal in fewer than {stats.level:g} graphs was checked"
     closest, why = closest_miss(stats)
+    spent = budget is not None and stats.work_done() > budget
+    within = f"its work budget of {budget:g} units" if spent else f"the timeout of {problem.timeout:g} s"
+    ran_out = "its budget ran out" if spent else "the time ran out"
     return (
-        f"no plan within the timeout of {problem.timeout:g} s: the time ran out while checking sequences of "
+        f"no plan within {within}: {ran_out} while checking sequences of "
         f"{stats.level:g} graphs or more ({done}; {stats.sequences} sequences made, "
         f"{stats.task_space_checks} checked in task space, {stats.work.optimisations} optimisations, "
         f"{stats.work.ik_calls} IK calls)"
