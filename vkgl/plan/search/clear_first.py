@@ -19,7 +19,15 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
-Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the deadline passes.
+Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent.
+
+**Counted work, not seconds.** Every search here gets a share of the task's work budget (`work_budget`: its
+timeout's worth, in units of `SearchStats.work_done`), not of the time left: the same task then gets the same
+answer on any machine and under any load, and the deadline stays the wall-clock guard. The main search gets
+`SEARCH_SHARE` of it; here each side of a blocker is first searched with a small budget (`FIRST_TRY`: a push of
+the fingertip that clears it is found with a few units), and only the sides that spent it are searched again with
+a share of what is left (`CLEAR_SHARE`); the search for the goals after a clearing plan gets most of what is left
+(`THEN_SHARE`).
 
 **Shortest or not.** The search before proved that no plan of at most `proven` graphs exists (every sequence
 of `max_depth` graphs when it ended without a plan, those of fewer than its level when the time ran out). A plan
@@ -61,10 +69,10 @@ CLEAR_SHARE = 0.25
 second round (with `k` sides still to try, `1 / (k + 1)` when that is more): it must leave work for the other sides
 and for the goal."""
 
-THEN_SHARE = 0.6
-"""The part of the work left that the search for the goals after a plan clearing the way may spend: the rest is
-kept for the sides still to try (the goals from a prefix that clears the blocker to its first side reached failed
-on four of the nine near blocked tasks of the physical bench)."""
+THEN_SHARE = 0.8
+"""The part of the work left that the search for the goals after a plan clearing the way may spend: it is the
+likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8 graphs there at the last level, with
+about 570 units), and the rest is kept for the sides still to try."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -85,10 +93,11 @@ SEARCH_SHARE = 0.5
 tasks with a body in the way that the search solves take at most a third of the 20 s timeout
 (docs/physical_bench.md)."""
 
-WORK_PER_SECOND = 100.0
+WORK_PER_SECOND = 90.0
 """Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout
-buys for a blocked task's searches (`work_budget`): what a 2020s laptop core does in a second, measured on the
-physical bench's blocked tasks (`bench/bench_blocked.py`). Every share of a blocked task's solve is counted in
+buys for a blocked task's searches (`work_budget`): on the physical bench's blocked tasks (`bench/bench_blocked.py`)
+one core does 70 to 160 units a second, so that the whole budget of a 20 s timeout is spent in at most about 18 s
+of CPU there, before the clock ends anything. Every share of a blocked task's solve is counted in
 these units, not in seconds, so that the same task gets the same answer on any machine and under any load; the
 timeout stays the wall-clock guard over all of it."""
 

@@ -67,13 +67,14 @@ WORK_WEIGHTS = {
     "task_space_check": 0.05,
     "graph_expanded": 0.15,
     "ik_call": 0.4,
-    "arm_path_check": 1.0,
+    "arm_path_check": 5.0,
     "transit": 5.0,
 }
 """The weight of each counted step in `SearchStats.work_done`, in task-space optimisations (NLopt runs, about 9 ms
 of CPU each): fitted by least squares to the CPU seconds of the searches of the physical bench's blocked tasks
-(`bench/bench_blocked.py`): a graph expanded (its successors made, their reach checked) costs about a sixth of an
-optimisation, an IK call about 0.4, a sequence's straight arm moves about one, an OMPL transit about five."""
+(`bench/bench_blocked.py`, 56 searches): a graph expanded (its successors made, their reach checked) costs about a
+sixth of an optimisation, an IK call about 0.4, a sequence's straight arm moves (contact chains) and an OMPL transit
+about five. Rounded, and on the side of the costlier searches: a budget is a count, the timeout guards the clock."""
 
 
 def kinds(stats: SearchStats) -> list[str]:
