@@ -72,7 +72,7 @@ and for the goal."""
 THEN_SHARE = 0.8
 """The part of the work left that the search for the goals after a plan clearing the way may spend: it is the
 likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8 graphs there at the last level, with
-about 570 units), and the rest is kept for the sides still to try."""
+about 450 units), and the rest is kept for the sides still to try."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -93,11 +93,12 @@ SEARCH_SHARE = 0.5
 tasks with a body in the way that the search solves take at most a third of the 20 s timeout
 (docs/physical_bench.md)."""
 
-WORK_PER_SECOND = 90.0
+WORK_PER_SECOND = 95.0
 """Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout
 buys for a blocked task's searches (`work_budget`): on the physical bench's blocked tasks (`bench/bench_blocked.py`)
-one core does 70 to 160 units a second, so that the whole budget of a 20 s timeout is spent in at most about 18 s
-of CPU there, before the clock ends anything. Every share of a blocked task's solve is counted in
+one core does 60 to 150 units a second, about 100 on most: a 20 s timeout's budget (1,900 units) is spent in
+19 s of CPU there at most, before the clock ends anything, and the search's half of it (`SEARCH_SHARE`) buys what
+half of the timeout bought before. Every share of a blocked task's solve is counted in
 these units, not in seconds, so that the same task gets the same answer on any machine and under any load; the
 timeout stays the wall-clock guard over all of it."""
 
