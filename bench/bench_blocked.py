@@ -30,7 +30,8 @@ def _recording(rows: list[dict[str, Any]], original: Any, where: str) -> Any:
         problem: Any, *, deadline: float, progress: bool = False, root: Any = None, budget: float | None = None
     ) -> Any:
         started = time.process_time()
-        result = original(problem, deadline=deadline, progress=progress, root=root, budget=budget)
+        more = {} if budget is None else {"budget": budget}  # without one, the same call as before budgets
+        result = original(problem, deadline=deadline, progress=progress, root=root, **more)
         goal = problem.goals[0]
         what = f"clear {goal.body} {goal.region_words}" if goal.region is not None else where
         if where == "then" and goal.region is None:
@@ -52,7 +53,7 @@ def _recording(rows: list[dict[str, Any]], original: Any, where: str) -> Any:
                 "level": stats.level,
                 "max_depth": problem.max_depth,
                 "budget": budget,
-                "units": stats.work_done(),
+                "units": stats.work_done() if hasattr(stats, "work_done") else 0.0,
                 "rejections": top,
             }
         )

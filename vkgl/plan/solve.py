@@ -53,16 +53,18 @@ def solve(
     why = _hopeless(problem)
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
-    way = blocked(problem)  # a body in a goal body's way: work is counted, part of it kept for clearing it first
-    budget = work_budget(problem) if way else None
-    main = SEARCH_SHARE * budget if budget is not None else None
-    result = search(problem, deadline=deadline, progress=progress, budget=main)
+    way = blocked(problem)  # a body in a goal body's way: part of the time is kept for clearing it first
+    result = search(problem, deadline=started + SEARCH_SHARE * problem.timeout if way else deadline, progress=progress)
     if (
-        budget is not None
+        way
         and result.status != "solved"
         and (
             cleared := clear_first(
-                problem, result, deadline=deadline, budget=budget - result.stats.work_done(), progress=progress
+                problem,
+                result,
+                deadline=deadline,
+                budget=(1.0 - SEARCH_SHARE) * work_budget(problem),
+                progress=progress,
             )
         )
     ):

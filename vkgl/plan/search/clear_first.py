@@ -21,13 +21,16 @@ more, one past the default `max_depth`, and the search cannot afford the level o
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent.
 
-**Counted work, not seconds.** Every search here gets a share of the task's work budget (`work_budget`: its
-timeout's worth, in units of `SearchStats.work_done`), not of the time left: the same task then gets the same
-answer on any machine and under any load, and the deadline stays the wall-clock guard. The main search gets
-`SEARCH_SHARE` of it; here each side of a blocker is first searched with a small budget (`FIRST_TRY`: a push of
-the fingertip that clears it is found with a few units), and only the sides that spent it are searched again with
-a share of what is left (`CLEAR_SHARE`); the search for the goals after a clearing plan gets most of what is left
-(`THEN_SHARE`).
+**Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
+is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
+`SearchStats.work_done`), shared by counted work, not by the time left: the same clearing then ends the same way
+on any machine and under any load, and the deadline stays the wall-clock guard. Each side of a blocker is first
+searched with a small budget (`FIRST_TRY`: a push that clears it is found with a few units), and only the sides
+that spent it are searched again with a share of what is left (`CLEAR_SHARE`); the search for the goals after a
+clearing plan gets most of what is left (`THEN_SHARE`). The search before is not budgeted so: a unit's CPU time
+varies twofold from task to task (an optimisation takes 5 to 15 ms), and a budget that never cuts a proof the
+clock allowed (gen1_001 of the physical bench: no plan of 6 graphs proved with 9,845 graphs expanded and 709
+optimisations in 5.7 s) would leave the clearing too little before the deadline.
 
 **Shortest or not.** The search before proved that no plan of at most `proven` graphs exists (every sequence
 of `max_depth` graphs when it ended without a plan, those of fewer than its level when the time ran out). A plan
@@ -88,19 +91,16 @@ class Cleared:
 
 
 SEARCH_SHARE = 0.5
-"""The part of the work budget (`work_budget`) the search itself gets when a body lies in a goal body's way
-(`blocked`): the rest is left for clearing it first when the search spends its part. On the physical bench the
-tasks with a body in the way that the search solves take at most a third of the 20 s timeout
+"""The part of the timeout the search itself gets when a body lies in a goal body's way (`blocked`): the rest of
+the work budget (`work_budget`) is left for clearing it first when the search times out. On the physical bench
+the tasks with a body in the way that the search solves take at most a third of the 20 s timeout
 (docs/physical_bench.md)."""
 
-WORK_PER_SECOND = 95.0
+WORK_PER_SECOND = 80.0
 """Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout
-buys for a blocked task's searches (`work_budget`): on the physical bench's blocked tasks (`bench/bench_blocked.py`)
-one core does 60 to 150 units a second, about 100 on most: a 20 s timeout's budget (1,900 units) is spent in
-19 s of CPU there at most, before the clock ends anything, and the search's half of it (`SEARCH_SHARE`) buys what
-half of the timeout bought before. Every share of a blocked task's solve is counted in
-these units, not in seconds, so that the same task gets the same answer on any machine and under any load; the
-timeout stays the wall-clock guard over all of it."""
+buys for a blocked task's clearing (`work_budget`): on the physical bench's blocked tasks (`bench/bench_blocked.py`)
+one core does 65 to 150 units a second, about 100 on most, so that the clearing's half of a 20 s timeout (800
+units) is spent before the deadline ends anything on most tasks."""
 
 
 def work_budget(problem: Problem) -> float:
@@ -151,7 +151,11 @@ def clear_first(
     if not walk.log:
         return None
     ran_out = f" ({walk.ran_out()})" if walk.spent() else ""
-    share = f" with the work the search left ({1 - SEARCH_SHARE:.0%} of it)" if before.status == "timeout" else ""
+    share = (
+        f" with the work the search left ({1 - SEARCH_SHARE:.0%} of the timeout's worth)"
+        if before.status == "timeout"
+        else ""
+    )
     return Cleared(None, f"clearing the way first{share} found no plan either{ran_out}: " + "; ".join(walk.log))
 
 
