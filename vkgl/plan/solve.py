@@ -20,7 +20,7 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
-from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first
+from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first, work_budget
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats
 
@@ -58,7 +58,15 @@ def solve(
     if (
         way
         and result.status != "solved"
-        and (cleared := clear_first(problem, result, deadline=deadline, progress=progress))
+        and (
+            cleared := clear_first(
+                problem,
+                result,
+                deadline=deadline,
+                budget=(1.0 - SEARCH_SHARE) * work_budget(problem),
+                progress=progress,
+            )
+        )
     ):
         if cleared.result is not None:
             result = replace(cleared.result, reason=cleared.words)

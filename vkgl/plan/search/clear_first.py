@@ -19,7 +19,18 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
-Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the deadline passes.
+Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent.
+
+**Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
+is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
+`SearchStats.work_done`), shared by counted work, not by the time left: the same clearing then ends the same way
+on any machine and under any load, and the deadline stays the wall-clock guard. Each side of a blocker is first
+searched with a small budget (`FIRST_TRY`: a push that clears it is found with a few units), and only the sides
+that spent it are searched again with a share of what is left (`CLEAR_SHARE`); the search for the goals after a
+clearing plan gets most of what is left (`THEN_SHARE`). The search before is not budgeted so: a unit's CPU time
+varies twofold from task to task (an optimisation takes 5 to 15 ms), and a budget that never cuts a proof the
+clock allowed (gen1_001 of the physical bench: no plan of 6 graphs proved with 9,845 graphs expanded and 709
+optimisations in 5.7 s) would leave the clearing too little before the deadline.
 
 **Shortest or not.** The search before proved that no plan of at most `proven` graphs exists (every sequence
 of `max_depth` graphs when it ended without a plan, those of fewer than its level when the time ran out). A plan
@@ -51,10 +62,21 @@ from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
 CLEAR_DEPTH = 5
 """Graphs of a plan that clears one blocker, G0 included: the push (2), or a tool's grasp first (3)."""
 
+FIRST_TRY = 0.05
+"""The part of the work left for clearing (`clear_first`'s `budget`) that each side of a blocker gets in the first
+round: the sides one push of the fingertip or of a tool in hand reaches are found with a few units (3 to 40 on the
+physical bench), and a side no plan reaches could take the whole level of `CLEAR_DEPTH` graphs; so every side is
+tried cheaply first, and only those that spent it are tried again (`CLEAR_SHARE`)."""
+
 CLEAR_SHARE = 0.25
-"""The least part of the time left that one search for a plan clearing a blocker to one side may take (with
-`k` sides still to try, `1 / (k + 1)` when that is more): a side no plan reaches may take as long as the whole
-level of `CLEAR_DEPTH` graphs, and must leave time for the other sides and for the goal."""
+"""The least part of the work left that one search for a plan clearing a blocker to one side may spend in the
+second round (with `k` sides still to try, `1 / (k + 1)` when that is more): it must leave work for the other sides
+and for the goal."""
+
+THEN_SHARE = 0.8
+"""The part of the work left that the search for the goals after a plan clearing the way may spend: it is the
+likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8 graphs there at the last level, with
+about 450 units), and the rest is kept for the sides still to try."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -70,9 +92,22 @@ class Cleared:
 
 
 SEARCH_SHARE = 0.5
-"""The part of the timeout the search itself gets when a body lies in a goal body's way (`blocked`): the rest is
-left for clearing it first when the search times out. On the physical bench the tasks with a body in the way
-that the search solves take at most a third of the 20 s timeout (docs/physical_bench.md)."""
+"""The part of the timeout the search itself gets when a body lies in a goal body's way (`blocked`): the rest of
+the work budget (`work_budget`) is left for clearing it first when the search times out. On the physical bench
+the tasks with a body in the way that the search solves take at most a third of the 20 s timeout
+(docs/physical_bench.md)."""
+
+WORK_PER_SECOND = 80.0
+"""Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout
+buys for a blocked task's clearing (`work_budget`): on the physical bench's blocked tasks (`bench/bench_blocked.py`)
+one core does 65 to 150 units a second, about 100 on most, so that the clearing's half of a 20 s timeout (800
+units) is spent before the deadline ends anything on most tasks."""
+
+
+def work_budget(problem: Problem) -> float:
+    """The work (units of `SearchStats.work_done`) a blocked task's searches may spend in all: its timeout's
+    worth, `WORK_PER_SECOND` units a second."""
+    return problem.timeout * WORK_PER_SECOND
 
 
 def blocked(problem: Problem) -> bool:
@@ -84,40 +119,44 @@ def blocked(problem: Problem) -> bool:
     return False
 
 
-def clear_first(problem: Problem, before: SearchResult, *, deadline: float, progress: bool = False) -> Cleared | None:
+def clear_first(
+    problem: Problem, before: SearchResult, *, deadline: float, budget: float, progress: bool = False
+) -> Cleared | None:
     """A plan that clears the bodies in a goal body's way first, then reaches the goals (see the module's
-    docstring), searched until `deadline`; None when nothing was tried (nothing lies in the way, or clear of
-    its straight way, or no sequence of any length reaches the goal). `before` is the search that ended
-    without a plan; the counters of every search tried here are added to its."""
+    docstring), searched with at most `budget` units of work (`SearchStats.work_done`) until `deadline` at the
+    latest; None when nothing was tried (nothing lies in the way, or clear of its straight way, or no sequence
+    of any length reaches the goal). `before` is the search that ended without a plan; the counters of every
+    search tried here are added to its."""
     start = start_sequence(problem)
     blocking = _blocking(problem)
     if not blocking or math.isinf(Bound(problem)(start)):
         return None
     proven = _proven(problem, before)
-    walk = _Walk(problem, deadline, progress, before.stats)
+    walk = _Walk(problem, deadline, progress, before.stats, budget)
     for prefix, values, cleared in walk.prefixes(blocking, start):
         if not cleared:
             return None  # every body in the way lies clear of the straight way already: nothing to search anew
         deeper = replace(problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + problem.max_depth), pinned=values)
-        result = search(deeper, deadline=deadline, progress=progress, root=prefix)
-        add_stats(walk.stats, result.stats)
+        result = walk.search(deeper, prefix, THEN_SHARE * walk.left)
         if result.status == "infeasible":  # the blockers' values free again: moved farther aside where need be
-            result = search(replace(deeper, pinned=()), deadline=deadline, progress=progress, root=prefix)
-            add_stats(walk.stats, result.stats)
+            result = walk.search(replace(deeper, pinned=()), prefix, THEN_SHARE * walk.left)
         moved = ", then ".join(f"{name} {side.words} of the way" for name, side in cleared)
         if result.status == "solved":
             assert result.sequence is not None
             words = _words(moved, prefix, result.sequence.depth, proven)
             return Cleared(replace(result, stats=walk.stats), words)
-        walk.log.append(
-            f"{moved} ({prefix.depth} graphs), then no plan of at most {deeper.max_depth} graphs{_closest(result)}"
-        )
-        if time.perf_counter() > deadline:
+        ended = f"no plan of at most {deeper.max_depth} graphs" if result.status == "infeasible" else walk.ran_out()
+        walk.log.append(f"{moved} ({prefix.depth} graphs), then {ended}{_closest(result)}")
+        if walk.spent():
             break
     if not walk.log:
         return None
-    ran_out = " (the time ran out)" if time.perf_counter() > deadline else ""
-    share = f" in the time the search left ({1 - SEARCH_SHARE:.0%} of it)" if before.status == "timeout" else ""
+    ran_out = f" ({walk.ran_out()})" if walk.spent() else ""
+    share = (
+        f" with the work the search left ({1 - SEARCH_SHARE:.0%} of the timeout's worth)"
+        if before.status == "timeout"
+        else ""
+    )
     return Cleared(None, f"clearing the way first{share} found no plan either{ran_out}: " + "; ".join(walk.log))
 
 
@@ -142,13 +181,30 @@ def _proven(problem: Problem, before: SearchResult) -> int:
 
 @dataclass
 class _Walk:
-    """The depth-first walk over the blockers and their sides: the searches' counters and what failed, in words."""
+    """The depth-first walk over the blockers and their sides: the work left (`left`, units of
+    `SearchStats.work_done`), the searches' counters and what failed, in words."""
 
     problem: Problem
     deadline: float
     progress: bool
     stats: SearchStats
+    left: float
     log: list[str] = field(default_factory=list)
+
+    def search(self, problem: Problem, root: Sequence, budget: float) -> SearchResult:
+        """`problem` searched from `root` with at most `budget` units of the work left; its work is taken off."""
+        result = search(problem, deadline=self.deadline, progress=self.progress, root=root, budget=budget)
+        add_stats(self.stats, result.stats)
+        self.left -= result.stats.work_done()
+        return result
+
+    def spent(self) -> bool:
+        """Whether the work or the time left is gone."""
+        return self.left <= 0.0 or time.perf_counter() > self.deadline
+
+    def ran_out(self) -> str:
+        """What ran out, in words."""
+        return "the time ran out" if time.perf_counter() > self.deadline else "the work budget ran out"
 
     def prefixes(
         self, blocking: list[tuple[GoalSpec, str]], root: Sequence, pinned: tuple[float, ...] = ()
@@ -164,29 +220,54 @@ class _Walk:
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
-        for k, side in enumerate(sides):
-            if time.perf_counter() > self.deadline:
+        first = FIRST_TRY * self.left
+        again: list[Side] = []  # the sides that spent their first budget
+        for side in sides:  # first round: every side with a small budget
+            if self.spent():
                 return
-            sub = replace(
-                _only_moving(self.problem, goal, blocker, side),
-                goals=[side_goal(self.problem, goal, blocker, side)],
-                max_depth=root.depth - 1 + CLEAR_DEPTH,
-                pinned=pinned,
-            )
-            left = self.deadline - time.perf_counter()
-            share = min(self.deadline, time.perf_counter() + max(CLEAR_SHARE, 1.0 / (len(sides) - k + 1)) * left)
-            found = search(sub, deadline=share, progress=self.progress, root=root)
-            add_stats(self.stats, found.stats)
-            if found.status != "solved" or found.sequence is None:
-                ended = (
-                    f"no plan of at most {sub.max_depth} graphs" if found.status == "infeasible" else "no plan in time"
-                )
-                self.log.append(f"{blocker} {side.words} of the way: {ended}{_closest(found)}")
-                continue
-            assert found.task is not None
-            values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
-            for prefix, kept, cleared in self.prefixes(rest, found.sequence, values):
-                yield prefix, kept, [(blocker, side), *cleared]
+            found = self._clear(goal, blocker, side, root, pinned, first)
+            if found.status == "timeout":
+                again.append(side)
+            elif found.status == "solved":
+                yield from self._then(found, rest, blocker, side)
+        for k, side in enumerate(again):  # second round: a share of what is left
+            if self.spent():
+                return
+            budget = max(CLEAR_SHARE, 1.0 / (len(again) - k + 1)) * self.left
+            found = self._clear(goal, blocker, side, root, pinned, budget)
+            if found.status == "timeout":
+                self.log.append(f"{blocker} {side.words} of the way: no plan within its budget{_closest(found)}")
+            elif found.status == "solved":
+                yield from self._then(found, rest, blocker, side)
+
+    def _clear(
+        self, goal: GoalSpec, blocker: str, side: Side, root: Sequence, pinned: tuple[float, ...], budget: float
+    ) -> SearchResult:
+        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work: its
+        result, solved (with its sequence), proven infeasible (then logged) or "timeout" (its budget spent)."""
+        sub = replace(
+            _only_moving(self.problem, goal, blocker, side),
+            goals=[side_goal(self.problem, goal, blocker, side)],
+            max_depth=root.depth - 1 + CLEAR_DEPTH,
+            pinned=pinned,
+        )
+        found = self.search(sub, root, budget)
+        if found.status == "solved" and found.sequence is not None:
+            return found
+        if found.status != "timeout":
+            words = f"no plan of at most {sub.max_depth} graphs{_closest(found)}"
+            self.log.append(f"{blocker} {side.words} of the way: {words}")
+            return replace(found, status="infeasible", sequence=None)
+        return found
+
+    def _then(
+        self, found: SearchResult, rest: list[tuple[GoalSpec, str]], blocker: str, side: Side
+    ) -> Iterator[tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]]:
+        """The prefixes that start with `found`'s plan clearing `blocker` to `side`, then clear the `rest`."""
+        assert found.task is not None and found.sequence is not None
+        values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
+        for prefix, kept, cleared in self.prefixes(rest, found.sequence, values):
+            yield prefix, kept, [(blocker, side), *cleared]
 
 
 def _closest(found: SearchResult) -> str:
@@ -270,4 +351,14 @@ def add_stats(total: SearchStats, part: SearchStats) -> None:
     total.rejections.update(part.rejections)
 
 
-__all__ = ["CLEAR_DEPTH", "SEARCH_SHARE", "Cleared", "add_stats", "blocked", "clear_first", "side_goal"]
+__all__ = [
+    "CLEAR_DEPTH",
+    "SEARCH_SHARE",
+    "WORK_PER_SECOND",
+    "Cleared",
+    "add_stats",
+    "blocked",
+    "clear_first",
+    "side_goal",
+    "work_budget",
+]

@@ -70,7 +70,14 @@ class SearchResult:
     paths: StraightPaths[PlanStep] | None = None  # a candidate's straight moves, its transits still to plan
 
 
-def search(problem: Problem, *, deadline: float, progress: bool = False, root: Sequence | None = None) -> SearchResult:
+def search(
+    problem: Problem,
+    *,
+    deadline: float,
+    progress: bool = False,
+    root: Sequence | None = None,
+    budget: float | None = None,
+) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
     Sequences are checked in the order of their depth plus `Bound` (an admissible lower bound of the graphs
@@ -78,7 +85,10 @@ def search(problem: Problem, *, deadline: float, progress: bool = False, root: S
     (`vkgl.plan.search.ordering`), then by the breadth-first order of their actions, and those whose depth plus
     bound passes `max_depth` are never made: the plan is a shortest one, found sooner. `root` (G0 alone by
     default) is the sequence every one searched extends (`vkgl.plan.search.clear_first`: a plan that clears a
-    body in the way): the plan is then a shortest among those that start with it.
+    body in the way): the plan is then a shortest among those that start with it. `budget` (none by default)
+    bounds the work the search may do, in counted units (`SearchStats.work_done`): a search that spends it ends
+    like one that ran out of time ("timeout"), at the same sequence on any machine and under any load (the
+    deadline stays the wall-clock guard).
     """
     stats = SearchStats()
     reporter = Progress(progress)
@@ -94,8 +104,8 @@ def search(problem: Problem, *, deadline: float, progress: bool = False, root: S
     try:
         while frontier:
             stats.level, _, path, seq, checked = heapq.heappop(frontier)
-            if time.perf_counter() > deadline:
-                return SearchResult("timeout", timeout_reason(problem, stats), stats)
+            if time.perf_counter() > deadline or (budget is not None and stats.work_done() > budget):
+                return SearchResult("timeout", timeout_reason(problem, stats, budget), stats)
             if checked:
                 pass  # queued again for its expansion only (`_Entry`)
             elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):

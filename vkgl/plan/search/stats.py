@@ -41,12 +41,41 @@ class SearchStats:
     rejections: Counter = field(default_factory=Counter)
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
 
+    def work_done(self) -> float:
+        """The work done so far, in units of about one task-space optimisation (`WORK_WEIGHTS`): what a search's
+        `budget` counts. Counts, not seconds: a budget then ends a search at the same sequence on any machine."""
+        w = WORK_WEIGHTS
+        return (
+            self.work.optimisations * w["optimisation"]
+            + self.task_space_checks * w["task_space_check"]
+            + self.graphs_expanded * w["graph_expanded"]
+            + self.work.ik_calls * w["ik_call"]
+            + self.arm_path_checks * w["arm_path_check"]
+            + self.transits * w["transit"]
+        )
+
     def reject(self, rejection: Rejection, label: str) -> None:
         """Count a rejection; keep the closest miss of each kind (the first among equals) as its example."""
         self.rejections[rejection.kind] += 1
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
             self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
+
+
+WORK_WEIGHTS = {
+    "optimisation": 1.0,
+    "task_space_check": 0.02,
+    "graph_expanded": 0.05,
+    "ik_call": 0.15,
+    "arm_path_check": 10.0,
+    "transit": 6.0,
+}
+"""The weight of each counted step in `SearchStats.work_done`, in task-space optimisations (NLopt runs, about 10 ms
+of CPU each): fitted by least squares (non-negative) to the CPU seconds of 56 searches of the physical bench's
+blocked tasks (`bench/bench_blocked.py`) and rounded: a graph expanded (its successors made, their reach checked)
+costs about 0.5 ms, a task-space check's own work (closed form, before any optimisation) 0.2 ms, an IK call
+1.5 ms, a sequence's straight arm moves (contact chains) about 100 ms and an OMPL transit about 60 ms. A budget is
+a count; the timeout guards the clock."""
 
 
 def kinds(stats: SearchStats) -> list[str]:
@@ -134,12 +163,20 @@ MAX_DEPTH_HINT = 12
 """No deeper search is suggested past this depth (the CLI's --max-depth limit)."""
 
 
-def timeout_reason(problem: Problem, stats: SearchStats) -> str:
-    """Why the search timed out: how far it got, what it spent, its closest miss, and what to raise."""
+def timeout_reason(problem: Problem, stats: SearchStats, budget: float | None = None) -> str:
+    """Why the search timed out (or spent its work `budget`): how far it got, what it spent, its closest miss, and
+    what to raise."""
     done = f"every sequence that could reach the goal in fewer than {stats.level:g} graphs was checked"
     closest, why = closest_miss(stats)
+    spent = budget is not None and stats.work_done() > budget
+    within = (
+        f"its work budget of {budget:g} units (its share of the timeout's {problem.timeout:g} s, counted in work)"
+        if spent
+        else f"the timeout of {problem.timeout:g} s"
+    )
+    ran_out = "its budget ran out" if spent else "the time ran out"
     return (
-        f"no plan within the timeout of {problem.timeout:g} s: the time ran out while checking sequences of "
+        f"no plan within {within}: {ran_out} while checking sequences of "
         f"{stats.level:g} graphs or more ({done}; {stats.sequences} sequences made, "
         f"{stats.task_space_checks} checked in task space, {stats.work.optimisations} optimisations, "
         f"{stats.work.ik_calls} IK calls)"

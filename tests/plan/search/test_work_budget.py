@@ -1,0 +1,88 @@
+"""Work budgets (`vkgl.plan.search.search`'s `budget`, `SearchStats.work_done`) and the clear-first policy that
+counts in them (`vkgl.plan.search.clear_first`): the same input gives the same answer, whatever the clock says."""
+
+from __future__ import annotations
+
+import math
+import time
+from copy import deepcopy
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+import vkgl
+from vkgl.plan.problem.problem import Problem, build_problem
+from vkgl.plan.search.clear_first import clear_first, work_budget
+from vkgl.plan.search.search import search
+from vkgl.plan.search.stats import SearchStats
+
+_HERE = Path(__file__).resolve().parent
+
+BLOCKED = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.affordances.block
+
+scene cluttered {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.45, 0) m yaw 0deg
+    block2 : Block on table at (0.62, 0) m yaw 90deg
+}
+
+task through {
+    scene cluttered
+    goal block at (0.75, 0) m within 1 cm
+    search { max_depth 3  timeout 60 s }
+}
+"""
+
+
+def _problem() -> Problem:
+    program = vkgl.compile_source(BLOCKED, "budget.vkg", base_dir=_HERE)
+    return build_problem(program, program.tasks["through"])
+
+
+def _counts(stats: SearchStats) -> tuple[int, int, int, int]:
+    return stats.sequences, stats.graphs_expanded, stats.task_space_checks, stats.work.optimisations
+
+
+def test_a_spent_budget_ends_the_search_at_the_same_sequence_however_slow_the_clock() -> None:
+    """Two searches with the same small budget, one of them with a clock that runs a hundred times faster (as
+    on a loaded machine), end at the same sequence with the same counts, and say that the budget ran out."""
+    problem = _problem()
+    far = time.perf_counter() + 1e6
+    runs = [search(problem, deadline=far, budget=3.0)]
+    real = time.perf_counter
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(time, "perf_counter", lambda: 100.0 * real())
+        runs.append(search(problem, deadline=100.0 * far, budget=3.0))
+    assert [r.status for r in runs] == ["timeout", "timeout"]
+    assert "its work budget of 3 units" in runs[0].reason
+    assert _counts(runs[0].stats) == _counts(runs[1].stats)
+    assert 3.0 < runs[0].stats.work_done() < math.inf
+
+
+def test_the_blocker_is_cleared_with_the_fingertip_within_a_work_budget_the_same_way_twice() -> None:
+    """The search proves no plan of 3 graphs; clearing block2 first with the fingertip (one push) then pushing
+    the block gives 4 graphs, within a budget far below the timeout's worth, twice with the same counts."""
+    problem = _problem()
+    far = time.perf_counter() + 1e6
+    before = search(problem, deadline=far)
+    assert before.status == "infeasible"
+    budget = 0.1 * work_budget(problem)
+    found = [  # clear_first adds its searches' counters to the search's before it: each run gets its own copy
+        clear_first(problem, replace(before, stats=deepcopy(before.stats)), deadline=far, budget=budget)
+        for _ in range(2)
+    ]
+    for cleared in found:
+        assert cleared is not None and cleared.result is not None, cleared
+        assert cleared.result.sequence is not None and cleared.result.sequence.depth == 4
+        assert "cleared the way first: block2" in cleared.words
+        labels = [a.label(problem) for a in cleared.result.sequence.actions]
+        assert labels[0].startswith("add Block.") and "block2 with arm.fingertip" in labels[0]
+        assert cleared.result.stats.work_done() <= before.stats.work_done() + budget + 10.0
+    first, second = (c.result for c in found if c is not None and c.result is not None)
+    assert _counts(first.stats) == _counts(second.stats)
+    assert [a.label(problem) for a in first.sequence.actions] == [a.label(problem) for a in second.sequence.actions]
