@@ -89,6 +89,16 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))  # stable: in-file order kept
 
 
+@pytest.hookimpl(tryfirst=True)
+def pytest_configure(config: pytest.Config) -> None:
+    """`tmp_path` in memory too, inside the run's cache folder (xdist's workers get a folder in it each): on ext4,
+    writing over a file flushes it to disk on close (auto_da_alloc), 0.4 to 3 ms a write, and the fuzz tests write
+    each of their thousands of cases over the last one (tests/lang/test_robustness.py alone 5000)."""
+    in_memory = os.environ["VKGL_CACHE_DIR"].startswith(str(_MEMORY) + os.sep)
+    if _OWN_CACHE and in_memory and config.option.basetemp is None:  # a worker's was set by the controller
+        config.option.basetemp = os.path.join(os.environ["VKGL_CACHE_DIR"], "tmp")
+
+
 def pytest_unconfigure(config: pytest.Config) -> None:
     """The process that made the run's cache folder (not an xdist worker, which inherits it) removes it."""
     if _OWN_CACHE:
