@@ -3,8 +3,8 @@
 The plans are `vkg-plan/6` documents written by `plan_script` from the
 hand-derived step scripts of the example tasks (so these tests do not depend
 on the search); wrong plans are made by mutating their JSON and reading it
-back (`vkgl.formats.plan`). The last tests replay the planner's own plan and
-re-solve with the planner (`vkgl.plan.solve`) as the resolver.
+back (`vkgl.formats.plan`). The last tests re-solve with the planner
+(`vkgl.plan.solve`) as the resolver.
 """
 
 from __future__ import annotations
@@ -218,14 +218,8 @@ def test_a_long_stick_push_keeps_one_arm_configuration():
     assert report.status == "reached", report.text()
 
 
-def test_the_planners_plan_reaches_the_goal(task_a):
-    from vkgl.plan.solve import solve
-
-    program, _ = task_a
-    plan = solve(program, program.task(TASK))
-    assert plan.status == "solved", plan.reason
-    report = execute(program, TASK, plan.document(), replan=True, resolve=_resolve_with_the_planner)
-    assert report.status == "reached", report.text()
+# The planner's own plan of task (a), carried out closed loop with the planner as the resolver: `vkgc solve
+# a_push.vkg --replan` (tests/execute/test_execute_cli.py::test_solve_execute_replan_writes_the_report).
 
 
 def test_the_planner_re_solves_from_the_observed_scene(task_a):
