@@ -38,7 +38,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/infer/test_learn.py",  # 47: learns the whole stdlib, in 2 processes
     "tests/execute/test_generated_execution.py",  # 30
     "tests/execute/test_tall_bodies.py",  # 29
-    "tests/test_tooling.py",  # 27: mypy of a fresh clone
+    "tests/test_tooling.py",  # 21: mypy of a fresh clone (Ray not followed)
     "tests/execute/test_wide_pulls.py",  # 21
     "tests/plan/test_geometry_check.py",  # 19
     "tests/execute/test_contact_chain.py",  # 18
