@@ -38,7 +38,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/infer/test_learn.py",  # 47: learns the whole stdlib, in 2 processes
     "tests/execute/test_generated_execution.py",  # 30
     "tests/execute/test_tall_bodies.py",  # 29
-    "tests/test_tooling.py",  # 27: mypy of a fresh clone
+    "tests/test_tooling.py",  # 21: mypy of a fresh clone (Ray not followed)
     "tests/execute/test_wide_pulls.py",  # 21
     "tests/plan/geometry/test_geometry_check.py",  # 19
     "tests/execute/test_contact_chain.py",  # 18
@@ -87,6 +87,16 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     missing = [path for path in SLOWEST_FIRST if not (REPO / path).is_file()]
     assert not missing, f"SLOWEST_FIRST names files that are not there: {missing}"
     items.sort(key=lambda item: rank.get(item.nodeid.split("::")[0], len(rank)))  # stable: in-file order kept
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_configure(config: pytest.Config) -> None:
+    """`tmp_path` in memory too, inside the run's cache folder (xdist's workers get a folder in it each): on ext4,
+    writing over a file flushes it to disk on close (auto_da_alloc), 0.4 to 3 ms a write, and the fuzz tests write
+    each of their thousands of cases over the last one (tests/lang/test_robustness.py alone 5000)."""
+    in_memory = os.environ["VKGL_CACHE_DIR"].startswith(str(_MEMORY) + os.sep)
+    if _OWN_CACHE and in_memory and config.option.basetemp is None:  # a worker's was set by the controller
+        config.option.basetemp = os.path.join(os.environ["VKGL_CACHE_DIR"], "tmp")
 
 
 def pytest_unconfigure(config: pytest.Config) -> None:

@@ -3,8 +3,8 @@
 The plans are `vkg-plan/7` documents written by `plan_script` from the
 hand-derived step scripts of the example tasks (so these tests do not depend
 on the search); wrong plans are made by mutating their JSON and reading it
-back (`vkgl.formats.plan`). The last tests replay the planner's own plan and
-re-solve with the planner (`vkgl.plan.solve`) as the resolver.
+back (`vkgl.formats.plan`). The last tests re-solve with the planner
+(`vkgl.plan.solve`) as the resolver.
 """
 
 from __future__ import annotations
@@ -117,15 +117,22 @@ def _push_the_rest(program: Program, task: str, attempts: Attempts) -> PlanDocum
     return scripted_plan(program, task, [f"add Block.push_center_px block arm.fingertip {rest}"])
 
 
-def test_closed_loop_replans_when_the_block_strays_from_the_plan(task_a):
+@pytest.fixture(scope="module")
+def stray_replanned(task_a) -> tuple[Any, list[Any]]:
+    """The stray plan carried out closed loop, re-solved by the planner (one execution read by two tests): the
+    report, and the scenes the planner was given."""
     program, plan = task_a
     observed_starts = []
 
     def resolve(observed: Program, task: str, attempts: Attempts) -> PlanDocument:
         observed_starts.append(observed.scenes["tabletop"])
-        return _push_the_rest(observed, task, attempts)
+        return _resolve_with_the_planner(observed, task, attempts)
 
-    report = execute(program, TASK, _stray_plan(plan), replan=True, resolve=resolve)
+    return execute(program, TASK, _stray_plan(plan), replan=True, resolve=resolve), observed_starts
+
+
+def test_closed_loop_replans_when_the_block_strays_from_the_plan(stray_replanned):
+    report, observed_starts = stray_replanned
     assert report.replans == 1, report.text()
     assert report.status == "reached", report.text()
     assert "re-solved from the observed scene" in report.replan_log[0]
@@ -218,19 +225,12 @@ def test_a_long_stick_push_keeps_one_arm_configuration():
     assert report.status == "reached", report.text()
 
 
-def test_the_planners_plan_reaches_the_goal(task_a):
-    from vkgl.plan.solve import solve
-
-    program, _ = task_a
-    plan = solve(program, program.task(TASK))
-    assert plan.status == "solved", plan.reason
-    report = execute(program, TASK, plan.document(), replan=True, resolve=_resolve_with_the_planner)
-    assert report.status == "reached", report.text()
+# The planner's own plan of task (a), carried out closed loop with the planner as the resolver: `vkgc solve
+# a_push.vkg --replan` (tests/execute/test_execute_cli.py::test_solve_execute_replan_writes_the_report).
 
 
-def test_the_planner_re_solves_from_the_observed_scene(task_a):
-    program, plan = task_a
-    report = execute(program, TASK, _stray_plan(plan), replan=True, resolve=_resolve_with_the_planner)
+def test_the_planner_re_solves_from_the_observed_scene(stray_replanned):
+    report, _ = stray_replanned
     assert report.replans == 1, report.text()
     assert report.status == "reached", report.text()
     assert [s.plan for s in report.steps][-1] == 1  # the last step came from the new plan

@@ -12,11 +12,17 @@ import pytest
 
 
 @pytest.fixture(autouse=True)
-def no_rename_outside_the_temporary_folder(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A writer with the old bug would rename over /dev/stdout (run as root): refuse any rename outside /tmp."""
+def no_rename_outside_the_temporary_folder(
+    monkeypatch: pytest.MonkeyPatch, tmp_path_factory: pytest.TempPathFactory
+) -> None:
+    """A writer with the old bug would rename over /dev/stdout (run as root): refuse any rename outside /tmp, the
+    run's `tmp_path` folders and vkgl's cache folder (the run's own, in memory: tests/conftest.py)."""
     import tempfile
 
-    allowed = os.path.realpath(tempfile.gettempdir())
+    from vkgl.resources import cache_folder
+
+    folders = [tempfile.gettempdir(), tmp_path_factory.getbasetemp(), cache_folder()]
+    allowed = tuple(os.path.realpath(folder) for folder in folders if folder is not None)
     real_replace, real_rename = os.replace, os.rename
 
     def guarded(real):  # type: ignore[no-untyped-def]
