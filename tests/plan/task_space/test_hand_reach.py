@@ -54,8 +54,8 @@ scene s {
 task t { scene s  goal block at (0.6, 0.1) m within 1 cm }
 """
 
-DEPTH = 5
-"""Graphs in the longest sequence enumerated (G0 included): up to two contacts, so up to two turns."""
+DEPTH = 4
+"""Graphs in the longest sequence enumerated (G0 included): two contacts, so up to two turns."""
 
 
 @pytest.fixture(scope="module")

@@ -82,7 +82,10 @@ def hand_bounds(problem: Problem, seq: Sequence, goal: GoalSpec) -> list[HandBou
     """A `HandBound` for each mode of `seq` in which the hand acts on `goal.body`, for a goal with a position;
     none when the body may leave its height or level (`hand_out_of_reach_on_the_way` says why they hold)."""
     assert goal.position is not None
-    moves = _largest_moves(problem, seq, goal.body)
+    if not any(e.body == goal.body for _, e in seq.variables):
+        return []  # nothing moves the body: the closed form's other checks decide
+    limits = bounds(problem, seq, offsets=True)
+    moves = _largest_moves(problem, seq, goal.body, limits)
     if moves is None:
         return []
     rest = problem.bodies[goal.body].rest
@@ -93,7 +96,7 @@ def hand_bounds(problem: Problem, seq: Sequence, goal: GoalSpec) -> list[HandBou
         acting = acting_engagement(problem, graph)
         if acting is None or acting.body != goal.body:
             continue
-        ring = _hand_ring(problem, seq, graph, acting)
+        ring = _hand_ring(problem, seq, graph, acting, limits)
         if ring is None:
             continue
         points, slack, height = ring
@@ -143,7 +146,7 @@ def _nearest(target: np.ndarray, point: np.ndarray, low: float, high: float) -> 
 
 
 def _largest_moves(
-    problem: Problem, seq: Sequence, body: str
+    problem: Problem, seq: Sequence, body: str, limits: tuple[np.ndarray, np.ndarray]
 ) -> list[tuple[int, float, Engagement | tuple[float, float]]] | None:
     """(mode, the largest distance the motion can move the body's origin, for a turn the interval of headings
     it adds, else its engagement) of each motion of `body` in `seq`, or None when the body may leave its height
@@ -152,7 +155,7 @@ def _largest_moves(
         return None
     if any(e.body == body for _, e in seq.carries) or any(f.tool == body for f in problem.effectors):
         return None
-    bands = _offset_bands(problem, seq)
+    bands = _offset_bands(seq, limits)
     out: list[tuple[int, float, Engagement | tuple[float, float]]] = []
     for mode, e in seq.variables:
         if e.body != body:
@@ -178,9 +181,10 @@ def _largest_moves(
     return out
 
 
-def _offset_bands(problem: Problem, seq: Sequence) -> dict[Engagement, float]:
-    """The largest |offset| each engagement's contact may take anywhere in `seq` (the optimiser's bounds)."""
-    lower, upper = bounds(problem, seq, offsets=True)
+def _offset_bands(seq: Sequence, limits: tuple[np.ndarray, np.ndarray]) -> dict[Engagement, float]:
+    """The largest |offset| each engagement's contact may take anywhere in `seq` (`limits`: the optimiser's
+    bounds, `rollout.bounds` with offsets)."""
+    lower, upper = limits
     n = len(seq.variables)
     out: dict[Engagement, float] = {}
     for j, (_, e) in enumerate(seq.offsets):
@@ -193,7 +197,7 @@ OFFSET_GRID = 9
 
 
 def _hand_ring(
-    problem: Problem, seq: Sequence, graph: KGraph, acting: Engagement
+    problem: Problem, seq: Sequence, graph: KGraph, acting: Engagement, limits: tuple[np.ndarray, np.ndarray]
 ) -> tuple[list[np.ndarray], float, float] | None:
     """(the hand's horizontal position in the body's frame at `OFFSET_GRID` offsets over the acting contact's
     band, how far any offset's lies from the nearest of them, the hand's height above the body's origin);
@@ -201,7 +205,7 @@ def _hand_ring(
 
     The chain is affine in the offset (`members.action_at`), so an offset within h / 2 of a grid offset puts
     the hand within |a| h / 2 of that one's (a: the chain's change per metre of offset)."""
-    lower, upper = bounds(problem, seq, offsets=True)
+    lower, upper = limits
     n = len(seq.variables)
     lo = hi = 0.0
     for j, (_, e) in enumerate(seq.offsets):
