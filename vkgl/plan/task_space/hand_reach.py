@@ -100,12 +100,12 @@ def hand_bounds(problem: Problem, seq: Sequence, goal: GoalSpec) -> list[HandBou
         if ring is None:
             continue
         points, slack, height = ring
-        own = [e for m, _, e in moves if m == k]
+        own = [move.engagement for move in moves if move.mode == k]
         at_end = own == [acting]  # the rollout samples the hand where the acting motion ends
-        later = sum(move for m, move, _ in moves if m > k or (m == k and not at_end))
-        turned = [turn for m, _, turn in moves if isinstance(turn, tuple) and (m < k or (m == k and at_end))]
+        later = sum(move.largest for move in moves if move.mode > k or (move.mode == k and not at_end))
+        turned = [move.headings for move in moves if move.mode < k or (move.mode == k and at_end)]
         low = heading + sum(t[0] for t in turned)
-        high = heading + sum(t[1] for t in turned)
+        high = heading + sum(t[1] for t in turned)  # (a slide adds (0, 0))
         nearest = min(_nearest(target, p, low, high) for p in points) - slack - goal.tol_position - later
         farthest = float(np.linalg.norm(target)) + max(math.hypot(*p) for p in points) + goal.tol_position + later
         out.append(HandBound(k, at_end, max(0.0, nearest), farthest, float(rest[2, 3]) + height, later))
@@ -145,37 +145,47 @@ def _nearest(target: np.ndarray, point: np.ndarray, low: float, high: float) -> 
     )
 
 
+@dataclass(frozen=True)
+class _Move:
+    """A motion of the body in a sequence: its mode, the largest distance it can move the body's origin, its
+    engagement, and the interval of headings it adds (a slide: none)."""
+
+    mode: int
+    largest: float
+    engagement: Engagement
+    headings: tuple[float, float] = (0.0, 0.0)
+
+
 def _largest_moves(
     problem: Problem, seq: Sequence, body: str, limits: tuple[np.ndarray, np.ndarray]
-) -> list[tuple[int, float, Engagement | tuple[float, float]]] | None:
-    """(mode, the largest distance the motion can move the body's origin, for a turn the interval of headings
-    it adds, else its engagement) of each motion of `body` in `seq`, or None when the body may leave its height
-    or level (a tilt, a vertical slide, a carry, a tool)."""
+) -> list[_Move] | None:
+    """Each motion of `body` in `seq`, or None when the body may leave its height or level (a tilt, a vertical
+    slide, a carry, a tool)."""
     if abs(problem.bodies[body].rest[2, 2] - 1.0) > LEVEL:
         return None
     if any(e.body == body for _, e in seq.carries) or any(f.tool == body for f in problem.effectors):
         return None
     bands = _offset_bands(seq, limits)
-    out: list[tuple[int, float, Engagement | tuple[float, float]]] = []
+    out: list[_Move] = []
     for mode, e in seq.variables:
         if e.body != body:
             continue
         motion = problem.affordance(e.body, e.affordance).motion
         low, high = value_bounds(motion)
+        if not (math.isfinite(low) and math.isfinite(high)):
+            return None
         largest = max(abs(low), abs(high))
         axis, center = unit_axis_and_center(motion)
         kind = motion_type(problem, e)
-        if not (math.isfinite(low) and math.isfinite(high)):
-            return None
         if kind == "prismatic" and abs(axis[2]) <= LEVEL:
-            out.append((mode, largest, e))
+            out.append(_Move(mode, largest, e))
         elif kind == "revolute" and center is not None and float(np.hypot(axis[0], axis[1])) <= LEVEL:
             _, drift = family_vectors(problem.affordance(e.body, e.affordance))
             drifted = 0.0 if drift is None else bands.get(e, 0.0) * float(np.linalg.norm(drift))
             radius = float(np.linalg.norm(center)) + drifted
             sign = 1.0 if axis[2] > 0 else -1.0
             headings = (min(sign * low, sign * high), max(sign * low, sign * high))
-            out.append((mode, 2.0 * radius * math.sin(min(largest, math.pi) / 2), headings))
+            out.append(_Move(mode, 2.0 * radius * math.sin(min(largest, math.pi) / 2), e, headings))
         else:
             return None
     return out
