@@ -119,10 +119,10 @@ def _for_goal(problem: Problem, seq: Sequence, goal: GoalSpec) -> Rejection | No
         if found is not None:
             excess, words = found
             label = seq.actions[bound.mode - 1].label(problem) if bound.mode > 0 else "G0"
+            later = f" and its later motions move it {bound.later * 100:.1f} cm at most" if bound.later > 0 else ""
             why = (
                 f"after {label}: the hand would be {words}, whatever the motion values, as {goal.body} ends within "
-                f"{goal.tol_position * 100:.1f} cm of its goal and its later motions move it "
-                f"{bound.later * 100:.1f} cm at most"
+                f"{goal.tol_position * 100:.1f} cm of its goal{later}"
             )
             return Rejection(Kind.REACH, why, excess)
     return None
