@@ -21,7 +21,7 @@ def motion_matrix(constraint: object, value: float) -> np.ndarray:
     return motion_matrices(constraint, np.array([value]))[0]
 
 
-_MOTIONS: dict[tuple[int, bytes] | tuple[int, bytes, bytes], tuple[object, np.ndarray]] = {}
+_MOTIONS: dict[tuple[int, bytes], tuple[object, np.ndarray]] = {}
 _MOTIONS_KEPT = 4096
 """Motion matrices remembered (the optimiser's finite differences move one value at a time: the other modes'
 motions repeat, and a SciPy rotation costs tens of microseconds)."""
@@ -53,19 +53,7 @@ def member_motions(problem: Problem, engagement: Engagement, offset: float, valu
     shift = pivot_shift(problem, engagement.body, engagement.affordance, offset)
     if shift is None:
         return motion_matrices(motion, values)
-    if len(values) > _MOTION_PATH:
-        return _motion_matrices(motion, values, shift)
-    # remembered too: a family turn's path repeats in every finite-difference step of another mode's value
-    key = (id(motion), np.asarray(values, dtype=float).tobytes(), shift.tobytes())
-    cached = _MOTIONS.get(key)
-    if cached is not None and cached[0] is motion:
-        return cached[1]
-    if len(_MOTIONS) >= _MOTIONS_KEPT:
-        _MOTIONS.clear()
-    m = _motion_matrices(motion, values, shift)
-    m.flags.writeable = False
-    _MOTIONS[key] = (motion, m)
-    return m
+    return _motion_matrices(motion, values, shift)
 
 
 def _motion_matrices(constraint: object, values: np.ndarray, shift: np.ndarray | None = None) -> np.ndarray:
