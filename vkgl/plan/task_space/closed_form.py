@@ -16,7 +16,8 @@ A carried goal body (`vkgl.plan.graphs.carry`) may be set down anywhere: the opt
 `carry_start`. And one about the hand: when the last mode holds the hand on a goal body whose
 goal fixes position and heading, the hand's final pose follows from the goal;
 if that is out of the arm's reach by more than the goal's tolerance can move
-it, nothing can help.
+it, nothing can help; the same of every earlier mode in which the hand acts on a
+goal body, whose later motions can take it only so far (`hand_reach`).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, hand_chain
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.hand_reach import hand_out_of_reach_on_the_way
 from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach, value_limits
 from vkgl.plan.task_space.workspace import REACH_MARGIN, reach_violation, unreachable
 from vkgl.se3 import wrap_angle, yaw_of
@@ -54,7 +56,7 @@ def closed_form(problem: Problem, seq: Sequence) -> tuple[np.ndarray, bool] | Re
         for i, (v, exact) in outcome.items():
             values[i] = v
             pinned[i] = exact
-    far = _hand_beyond_reach_at_goal(problem, seq)
+    far = _hand_beyond_reach_at_goal(problem, seq) or hand_out_of_reach_on_the_way(problem, seq)
     if far is not None:
         return far
     return values, bool(pinned.all())

@@ -1,0 +1,133 @@
+"""The proof that the hand cannot reach a goal body on its way to its goal (`vkgl.plan.task_space.hand_reach`):
+wherever the goal holds, the hand at each sample it bounds lies within its bounds (so it never rejects a
+sequence task space would accept)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vkgl.lang.compiler import compile_file
+from vkgl.plan.graphs.graph import successors
+from vkgl.plan.graphs.rollout import Sequence, bounds, extend, rollout, start_sequence
+from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
+from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.hand_reach import hand_bounds, hand_out_of_reach_on_the_way
+
+PROGRAM = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+
+affordances Block {
+    affordance push_px {
+        action fixed at (-5, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 12 cm
+    }
+    affordance push_nx {
+        action fixed at (5, 0, 0) cm yaw 180deg
+        motion prismatic along (-1, 0, 0) from (0, 0, 0) cm range 0 to 6 cm
+    }
+    affordance turn_left {
+        action fixed at (-5, 6.56, 0) cm yaw 0deg
+        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to 40 deg
+        family along (0, 1, 0) from 0 to 2.66 cm drift (0.288, 2.214, 0) sigma 1.37 cm
+    }
+    affordance turn_right {
+        action fixed at (5, -6.56, 0) cm yaw 180deg
+        motion revolute about (3, 9, 0) cm axis (0, 0, 1) range 0 to 25 deg
+        family along (0, 1, 0) from -2.66 to 0 cm drift (-0.586, 1.894, 0) sigma 1.87 cm
+    }
+}
+
+scene s {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.62, 0.05) m yaw 20deg
+}
+
+task t { scene s  goal block at (0.6, 0.1) m within 1 cm }
+"""
+
+DEPTH = 4
+"""Graphs in the longest sequence enumerated (G0 included): two contacts, so up to two turns."""
+
+
+@pytest.fixture(scope="module")
+def problem(tmp_path_factory: pytest.TempPathFactory) -> Problem:
+    path = Path(tmp_path_factory.mktemp("hand_reach")) / "far_block.vkg"
+    path.write_text(PROGRAM, encoding="utf-8")
+    program = compile_file(str(path))
+    return build_problem(program, program.task(), max_depth=DEPTH)
+
+
+@pytest.fixture(scope="module")
+def sequences(problem: Problem) -> list[Sequence]:
+    """Every sequence of at most `DEPTH` graphs whose last mode moves the block."""
+    found, layer = [], [start_sequence(problem)]
+    while layer:
+        deeper = []
+        for seq in layer:
+            if seq.depth >= DEPTH:
+                continue
+            for action in successors(problem, seq.graphs[-1], seq.last):
+                child, _ = extend(problem, seq, action)
+                deeper.append(child)
+                if any(m == child.depth - 1 for m, _ in child.variables):
+                    found.append(child)
+        layer = deeper
+    return found
+
+
+@pytest.fixture(scope="module")
+def bounded(problem: Problem, sequences: list[Sequence]) -> list[Sequence]:
+    """Those with a hand sample to bound: the hand acting on the block in a mode before the last, or at its end."""
+    goal = problem.goals[0]
+    return [s for s in sequences if len(hand_bounds(problem, s, goal)) > 1]
+
+
+def _goal_at(problem: Problem, position: np.ndarray, tolerance: float = 0.01) -> Problem:
+    return replace(problem, goals=[GoalSpec("block", position, None, tolerance, math.radians(3))])
+
+
+@settings(max_examples=10, deadline=None)
+@given(
+    fractions=st.lists(st.floats(0.0, 1.0), min_size=12, max_size=12),
+    miss=st.tuples(st.floats(0.0, 1.0), st.floats(-math.pi, math.pi)),
+)
+def test_the_hand_lies_within_its_bounds_wherever_the_goal_holds(problem, bounded, fractions, miss):
+    # the witness: values (motions, then contacts along their families) and a goal they meet within its tolerance
+    assert any(s.offsets for s in bounded) and any(
+        sum("turn" in e.affordance for _, e in s.variables) == 2 for s in bounded
+    )
+    seen = 0
+    for seq in bounded:
+        lower, upper = bounds(problem, seq, offsets=True)
+        x = lower + np.array(fractions[: len(lower)]) * (upper - lower)
+        traces = rollout(problem, seq, x)
+        end = traces[-1].end["block"][:2, 3]
+        goal = end + 0.01 * miss[0] * np.array([math.cos(miss[1]), math.sin(miss[1])])
+        for bound in hand_bounds(problem, seq, _goal_at(problem, goal).goals[0]):
+            hand = traces[bound.mode].hand[-1 if bound.at_end else 0][:3, 3]
+            radius = math.hypot(hand[0], hand[1])
+            assert bound.nearest - 1e-9 <= radius <= bound.farthest + 1e-9, (seq.actions, x, bound)
+            assert abs(hand[2] - bound.height) < 1e-9
+            seen += 1
+    assert seen >= 2 * len(bounded)
+
+
+def test_a_far_goal_rejects_pushing_back_from_beyond_the_reach(problem, sequences):
+    # 85 cm from the arm's base: pushed there, the block's far face is beyond the reach, so the sequences that
+    # end with a push back from that face, or push from it on the way, are rejected without optimising
+    far = _goal_at(problem, np.array([0.85, 0.05]))
+    verdicts = {seq: hand_out_of_reach_on_the_way(far, seq) for seq in sequences}
+    rejected = [s for s, v in verdicts.items() if isinstance(v, Rejection)]
+    assert rejected and all(verdicts[s].kind is Kind.REACH for s in rejected)  # type: ignore[union-attr]
+    assert len(rejected) < len(sequences)
+    assert all(any("_nx" in a.label(problem) or "right" in a.label(problem) for a in s.actions) for s in rejected)
+    assert "whatever the motion values" in verdicts[rejected[0]].why  # type: ignore[union-attr]
