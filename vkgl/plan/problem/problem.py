@@ -28,16 +28,7 @@ from vkgl.lang.ir.geometry import (
     shape_vertices,
     table_top,
 )
-from vkgl.lang.ir.nodes import (
-    Affordance,
-    Body,
-    FixedC,
-    Goal,
-    Robot,
-    Scene,
-    SceneBody,
-    Task,
-)
+from vkgl.lang.ir.nodes import Affordance, Body, FixedC, Goal, Robot, Scene, SceneBody, Task
 from vkgl.lang.ir.program import Program
 from vkgl.lang.ir.regions import KeepOut, excess, footprint
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene
@@ -92,8 +83,7 @@ class PlanBody:
     tool_members: frozenset[tuple[str, str]] = frozenset()
     """(affordance, effector): the members only that tool effector may enact (`vkgl.plan.problem.over`)."""
     arc_seeds: frozenset[str] = frozenset()
-    """The arc members offered as seeds only (`vkgl.plan.problem.arcs`: their exact turn from rest misses the goal;
-    the task space moves their offset from the start)."""
+    """Arc members offered as seeds only: their turn from rest misses the goal; task space moves their offset."""
 
     def joint_state(self, pose: np.ndarray) -> float:
         """The coordinate of the physical joint at world `pose` (m or rad), 0 at `joint_zero`; the body needs a joint.
@@ -277,9 +267,8 @@ def build_problem(
     effectors += _tool_effectors(program, scene, effector_name)
     goals = [_goal_spec(task, g, bodies) for g in task.goals]
     for goal in goals:
-        bodies[goal.body] = _with_over_members(
-            _with_arc_members(bodies[goal.body], goal), bodies, effectors, table_top(scene)
-        )
+        arcs = _with_arc_members(bodies[goal.body], goal)
+        bodies[goal.body] = _with_over_members(arcs, bodies, effectors, table_top(scene))
     search = task.search
     depth = max_depth if max_depth is not None else (search.max_depth if search and search.max_depth else None)
     limit = timeout if timeout is not None else (search.timeout.value if search and search.timeout else None)
