@@ -3,7 +3,8 @@
 The kinds are ordered by how far a rejected sequence got (`Kind.stage`): a hand pose out of reach (0) came less
 close to a plan than a task-space failure (1), which came less close than a collision or an IK failure (2), than
 an arm path that could not be found (3), or than a feasible plan that repeats what a re-solve must avoid (4). The
-search's "no plan" reason leads with the furthest stage's kinds: the decisive cause.
+search's "no plan" reason leads with the furthest stage's kinds: the decisive cause. A contact that moves
+nothing (-1) is no miss at all (the sequence without it was checked first): listed last, never the closest.
 """
 
 from __future__ import annotations
@@ -57,13 +58,13 @@ _WORDS = {
 }
 
 _STAGE = {
+    Kind.IDLE: -1,  # not a miss: the same sequence without the idle contact was checked first
     Kind.REACH: 0,
     Kind.YAW: 1,
     Kind.POSITION: 1,
     Kind.GOAL: 1,
     Kind.TABLE: 1,
     Kind.COLLISION: 2,
-    Kind.IDLE: 2,
     Kind.IK: 2,
     Kind.GRIP: 2,
     Kind.TIMEOUT: 2,
