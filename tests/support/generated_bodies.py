@@ -9,6 +9,10 @@ from dataclasses import dataclass
 LEARNED_MODULES = "+families+arcs"
 """What inference writes into modules beyond its report (part of the cache key): `family` lines, their `arc`s."""
 SLIDE_SECONDS = 17  # s of the generated bodies' `explore slides` trials: the stdlib Block's (it slides 49 cm)
+TWO_FACES = ("+x", "-x")
+"""The faces the stdlib Block is explored on, and the generated bodies by default: a blocker slides along x only."""
+FOUR_FACES = ("+x", "-x", "+y", "-y")
+"""Every side face, as a user exploring a cube or a crate pushes it: a blocker can also be pushed sideways."""
 
 
 @dataclass(frozen=True)
@@ -23,6 +27,7 @@ class BodyType:
     parts: tuple[tuple[float, float, float, float], ...] = ()  # (cx, cy, sx, sy) boxes of a union, body frame
     long_slides: bool = True  # explored with the long `slides` pushes too; False: the short push grid only
     slide_steps: int = 1  # points per face of the long `slides` pushes: 1, the centre; 5 adds pulls off it
+    faces: tuple[str, ...] = TWO_FACES  # the side faces both explore blocks push on (`FOUR_FACES`: all four)
 
     @property
     def mass(self) -> float:
@@ -42,19 +47,20 @@ class BodyType:
     def source(self) -> str:
         """The `body` declaration (generated types only)."""
         x, y, z = (num(v * 100) for v in self.size)
+        faces = ", ".join(self.faces)
         return (
             f"body {self.name} {{\n"
             f"    shape box ({x}, {y}, {z}) cm\n"
             f"    mass {num(self.mass)} kg\n"
             f"    friction 0.5\n"
             f"    explore pushes {{\n"
-            f"        contacts on faces +x, -x steps 9\n"
+            f"        contacts on faces {faces} steps 9\n"
             f"        force normal 1 N\n"
             f"        duration 3 s\n"
             f"    }}\n"
             + (
                 f"    explore slides {{\n"
-                f"        contacts on faces +x, -x steps {self.slide_steps}\n"
+                f"        contacts on faces {faces} steps {self.slide_steps}\n"
                 f"        force normal 1 N\n"
                 f"        duration {num(SLIDE_SECONDS)} s\n"
                 f"    }}\n"

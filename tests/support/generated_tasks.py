@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 from generated_bodies import (  # noqa: F401  (re-exported: the tests and benches read them from here)
     BLOCK,
+    FOUR_FACES,
     GENERATED_TYPES,
     HOOK,
     LEARNED_MODULES,
@@ -42,6 +43,7 @@ from generated_bodies import (  # noqa: F401  (re-exported: the tests and benche
     SLIDE_SECONDS,
     STICK,
     TOOLS,
+    TWO_FACES,
     TYPES,
     BodyType,
 )
@@ -360,6 +362,7 @@ def write_task(
     *,
     long_slides: bool = True,
     slide_steps: int = 1,
+    faces: tuple[str, ...] = TWO_FACES,
 ) -> Path:
     """Write the task's `.vkg` files into `folder`; return the task file.
 
@@ -367,10 +370,11 @@ def write_task(
     module (`learned_affordances`); without it `affordances.vkg` is not
     written (the scene still compiles, the task does not). `long_slides`:
     whether the bodies declare the long `explore slides` block (else the
-    short push grid only); `slide_steps`: its points per face (`BodyType.slide_steps`).
+    short push grid only); `slide_steps`: its points per face (`BodyType.slide_steps`); `faces`: the side
+    faces both explore blocks push on (`BodyType.faces`).
     """
     folder.mkdir(parents=True, exist_ok=True)
-    types = [replace(t, long_slides=long_slides, slide_steps=slide_steps) for t in spec.generated_types()]
+    types = [replace(t, long_slides=long_slides, slide_steps=slide_steps, faces=faces) for t in spec.generated_types()]
     if types:
         (folder / "bodies.vkg").write_text(bodies_source(types), encoding="utf-8")
         if library is not None:
@@ -446,18 +450,23 @@ def generate_tasks(
     cache: Path | None = None,
     jobs: int | None = None,
     long_slides: bool = True,
+    faces: tuple[str, ...] = TWO_FACES,
 ) -> list[GeneratedTask]:
     """Write `count` tasks of `seed` into `out_dir/<name>/`; learn affordances into `cache` when given.
 
-    `long_slides=False` explores the generated bodies with the short push grid only (no `explore slides`).
+    `long_slides=False` explores the generated bodies with the short push grid only (no `explore slides`);
+    `faces`: the side faces they are explored on (`FOUR_FACES`: pushed sideways too, not only along x).
     """
     specs = [task_spec(seed, i) for i in range(count)]
     library = None
     if cache is not None:
         types = sorted({t for s in specs for t in s.generated_types()}, key=lambda t: t.name)
-        library = learned_affordances([replace(t, long_slides=long_slides) for t in types], cache, jobs=jobs)
+        explored = [replace(t, long_slides=long_slides, faces=faces) for t in types]
+        library = learned_affordances(explored, cache, jobs=jobs)
     return [
-        GeneratedTask(s, out_dir / s.name, write_task(s, out_dir / s.name, library, long_slides=long_slides))
+        GeneratedTask(
+            s, out_dir / s.name, write_task(s, out_dir / s.name, library, long_slides=long_slides, faces=faces)
+        )
         for s in specs
     ]
 
