@@ -27,7 +27,8 @@ centre), within 0.04 cm and 0.03 deg of the plan; all kinds 12 of 24 solved, 11 
 the face's edge, slips 0.53 cm and 1.54 deg over a 76 deg turn in DART and misses its goal by 1.07 cm, as on main.
 The `free-` goals and the rest of `free+`/`arc` end "no plan" or time out (60 s of wall clock, load 14) on both.
 Again on 2026-11-27 morning (`--goals 2 --timeout 40`, the hook rolled for arcs and arc offsets free): 13 of 24
-solved, 12 clean (SlabW's `free-` goal 0 solved at depth 3, the first `free-` plan); CrateM's `free-` and CrateT's
+solved, 12 clean (SlabW's `free-` goal 1 solved at depth 3 by the hook rolled over an arc member,
+`push_center_nx@-2.15cm/over+20deg+1.00cm`: the first `free-` plan); CrateM's `free-` and CrateT's
 `free+`/`free-` goals stay "no plan" (the hand beyond reach, a turn that cannot bring the body to its goal).
 
 | body | goals: arc / free+ / free- / kept | solved on main | solved | depths | clean in DART | worst vs DART |
