@@ -208,6 +208,8 @@ def test_a_step_title_says_what_moves_and_how_far(scripted):
     data = copy.deepcopy(scripted)
     data["steps"][1].update(motion="revolute", value=math.radians(20))
     assert from_json(data).steps[1].title().endswith(": turn 20.0 deg")
+    data["steps"][1].update(value=0.0)  # a tool set down against the body: the contact moves nothing
+    assert from_json(data).steps[1].title().endswith(": touch only, moves nothing")
 
 
 def test_documents_read_from_json_are_read_only(scripted):

@@ -125,11 +125,17 @@ class PlanStepRecord:
     def title(self) -> str:
         """The step in words: `add Block.push_center_px on block with arm.fingertip: slide 15.0 cm`."""
         text = f"{self.op} {self.affordance} on {self.body} with {self.effector}"
-        if self.op == "add" and self.motion == "prismatic":
-            text += f": slide {self.value * 100:.1f} cm"
-        elif self.op == "add" and self.motion == "revolute":
-            text += f": turn {math.degrees(self.value):.1f} deg"
-        return text
+        if self.op != "add" or self.motion not in ("prismatic", "revolute"):
+            return text
+        amount = (
+            f"slide {self.value * 100:.1f} cm"
+            if self.motion == "prismatic"
+            else f"turn {math.degrees(self.value):.1f} deg"
+        )
+        if amount.endswith(" 0.0 cm") or amount.endswith(" 0.0 deg"):
+            # A contact the planner keeps although it moves nothing: a tool set down against the body (parked).
+            return f"{text}: touch only, moves nothing"
+        return f"{text}: {amount}"
 
 
 @dataclass(frozen=True, eq=False)
