@@ -49,7 +49,7 @@ def test_goal_off_the_table_is_infeasible_at_once_and_says_why(tmp_path):
     plan = solve(program)
     assert plan.status == "infeasible"
     assert "off the table" in plan.reason and "block" in plan.reason
-    assert plan.stats["solve_time_s"] < 0.5
+    assert plan.stats["graphs_expanded"] == 0  # decided before any search (how fast: bench/, not a timed test)
 
 
 def test_goal_beyond_the_sticks_reach_is_infeasible_and_names_the_reach(tmp_path):
@@ -58,11 +58,10 @@ def test_goal_beyond_the_sticks_reach_is_infeasible_and_names_the_reach(tmp_path
         "task far { scene tabletop_mid  goal block at (1.25, 0.0) m yaw 0deg within 1 cm, 3 deg"
         "  search { max_depth 6  timeout 20 s } }\n",
     )
-    started = time.perf_counter()
     plan = solve(path)
     assert plan.status == "infeasible"
     assert "reach" in plan.reason and "no sequence of at most 6 graphs" in plan.reason
-    assert time.perf_counter() - started < 5.0
+    assert plan.stats["graphs_expanded"] == 0  # the bound proves it before any graph is expanded
     out = plan.to_json()
     assert out["status"] == "infeasible" and out["depth"] is None and out["steps"] == [] and out["reason"]
 
@@ -80,7 +79,9 @@ def test_a_short_timeout_on_a_deep_search_stops_in_about_that_time(tmp_path):
     elapsed = time.perf_counter() - started
     assert plan.status == "timeout", plan.reason
     assert "timeout of 1 s" in plan.reason
-    assert elapsed < 1.6
+    # The deadline is the wall clock: stopping takes a little past it (the sequence being checked ends first),
+    # more on a loaded machine; 9 levels of this search would take minutes.
+    assert elapsed < 4.0
 
 
 def test_command_line_exit_codes(tmp_path, capsys):
