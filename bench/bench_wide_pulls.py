@@ -30,12 +30,19 @@ Again on 2026-11-27 morning (`--goals 2 --timeout 40`, the hook rolled for arcs 
 solved, 12 clean (SlabW's `free-` goal 1 solved at depth 3 by the hook rolled over an arc member,
 `push_center_nx@-2.15cm/over+20deg+1.00cm`: the first `free-` plan); CrateM's `free-` and CrateT's
 `free+`/`free-` goals stay "no plan" (the hand beyond reach, a turn that cannot bring the body to its goal).
+Again later that morning (same options, load average 12 to 15; docs/planning.md, "Wide hook pulls from 1.0 m, goal
+by goal"): before 13 of 24 solved, 12 clean; with a turning contact's arm chain judged by the hand's even turn 14 and
+13 (CrateM's `free-` goal 0: the hook rolled 35 deg on a 71 deg arc, 0.16 cm and 0.10 deg from the plan in DART);
+with the Hook's second wield grasp (`Hook.wield_2`, 3.5 cm nearer its end) too, 15 and 14 (CrateT's `arc` goal 1:
+the straight pull at +2.00 cm held there). Of the goals left, those taken apart fail on the hook's shape: SlabW `free+`
+0 and CrateT `free+` 0 start with the hand 7 to 16 cm out (the shaft on the side away from the arm), CrateT `free-`
+needs the side away from the shaft (flat: the shaft in the crate; rolled 45 deg over its top: 4 times the grip).
 
-| body | goals: arc / free+ / free- / kept | solved on main | solved | depths | clean in DART | worst vs DART |
-|---|---|---|---|---|---|---|
-| SlabW | 2 each | 1 / 1 / 0 / 0 | 1 / 1 / 0 / 2 | 3 | all | 0.04 cm, 0.03 deg |
-| CrateM | 2 each | 2 / 1 / 0 / 0 | 2 / 1 / 0 / 2 | 3 | but free+ 1 | 0.53 cm, 1.54 deg |
-| CrateT | 2 each | 1 / 0 / 0 / 2 | 1 / 0 / 0 / 2 | 3 | all | 0.03 cm, 0.09 deg |
+| body | goals: arc / free+ / free- / kept | 11-26 | before | now | depths | clean in DART | worst vs DART |
+|---|---|---|---|---|---|---|---|
+| SlabW | 2 each | 1 / 1 / 0 / 0 | 1 / 1 / 1 / 2 | 1 / 1 / 1 / 2 | 3 | all | 0.04 cm, 0.03 deg |
+| CrateM | 2 each | 2 / 1 / 0 / 0 | 2 / 1 / 0 / 2 | 2 / 1 / 1 / 2 | 3 | but free+ 1 | 0.53 cm, 1.54 deg |
+| CrateT | 2 each | 1 / 0 / 0 / 2 | 1 / 0 / 0 / 2 | 2 / 0 / 0 / 2 | 3 | all | 0.04 cm, 0.09 deg |
 
     PYTHONPATH=$PWD:tests/support .venv/bin/python bench/bench_wide_pulls.py [--goals 2] [--timeout 60]
         [--kinds arc,free+,free-,kept] [--bodies SlabW,CrateM,CrateT]

@@ -67,6 +67,14 @@ def test_tools_are_held_at_the_handle_and_move_freely(learned, tool) -> None:
     assert isinstance(wield.motion, FreeC)
 
 
+def test_the_hook_is_also_held_at_its_shaft_end(learned) -> None:
+    # the hand 3.5 cm nearer the robot for the same contact (docs/stdlib.md, "The Hook's two wield grasps")
+    wield = _affordances(learned["hook"])["wield_2"]
+    assert isinstance(wield.action, FixedC)
+    assert wield.action.pose.position.values == pytest.approx((-0.185, 0, 0), abs=0.002)
+    assert isinstance(wield.motion, FreeC)
+
+
 def _action_position(affordance) -> np.ndarray:
     assert isinstance(affordance.action, FixedC)
     return np.array(affordance.action.pose.position.values)

@@ -84,3 +84,16 @@ def test_jumps_and_unreachable_poses_are_rejected(arm: Arm) -> None:
     assert isinstance(jumpy, CartesianFailure) and "joint jump at pose 1" in jumpy.reason
     far = approach_joints(arm, contact_at(1.5, 0.0, 0.1), 0.02)
     assert isinstance(far, CartesianFailure) and "no IK solution" in far.reason
+
+
+def test_a_turning_path_is_smooth_where_the_hand_turns_evenly(arm: Arm) -> None:
+    # a hook pulling a body round an arc turns the hand 2 to 3 deg between poses 1 cm apart: a large joint step
+    # there is continuous when the hand turns evenly from one pose's orientation to the next (it was taken for a
+    # branch switch, compared with the first pose's orientation)
+    turning = [contact_at(0.55 - 0.01 * k, 0.05, 0.12, yaw=np.radians(2.5 * k)) for k in range(4)]
+    smooth = follow_poses(arm, turning, max_joint_step=1e-5)
+    assert not isinstance(smooth, CartesianFailure), smooth
+    # turned and 15 cm away, the joint-space line bows away from the straight one: still a jump
+    swung = [turning[0], contact_at(0.55, 0.2, 0.22, yaw=np.radians(7.5))]
+    jumpy = follow_poses(arm, swung, max_joint_step=1e-5)
+    assert isinstance(jumpy, CartesianFailure) and "joint jump at pose 1" in jumpy.reason
