@@ -20,7 +20,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
 from vkgl.plan.problem.rejection import Kind
 from vkgl.plan.task_space.hand_heading import hand_out_of_reach_at_free_heading
 from vkgl.plan.task_space.hand_reach import hand_out_of_reach_on_the_way
-from vkgl.plan.task_space.slides import position_out_of_reach
+from vkgl.plan.task_space.slides import closest, position_out_of_reach, row_distances
 from vkgl.plan.task_space.workspace import reach_violation
 
 PROGRAM = """
@@ -138,3 +138,26 @@ def test_rejects_what_the_heading_blind_bounds_let_through(problem, sequences):
         ):
             extra.append(seq)
     assert extra
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 2**16),
+    slides=st.integers(0, 2),
+)
+def test_row_distances_are_the_slides_best_or_below_it(seed, slides):
+    # one slide or none: the clipped projection is exactly `closest`'s answer; two: no bounds at all is a lower
+    # bound of the bounded answer (what keeps a row `possible` in the scan)
+    rng = np.random.default_rng(seed)
+    rows = 5
+    columns = rng.normal(size=(rows, 3, slides))
+    origins = rng.normal(size=(rows, 3))
+    position = rng.normal(size=2)
+    limits = np.sort(rng.uniform(-1.0, 1.0, size=(slides, 2)), axis=1)
+    found = row_distances(columns, origins, position, limits)
+    for row in range(rows):
+        exact = closest(columns[row], position - origins[row, :2], limits)[0]
+        if slides <= 1:
+            assert found[row] == pytest.approx(exact, abs=1e-9)
+        else:
+            assert found[row] <= exact + 1e-9
