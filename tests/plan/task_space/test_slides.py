@@ -20,7 +20,7 @@ from vkgl.plan.graphs.rollout import Sequence, bounds, extend, rollout, start_se
 from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.closed_form import closed_form
-from vkgl.plan.task_space.slides import _turn_matrices
+from vkgl.plan.task_space.slides import turn_matrices
 from vkgl.plan.task_space.workspace import reach_violation, unreachable
 
 PROGRAM = """
@@ -128,7 +128,7 @@ def test_a_position_no_values_reach_is_rejected_before_any_optimisation(problem)
 def test_the_scans_turn_matrices_are_the_planners_up_to_rounding(axis, center):
     motion = RevoluteC(center=Vector(values=center), axis=Vector(values=axis))
     angles = np.linspace(0.0, math.pi, 37)
-    assert np.allclose(_turn_matrices(motion, angles), _motion_matrices(motion, angles), atol=1e-12)
+    assert np.allclose(turn_matrices(motion, angles), _motion_matrices(motion, angles), atol=1e-12)
 
 
 def test_a_goal_the_hand_on_the_block_cannot_follow_at_any_heading_is_rejected_for_reach(tmp_path):

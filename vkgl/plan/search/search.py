@@ -34,7 +34,7 @@ import heapq
 import itertools
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -45,6 +45,7 @@ from vkgl.plan.graphs.rollout import Sequence, extend, rollout, start_sequence
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
+from vkgl.plan.search.arm_aside import arm_hits, moved_aside
 from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
 from vkgl.plan.search.ordering import InTheWay
@@ -220,6 +221,7 @@ class _Checks:
 
     geometry: GeometryCheck
     arm_paths: ArmPathPlanner
+    hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
 
 
 def _check(
@@ -254,6 +256,8 @@ def _check(
         others = _at_other_contacts(problem, seq, stats, deadline, checks.geometry, clashes)
         failed = lambda: _contact_failed(problem, first, clash)  # noqa: E731 (read when each is asked for)
         candidates = itertools.chain(candidates, _while(failed, others))
+    idle_seen: list[tuple[Sequence, TaskSolution]] = []  # the first idle candidate, for `arm_aside`
+    candidates = itertools.chain(candidates, _aside(problem, idle_seen, checks))
     first: Rejection | None = None
     idle: Rejection | None = None  # a candidate with a contact that moves nothing (`idle_contact`), if any
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each
@@ -264,6 +268,7 @@ def _check(
             moves_nothing = idle_contact(problem, named, candidate.values)
             if moves_nothing is not None:  # the same without that contact puts every body where this one does
                 idle = idle or moves_nothing
+                idle_seen.append((named, candidate))
                 continue
             for hold in _grasp_turns(named, candidate):
                 found = _arm_checks(problem, named, hold, stats, deadline, checks, reached)
@@ -282,6 +287,7 @@ def _check(
                         return None
                     return done
                 first = first or found
+                checks.hits.update(arm_hits(problem, found))
     finally:
         stats.joint_space_checks += int("joint space" in reached)
         stats.arm_path_checks += int("arm paths" in reached)
@@ -294,6 +300,17 @@ def _check(
     assert rejection is not None
     stats.reject(rejection, label)
     return None
+
+
+def _aside(
+    problem: Problem, idle_seen: list[tuple[Sequence, TaskSolution]], checks: _Checks
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """The first idle candidate's motions on bodies the arm ran into, moved aside (`arm_aside.moved_aside`): read
+    when the other candidates are spent."""
+    if idle_seen and checks.hits:
+        named, candidate = idle_seen[0]
+        for other in moved_aside(problem, named, candidate, checks.hits, checks.geometry):
+            yield named, other
 
 
 def _grasp_turns(seq: Sequence, solution: TaskSolution) -> Iterator[TaskSolution]:

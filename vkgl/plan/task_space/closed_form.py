@@ -33,6 +33,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, hand_chain
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.hand_heading import hand_out_of_reach_at_free_heading
 from vkgl.plan.task_space.hand_reach import hand_out_of_reach_on_the_way
 from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach, value_limits
 from vkgl.plan.task_space.workspace import REACH_MARGIN, reach_violation, unreachable
@@ -56,10 +57,40 @@ def closed_form(problem: Problem, seq: Sequence) -> tuple[np.ndarray, bool] | Re
         for i, (v, exact) in outcome.items():
             values[i] = v
             pinned[i] = exact
-    far = _hand_beyond_reach_at_goal(problem, seq) or hand_out_of_reach_on_the_way(problem, seq)
+    far = (
+        _hand_beyond_reach_at_goal(problem, seq)
+        or hand_out_of_reach_on_the_way(problem, seq)
+        or _hand_beyond_reach_at_free_headings(problem, seq)
+    )
     if far is not None:
         return far
     return values, bool(pinned.all())
+
+
+def _hand_beyond_reach_at_free_headings(problem: Problem, seq: Sequence) -> Rejection | None:
+    """`hand_heading.hand_out_of_reach_at_free_heading` for each goal that leaves the heading free (a body that
+    lies level and turns about vertical axes only), after the cheaper hand checks."""
+    for goal in problem.goals:
+        if goal.yaw is not None or goal.position is None or goal.opening is not None:
+            continue
+        if any(e.body == goal.body for _, e in seq.carries):
+            continue
+        turns, slides, signs = _own_motions(problem, seq, goal)
+        if None in signs:
+            continue
+        far = hand_out_of_reach_at_free_heading(problem, seq, goal, turns, slides, signs)  # type: ignore[arg-type]
+        if far is not None:
+            return far
+    return None
+
+
+def _own_motions(problem: Problem, seq: Sequence, goal: GoalSpec) -> tuple[list[int], list[int], list[float | None]]:
+    """The goal body's turns and slides (indices into `seq.variables`) and each turn's `_vertical_sign`."""
+    own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
+    turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
+    slides = [i for i in own if i not in turns]
+    rest = problem.bodies[goal.body].rest
+    return turns, slides, [_vertical_sign(problem, seq, i, rest) for i in turns]
 
 
 _CLOSED_FORMS: dict[int, tuple[Problem, Sequence, tuple[np.ndarray, bool] | Rejection]] = {}
@@ -89,11 +120,8 @@ def _goal_values(
         return _joint_goal_values(problem, seq, goal)
     if any(e.body == goal.body for _, e in seq.carries):
         return {}  # set down anywhere: the carry's start aims at the goal (`carry_start`), the optimiser decides
-    own = [i for i, (_, e) in enumerate(seq.variables) if e.body == goal.body]
-    turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
-    slides = [i for i in own if i not in turns]
+    turns, slides, signs = _own_motions(problem, seq, goal)
     rest = problem.bodies[goal.body].rest
-    signs = [_vertical_sign(problem, seq, i, rest) for i in turns]
     if goal.yaw is None and goal.position is not None and None not in signs:
         far = position_out_of_reach(problem, seq, goal, turns, slides)
         return far if far is not None else {}  # a necessary test only: the optimiser alone decides the values

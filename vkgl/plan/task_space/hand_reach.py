@@ -96,7 +96,7 @@ def hand_bounds(problem: Problem, seq: Sequence, goal: GoalSpec) -> list[HandBou
         acting = acting_engagement(problem, graph)
         if acting is None or acting.body != goal.body:
             continue
-        ring = _hand_ring(problem, seq, graph, acting, limits)
+        ring = hand_ring(problem, seq, graph, acting, limits)
         if ring is None:
             continue
         points, slack, height = ring
@@ -206,7 +206,7 @@ OFFSET_GRID = 9
 """Contact offsets along a family's band at which the hand's least distance is computed (ends included)."""
 
 
-def _hand_ring(
+def hand_ring(
     problem: Problem, seq: Sequence, graph: KGraph, acting: Engagement, limits: tuple[np.ndarray, np.ndarray]
 ) -> tuple[list[np.ndarray], float, float] | None:
     """(the hand's horizontal position in the body's frame at `OFFSET_GRID` offsets over the acting contact's
@@ -239,10 +239,9 @@ def _hand_ring(
 def _outside(problem: Problem, nearest: float, farthest: float, height: float) -> tuple[float, str] | None:
     """(how far, in words) distances from the arm's base between `nearest` and `farthest` lie wholly outside
     the usable reach at `height` by more than task space accepts; None otherwise."""
-    r_min, r_max = problem.arm.reach(height)
-    if not r_max > 0:
+    if not problem.arm.reach(height)[1] > 0:
         return 1.0, f"at height {height:.3f} m, where the arm reaches nowhere"
-    low, high = r_min + REACH_MARGIN, r_max - REACH_MARGIN
+    low, high = reach_interval(problem, height)
     beyond, short = nearest - high, low - farthest
     if max(beyond, short) <= ACCEPTED_VIOLATION:
         return None
@@ -250,3 +249,12 @@ def _outside(problem: Problem, nearest: float, farthest: float, height: float) -
     return max(beyond, short), (
         f"{where} from the arm's base at height {height:.3f} m (usable reach there: {low:.3f} to {high:.3f} m)"
     )
+
+
+def reach_interval(problem: Problem, height: float) -> tuple[float, float]:
+    """The hand's usable distances from the arm's base at `height` (m): the arm's reach there less
+    `REACH_MARGIN` at both ends (empty, low above high, where the arm reaches nowhere)."""
+    r_min, r_max = problem.arm.reach(height)
+    if not r_max > 0:
+        return math.inf, -math.inf
+    return r_min + REACH_MARGIN, r_max - REACH_MARGIN

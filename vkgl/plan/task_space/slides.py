@@ -50,14 +50,13 @@ def position_out_of_reach(
     inequality only); nothing with unbounded values.
     """
     assert goal.position is not None
-    turn_limits = [value_limits(problem, seq, i) for i in turns]
-    slide_limits = np.array([value_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
-    if not (np.isfinite(turn_limits).all() and np.isfinite(slide_limits).all()):
+    setup = scan_setup(problem, seq, goal, turns, slides)
+    if setup is None:
         return None
-    radii = [_pivot_radius(problem, seq, i) for i in turns]  # at offset 0 of their families
-    drifts = sum(_drift_bound(problem, seq, i, hi) for i, (_, hi) in zip(turns, turn_limits))
+    turn_limits, slide_limits, lever, drifts = setup
     how = "whatever heading it ends with" if turns else "along its slides"
     # First the triangle inequality: no motion takes the origin farther than its slide or its chord.
+    radii = [_pivot_radius(problem, seq, i) for i in turns]  # at offset 0 of their families
     chords = sum(2.0 * r * math.sin(min(hi, math.pi) / 2) for r, (_, hi) in zip(radii, turn_limits))
     start = problem.bodies[goal.body].rest[: len(goal.position), 3]
     at_least = float(np.linalg.norm(goal.position - start)) - float(slide_limits[:, 1].sum()) - chords - drifts
@@ -67,17 +66,12 @@ def position_out_of_reach(
         )
     if len(turns) not in FREE_TURN_GRIDS:
         return None
-    lever = max(radii, default=0.0) + float(slide_limits[:, 1].sum()) + 2.0 * sum(radii)
     for count in FREE_TURN_GRIDS[len(turns)]:  # a coarse scan decides most; a finer one only when it cannot
-        grids = [np.linspace(lo, hi, count) for lo, hi in turn_limits]
-        angles = (
-            np.stack([g.ravel() for g in np.meshgrid(*grids, indexing="ij")], axis=1) if grids else np.zeros((1, 0))
-        )
-        origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, _turn_matrices)
+        angles, steps = turn_rows(turn_limits, count)
+        origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, turn_matrices)
         distance = best_row(columns, origins, goal.position, slide_limits)[0]
         if distance <= goal.tol_position:
             return None  # a row of the scan reaches the goal itself: no finer scan can prove it out of reach
-        steps = [(hi - lo) / (count - 1) if count > 1 else 0.0 for lo, hi in turn_limits]
         at_least = distance - sum(lever * h / 2 for h in steps) - drifts
         if at_least > goal.tol_position + 1e-9:
             why = f"{goal.body} ends at least {at_least * 100:.1f} cm from its goal position, {how}"
@@ -85,7 +79,49 @@ def position_out_of_reach(
     return None
 
 
-def _turn_matrices(motion: object, angles: np.ndarray) -> np.ndarray:
+def scan_setup(
+    problem: Problem, seq: Sequence, goal: GoalSpec, turns: list[int], slides: list[int]
+) -> tuple[list[tuple[float, float]], np.ndarray, float, float] | None:
+    """What a scan of the goal body's turns needs (`position_out_of_reach` proves why): the turns' value limits,
+    the slides' (s x 2), the lever L (how far the final position moves per radian of any one turn, at most)
+    and the drifts (how far moving the turns' contacts along their families can move it); None when a value
+    is unbounded."""
+    turn_limits = [value_limits(problem, seq, i) for i in turns]
+    slide_limits = np.array([value_limits(problem, seq, i) for i in slides]).reshape(len(slides), 2)
+    if not (np.isfinite(turn_limits).all() and np.isfinite(slide_limits).all()):
+        return None
+    radii = [_pivot_radius(problem, seq, i) for i in turns]  # at offset 0 of their families
+    drifts = sum(_drift_bound(problem, seq, i, hi) for i, (_, hi) in zip(turns, turn_limits))
+    lever = max(radii, default=0.0) + float(slide_limits[:, 1].sum()) + 2.0 * sum(radii)
+    return turn_limits, slide_limits, lever, drifts
+
+
+def turn_rows(turn_limits: list[tuple[float, float]], count: int) -> tuple[np.ndarray, list[float]]:
+    """Every combination of `count` angles per turn over its limits, ends included (rows x turns), and each
+    turn's grid step."""
+    grids = [np.linspace(lo, hi, count) for lo, hi in turn_limits]
+    angles = np.stack([g.ravel() for g in np.meshgrid(*grids, indexing="ij")], axis=1) if grids else np.zeros((1, 0))
+    steps = [(hi - lo) / (count - 1) if count > 1 else 0.0 for lo, hi in turn_limits]
+    return angles, steps
+
+
+def row_distances(columns: np.ndarray, origins: np.ndarray, position: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """Per row of turn angles, how close the slides within `limits` bring the body to `position`: exact with at
+    most one slide (the clipped projection `closest` makes), a lower bound with more (no bounds at all)."""
+    k = len(position)
+    offsets = position - origins[:, :k]
+    if columns.shape[2] == 0:
+        return np.asarray(np.linalg.norm(offsets, axis=1))
+    if columns.shape[2] > 1:
+        return _unbounded_distances(columns[:, :k, :], offsets)
+    a = columns[:, :k, 0]
+    norm = np.einsum("ij,ij->i", a, a)
+    along = np.divide(np.einsum("ij,ij->i", a, offsets), norm, out=np.zeros(len(a)), where=norm > 0)
+    value = np.clip(along, limits[0, 0], limits[0, 1])
+    return np.asarray(np.linalg.norm(a * value[:, None] - offsets, axis=1))
+
+
+def turn_matrices(motion: object, angles: np.ndarray) -> np.ndarray:
     """A turn's motion matrices at each of `angles` (n x 4 x 4, Rodrigues' formula in one NumPy pass): the
     same rotations as `motion_matrices` up to rounding, for scans of thousands of angles."""
     axis, center = unit_axis_and_center(motion)

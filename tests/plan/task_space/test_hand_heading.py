@@ -1,0 +1,163 @@
+"""The proof that the hand's last push on a goal body free of heading ends out of reach at every heading that lets
+the body reach its goal (`vkgl.plan.task_space.hand_heading`): it never rejects values task space would accept,
+and it rejects what the heading-blind bounds let through."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from vkgl.lang.compiler import compile_file
+from vkgl.plan.graphs.graph import motion_type, successors
+from vkgl.plan.graphs.rollout import Sequence, bounds, extend, rollout, start_sequence
+from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
+from vkgl.plan.problem.rejection import Kind
+from vkgl.plan.task_space.hand_heading import hand_out_of_reach_at_free_heading
+from vkgl.plan.task_space.hand_reach import hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.slides import closest, position_out_of_reach, row_distances
+from vkgl.plan.task_space.workspace import reach_violation
+
+PROGRAM = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+
+affordances Block {
+    affordance push_px {
+        action fixed at (-5, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to 12 cm
+    }
+    affordance push_nx {
+        action fixed at (5, 0, 0) cm yaw 180deg
+        motion prismatic along (-1, 0, 0) from (0, 0, 0) cm range 0 to 6 cm
+    }
+    affordance turn_left {
+        action fixed at (-5, 6.56, 0) cm yaw 0deg
+        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to 40 deg
+        family along (0, 1, 0) from 0 to 2.66 cm drift (0.288, 2.214, 0) sigma 1.37 cm
+    }
+    affordance turn_right {
+        action fixed at (5, -6.56, 0) cm yaw 180deg
+        motion revolute about (3, 9, 0) cm axis (0, 0, 1) range 0 to 25 deg
+        family along (0, 1, 0) from -2.66 to 0 cm drift (-0.586, 1.894, 0) sigma 1.87 cm
+    }
+}
+
+scene s {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.62, 0.05) m yaw 20deg
+}
+
+task t { scene s  goal block at (0.6, 0.1) m within 1 cm }
+"""
+
+DEPTH = 4
+"""Graphs in the longest sequence enumerated (G0 included): two contacts, so up to two turns."""
+
+
+@pytest.fixture(scope="module")
+def problem(tmp_path_factory: pytest.TempPathFactory) -> Problem:
+    path = Path(tmp_path_factory.mktemp("hand_heading")) / "far_block.vkg"
+    path.write_text(PROGRAM, encoding="utf-8")
+    program = compile_file(str(path))
+    return build_problem(program, program.task(), max_depth=DEPTH)
+
+
+@pytest.fixture(scope="module")
+def sequences(problem: Problem) -> list[Sequence]:
+    """Every sequence of at most `DEPTH` graphs whose last mode moves the block."""
+    found, layer = [], [start_sequence(problem)]
+    while layer:
+        deeper = []
+        for seq in layer:
+            if seq.depth >= DEPTH:
+                continue
+            for action in successors(problem, seq.graphs[-1], seq.last):
+                child, _ = extend(problem, seq, action)
+                deeper.append(child)
+                if any(m == child.depth - 1 for m, _ in child.variables):
+                    found.append(child)
+        layer = deeper
+    return found
+
+
+def _verdict(problem: Problem, seq: Sequence, position: np.ndarray):
+    goal = GoalSpec("block", position, None, 0.01, math.radians(3))
+    own = [i for i, (_, e) in enumerate(seq.variables) if e.body == "block"]
+    turns = [i for i in own if motion_type(problem, seq.variables[i][1]) == "revolute"]
+    slides = [i for i in own if i not in turns]
+    signs = [
+        math.copysign(1.0, problem.affordance("block", seq.variables[i][1].affordance).motion.axis.array()[2])
+        for i in turns
+    ]
+    return hand_out_of_reach_at_free_heading(problem, seq, goal, turns, slides, signs), goal, turns, slides
+
+
+@settings(max_examples=12, deadline=None)
+@given(
+    fractions=st.lists(st.floats(0.0, 1.0), min_size=12, max_size=12),
+    miss=st.tuples(st.floats(0.0, 1.0), st.floats(-math.pi, math.pi)),
+)
+def test_never_rejects_values_whose_last_push_ends_in_reach(problem, sequences, fractions, miss):
+    # the witness: values (motions, then contacts along their families) and a goal they meet within its
+    # tolerance; where the hand ends its last push in reach, the proof must not reject the sequence
+    checked = 0
+    for seq in sequences:
+        lower, upper = bounds(problem, seq, offsets=True)
+        x = lower + np.array(fractions[: len(lower)]) * (upper - lower)
+        traces = rollout(problem, seq, x)
+        end = traces[-1].end["block"][:2, 3]
+        goal = end + 0.01 * miss[0] * np.array([math.cos(miss[1]), math.sin(miss[1])])
+        hand = traces[-1].hand[-1][:3, 3] if traces[-1].hand else None
+        if hand is None or reach_violation(problem, hand) > 0.0:
+            continue
+        assert _verdict(problem, seq, goal)[0] is None, (seq.actions, x)
+        checked += 1
+    assert checked >= len(sequences) // 4
+
+
+def test_rejects_what_the_heading_blind_bounds_let_through(problem, sequences):
+    # 82 cm out, on the x axis: the block's turns leave it at many headings, but only at some does its push
+    # reach the goal, and at those the hand's last push ends beyond the reach
+    far = replace(problem, goals=[GoalSpec("block", np.array([0.82, 0.0]), None, 0.01, math.radians(3))])
+    extra = []
+    for seq in sequences:
+        found, goal, turns, slides = _verdict(far, seq, np.array([0.82, 0.0]))
+        if found is None:
+            continue
+        assert found.kind is Kind.REACH and "at every heading" in found.why
+        if (
+            position_out_of_reach(far, seq, goal, turns, slides) is None
+            and hand_out_of_reach_on_the_way(far, seq) is None
+        ):
+            extra.append(seq)
+    assert extra
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 2**16),
+    slides=st.integers(0, 2),
+)
+def test_row_distances_are_the_slides_best_or_below_it(seed, slides):
+    # one slide or none: the clipped projection is exactly `closest`'s answer; two: no bounds at all is a lower
+    # bound of the bounded answer (what keeps a row `possible` in the scan)
+    rng = np.random.default_rng(seed)
+    rows = 5
+    columns = rng.normal(size=(rows, 3, slides))
+    origins = rng.normal(size=(rows, 3))
+    position = rng.normal(size=2)
+    limits = np.sort(rng.uniform(-1.0, 1.0, size=(slides, 2)), axis=1)
+    found = row_distances(columns, origins, position, limits)
+    for row in range(rows):
+        exact = closest(columns[row], position - origins[row, :2], limits)[0]
+        if slides <= 1:
+            assert found[row] == pytest.approx(exact, abs=1e-9)
+        else:
+            assert found[row] <= exact + 1e-9
