@@ -180,8 +180,7 @@ def test_a_straight_pull_beside_a_low_body_rolls_the_shaft_over_it(tmp_path):
     6 graphs existed; the slide rolled 20 deg lifts the shaft over it, and one pull does it."""
     spec = generated_tasks.task_spec(11, 15)
     program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / spec.name, generated_tasks.fixture_library()))
-    problem = build_problem(program, program.tasks[spec.name])
-    assert "push_center_nx/over+20deg+0.00cm" in _over(problem)
     plan = vkgl.solve(program, spec.name, max_depth=3, timeout=generated_tasks.TEST_SOLVE_TIMEOUT_S)
+    assert "push_center_nx/over+20deg+0.00cm" in _over(plan.problem)
     assert plan.status == "solved", plan.reason
     assert [s.affordance for s in plan.steps] == ["Hook.wield", "CubeM.push_center_nx/over+20deg+0.00cm"]
