@@ -36,6 +36,11 @@ offset is what makes its turn, so moving the contact along the face is no
 alternative, and the rolled cross-piece must cover the contact itself, not the
 centre line (a turn, not a straight pull). Named `NAME@-1.74cm/over+20deg+0.50cm`:
 the turn the arc's member makes, enacted rolled and raised.
+
+Both a slide and an arc's member are also rolled over the low bodies beside the contact (`roll_over_beside`,
+`clearing_height`): the Hook's shaft, flat at a cube's mid-height, sweeps a CubeS or a Block standing 12 cm to the
+side of the pull; rolled 15 to 30 deg it passes over them (the cross-piece on the centre line for a slide, on the
+contact for an arc's member).
 """
 
 from __future__ import annotations
