@@ -28,6 +28,7 @@ tested by separating axes.
 from __future__ import annotations
 
 import math
+import os
 import shutil
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -411,7 +412,9 @@ def learned_affordances(types: list[BodyType], cache: Path, *, jobs: int | None 
         folder = cache / body.source_hash()
         module = folder / f"{body.name.lower()}.vkg"
         if not folder.is_dir():
-            partial = folder.with_name(folder.name + ".partial")
+            # one partial folder per process: two benches learning the same body at once (they share the cache)
+            # must not write into, or delete, each other's; the first to finish keeps its folder
+            partial = folder.with_name(f"{folder.name}.partial.{os.getpid()}")
             shutil.rmtree(partial, ignore_errors=True)
             partial.mkdir(parents=True)
             (partial / "body.vkg").write_text(body.source(), encoding="utf-8")
@@ -419,7 +422,12 @@ def learned_affordances(types: list[BodyType], cache: Path, *, jobs: int | None 
                 vkgl.learn([partial / "body.vkg"], out_dir=partial, jobs=jobs)
             except InputError as exc:
                 (partial / "failed.txt").write_text(f"{exc}\n", encoding="utf-8")
-            partial.rename(folder)
+            try:
+                partial.rename(folder)
+            except OSError:  # another process learned it first (the same trials: deterministic)
+                if not folder.is_dir():
+                    raise
+                shutil.rmtree(partial, ignore_errors=True)
         out[body.name] = module if module.is_file() else None
     return out
 

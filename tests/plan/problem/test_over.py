@@ -172,3 +172,15 @@ def test_an_arc_member_beside_low_bodies_rolls_its_shaft_over_them_and_not_where
     assert _rolled(SHAFT, math.radians(10.0), 0.0)[:, 2].min() < -0.04 + 0.05 + PART_CLEARANCE
     assert roll_over_beside([CROSS, SHAFT], cube, 0.02) is None  # the shaft flat (3 to 5 cm up) clears 2.5 cm
     assert roll_over_beside([CROSS, SHAFT], cube, 0.0) is None
+
+
+def test_a_straight_pull_beside_a_low_body_rolls_the_shaft_over_it(tmp_path):
+    """gen11_015: a 12 cm cube pulled 34.9 cm straight along its own axis (its heading kept), a CubeS (8 cm) 13 cm
+    beside the pull. Lying flat at the cube's mid-height the Hook's shaft passed 0.3 cm through it and no plan of
+    6 graphs existed; the slide rolled 20 deg lifts the shaft over it, and one pull does it."""
+    spec = generated_tasks.task_spec(11, 15)
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / spec.name, generated_tasks.fixture_library()))
+    plan = vkgl.solve(program, spec.name, max_depth=3, timeout=generated_tasks.TEST_SOLVE_TIMEOUT_S)
+    assert "push_center_nx/over+20deg+0.00cm" in _over(plan.problem)
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps] == ["Hook.wield", "CubeM.push_center_nx/over+20deg+0.00cm"]

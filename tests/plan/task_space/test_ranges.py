@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -114,3 +115,31 @@ def test_a_moved_body_stays_on_the_table_with_its_whole_outline(tmp_path):
     assert max(_stay_constraints(problem, "block", pose)) == pytest.approx(0.02, abs=1e-6)
     pose[0, 3] = edge - 0.06
     assert max(_stay_constraints(problem, "block", pose)) < 0
+
+
+def block_module(explored_cm: float) -> str:
+    """The stdlib Block's learned module with its open slides' explored length replaced: what the short push grid
+    learns (the 2 s pushes alone) against what the long `explore slides` pushes learn; nothing else differs."""
+    module = (SCENES.parents[2] / "stdlib" / "affordances" / "block.vkg").read_text(encoding="utf-8")
+    body = module[module.index("affordances Block") :]
+    changed, slides = re.subn(r"range 0 to [0-9.]+ cm open", f"range 0 to {explored_cm} cm open", body)
+    assert slides == 2  # push_center_px and push_center_nx
+    return changed
+
+
+@pytest.mark.parametrize(
+    "goal",
+    ["goal block at (0.72, 0.06) m within 1 cm", "goal block at (0.74, 0) m yaw 0deg within 1 cm, 3 deg"],
+    ids=["arc", "slide"],
+)
+def test_an_open_slides_explored_length_changes_no_plan(tmp_path, goal):
+    # 27 to 29 cm of travel: five times the short grid's 5.6 cm, within the long slides' 49.1 cm
+    plans = []
+    for explored in (5.6, 49.1):
+        text = block_module(explored) + f"task t {{ scene tabletop  {goal}  search {{ max_depth 6 }} }}\n"
+        plans.append(solve(task_file(tmp_path, text, f"explored_{explored}")))
+    short, long = plans
+    assert short.status == long.status == "solved", (short.reason, long.reason)
+    contacts = [[(s.op, s.affordance, s.effector) for s in plan.steps] for plan in plans]
+    assert contacts[0] == contacts[1]
+    assert [s.value for s in short.steps] == pytest.approx([s.value for s in long.steps], abs=1e-6)

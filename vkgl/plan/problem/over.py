@@ -36,6 +36,11 @@ offset is what makes its turn, so moving the contact along the face is no
 alternative, and the rolled cross-piece must cover the contact itself, not the
 centre line (a turn, not a straight pull). Named `NAME@-1.74cm/over+20deg+0.50cm`:
 the turn the arc's member makes, enacted rolled and raised.
+
+Both a slide and an arc's member are also rolled over the low bodies beside the contact (`roll_over_beside`,
+`clearing_height`): the Hook's shaft, flat at a cube's mid-height, sweeps a CubeS or a Block standing 12 cm to the
+side of the pull; rolled 15 to 30 deg it passes over them (the cross-piece on the centre line for a slide, on the
+contact for an arc's member).
 """
 
 from __future__ import annotations
@@ -95,7 +100,8 @@ def over_members(
     points (body frame) are `body_points`, for each tool effector in `tools` (its name, the tool's type, its frame
     in the tool's frame); with the (member, effector) pairs that may enact them. `beside`: the height (m above the
     table) of the tallest other body that a tool at this body could sweep and a roll could pass over
-    (`clearing_height`): an arc's member is also rolled so that the tool's parts beside the contact pass over it."""
+    (`clearing_height`): a slide or an arc's member is also rolled so that the tool's parts beside the contact
+    pass over it."""
     found: dict[str, Affordance] = {}
     pairs: set[tuple[str, str]] = set()
     for affordance in affordances:
@@ -114,8 +120,8 @@ def over_members(
             frame_inverse = np.linalg.inv(frame)
             parts = [p @ frame_inverse[:3, :3].T + frame_inverse[:3, 3] for p in tool_parts(tool.shape)]
             pose = roll_for(parts, body, float(into_contact[1, 3]), turn=turn)
-            if pose is None and turn:
-                pose = roll_over_beside(parts, body, beside)
+            if pose is None:  # an arc's member, or a straight pull with a low body beside it (gen11_015)
+                pose = roll_over_beside(parts, body, beside, 0.0 if turn else float(into_contact[1, 3]))
             if pose is None:
                 continue
             name = over_name(affordance.name, *pose)
@@ -165,11 +171,14 @@ def roll_for(
     return None
 
 
-def roll_over_beside(parts: list[np.ndarray], body: np.ndarray, height: float) -> tuple[float, float] | None:
+def roll_over_beside(
+    parts: list[np.ndarray], body: np.ndarray, height: float, covered: float = 0.0
+) -> tuple[float, float] | None:
     """(roll in rad, 0) of the least roll (`ROLLS`, at most `MAX_BESIDE_ROLL`) that lifts the tool's parts beside
     the contact `PART_CLEARANCE` above bodies `height` m tall standing beside the body, where lying flat they would
     not clear them; None when they clear them flat, or no such roll keeps them out of the body, the cross-piece
-    above the table and on the contact.
+    above the table and on the line `covered` (along y: the contact, 0, for an arc's member; the body's centre line
+    for a straight slide, as in `roll_for`).
 
     Same frames as `roll_for`. The parts beside the contact (the Hook's shaft) lie at the contact's height, 12 cm to
     its side: a Block or a SlabN (5 cm tall) beside a cube's pull passes under a shaft rolled 15 to 20 deg, and
@@ -192,7 +201,7 @@ def roll_over_beside(parts: list[np.ndarray], body: np.ndarray, height: float) -
         lifted = [_rolled(p, float(roll), 0.0) for p in beside]
         if min(float(p[:, 2].min()) for p in lifted) < over:
             continue
-        if _covers(np.vstack([_rolled(g, float(roll), 0.0) for g in faces]), bottom, top, 0.0):
+        if _covers(np.vstack([_rolled(g, float(roll), 0.0) for g in faces]), bottom, top, covered):
             return float(roll), 0.0
     return None
 
