@@ -71,10 +71,10 @@ def main() -> int:
     time.perf_counter = time.process_time  # every deadline in CPU seconds of this process
     import vkgl
     import vkgl.plan.search.clear_first as clear_first
-    import vkgl.plan.solve as solve
+    import vkgl.plan.search.still as still
 
     rows: list[dict[str, Any]] = []
-    solve.search = _recording(rows, solve.search, "main")  # type: ignore[attr-defined]
+    still.search = _recording(rows, still.search, "main")  # type: ignore[attr-defined]
     clear_first.search = _recording(rows, clear_first.search, "then")  # type: ignore[attr-defined]
     print(
         "| task | search | status | CPU s | work units (budget) | expanded | task-space checks | optimisations | IK | "

@@ -90,7 +90,7 @@ def search(
     like one that ran out of time ("timeout"), at the same sequence on any machine and under any load (the
     deadline stays the wall-clock guard).
     """
-    stats = SearchStats()
+    stats = SearchStats(watch=problem.still)
     reporter = Progress(progress)
     geometry = GeometryCheck(problem)
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
