@@ -13,8 +13,9 @@ sub-problems of `vkgl.plan.search.clear_first`; they still count in every collis
 that names one of them (`SearchStats.met`: a body passed through, hit by the arm or a tool, in the way of an
 approach, named anywhere in the rejection's words) shows that it matters: when the search ends without a plan,
 the bodies it met get their affordances back and the search runs again, until no body kept still was met or a
-plan is found or the time runs out. A "no plan" then says which bodies were kept still and that no sequence met
-them.
+plan is found or the time runs out. The search again checks only the sequences that move a body just met (the
+others were checked before, against the same bodies, and fail the same way): it only extends the rest. A "no
+plan" then says which bodies were kept still and that no sequence met them.
 
 **What it can lose** (also in docs/planning.md): a plan that moves a body kept still although no rejected
 sequence named it. That is a plan in which moving the body helps without the body ever being what a shorter
@@ -29,9 +30,11 @@ from __future__ import annotations
 from dataclasses import replace
 
 from vkgl.plan.problem.problem import Problem
+from vkgl.plan.search.bound import Bound
 from vkgl.plan.search.clear_first import add_stats
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
+from vkgl.plan.search.stats import infeasible_reason
 
 
 def still_bodies(problem: Problem) -> frozenset[str]:
@@ -65,10 +68,16 @@ def search_moving_less(problem: Problem, *, deadline: float, progress: bool = Fa
     while result.status == "infeasible" and (met := stats.met & still):
         still = still - met
         searched = kept_still(problem, still)
-        again = search(searched, deadline=deadline, progress=progress)
-        add_stats(again.stats, stats)  # the counters of every search, the last one's level and examples
+        # a sequence that moves none of the bodies just met was checked before, and fails the same way
+        again = search(searched, deadline=deadline, progress=progress, moving=met)
+        add_stats(again.stats, stats)  # the counters of every search, the last one's level
         stats = again.stats
+        for kind, example in result.stats.examples.items():  # the closest miss of every search
+            if kind not in stats.examples or example[0] < stats.examples[kind][0]:
+                stats.examples[kind] = example
         result = again
+        if result.status == "infeasible":
+            result = replace(result, reason=infeasible_reason(searched, stats, Bound(searched)))
     if result.status == "infeasible" and still:
         result = replace(result, reason=f"{result.reason}\n{still_words(still)}")
     return result, searched
