@@ -65,7 +65,7 @@ def search_moving_less(problem: Problem, *, deadline: float, progress: bool = Fa
     searched = kept_still(problem, still)
     result = search(searched, deadline=deadline, progress=progress)
     stats = result.stats
-    while result.status == "infeasible" and (met := stats.met & still):
+    while result.status == "infeasible" and (met := frozenset(stats.met & still)):
         still = still - met
         searched = kept_still(problem, still)
         # a sequence that moves none of the bodies just met was checked before, and fails the same way
