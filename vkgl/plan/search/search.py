@@ -23,6 +23,9 @@ finds first. What never loses a solution besides:
   arm's reach at once, and when it is out of reach the whole subtree goes;
 - the task-space check starts with exact reasoning (`closed_form`) and runs
   the optimiser only when that cannot decide; joint space only after task space.
+- given `moving` (a search again after one with bodies kept still,
+  `vkgl.plan.search.still`), a sequence that moves none of those bodies is
+  not checked: the search before checked it against the same bodies.
 
 Each sequence carries what its prefix knows (`Sequence`: graphs, variables,
 poses with the values at zero), so no work is repeated along a branch.
