@@ -78,7 +78,7 @@ def search_moving_less(problem: Problem, *, deadline: float, progress: bool = Fa
         result = again
         if result.status == "infeasible":
             result = replace(result, reason=infeasible_reason(searched, stats, Bound(searched)))
-    if result.status == "infeasible" and still:
+    if result.status == "infeasible" and still and not stats.cut_at_start:  # (the bound cut G0: no body matters)
         result = replace(result, reason=f"{result.reason}\n{still_words(still)}")
     return result, searched
 
