@@ -26,11 +26,9 @@ sys.path[:0] = [str(REPO)]
 def _recording(rows: list[dict[str, Any]], original: Any, where: str) -> Any:
     """`original` (a `search` function) wrapped to append one row per call to `rows`."""
 
-    def wrapped(
-        problem: Any, *, deadline: float, progress: bool = False, root: Any = None, budget: float | None = None
-    ) -> Any:
+    def wrapped(problem: Any, *, deadline: float, progress: bool = False, root: Any = None, **more: Any) -> Any:
         started = time.process_time()
-        more = {} if budget is None else {"budget": budget}  # without one, the same call as before budgets
+        budget = more.get("budget")
         result = original(problem, deadline=deadline, progress=progress, root=root, **more)
         goal = problem.goals[0]
         what = f"clear {goal.body} {goal.region_words}" if goal.region is not None else where
@@ -71,10 +69,10 @@ def main() -> int:
     time.perf_counter = time.process_time  # every deadline in CPU seconds of this process
     import vkgl
     import vkgl.plan.search.clear_first as clear_first
-    import vkgl.plan.solve as solve
+    import vkgl.plan.search.still as still
 
     rows: list[dict[str, Any]] = []
-    solve.search = _recording(rows, solve.search, "main")  # type: ignore[attr-defined]
+    still.search = _recording(rows, still.search, "main")  # type: ignore[attr-defined]
     clear_first.search = _recording(rows, clear_first.search, "then")  # type: ignore[attr-defined]
     print(
         "| task | search | status | CPU s | work units (budget) | expanded | task-space checks | optimisations | IK | "

@@ -2,14 +2,16 @@
 
     python bench/bench_physical.py [--seed 1] [--count 50] [--jobs 2] [--timeout 20] [--short-pushes]
                                    [--carry] [--json results.json] [--max-depth N] [--only 1,3,16-18]
-                                   [--cpu-clock] [--four-faces]
+                                   [--cpu-clock] [--two-faces]
 
 Generates `--count` tasks with `tests/support/generated_tasks.py` (bodies,
 scenes and goals nobody tuned the planner for; the generated bodies'
 affordances are learned once with `vkgl.learn` and cached by body source
 hash under `bench/.cache/physical/`; `--short-pushes` explores them with their
-short push grid only, without the long `explore slides` pushes; `--four-faces`
-explores them on all four side faces, +x, -x, +y and -y, instead of +x and -x),
+short push grid only, without the long `explore slides` pushes; they are
+explored on all four side faces, +x, -x, +y and -y, so that a blocker can be
+pushed sideways, since 2026-11-27; `--two-faces` explores them on +x and -x
+only, as before),
 then for each task, in a process pool of
 `--jobs` workers: solve it (`vkgl.solve`, `--timeout` s), check a solved plan's
 geometry independently (`tests/support/plan_geometry.py`: bodies pushed
@@ -327,10 +329,11 @@ def main(argv: list[str] | None = None) -> int:
         help="explore the generated bodies with their short push grid only (no long `explore slides` block)",
     )
     parser.add_argument(
-        "--four-faces",
+        "--two-faces",
         action="store_true",
-        help="explore the generated bodies on +x, -x, +y and -y (pushed sideways too), not on +x and -x only",
+        help="explore the generated bodies on +x and -x only (a blocker slides along its own x), not on all four",
     )
+    parser.add_argument("--four-faces", action="store_true", help="the default (kept for old command lines)")
     parser.add_argument(
         "--no-missed", action="store_true", help='do not solve each "no plan" again deeper and longer (faster)'
     )
@@ -355,7 +358,7 @@ def main(argv: list[str] | None = None) -> int:
                 cache=args.cache,
                 jobs=args.jobs,
                 long_slides=not args.short_pushes,
-                faces=generated_tasks.FOUR_FACES if args.four_faces else generated_tasks.TWO_FACES,
+                faces=generated_tasks.TWO_FACES if args.two_faces else generated_tasks.FOUR_FACES,
             )
             generated = [(t.task_file, t.name, t.spec.metadata()) for t in tasks]
         print(f"generated {len(generated)} tasks in {time.perf_counter() - started:.0f} s", file=sys.stderr)
@@ -383,7 +386,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         args.json.write_text(json.dumps(sorted(results, key=lambda r: r["index"]), indent=1) + "\n")
     explored = ", the carry family" if args.carry else ", short push grid only" if args.short_pushes else ""
-    explored += ", four faces" if args.four_faces and not args.carry else ""
+    explored += ", two faces" if args.two_faces and not args.carry else ""
     depth = f", max_depth {args.max_depth}" if args.max_depth else ""
     depth += ", timeouts in CPU s" if args.cpu_clock else ""
     print(

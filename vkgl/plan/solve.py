@@ -21,8 +21,9 @@ from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
 from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first, work_budget
-from vkgl.plan.search.search import SearchResult, search
+from vkgl.plan.search.search import SearchResult
 from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.search.still import search_moving_less
 
 
 def solve(
@@ -54,13 +55,15 @@ def solve(
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
     way = blocked(problem)  # a body in a goal body's way: part of the time is kept for clearing it first
-    result = search(problem, deadline=started + SEARCH_SHARE * problem.timeout if way else deadline, progress=progress)
+    result, searched = search_moving_less(  # bodies in no goal body's way kept still until a sequence meets one
+        problem, deadline=started + SEARCH_SHARE * problem.timeout if way else deadline, progress=progress
+    )
     if (
         way
         and result.status != "solved"
         and (
             cleared := clear_first(
-                problem,
+                searched,
                 result,
                 deadline=deadline,
                 budget=(1.0 - SEARCH_SHARE) * work_budget(problem),

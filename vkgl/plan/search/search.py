@@ -23,6 +23,9 @@ finds first. What never loses a solution besides:
   arm's reach at once, and when it is out of reach the whole subtree goes;
 - the task-space check starts with exact reasoning (`closed_form`) and runs
   the optimiser only when that cannot decide; joint space only after task space.
+- given `moving` (a search again after one with bodies kept still,
+  `vkgl.plan.search.still`), a sequence that moves none of those bodies is
+  not checked: the search before checked it against the same bodies.
 
 Each sequence carries what its prefix knows (`Sequence`: graphs, variables,
 poses with the values at zero), so no work is repeated along a branch.
@@ -78,6 +81,7 @@ def search(
     progress: bool = False,
     root: Sequence | None = None,
     budget: float | None = None,
+    moving: frozenset[str] | None = None,
 ) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
@@ -89,9 +93,11 @@ def search(
     body in the way): the plan is then a shortest among those that start with it. `budget` (none by default)
     bounds the work the search may do, in counted units (`SearchStats.work_done`): a search that spends it ends
     like one that ran out of time ("timeout"), at the same sequence on any machine and under any load (the
-    deadline stays the wall-clock guard).
+    deadline stays the wall-clock guard). `moving` (none by default): only sequences that move one of these bodies
+    are checked, the others only extended (`vkgl.plan.search.still`: a search before checked them all, with the
+    same outcome).
     """
-    stats = SearchStats()
+    stats = SearchStats(watch=problem.still)
     reporter = Progress(progress)
     geometry = GeometryCheck(problem)
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
@@ -109,7 +115,7 @@ def search(
                 return SearchResult("timeout", timeout_reason(problem, stats, budget), stats)
             if checked:
                 pass  # queued again for its expansion only (`_Entry`)
-            elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
+            elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq, moving):
                 found = _check(problem, seq, stats, deadline, checks)
                 if found is not None:
                     return found
@@ -194,9 +200,11 @@ def _push(
     heapq.heappush(frontier, (total, order.in_the_way.left(seq), path, seq, False))
 
 
-def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
+def _moves_goal_body(problem: Problem, seq: Sequence, moving: frozenset[str] | None = None) -> bool:
     """Whether the last mode of `seq` moves a body that a goal names, or its last action sets one down that
-    the mode before carried."""
+    the mode before carried (and, given `moving`, some mode moves one of those bodies)."""
+    if moving is not None and not any(e.body in moving for _, e in (*seq.variables, *seq.carries)):
+        return False
     mode = seq.depth - 1
     goal_bodies = {g.body for g in problem.goals}
     if any(m == mode - 1 and e.body in goal_bodies for m, e in seq.carries):

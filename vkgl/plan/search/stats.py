@@ -4,6 +4,7 @@ rejection's closest miss, the `--max-depth` hint, the timeout's reason, and the 
 from __future__ import annotations
 
 import math
+import re
 import sys
 import time
 from collections import Counter
@@ -40,6 +41,8 @@ class SearchStats:
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
+    watch: frozenset[str] = frozenset()  # bodies kept still (`Problem.still`): a rejection naming one meets it
+    met: set[str] = field(default_factory=set)  # those of `watch` that some rejection named
 
     def work_done(self) -> float:
         """The work done so far, in units of about one task-space optimisation (`WORK_WEIGHTS`): what a search's
@@ -60,6 +63,8 @@ class SearchStats:
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
             self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
+        if self.watch:
+            self.met.update(name for name in self.watch if re.search(rf"\b{re.escape(name)}\b", rejection.why))
 
 
 WORK_WEIGHTS = {
