@@ -34,6 +34,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+from footprints import hull, on_table, overlaps, polygons
 from generated_bodies import (  # noqa: F401  (re-exported: the tests and benches read them from here)
     BLOCK,
     FOUR_FACES,
@@ -49,11 +50,7 @@ from generated_bodies import (  # noqa: F401  (re-exported: the tests and benche
     BodyType,
 )
 from generated_bodies import num as _num
-from scipy.spatial import ConvexHull
 
-TABLE_MIN = np.array([-0.3, -0.6])
-TABLE_MAX = np.array([1.3, 0.6])
-TABLE_MARGIN = 0.03  # m: footprints keep this far inside the table's edge
 GAP = 0.015  # m: the least gap between two bodies at the start
 NEAR_RADIUS = (0.35, 0.72)  # m from the arm's base: inside the fingertip's reach (0.09 to 0.80 m)
 FAR_RADIUS = (0.86, 0.98)  # m: beyond the fingertip's reach
@@ -132,57 +129,9 @@ class TaskSpec:
 # ---------------------------------------------------------------- footprints
 
 
-def _polygons(body: BodyType, x: float, y: float, yaw_deg: float) -> list[np.ndarray]:
-    """The footprint of a body at a planar pose: one (4, 2) array of corners per rectangle."""
-    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
-    rotation = np.array([[c, -s], [s, c]])
-    out = []
-    for cx, cy, sx, sy in body.rects():
-        corners = np.array([[-sx, -sy], [sx, -sy], [sx, sy], [-sx, sy]]) / 2 + [cx, cy]
-        out.append(corners @ rotation.T + [x, y])
-    return out
-
-
-def _separated(a: np.ndarray, b: np.ndarray, gap: float) -> bool:
-    """Whether two convex polygons are at least `gap` apart along some edge normal (separating axes)."""
-    for poly in (a, b):
-        edges = np.roll(poly, -1, axis=0) - poly
-        for ex, ey in edges:
-            norm = math.hypot(ex, ey)
-            if norm < 1e-12:
-                continue
-            axis = np.array([-ey, ex]) / norm
-            pa, pb = a @ axis, b @ axis
-            if pa.max() + gap <= pb.min() or pb.max() + gap <= pa.min():
-                return True
-    return False
-
-
-def overlaps(a: list[np.ndarray], b: list[np.ndarray], gap: float = 0.0) -> bool:
-    """Whether two footprints (lists of convex polygons) come closer than `gap` (conservative near corners)."""
-    return any(_near(p, q, gap) and not _separated(p, q, gap) for p in a for q in b)
-
-
-def _near(a: np.ndarray, b: np.ndarray, gap: float) -> bool:
-    """Whether the polygons' bounding circles come closer than `gap` (a cheap test before the exact one)."""
-    ca, cb = a.mean(axis=0), b.mean(axis=0)
-    ra, rb = np.max(np.hypot(*(a - ca).T)), np.max(np.hypot(*(b - cb).T))
-    return bool(np.hypot(*(ca - cb)) < ra + rb + gap)
-
-
-def _hull(points: np.ndarray) -> np.ndarray:
-    """The convex hull of 2-d points, counter-clockwise."""
-    return points[ConvexHull(points).vertices]
-
-
-def _on_table(polygons: list[np.ndarray]) -> bool:
-    points = np.vstack(polygons)
-    return bool(np.all(points >= TABLE_MIN + TABLE_MARGIN) and np.all(points <= TABLE_MAX - TABLE_MARGIN))
-
-
 def footprint(placement: Placement) -> list[np.ndarray]:
     """The footprint of a placed body."""
-    return _polygons(TYPES[placement.type], placement.x, placement.y, placement.yaw)
+    return polygons(TYPES[placement.type], placement.x, placement.y, placement.yaw)
 
 
 # ---------------------------------------------------------------- sampling
@@ -240,10 +189,10 @@ def _try_spec(rng: np.random.Generator, seed: int, index: int) -> TaskSpec | Non
     goal_yaw = yaw if straight else None
     goal_pose = (_r(goal[0]), _r(goal[1]), goal_yaw)
     start_fp = footprint(target)
-    goal_fp = _polygons(target_type, goal_pose[0], goal_pose[1], yaw)
-    if not (_on_table(start_fp) and _on_table(goal_fp)):
+    goal_fp = polygons(target_type, goal_pose[0], goal_pose[1], yaw)
+    if not (on_table(start_fp) and on_table(goal_fp)):
         return None
-    corridor = [_hull(np.vstack(start_fp + goal_fp))]
+    corridor = [hull(np.vstack(start_fp + goal_fp))]
     tools = [Placement(n, t.name, x, y, a) for n, t, x, y, a in TOOLS]
     placed = [target, *tools]
     if any(overlaps(footprint(t), corridor, GAP) for t in tools):
@@ -292,7 +241,7 @@ def _place_clutter(
             at = np.array([rng.uniform(0.3, 1.1), rng.uniform(-0.5, 0.5)])
         body = Placement(name, kind.name, _r(at[0]), _r(at[1]), yaw)
         fp = footprint(body)
-        if not _on_table(fp) or float(np.hypot(*at)) < 0.3:
+        if not on_table(fp) or float(np.hypot(*at)) < 0.3:
             continue
         if any(overlaps(fp, other, GAP) for other in others):
             continue
