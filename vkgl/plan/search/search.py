@@ -82,6 +82,7 @@ def search(
     root: Sequence | None = None,
     budget: float | None = None,
     moving: frozenset[str] | None = None,
+    arm_hits: frozenset[str] = frozenset(),
 ) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
@@ -95,12 +96,13 @@ def search(
     like one that ran out of time ("timeout"), at the same sequence on any machine and under any load (the
     deadline stays the wall-clock guard). `moving` (none by default): only sequences that move one of these bodies
     are checked, the others only extended (`vkgl.plan.search.still`: a search before checked them all, with the
-    same outcome).
+    same outcome). `arm_hits` (none by default): bodies a search before found in the arm's way (`arm_aside`): with
+    `moving`, the sequences whose arm checks named them are not checked again, so what they learned is carried.
     """
-    stats = SearchStats(watch=problem.still)
+    stats = SearchStats(watch=problem.still, arm_hits=set(arm_hits))
     reporter = Progress(progress)
     geometry = GeometryCheck(problem)
-    checks = _Checks(geometry, ArmPathPlanner(problem, geometry))
+    checks = _Checks(geometry, ArmPathPlanner(problem, geometry), stats.arm_hits)
     bound = Bound(problem)
     order = _Order(bound, InTheWay(problem))
     root = start_sequence(problem) if root is None else root

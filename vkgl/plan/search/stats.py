@@ -43,6 +43,7 @@ class SearchStats:
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
     watch: frozenset[str] = frozenset()  # bodies kept still (`Problem.still`): a rejection naming one meets it
     met: set[str] = field(default_factory=set)  # those of `watch` that some rejection named
+    arm_hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
 
     def work_done(self) -> float:
         """The work done so far, in units of about one task-space optimisation (`WORK_WEIGHTS`): what a search's

@@ -69,7 +69,7 @@ def search_moving_less(problem: Problem, *, deadline: float, progress: bool = Fa
         still = still - met
         searched = kept_still(problem, still)
         # a sequence that moves none of the bodies just met was checked before, and fails the same way
-        again = search(searched, deadline=deadline, progress=progress, moving=met)
+        again = search(searched, deadline=deadline, progress=progress, moving=met, arm_hits=frozenset(stats.arm_hits))
         add_stats(again.stats, stats)  # the counters of every search, the last one's level
         stats = again.stats
         for kind, example in result.stats.examples.items():  # the closest miss of every search
