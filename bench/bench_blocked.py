@@ -5,7 +5,7 @@
 Each `TASK_DIR` holds a `task.vkg` as `bench/bench_physical.py --out DIR` writes it (`DIR/gen1_018`). Every task
 is solved in this process with its deadlines counted in CPU seconds of the process (`time.perf_counter` is
 `time.process_time` here: the numbers are what load does not inflate), and every search the solve runs is
-recorded: the main search, each sub-search that clears a blocker to one side (`vkgl.plan.search.clear_first`),
+recorded: the main search, each sub-search that clears a blocker to one side (`vkgl.plan.search.clutter.clear_first`),
 and each search of the goals after a clearing plan. Prints one Markdown table row per search (CPU s, status,
 graphs expanded, task-space checks, optimisations, the level reached, the most frequent rejections) and one per
 task (outcome, depth, CPU s, the plan's words).
@@ -68,8 +68,8 @@ def main() -> int:
     args = parser.parse_args()
     time.perf_counter = time.process_time  # every deadline in CPU seconds of this process
     import vkgl
-    import vkgl.plan.search.clear_first as clear_first
-    import vkgl.plan.search.still as still
+    import vkgl.plan.search.clutter.clear_first as clear_first
+    import vkgl.plan.search.clutter.still as still
 
     rows: list[dict[str, Any]] = []
     still.search = _recording(rows, still.search, "main")  # type: ignore[attr-defined]

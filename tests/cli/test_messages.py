@@ -137,7 +137,7 @@ def test_a_hand_just_past_the_usable_reach_is_said_to_be_outside_it(past: float,
 
     import vkgl
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.task_space.workspace import REACH_MARGIN, unreachable
+    from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, unreachable
 
     program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
     problem = build_problem(program, program.task())

@@ -20,10 +20,10 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
-from vkgl.plan.search.clear_first import SEARCH_SHARE, blocked, clear_first, work_budget
+from vkgl.plan.search.clutter.clear_first import SEARCH_SHARE, blocked, clear_first, work_budget
+from vkgl.plan.search.clutter.still import search_moving_less
 from vkgl.plan.search.search import SearchResult
 from vkgl.plan.search.stats import SearchStats
-from vkgl.plan.search.still import search_moving_less
 
 
 def solve(
@@ -39,7 +39,7 @@ def solve(
     """Plan for `task` of `program`; `max_depth`/`timeout` override its `search` block.
 
     Best-first search over graph sequences guided by an admissible bound of the graphs still needed
-    (`vkgl.plan.search.search`, `vkgl.plan.search.bound`: plans stay shortest) with
+    (`vkgl.plan.search.search`, `vkgl.plan.search.bounds.bound`: plans stay shortest) with
     task-space and joint-space feasibility checks (`vkgl.plan.task_space.feasible`).
     `progress` shows the search on stderr; `arm_start` are the arm's joints
     where its first path starts (its home configuration by default: where

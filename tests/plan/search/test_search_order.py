@@ -9,27 +9,19 @@ from __future__ import annotations
 
 import heapq
 import time
-from dataclasses import replace
-from pathlib import Path
 
 import pytest
+from block_problems import ASIDE, IN_THE_WAY, block_to, labels
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_bound import GRASP, _problem
 
 import vkgl.plan.search.search as search_module
 from vkgl.plan.graphs.graph import successors
 from vkgl.plan.graphs.rollout import Sequence, extend, start_sequence
 from vkgl.plan.problem.problem import Problem
-from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.ordering import InTheWay
-from vkgl.plan.task_space.workspace import unreachable
-
-STICK = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
-
-
-def _labels(problem: Problem, seq: Sequence) -> tuple[str, ...]:
-    return tuple(a.label(problem) for a in seq.actions)
+from vkgl.plan.task_space.reach.workspace import unreachable
 
 
 def _checked_by_search(problem: Problem, monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, ...]]:
@@ -37,7 +29,7 @@ def _checked_by_search(problem: Problem, monkeypatch: pytest.MonkeyPatch) -> lis
     checked: list[tuple[str, ...]] = []
 
     def failing(problem_: Problem, seq: Sequence, *args: object, **kwargs: object) -> None:
-        checked.append(_labels(problem_, seq))
+        checked.append(labels(problem_, seq))
 
     monkeypatch.setattr(search_module, "_check", failing)
     result = search_module.search(problem, deadline=time.perf_counter() + 600)
@@ -54,7 +46,7 @@ def _checked_expanding_at_once(problem: Problem) -> list[tuple[str, ...]]:
     while frontier:
         level, _, path, seq = heapq.heappop(frontier)
         if seq.actions and level == seq.depth and search_module._moves_goal_body(problem, seq):
-            checked.append(_labels(problem, seq))
+            checked.append(labels(problem, seq))
         if seq.depth >= problem.max_depth:
             continue
         for index, action in enumerate(successors(problem, seq.graphs[-1], seq.last)):
@@ -67,41 +59,9 @@ def _checked_expanding_at_once(problem: Problem) -> list[tuple[str, ...]]:
     return checked
 
 
-def _block(
-    tmp_path: Path,
-    gx: float,
-    stick: bool,
-    grasp: bool,
-    depth: int,
-    other: str = "",
-    yaw: str = " yaw -20deg",
-    slide: int = 10,
-) -> Problem:
-    """The block at x 0.6 m to (gx, 0.04) m (turned by `yaw`), `other` (scene lines) besides."""
-    problem = _problem(
-        tmp_path,
-        x=0.6,
-        gx=gx,
-        gy=0.04,
-        yaw=yaw,
-        slide=slide,
-        turn=25,
-        stick=(STICK if stick else "") + other,
-        grasp=GRASP if grasp else "",
-    )
-    return replace(problem, max_depth=depth)
-
-
-IN_THE_WAY = "    other : Block on table at (0.77, 0.02) m yaw 90deg\n"
-"""A second Block across the block's way to a goal at x 0.8 m or beyond."""
-
-ASIDE = "    other : Block on table at (0.77, -0.35) m yaw 90deg\n"
-"""The same Block well to the side of that way."""
-
-
 def test_the_bodies_in_the_way_are_those_near_the_straight_way_to_the_goal(tmp_path):
-    assert InTheWay(_block(tmp_path, 0.8, True, False, 6, IN_THE_WAY)).bodies == {"other"}
-    assert InTheWay(_block(tmp_path, 0.8, True, False, 6, ASIDE)).bodies == frozenset()
+    assert InTheWay(block_to(tmp_path, 0.8, True, False, 6, IN_THE_WAY)).bodies == {"other"}
+    assert InTheWay(block_to(tmp_path, 0.8, True, False, 6, ASIDE)).bodies == frozenset()
 
 
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
@@ -112,14 +72,14 @@ def test_the_bodies_in_the_way_are_those_near_the_straight_way_to_the_goal(tmp_p
     other=st.sampled_from(["", IN_THE_WAY, ASIDE]),
 )
 def test_checks_come_in_the_order_of_expanding_each_sequence_at_once(tmp_path, monkeypatch, gx, stick, grasp, other):
-    problem = _block(tmp_path, gx, stick, grasp, 6, other)
+    problem = block_to(tmp_path, gx, stick, grasp, 6, other)
     # (a goal past the fingertip's reach without the stick: nothing to check in either)
     assert _checked_by_search(problem, monkeypatch) == _checked_expanding_at_once(problem)
 
 
 def test_within_a_level_the_sequences_that_moved_the_body_in_the_way_are_checked_first(tmp_path, monkeypatch):
     # one push of the block, or the other Block pushed first: 1 or 3 actions
-    problem = _block(tmp_path, 0.8, False, False, 4, IN_THE_WAY, yaw="", slide=30)
+    problem = block_to(tmp_path, 0.8, False, False, 4, IN_THE_WAY, yaw="", slide=30)
     checked = _checked_by_search(problem, monkeypatch)
     levels = sorted({len(c) for c in checked})
     assert levels and any(any("on other" in a for a in c) for c in checked)
@@ -133,7 +93,7 @@ def test_within_a_level_the_sequences_that_moved_the_body_in_the_way_are_checked
 
 def test_a_deeper_max_depth_checks_the_shallower_ones_checks_first(tmp_path, monkeypatch):
     # every sequence a search to 5 graphs checks is checked, in the same order, before any other by a search to 7
-    shallow = _checked_by_search(_block(tmp_path, 0.7, True, False, depth=5), monkeypatch)
-    deep = _checked_by_search(_block(tmp_path, 0.7, True, False, depth=7), monkeypatch)
+    shallow = _checked_by_search(block_to(tmp_path, 0.7, True, False, depth=5), monkeypatch)
+    deep = _checked_by_search(block_to(tmp_path, 0.7, True, False, depth=7), monkeypatch)
     assert shallow and len(deep) > len(shallow)
     assert deep[: len(shallow)] == shallow

@@ -12,7 +12,7 @@ from vkgl.lang.compiler import compile_file
 from vkgl.plan.graphs.graph import successors
 from vkgl.plan.graphs.rollout import extend, start_sequence
 from vkgl.plan.problem.problem import Problem, build_problem
-from vkgl.plan.task_space.workspace import unreachable
+from vkgl.plan.task_space.reach.workspace import unreachable
 
 TASK = """
 use stdlib.robots.panda

@@ -20,8 +20,8 @@ from vkgl.plan.graphs.rollout import Sequence, bounds, extend, rollout, start_se
 from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.closed_form import closed_form
+from vkgl.plan.task_space.reach.workspace import reach_violation, unreachable
 from vkgl.plan.task_space.slides import turn_matrices
-from vkgl.plan.task_space.workspace import reach_violation, unreachable
 
 PROGRAM = """
 use stdlib.robots.panda
@@ -153,7 +153,7 @@ def test_a_goal_the_hand_on_the_block_cannot_follow_at_any_heading_is_rejected_f
     st.booleans(),
 )
 def test_the_reach_of_many_points_is_each_points_reach(problem, xy, height, planar) -> None:
-    from vkgl.plan.task_space.workspace import reach_violations
+    from vkgl.plan.task_space.reach.workspace import reach_violations
 
     # planar: one height (the optimiser's hot path); otherwise heights 1 mm apart and more
     heights = [height if planar else height + 0.001 * k for k in range(len(xy))]

@@ -1,6 +1,6 @@
 """Which sequences of one level the search checks first: those that have already moved the bodies in the way.
 
-The search checks sequences in the order of their depth plus bound (`vkgl.plan.search.bound`: admissible, so the
+The search checks sequences in the order of their depth plus bound (`vkgl.plan.search.bounds.bound`: admissible, so the
 first feasible one is a shortest one). Among sequences of the same level any order keeps that; breadth-first
 order (the successors' indices) checks first whatever the first-declared body allows, which in a scene with a
 body lying across the target's way are the sequences that push the target into it, each one rejected only after

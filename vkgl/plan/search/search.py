@@ -1,5 +1,5 @@
 """Algorithm 1 of the paper, best first: graph sequences in the order of depth plus a lower bound of the graphs
-still needed (`vkgl.plan.search.bound`), the first feasible sequence returned.
+still needed (`vkgl.plan.search.bounds.bound`), the first feasible sequence returned.
 
 Sequences are extended one transition at a time (`successors` in
 `vkgl.plan.graphs.graph`), queued (a heap) by depth plus bound, and checked
@@ -24,7 +24,7 @@ finds first. What never loses a solution besides:
 - the task-space check starts with exact reasoning (`closed_form`) and runs
   the optimiser only when that cannot decide; joint space only after task space.
 - given `moving` (a search again after one with bodies kept still,
-  `vkgl.plan.search.still`), a sequence that moves none of those bodies is
+  `vkgl.plan.search.clutter.still`), a sequence that moves none of those bodies is
   not checked: the search before checked it against the same bodies.
 
 Each sequence carries what its prefix knows (`Sequence`: graphs, variables,
@@ -49,7 +49,7 @@ from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.arm_aside import arm_hits, moved_aside
-from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
@@ -57,7 +57,7 @@ from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space, task_space_alternatives
 from vkgl.plan.task_space.idle import idle_contact
 from vkgl.plan.task_space.joint_space import JointSolution, joint_space
-from vkgl.plan.task_space.workspace import unreachable
+from vkgl.plan.task_space.reach.workspace import unreachable
 
 
 @dataclass
@@ -87,15 +87,15 @@ def search(
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
     Sequences are checked in the order of their depth plus `Bound` (an admissible lower bound of the graphs
-    still needed, `vkgl.plan.search.bound`), ties broken by the bodies in the way they have not moved
+    still needed, `vkgl.plan.search.bounds.bound`), ties broken by the bodies in the way they have not moved
     (`vkgl.plan.search.ordering`), then by the breadth-first order of their actions, and those whose depth plus
     bound passes `max_depth` are never made: the plan is a shortest one, found sooner. `root` (G0 alone by
-    default) is the sequence every one searched extends (`vkgl.plan.search.clear_first`: a plan that clears a
+    default) is the sequence every one searched extends (`vkgl.plan.search.clutter.clear_first`: a plan that clears a
     body in the way): the plan is then a shortest among those that start with it. `budget` (none by default)
     bounds the work the search may do, in counted units (`SearchStats.work_done`): a search that spends it ends
     like one that ran out of time ("timeout"), at the same sequence on any machine and under any load (the
     deadline stays the wall-clock guard). `moving` (none by default): only sequences that move one of these bodies
-    are checked, the others only extended (`vkgl.plan.search.still`: a search before checked them all, with the
+    are checked, the others only extended (`vkgl.plan.search.clutter.still`: a search before checked them all, with the
     same outcome). `arm_hits` (none by default): bodies a search before found in the arm's way (`arm_aside`): with
     `moving`, the sequences whose arm checks named them are not checked again, so what they learned is carried.
     """

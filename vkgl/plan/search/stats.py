@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.task_space.feasible import Counters
 
 

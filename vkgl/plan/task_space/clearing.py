@@ -19,7 +19,7 @@ the footprints the stdlib's bodies have; the sweep check in the search has the l
 blockers are cleared in turn, each against the corridors of the motions after its own.
 
 Before any sequence exists, `way_sides` gives the sub-goals of "clear first, then solve"
-(`vkgl.plan.search.clear_first`): the half-planes beyond each side of the corridor a goal body sweeps going
+(`vkgl.plan.search.clutter.clear_first`): the half-planes beyond each side of the corridor a goal body sweeps going
 straight to its goal (its left, its right, and beyond its goal), each as far out as `MARGIN` plus
 `SIDE_TOLERANCE`, and how far the blocker must move to lie in it. Left and right lie farther out by the most a
 tool reaches past the goal body's footprint on that side while it enacts a slide of the goal body towards its

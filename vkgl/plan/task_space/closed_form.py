@@ -33,10 +33,10 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, hand_chain
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.hand_heading import hand_out_of_reach_at_free_heading
-from vkgl.plan.task_space.hand_reach import hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading
+from vkgl.plan.task_space.reach.hand_reach import hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, reach_violation, unreachable
 from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach, value_limits
-from vkgl.plan.task_space.workspace import REACH_MARGIN, reach_violation, unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
 TURN_GRID = 181

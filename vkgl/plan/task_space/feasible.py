@@ -35,7 +35,7 @@ from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
-from vkgl.plan.task_space.workspace import reach_violations, unreachable
+from vkgl.plan.task_space.reach.workspace import reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
 

@@ -4,7 +4,7 @@ A slide moves its body's frame origin by at most its range's upper end and keeps
 heading by at most its angle (about an axis vertical in the world; up to half a turn about any other) and moves
 the origin by at most its chord `2 r sin(θ / 2)`, `r` the origin's distance from the axis, the largest over its
 family's band. `fewest_modes` counts the fewest contacts that can cover a distance and a heading together
-(`vkgl.plan.search.bound`'s docstring, parts 1 and 2, says why that never overestimates).
+(`vkgl.plan.search.bounds.bound`'s docstring, parts 1 and 2, says why that never overestimates).
 """
 
 from __future__ import annotations

@@ -22,7 +22,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, bounds, hand_chain, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.workspace import REACH_MARGIN
+from vkgl.plan.task_space.reach.workspace import REACH_MARGIN
 
 ACCEPTED_VIOLATION = 1e-6
 """m: the constraint violation task space still accepts as a solution (`feasible.task_space`): the proof must

@@ -22,7 +22,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.hand_reach import ACCEPTED_VIOLATION, LEVEL, hand_ring, reach_interval
+from vkgl.plan.task_space.reach.hand_reach import ACCEPTED_VIOLATION, LEVEL, hand_ring, reach_interval
 from vkgl.plan.task_space.slides import (
     FREE_TURN_GRIDS,
     affine_positions,

@@ -1,6 +1,6 @@
 """What a region goal needs of slides and turns: part 1 of the search's bound for a goal "in a region" or "beyond a
 half-plane" (a user's `in region` goal, or the clearing sub-problem's side of a goal body's way,
-`vkgl.plan.search.clear_first`).
+`vkgl.plan.search.clutter.clear_first`).
 
 A region goal holds when no point of the body's footprint (the body-frame points of its convex hull, `GoalSpec.
 footprint`) passes an edge of the region (rows `n, d`: inside when `n . p <= d`) by more than the tolerance `t`
@@ -9,13 +9,13 @@ over the footprint points `p` where the body rests and the edges `i`, attained a
 the goal to hold, `p*` (a material point of the body: the footprint's points move with it) must end with
 `n_i* . p*' - d_i* <= t`, so its (x, y) must move by at least `D = e - t / |n_i*|` towards the inside (Cauchy-
 Schwarz: a move of length `s` changes `n . p` by at most `|n| s`); its 3-D displacement is no shorter. Only the
-body's own moving modes move it (`vkgl.plan.search.bound`, part 1). One slide translates the body, so every point
+body's own moving modes move it (`vkgl.plan.search.bounds.bound`, part 1). One slide translates the body, so every point
 by at most the slide's upper end `S`. One turn by `θ <= θmax` about an axis fixed in the body's frame moves a point
 at distance `r` from the axis by the chord `2 r sin(θ / 2) <= 2 r sin(min(θmax, π) / 2)`, and `r` of `p*` is at
 most the largest over the footprint's points and, for a turn whose pivot moves along its family (`offset *
 drift`), over the band's two ends (the distance to a line is convex in the line's offset): the largest such chord
 is `C`. Then `k` turns and `j` slides bring `p*` at most `k C + j S` (triangle inequality), so they number at
-least `fewest_modes(D, Ψ, S, T, C)` (`vkgl.plan.search.motions`, with the heading `Ψ` a yaw goal still needs
+least `fewest_modes(D, Ψ, S, T, C)` (`vkgl.plan.search.bounds.motions`, with the heading `Ψ` a yaw goal still needs
 and `T` the most one turn gives it). The bound's part 2 (`PoseNeed.left`) and parts 3-6 apply unchanged: they only
 use that every mode of `b` moves each footprint point by at most `S` (slides) or `C` (turns).
 
@@ -49,7 +49,7 @@ from vkgl.plan.graphs.members import family_vectors
 from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, vertical
+from vkgl.plan.search.bounds.motions import SLACK, PoseNeed, fewest_modes, vertical
 from vkgl.se3 import wrap_angle, yaw_of
 
 

@@ -58,7 +58,7 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    something holds it still): the bound is the larger of the largest `m_b` and
    the sum of those actions.
    A **region goal** (in a region, beyond a half-plane) needs its footprint's farthest point moved, not its
-   origin: `vkgl.plan.search.region_need` gives part 1 for it (and proves it), parts 2 to 6 apply unchanged.
+   origin: `vkgl.plan.search.bounds.region_need` gives part 1 for it (and proves it), parts 2 to 6 apply unchanged.
 4. **The grasp a tool needs first.** A body still at rest whose every moving
    affordance puts the hand out of the arm's reach can only be moved through a
    tool: the search never adds the hand's own contact there (it cuts that
@@ -82,7 +82,7 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
 
 6. **The hand cannot end it there.** When the robot's own effector cannot
    hold any moving contact of `b` with `b` anywhere its goal accepts (outside
-   the arm's reach: `vkgl.plan.search.goal_reach`, whose docstring proves it),
+   the arm's reach: `vkgl.plan.search.bounds.goal_reach`, whose docstring proves it),
    the last mode that moves `b` is enacted by a tool's frame, so a tool is in
    the hand then. While `m_b > 0` that mode is still to come: with no tool in
    the hand now, one more ADD (a tool's grasp, counted once with part 4's). And
@@ -122,11 +122,11 @@ from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.search.goal_reach import ends_beyond_the_hand
-from vkgl.plan.search.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
-from vkgl.plan.search.region_need import region_modes
+from vkgl.plan.search.bounds.goal_reach import ends_beyond_the_hand
+from vkgl.plan.search.bounds.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
+from vkgl.plan.search.bounds.region_need import region_modes
 from vkgl.plan.task_space.feasible import goal_holds
-from vkgl.plan.task_space.workspace import unreachable
+from vkgl.plan.task_space.reach.workspace import unreachable
 from vkgl.se3 import wrap_angle, yaw_of
 
 _SLACK = SLACK  # `motions.SLACK`: rounding room

@@ -3,7 +3,7 @@
 A goal body that is no tool and has no `free` affordance moves only while an
 engagement of one of its moving affordances (`movers`) is in force, and its
 pose at the end of the sequence is its pose at the end of the last mode that
-moved it (`vkgl.plan.search.bound`, part 1). In that mode some effector holds
+moved it (`vkgl.plan.search.bounds.bound`, part 1). In that mode some effector holds
 the contact of a mover through to the mode's end, with the body at its goal
 (within the goal's tolerances). When the robot's own effector enacts it, the
 hand is at `pose @ action(s)` there (the action at offset `s` along its
@@ -37,7 +37,7 @@ from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.members import contact_band, contact_direction
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.task_space.workspace import REACH_MARGIN
+from vkgl.plan.task_space.reach.workspace import REACH_MARGIN
 from vkgl.se3 import yaw_of
 
 SLACK = 1e-3

@@ -1,4 +1,4 @@
-"""The proof that the hand cannot reach a goal body on its way to its goal (`vkgl.plan.task_space.hand_reach`):
+"""The proof that the hand cannot reach a goal body on its way to its goal (`vkgl.plan.task_space.reach.hand_reach`):
 wherever the goal holds, the hand at each sample it bounds lies within its bounds (so it never rejects a
 sequence task space would accept)."""
 
@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.hand_reach import hand_bounds, hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.reach.hand_reach import hand_bounds, hand_out_of_reach_on_the_way
 
 
 @pytest.fixture(scope="module")

@@ -1,18 +1,18 @@
-"""Bodies kept still until a sequence meets them (`vkgl.plan.search.still`)."""
+"""Bodies kept still until a sequence meets them (`vkgl.plan.search.clutter.still`)."""
 
 from __future__ import annotations
 
 import time
 
 import pytest
-from test_search_order import ASIDE, IN_THE_WAY, _block, _labels
+from block_problems import ASIDE, IN_THE_WAY, block_to, labels
 
 import vkgl.plan.search.search as search_module
 from vkgl.plan.graphs.rollout import Sequence
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.search.clutter.still import search_moving_less, still_bodies
 from vkgl.plan.search.stats import SearchStats
-from vkgl.plan.search.still import search_moving_less, still_bodies
 
 WITHIN_REACH = "    other : Block on table at (0.45, -0.3) m yaw 90deg\n"
 """A second Block aside of the block's way, where the hand can push it."""
@@ -23,7 +23,7 @@ def _failing_checks(monkeypatch: pytest.MonkeyPatch, why: str) -> list[tuple[str
     checked: list[tuple[str, ...]] = []
 
     def failing(problem: Problem, seq: Sequence, stats: SearchStats, *args: object) -> None:
-        checked.append(_labels(problem, seq))
+        checked.append(labels(problem, seq))
         stats.reject(Rejection(Kind.COLLISION, why, 0.01), " -> ".join(checked[-1]))
 
     monkeypatch.setattr(search_module, "_check", failing)
@@ -31,13 +31,13 @@ def _failing_checks(monkeypatch: pytest.MonkeyPatch, why: str) -> list[tuple[str
 
 
 def test_a_body_aside_of_every_way_is_kept_still_one_in_the_way_and_tools_never(tmp_path):
-    assert still_bodies(_block(tmp_path, 0.8, True, False, 6, ASIDE)) == {"other"}
-    assert still_bodies(_block(tmp_path, 0.8, True, False, 6, IN_THE_WAY)) == frozenset()
+    assert still_bodies(block_to(tmp_path, 0.8, True, False, 6, ASIDE)) == {"other"}
+    assert still_bodies(block_to(tmp_path, 0.8, True, False, 6, IN_THE_WAY)) == frozenset()
 
 
 def test_a_body_no_sequence_meets_stays_still_and_the_no_plan_says_so(tmp_path, monkeypatch):
     checked = _failing_checks(monkeypatch, "block would pass through the table edge")
-    problem = _block(tmp_path, 0.8, False, False, 4, WITHIN_REACH, yaw="", slide=30)
+    problem = block_to(tmp_path, 0.8, False, False, 4, WITHIN_REACH, yaw="", slide=30)
     result, searched = search_moving_less(problem, deadline=time.perf_counter() + 600)
     assert result.status == "infeasible" and checked
     assert not any("on other" in " ".join(c) for c in checked)
@@ -47,7 +47,7 @@ def test_a_body_no_sequence_meets_stays_still_and_the_no_plan_says_so(tmp_path, 
 
 def test_a_body_a_rejection_names_gets_its_contacts_back(tmp_path, monkeypatch):
     checked = _failing_checks(monkeypatch, "block would pass through other by 1.0 cm: other is in the way")
-    problem = _block(tmp_path, 0.8, False, False, 4, WITHIN_REACH, yaw="", slide=30)
+    problem = block_to(tmp_path, 0.8, False, False, 4, WITHIN_REACH, yaw="", slide=30)
     result, searched = search_moving_less(problem, deadline=time.perf_counter() + 600)
     assert result.status == "infeasible"
     assert searched.still == frozenset() and searched.bodies["other"].affordances

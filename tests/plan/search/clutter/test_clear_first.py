@@ -1,4 +1,4 @@
-"""Clear first, then solve (`vkgl.plan.search.clear_first`): the sides of a goal body's way (the sub-goal's
+"""Clear first, then solve (`vkgl.plan.search.clutter.clear_first`): the sides of a goal body's way (the sub-goal's
 geometry), a plan one graph deeper than `max_depth` that clears the blocker first, and no such attempt where no
 sequence of any length reaches the goal."""
 
@@ -143,7 +143,7 @@ def test_a_goal_no_sequence_of_any_length_reaches_is_answered_at_once_without_cl
 
 
 def test_the_sub_goal_is_a_region_goal_on_the_blocker_with_any_heading() -> None:
-    from vkgl.plan.search.clear_first import side_goal
+    from vkgl.plan.search.clutter.clear_first import side_goal
 
     problem = _problem(0.0)
     side = way_sides(problem, problem.goals[0], "block2")[0]
@@ -155,7 +155,7 @@ def test_the_sub_goal_is_a_region_goal_on_the_blocker_with_any_heading() -> None
 
 def test_a_plan_longer_than_one_past_the_proof_is_not_called_shortest() -> None:
     from vkgl.plan.graphs.rollout import Sequence
-    from vkgl.plan.search.clear_first import _words
+    from vkgl.plan.search.clutter.clear_first import _words
 
     prefix = Sequence()
     assert "a shortest plan (no plan of at most 6 graphs exists)" in _words("b left of the way", prefix, 7, 6)
@@ -223,7 +223,7 @@ def test_a_side_no_plan_reaches_says_its_closest_miss() -> None:
     """What the clearing tried names, per side, why its closest sequence failed (the hand a few millimetres
     beyond the arm's reach), and nothing when no sequence was rejected (the bound said no side is reachable)."""
     from vkgl.plan.problem.rejection import Kind, Rejection
-    from vkgl.plan.search.clear_first import _closest
+    from vkgl.plan.search.clutter.clear_first import _closest
     from vkgl.plan.search.search import SearchResult
     from vkgl.plan.search.stats import SearchStats
 

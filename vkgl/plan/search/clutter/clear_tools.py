@@ -24,8 +24,8 @@ import numpy as np
 from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.problem.problem import GoalSpec, Problem
-from vkgl.plan.search.bound import Bound
-from vkgl.plan.search.goal_reach import ends_beyond_the_hand
+from vkgl.plan.search.bounds.bound import Bound
+from vkgl.plan.search.bounds.goal_reach import ends_beyond_the_hand
 from vkgl.se3 import yaw_of
 
 TOWARDS = math.cos(math.radians(45.0))

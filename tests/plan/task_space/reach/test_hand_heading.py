@@ -1,5 +1,5 @@
 """The proof that the hand's last push on a goal body free of heading ends out of reach at every heading that lets
-the body reach its goal (`vkgl.plan.task_space.hand_heading`): it never rejects values task space would accept,
+the body reach its goal (`vkgl.plan.task_space.reach.hand_heading`): it never rejects values task space would accept,
 and it rejects what the heading-blind bounds let through."""
 
 from __future__ import annotations
@@ -18,10 +18,10 @@ from vkgl.plan.graphs.graph import motion_type
 from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind
-from vkgl.plan.task_space.hand_heading import hand_out_of_reach_at_free_heading
-from vkgl.plan.task_space.hand_reach import hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading
+from vkgl.plan.task_space.reach.hand_reach import hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.reach.workspace import reach_violation
 from vkgl.plan.task_space.slides import closest, position_out_of_reach, row_distances
-from vkgl.plan.task_space.workspace import reach_violation
 
 
 @pytest.fixture(scope="module")

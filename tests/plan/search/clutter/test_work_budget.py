@@ -1,5 +1,6 @@
 """Work budgets (`vkgl.plan.search.search`'s `budget`, `SearchStats.work_done`) and the clear-first policy that
-counts in them (`vkgl.plan.search.clear_first`): the same input gives the same answer, whatever the clock says."""
+counts in them (`vkgl.plan.search.clutter.clear_first`): the same input gives the same answer, whatever the clock
+says."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import pytest
 
 import vkgl
 from vkgl.plan.problem.problem import Problem, build_problem
-from vkgl.plan.search.clear_first import clear_first, work_budget
+from vkgl.plan.search.clutter.clear_first import clear_first, work_budget
 from vkgl.plan.search.search import search
 from vkgl.plan.search.stats import SearchStats
 

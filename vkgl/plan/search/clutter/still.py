@@ -9,7 +9,7 @@ when every goal has a position (with a goal of heading or region only nothing is
 measure against).
 
 `search_moving_less` searches the problem with those bodies kept still (their affordances withheld, like the
-sub-problems of `vkgl.plan.search.clear_first`; they still count in every collision check). A rejected sequence
+sub-problems of `vkgl.plan.search.clutter.clear_first`; they still count in every collision check). A rejected sequence
 that names one of them (`SearchStats.met`: a body passed through, hit by the arm or a tool, in the way of an
 approach, named anywhere in the rejection's words) shows that it matters: when the search ends without a plan,
 the bodies it met get their affordances back and the search runs again, until no body kept still was met or a
@@ -30,8 +30,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 from vkgl.plan.problem.problem import Problem
-from vkgl.plan.search.bound import Bound
-from vkgl.plan.search.clear_first import add_stats
+from vkgl.plan.search.bounds.bound import Bound
+from vkgl.plan.search.clutter.clear_first import add_stats
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import infeasible_reason

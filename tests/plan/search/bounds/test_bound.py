@@ -1,4 +1,4 @@
-"""The search's bound (`vkgl.plan.search.bound`) never exceeds the true remaining depth.
+"""The search's bound (`vkgl.plan.search.bounds.bound`) never exceeds the true remaining depth.
 
 On small generated problems (a block with a ranged slide and a ranged turn, a goal somewhere around it, with or
 without a stick to push with), every sequence the search may make up to a depth is enumerated breadth first with
@@ -10,9 +10,9 @@ each sequence is the fewest graphs to a descendant that passes. The bound must n
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
+from block_problems import DEPTH, FAMILY, GRASP, PROGRAM, block_problem
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -22,62 +22,9 @@ from vkgl.plan.graphs.graph import successors
 from vkgl.plan.graphs.rollout import Sequence, extend, start_sequence
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.problem.rejection import Rejection
-from vkgl.plan.search.bound import Bound
+from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.task_space.feasible import Counters, task_space
-from vkgl.plan.task_space.workspace import unreachable
-
-ROOT = Path(__file__).resolve().parents[3]
-
-PROGRAM = """
-use stdlib.robots.panda
-use stdlib.bodies.block
-use stdlib.bodies.stick
-use stdlib.affordances.stick
-use stdlib.tools
-
-affordances Block {{
-    affordance push_px {{
-        action fixed at (-5, 0, 0) cm yaw 0deg
-        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to {slide} cm
-    }}
-    affordance turn_left {{
-        action fixed at (-5, 6.56, 0) cm yaw 0deg
-        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to {turn} deg{family}
-    }}
-{grasp}}}
-
-scene s {{
-    table size (1.6, 1.2) m at (0.5, 0, 0) m
-    robot arm : Panda at (0, 0, 0) m
-    block : Block on table at ({x}, 0) m yaw 0deg
-{stick}}}
-
-task t {{ scene s  goal block at ({gx}, {gy}) m{yaw} within 1 cm, 3 deg }}
-"""
-
-DEPTH = 6
-"""Graphs in the longest sequence enumerated (G0 included)."""
-
-
-GRASP = """    affordance grasp_top {
-        action fixed at (0, 0, 0) cm yaw 90deg
-        motion free
-    }
-"""
-"""A grasp of the block from above (its 10 cm across the fingers: the planner does not check widths)."""
-
-
-FAMILY = "\n        family along (0, 1, 0) from 0 to 4 cm drift (0.3, 0.77, 0) sigma 1 cm"
-"""A band of contacts along the face for the turn, its pivot moving with the contact (as the stdlib Block's)."""
-
-
-def _problem(tmp_path: Path, **fields: object) -> Problem:
-    fields.setdefault("grasp", "")
-    fields.setdefault("family", "")
-    path = tmp_path / "bound.vkg"
-    path.write_text(PROGRAM.format(**fields), encoding="utf-8")
-    program = compile_file(str(path))
-    return build_problem(program, program.task(), max_depth=DEPTH)
+from vkgl.plan.task_space.reach.workspace import unreachable
 
 
 def _children(problem: Problem, seq: Sequence) -> list[Sequence]:
@@ -124,7 +71,7 @@ def _remaining(problem: Problem, seq: Sequence, seen: list[tuple[Sequence, float
 def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, yaw, slide, turn, stick, grasp, family):
     # the goals past the fingertip's reach (x + dx beyond 0.8 m) exercise part 6, the far turned ones part 1's
     # slides and turns together, the family a pivot that moves with the contact
-    problem = _problem(
+    problem = block_problem(
         tmp_path,
         x=x,
         gx=round(x + dx, 3),
@@ -140,7 +87,7 @@ def test_the_bound_never_exceeds_the_true_remaining_depth(tmp_path, x, dx, dy, y
 
 
 def test_the_bound_is_the_true_depth_of_three_short_pushes(tmp_path):
-    problem = _problem(tmp_path, x=0.45, gx=0.6, gy=0, yaw="", slide=6, turn=25, stick="")
+    problem = block_problem(tmp_path, x=0.45, gx=0.6, gy=0, yaw="", slide=6, turn=25, stick="")
     seen: list[tuple[Sequence, float]] = []
     true = _remaining(problem, start_sequence(problem), seen)
     assert true == 5 and Bound(problem)(start_sequence(problem)) == 5  # push, break, push, break, push
@@ -148,7 +95,7 @@ def test_the_bound_is_the_true_depth_of_three_short_pushes(tmp_path):
 
 
 def test_a_far_goal_with_short_slides_needs_a_contact_and_a_break_per_slide(tmp_path):
-    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw="", slide=8, turn=25, stick="")
+    problem = block_problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw="", slide=8, turn=25, stick="")
     bound = Bound(problem)
     root = start_sequence(problem)
     assert bound(root) == 7  # 27 cm in slides of 8 cm: 4 pushes, 3 breaks between them
@@ -159,14 +106,14 @@ def test_a_far_goal_with_short_slides_needs_a_contact_and_a_break_per_slide(tmp_
 
 def test_a_body_the_hand_cannot_reach_needs_the_grasp_of_a_tool_first(tmp_path):
     stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
-    problem = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    problem = block_problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
     assert Bound(problem)(start_sequence(problem)) == 2  # grasp the stick, push with its tip
-    alone = _problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
+    alone = block_problem(tmp_path, x=0.9, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
     assert Bound(alone)(start_sequence(alone)) == math.inf  # nothing reaches it
 
 
 def test_a_block_the_hand_can_carry_needs_one_action_on_it_until_something_moves_it(tmp_path):
-    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw="", slide=8, turn=25, stick="", grasp=GRASP)
+    problem = block_problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw="", slide=8, turn=25, stick="", grasp=GRASP)
     bound = Bound(problem)
     root = start_sequence(problem)
     assert bound(root) == 1  # a carry moves it any distance in one contact: only "something must touch it" holds
@@ -236,7 +183,7 @@ def test_a_position_off_the_one_line_a_body_slides_on_is_never_reached(tmp_path)
 
 
 def test_a_far_turned_goal_needs_a_turn_and_a_slide_and_a_turn_moves_it_little(tmp_path):
-    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
+    problem = block_problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
     bound = Bound(problem)
     root = start_sequence(problem)
     assert bound(root) == 3  # 27 cm and 17 deg: a turn (at most 4.8 cm) and a slide, a break between them
@@ -251,7 +198,7 @@ def test_a_far_turned_goal_needs_a_turn_and_a_slide_and_a_turn_moves_it_little(t
 
 def test_a_goal_beyond_the_hands_reach_needs_a_tool_to_move_the_body_last(tmp_path):
     stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
-    problem = _problem(tmp_path, x=0.6, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    problem = block_problem(tmp_path, x=0.6, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick=stick)
     bound = Bound(problem)
     assert [need.ends_by_tool for need in bound.needs] == [True]
     root = start_sequence(problem)
@@ -259,9 +206,9 @@ def test_a_goal_beyond_the_hands_reach_needs_a_tool_to_move_the_body_last(tmp_pa
     pushed = next(c for c in _children(problem, root) if c.last.engagement.affordance == "push_px")
     assert bound(pushed) == 3  # break, grasp the stick, push with its tip
     assert "only a tool can move it last" in bound.explain()
-    near = _problem(tmp_path, x=0.45, gx=0.6, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    near = block_problem(tmp_path, x=0.45, gx=0.6, gy=0, yaw="", slide=30, turn=25, stick=stick)
     assert [need.ends_by_tool for need in Bound(near).needs] == [False]
-    alone = _problem(tmp_path, x=0.6, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
+    alone = block_problem(tmp_path, x=0.6, gx=0.95, gy=0, yaw="", slide=30, turn=25, stick="")
     assert Bound(alone)(start_sequence(alone)) == math.inf  # nothing but the hand, which cannot end it there
 
 
@@ -277,7 +224,7 @@ def test_a_goal_called_beyond_the_hand_has_every_hand_contact_out_of_reach(tmp_p
     from vkgl.plan.graphs.members import action_at
     from vkgl.se3 import yaw_of
 
-    problem = _problem(
+    problem = block_problem(
         tmp_path,
         x=0.45,
         gx=round(gx, 3),
@@ -313,7 +260,7 @@ def test_the_search_checks_only_sequences_the_bound_lets_end_there(tmp_path, mon
 
     import vkgl.plan.search.search as search_module
 
-    problem = _problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
+    problem = block_problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
     bound, checked = Bound(problem), []
     check = search_module._check
 
@@ -331,7 +278,7 @@ def test_the_search_checks_only_sequences_the_bound_lets_end_there(tmp_path, mon
 
 def test_a_tool_held_so_that_it_cannot_end_the_body_there_is_let_go_of_first(tmp_path):
     stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
-    problem = _problem(tmp_path, x=0.9, gx=1.15, gy=0, yaw="", slide=30, turn=25, stick=stick)
+    problem = block_problem(tmp_path, x=0.9, gx=1.15, gy=0, yaw="", slide=30, turn=25, stick=stick)
     bound = Bound(problem)
     assert bound.needs[0].wrong_grasps == {("stick", "grasp_top_y")}  # held by its middle it is 20 cm too short
     root = start_sequence(problem)
@@ -348,7 +295,7 @@ def test_a_grasp_called_wrong_has_every_hand_pose_out_of_reach(tmp_path):
     stick = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
     rng = np.random.default_rng(7)
     for gx in (1.1, 1.15, 1.2):
-        problem = _problem(tmp_path, x=0.9, gx=gx, gy=0.03, yaw=" yaw 10deg", slide=30, turn=25, stick=stick)
+        problem = block_problem(tmp_path, x=0.9, gx=gx, gy=0.03, yaw=" yaw 10deg", slide=30, turn=25, stick=stick)
         goal, block = problem.goals[0], problem.bodies["block"]
         for _, grasp in Bound(problem).needs[0].wrong_grasps:
             graph = KGraph((Engagement(problem.robot_effector.name, "stick", grasp),))
@@ -397,7 +344,7 @@ def test_the_bound_of_a_region_goal_never_exceeds_the_true_remaining_depth(
     # a half-plane whose line lies `past` beyond the block's back (negative: it lies beyond already): the
     # footprint's farthest point, not the origin, must cross the line, and a turn moves a corner more than the origin
     fields = {"x": x, "gx": x, "gy": 0, "yaw": "", "slide": slide, "turn": turn, "stick": ""}
-    base = _problem(tmp_path, **fields, family=FAMILY if family else "")
+    base = block_problem(tmp_path, **fields, family=FAMILY if family else "")
     n = np.asarray(normal) / np.linalg.norm(normal)
     points = base.footprint_points("block") @ base.bodies["block"].rest[:2, :3].T + base.bodies["block"].rest[:2, 3]
     problem = _beyond(base, normal, float(np.min(points @ n)) + past)
@@ -405,7 +352,7 @@ def test_the_bound_of_a_region_goal_never_exceeds_the_true_remaining_depth(
 
 
 def test_a_region_far_beyond_short_slides_needs_a_contact_and_a_break_per_slide(tmp_path):
-    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=8, turn=25, stick="")
+    base = block_problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=8, turn=25, stick="")
     back = float(np.min(base.footprint_points("block")[:, 0])) + 0.45  # its whole footprint must pass the line
     problem = _beyond(base, (1.0, 0.0), back + 0.205)  # 20.5 cm, 0.5 cm tolerance: 20 cm in slides of 8 cm
     bound = Bound(problem)
@@ -419,7 +366,7 @@ def test_a_region_far_beyond_short_slides_needs_a_contact_and_a_break_per_slide(
 def test_a_region_beside_a_body_that_slides_straight_needs_a_turn(tmp_path):
     # the block slides along x only (push_px) until it turns: a half-plane 3 cm beyond its left side is never
     # reached by pushes alone, however far they go
-    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
+    base = block_problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
     problem = _beyond(base, (0.0, 1.0), float(np.min(base.footprint_points("block")[:, 1])) + 0.03)
     bound = Bound(problem)
     pushed = next(c for c in _children(problem, start_sequence(problem)) if c.last.engagement.affordance == "push_px")
@@ -428,9 +375,9 @@ def test_a_region_beside_a_body_that_slides_straight_needs_a_turn(tmp_path):
 
 def test_a_region_one_turn_reaches_is_never_said_to_need_two(tmp_path):
     from vkgl.plan.graphs.motions import motion_matrices
-    from vkgl.plan.search.region_need import one_turn_reaches
+    from vkgl.plan.search.bounds.region_need import one_turn_reaches
 
-    base = _problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
+    base = block_problem(tmp_path, x=0.45, gx=0.45, gy=0, yaw="", slide=30, turn=25, stick="")
     body = base.bodies["block"]
     turn = next(a for a in body.affordances if a.motion.type == "revolute")
     turned = body.rest @ motion_matrices(turn.motion, np.array([np.radians(25.0)]))[0]

@@ -52,8 +52,8 @@ import numpy as np
 
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
-from vkgl.plan.search.bound import Bound
-from vkgl.plan.search.clear_tools import far_move_tools
+from vkgl.plan.search.bounds.bound import Bound
+from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, closest_miss

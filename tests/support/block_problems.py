@@ -1,0 +1,102 @@
+"""Small planning problems around one stdlib Block (a ranged slide, a ranged turn, a goal near it), shared by the
+search's tests: the bound's (tests/plan/search/bounds), the order of checks' and the kept-still bodies'
+(tests/plan/search/clutter)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+from vkgl.lang.compiler import compile_file
+from vkgl.plan.graphs.rollout import Sequence
+from vkgl.plan.problem.problem import Problem, build_problem
+
+PROGRAM = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.bodies.stick
+use stdlib.affordances.stick
+use stdlib.tools
+
+affordances Block {{
+    affordance push_px {{
+        action fixed at (-5, 0, 0) cm yaw 0deg
+        motion prismatic along (1, 0, 0) from (0, 0, 0) cm range 0 to {slide} cm
+    }}
+    affordance turn_left {{
+        action fixed at (-5, 6.56, 0) cm yaw 0deg
+        motion revolute about (-0.54, -11.1, 0) cm axis (0, 0, -1) range 0 to {turn} deg{family}
+    }}
+{grasp}}}
+
+scene s {{
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at ({x}, 0) m yaw 0deg
+{stick}}}
+
+task t {{ scene s  goal block at ({gx}, {gy}) m{yaw} within 1 cm, 3 deg }}
+"""
+
+DEPTH = 6
+"""Graphs in the longest sequence enumerated (G0 included)."""
+
+
+GRASP = """    affordance grasp_top {
+        action fixed at (0, 0, 0) cm yaw 90deg
+        motion free
+    }
+"""
+"""A grasp of the block from above (its 10 cm across the fingers: the planner does not check widths)."""
+
+
+FAMILY = "\n        family along (0, 1, 0) from 0 to 4 cm drift (0.3, 0.77, 0) sigma 1 cm"
+"""A band of contacts along the face for the turn, its pivot moving with the contact (as the stdlib Block's)."""
+
+
+def block_problem(tmp_path: Path, **fields: object) -> Problem:
+    fields.setdefault("grasp", "")
+    fields.setdefault("family", "")
+    path = tmp_path / "bound.vkg"
+    path.write_text(PROGRAM.format(**fields), encoding="utf-8")
+    program = compile_file(str(path))
+    return build_problem(program, program.task(), max_depth=DEPTH)
+
+
+STICK = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
+
+
+def labels(problem: Problem, seq: Sequence) -> tuple[str, ...]:
+    return tuple(a.label(problem) for a in seq.actions)
+
+
+def block_to(
+    tmp_path: Path,
+    gx: float,
+    stick: bool,
+    grasp: bool,
+    depth: int,
+    other: str = "",
+    yaw: str = " yaw -20deg",
+    slide: int = 10,
+) -> Problem:
+    """The block at x 0.6 m to (gx, 0.04) m (turned by `yaw`), `other` (scene lines) besides."""
+    problem = block_problem(
+        tmp_path,
+        x=0.6,
+        gx=gx,
+        gy=0.04,
+        yaw=yaw,
+        slide=slide,
+        turn=25,
+        stick=(STICK if stick else "") + other,
+        grasp=GRASP if grasp else "",
+    )
+    return replace(problem, max_depth=depth)
+
+
+IN_THE_WAY = "    other : Block on table at (0.77, 0.02) m yaw 90deg\n"
+"""A second Block across the block's way to a goal at x 0.8 m or beyond."""
+
+ASIDE = "    other : Block on table at (0.77, -0.35) m yaw 90deg\n"
+"""The same Block well to the side of that way."""
