@@ -22,14 +22,12 @@ import argparse
 import os
 import statistics
 import sys
-import tempfile
-import time
 from pathlib import Path
 
 REPO = Path(os.environ.get("VKG_REPO", Path(__file__).resolve().parents[1]))
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import generated_tasks  # noqa: E402
+from lone_goals import each_body_solved  # noqa: E402
 
 import vkgl  # noqa: E402
 from vkgl.lang.ir.nodes import PrismaticC  # noqa: E402
@@ -37,24 +35,6 @@ from vkgl.plan.problem.problem import build_problem  # noqa: E402
 
 GOALS = ((0.15, 0.03, -45.0), (0.20, 0.0, -50.0), (0.10, 0.05, 35.0), (0.12, -0.04, 40.0))
 """(dx, dy in m, heading change in deg) of each goal from the body's rest at (0.45, 0) m."""
-
-
-def task_text(body: str, affordances: str, dx: float, dy: float, dyaw: float) -> str:
-    """A one-body task: `body` at (0.45, 0) m, goal moved by (`dx`, `dy`) and turned by `dyaw`."""
-    return (
-        "use stdlib.robots.panda\n"
-        f"{affordances}\n"
-        "scene alone {\n"
-        "    table size (1.6, 1.2) m at (0.5, 0, 0) m\n"
-        "    robot arm : Panda at (0, 0, 0) m\n"
-        f"    it : {body} on table at (0.45, 0) m yaw 0deg\n"
-        "}\n\n"
-        "task turn_far {\n"
-        "    scene alone\n"
-        f"    goal it at ({0.45 + dx:.3f}, {dy:.3f}) m yaw {dyaw:g}deg within 1 cm, 3deg\n"
-        "    search { max_depth 6  timeout 20 s }\n"
-        "}\n"
-    )
 
 
 def moved_arc(program: vkgl.Program, name: str) -> bool:
@@ -70,35 +50,24 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--execute", action="store_true", help="carry each plan out in DART")
     args = parser.parse_args(argv)
-    names = ["Block", *(t.name for t in generated_tasks.GENERATED_TYPES)]
     depths: list[int] = []
     print(f"{'body':7} {'solved':>6} {'depths':>9} {'moved':>5} {'clean in DART':>13} {'CPU s':>6}")
-    with tempfile.TemporaryDirectory() as tmp:
-        for name in names:
-            folder = Path(tmp) / name
-            folder.mkdir()
-            uses = generated_tasks.body_uses(name, folder)
-            solved, found, moved, clean, cpu = 0, [], 0, 0, 0.0
-            for dx, dy, dyaw in GOALS if uses is not None else ():
-                task = folder / "task.vkg"
-                task.write_text(task_text(name, uses, dx, dy, dyaw), encoding="utf-8")  # type: ignore[arg-type]
-                program = vkgl.compile(task)
-                start = time.process_time()
-                plan = vkgl.solve(program, "turn_far")
-                cpu += time.process_time() - start
-                if plan.status != "solved":
-                    found.append("-")
-                    continue
-                solved += 1
-                found.append(str(plan.depth))
-                depths.append(int(plan.depth))  # type: ignore[arg-type]
-                last = plan.steps[-1].affordance.split(".", 1)[1] if plan.steps else ""
-                moved += moved_arc(program, last)
-                if args.execute:
-                    clean += vkgl.execute(program, "turn_far", plan).status == "reached"
-            shown = f"{clean}/{solved}" if args.execute else "-"
-            row = f"{name:7} {solved:>4}/{len(GOALS)} {' '.join(found):>9} {moved:>5} {shown:>13} {cpu:6.1f}"
-            print(row, flush=True)
+    for name, solves in each_body_solved("turn_far", GOALS):
+        solved, found, moved, clean = 0, [], 0, 0
+        for one in solves:
+            if one.plan.status != "solved":
+                found.append("-")
+                continue
+            solved += 1
+            found.append(str(one.plan.depth))
+            depths.append(int(one.plan.depth))  # type: ignore[arg-type]
+            last = one.plan.steps[-1].affordance.split(".", 1)[1] if one.plan.steps else ""
+            moved += moved_arc(one.program, last)
+            if args.execute:
+                clean += vkgl.execute(one.program, "turn_far", one.plan).status == "reached"
+        shown = f"{clean}/{solved}" if args.execute else "-"
+        cpu = sum(one.cpu_s for one in solves)
+        print(f"{name:7} {solved:>4}/{len(GOALS)} {' '.join(found):>9} {moved:>5} {shown:>13} {cpu:6.1f}", flush=True)
     median = statistics.median(depths) if depths else float("nan")
     print(f"\nsolved {len(depths)}; median depth {median:g}")
     return 0
