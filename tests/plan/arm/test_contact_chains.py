@@ -53,3 +53,18 @@ def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path)
 
     first = next(chains.solve(step, ArmState(problem.arm.home.copy()), "step 1"))
     assert isinstance(first, np.ndarray) and np.allclose(first, step.contact)
+
+
+def test_gen3_000_pulls_past_a_cube_beside_the_way_with_the_hand_rolled(tmp_path: Path) -> None:
+    # the fingertip pulls a CubeS 15 cm back past another CubeS 6 cm beside its way: upright, a finger meets the
+    # pulled cube; leaned back 30 deg, the 20 cm wide hand meets the one beside by 0.1 cm; rolled 20 deg about
+    # the pull's direction its side rises over it (before: a 5-graph plan clearing that cube first, 20 CPU-s)
+    spec = task_spec(3, 0)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name, max_depth=2, timeout=TEST_SOLVE_TIMEOUT_S)
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps] == ["CubeS.push_center_nx"]
+    assert plan.problem is not None
+    hand = plan.problem.arm.fk(plan.steps[0].contact[0])
+    pad_axis = hand[:3, 1]  # the pad lies along the effector frame's y: upright or leaned back, level
+    assert abs(pad_axis[2]) > np.sin(np.radians(15.0))

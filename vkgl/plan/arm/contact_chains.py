@@ -45,6 +45,12 @@ CHAIN_LEVER = 0.2
 PITCHES = tuple(np.radians((0.0, 30.0, 45.0, 60.0)))
 """rad: how far the hand may lean back from upright at a contact (tried in turn)."""
 
+ROLLS = tuple(np.radians((20.0, -20.0)))
+"""rad: how far the hand may roll about the push's direction, at each lean of `PITCHES` where the hand hit a body
+beside the one it pushes: the pad stays on the face (its axis turns within it), one side of the 20 cm
+wide hand rises over a low body beside the way (gen3_000 of the physical bench: the hand 0.1 cm in a cube 6 cm
+beside a pull)."""
+
 SAME_CONFIGURATION = 0.01
 """rad: IK answers at a contact no joint of which differs by more than this are one arm configuration (the chain
 along the motion from either ends the same way): the spread seeds' answers are followed once each."""
@@ -101,6 +107,14 @@ class ContactChains:
                 poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
                 lean = f"the hand leaned back {np.degrees(pitch):.0f} deg: " if pitch else ""
                 yield from self._from_seeds(step, state, (hand, poses), seeds, leans[pitch], closest, lean)
+        for pitch in [pitch for pitch in pitches if leans[pitch].hand_hit] if len(pitches) > 1 else ():
+            for roll in ROLLS:
+                hand = upright @ _rolled(roll) @ _pitched_back(pitch)
+                rolled = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
+                lean = f", leaned back {np.degrees(pitch):.0f} deg" if pitch else ""
+                words = f"the hand rolled {np.degrees(roll):+.0f} deg{lean}: "
+                seeds = (step.q_start, arm.home)
+                yield from self._from_seeds(step, state, (hand, rolled), seeds, _Lean(), closest, words)
         if grasp:
             yield from self._grasp_chains(step, state, poses, closest)
         yield Rejection(
@@ -145,7 +159,9 @@ class ContactChains:
                 closest.note((2, -clash[1]), words + clash[0])
                 # a link before the wrist may pass elsewhere in another configuration; the hand (and what it
                 # holds) is where the contact puts it in every one
-                lean.worth_others |= not self._rigid_with_hand(clash[0])
+                rigid = self._rigid_with_hand(clash[0])
+                lean.worth_others |= not rigid
+                lean.hand_hit |= rigid
                 continue
             yield chain.joints.copy()
 
@@ -220,6 +236,7 @@ class _Lean:
 
     tried: list[np.ndarray] = field(default_factory=list)
     worth_others: bool = False
+    hand_hit: bool = False  # the hand (or what it holds) hit a body beside: a roll may lift it over
 
 
 def _subtree(node: Any) -> Iterator[str]:
@@ -243,6 +260,14 @@ class _ClosestMiss:
             self.rank, self.words = rank, words
 
 
+def _rolled(angle: float) -> np.ndarray:
+    """The effector frame turned by `angle` about its x axis, the push's direction through the pad's centre: the
+    pad keeps its place on the face, its axis turned within the face, the hand's sides one up, one down."""
+    about = np.eye(4)
+    about[:3, :3] = axis_matrix(0, angle)
+    return about
+
+
 def _pitched_back(angle: float) -> np.ndarray:
     """The effector frame turned by `angle` about the pad's axis (the frame's y through the pad's centre),
     leaning the hand away from the face it pushes (the frame's z toward -x)."""
@@ -253,4 +278,4 @@ def _pitched_back(angle: float) -> np.ndarray:
     return to_axis @ about @ np.linalg.inv(to_axis)
 
 
-__all__ = ["CHAIN_LEVER", "CHAIN_SPACING", "PITCHES", "ContactChains"]
+__all__ = ["CHAIN_LEVER", "CHAIN_SPACING", "PITCHES", "ROLLS", "ContactChains"]
