@@ -95,7 +95,7 @@ def goal_spec(body: str, kind: str, seed: int) -> g.TaskSpec:
         start = np.array([radius * math.cos(bearing), radius * math.sin(bearing)])
         goal = start + distance * np.array([math.cos(direction), math.sin(direction)])
         target = g.Placement("target", body, round(start[0], 3), round(start[1], 3), yaw)
-        fp = [g.footprint(target), g._polygons(g.TYPES[body], goal[0], goal[1], yaw)]
+        fp = [g.footprint(target), g.polygons(g.TYPES[body], goal[0], goal[1], yaw)]
         tools = tuple(g.Placement(n, t.name, x, y, a) for n, t, x, y, a in g.TOOLS)
         if any(g.overlaps(g.footprint(t), f, g.GAP) for t in tools for f in fp):
             continue
