@@ -41,9 +41,9 @@ Again on 2026-11-27 (07:35-08:10, same options, load average 10 to 16; CPU of th
 clean (181 CPU-s); with an arc's law error kept inside the goal (docs/planning.md, "An arc's law error kept inside the
 goal") 14 solved, 14 clean (140 CPU-s): CrateM's `free+` goal 1, whose arc at the band's edge missed its goal in DART,
 is no longer promised (a time out at 40 s of wall clock here; given 12.3 CPU-s the search finds a depth-5 plan, the
-edge arc for 51 deg then the hook-side turn for 17.6 deg, reached in DART 0.04 cm from the plan). Every other plan is the same member at the same depth; SlabW's
-`arc` 1 and `free+` 0 ended "no plan" on main and timed out here under the heavier load (each search proves it
-again given the time: no plan either way).
+edge arc for 51 deg then the hook-side turn for 17.6 deg, reached in DART 0.04 cm from the plan). Every other plan is
+the same member at the same depth; SlabW's `arc` 1 and `free+` 0 ended "no plan" on main and timed out here under the
+heavier load (`free+` 0 alone, given the time: "no plan" on both, the same rejections, 11.0 and 12.4 CPU-s).
 
 | body | goals: arc / free+ / free- / kept | 11-26 | before | now | depths | clean in DART | worst vs DART |
 |---|---|---|---|---|---|---|---|
