@@ -36,12 +36,13 @@ import numpy as np
 
 from vkgl.formats.trials import Trials
 from vkgl.infer.trial import TrialInference
+from vkgl.lang.ir.arcs import SIGMA_TRAVEL
 
 _TURNED = math.radians(1.0)  # a push that turned less than this gives no pivot (its chord pivot is noise)
 _SAME_FACE = 0.005  # m: a push this far off the face plane (or the contact's height) is another face's
 _SAME_OFFSET = 1e-3  # m: |d| values closer than this are one offset of the fit
 _UPRIGHT = math.cos(math.radians(5.0))  # a turn whose axis leans more from the face's normal axis is no arc
-CHECK_TRAVEL = 0.10  # m: sigma is the turn's error over this much of the contact's travel
+CHECK_TRAVEL = SIGMA_TRAVEL  # m: sigma is the turn's error over this much of the contact's travel
 
 
 @dataclass(frozen=True)

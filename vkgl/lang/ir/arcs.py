@@ -10,6 +10,9 @@ about the axis -sign(s) * (N x DIR), so that the contact moves forward along N a
 angle t moves the contact along its arc by t * hypot(L**2 / |s| + B, A); the member's range is the slide's range
 in that travel, `open` when the slide's is (the body was still moving when exploration ended: pushed on, it goes
 on turning, as a pushed slide goes on sliding). At s = 0 the member is the slide itself (the pivot is at infinity).
+
+The family's `sigma` (an angle) is the law's RMS error in the turn over `SIGMA_TRAVEL` (10 cm) of the contact's
+travel: a member turned by t is uncertain by sigma * t * hypot(...) / 10 cm (`arc_turn_error`).
 """
 
 from __future__ import annotations
@@ -25,6 +28,18 @@ def arc_radius(arc: Arc, offset: float) -> float:
     if offset == 0.0:
         return math.inf
     return arc.lever.value**2 / abs(offset) + arc.bias.value
+
+
+SIGMA_TRAVEL = 0.10
+"""m: an arc family's `sigma` is the RMS error of the law's turn over this much of the contact's travel
+(docs/language.md, "Arcs"; `vkgl.infer.faces.arc` scales each explored push's error to it)."""
+
+
+def arc_turn_error(arc: Arc, sigma: float, offset: float, turn: float) -> float:
+    """The RMS error (rad) of the turn the law predicts for its member at `offset` (m, not 0) turned by `turn`
+    (rad): `sigma` (rad over 10 cm of travel) times the contact's travel along the arc in tens of centimetres (the
+    error grows with the push: the law turns the body at its own rate, DART at the body's)."""
+    return sigma * abs(turn) * arc_lever_arm(arc, offset) / SIGMA_TRAVEL
 
 
 def arc_lever_arm(arc: Arc, offset: float) -> float:

@@ -202,7 +202,7 @@ def value_bounds(constraint: object) -> tuple[float, float]:
 
     An `open` range (a slide that was still going when its exploration ended)
     bounds the motion from below only: it may slide as far as the cap, and the
-    table (`feasible._stay_constraints`), the body's physical joint, if it has
+    table (`body_limits._stay_constraints`), the body's physical joint, if it has
     one, and the collision checks of its sweep decide how far it really goes.
     """
     cap = REVOLUTE_MAX if isinstance(constraint, RevoluteC) else PRISMATIC_MAX

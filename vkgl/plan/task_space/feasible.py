@@ -32,9 +32,11 @@ from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
+from vkgl.plan.task_space.body_limits import _stay_constraints, body_constraints, limit_words
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
+from vkgl.plan.task_space.law_error import law_margins, uncertain_rejection
 from vkgl.plan.task_space.reach.workspace import reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
@@ -152,23 +154,30 @@ def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray
     return np.asarray(out, dtype=float)
 
 
-def goal_holds(problem: Problem, final: dict[str, np.ndarray], goals: list[GoalSpec] | None = None) -> bool:
-    """Whether every goal (of the problem, or `goals`) holds at `final` within its tolerance."""
+def goal_holds(
+    problem: Problem,
+    final: dict[str, np.ndarray],
+    goals: list[GoalSpec] | None = None,
+    margins: dict[str, tuple[float, float]] | None = None,
+) -> bool:
+    """Whether every goal (of the problem, or `goals`) holds at `final` within its tolerance; `margins` (m, rad by
+    body: `law_error.law_margins`) is kept inside the position's and the heading's tolerance."""
     for goal in problem.goals if goals is None else goals:
         pose = final[goal.body]
+        margin, turn_margin = (margins or {}).get(goal.body, (0.0, 0.0))
         if (
             goal.position is not None
-            and np.linalg.norm(pose[: len(goal.position), 3] - goal.position) > goal.tol_position
+            and np.linalg.norm(pose[: len(goal.position), 3] - goal.position) + margin > goal.tol_position
         ):
             return False
-        if goal.yaw is not None and abs(wrap_angle(yaw_of(pose) - goal.yaw)) > goal.tol_yaw:
+        if goal.yaw is not None and abs(wrap_angle(yaw_of(pose) - goal.yaw)) + turn_margin > goal.tol_yaw:
             return False
         if (
             goal.opening is not None
             and abs(problem.bodies[goal.body].joint_state(pose) - goal.opening) > goal.tol_opening
         ):
             return False
-        if goal.region is not None and float(goal.region_excess(pose).max()) > goal.tol_position:
+        if goal.region is not None and float(goal.region_excess(pose).max()) + margin > goal.tol_position:
             return False
     return True
 
@@ -199,86 +208,6 @@ def constraint_values(
 
 PLACED_REMEMBERED = 4096
 """Bodies' `body_constraints` an evaluator keeps (its sequence's bodies at the poses the optimiser tried)."""
-
-
-def body_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
-    """A moved body's constraints at the end of a mode: on the table, within its joint's limits, out of the
-    keep-out regions (<= 0 when satisfied, m)."""
-    return _stay_constraints(problem, name, pose) + _keep_out_depths(problem, name, pose)
-
-
-def _keep_out_depths(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
-    """How deep a moved body ends in each keep-out region that applies to it (m; <= 0 outside): the optimiser
-    keeps the ends of motions out (the geometry check then samples the whole way, `plan.geometry.keep_out`)."""
-    if not problem.keep_out:
-        return []
-    points = footprint(problem.footprint_points(name), pose)
-    return [overlap_depth(k.region, points) for k in problem.keep_out if k.applies_to(name)]
-
-
-def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[float]:
-    """A moved body stays on the table (if it lies on it: its whole outline) and within its physical joint's limits.
-
-    The outline, not the body's frame: a slide that is not bounded by its range
-    (`range ... open`) would otherwise stop with its centre on the table's edge,
-    half of it in the air, and fall off in physics.
-    """
-    body = problem.bodies[name]
-    out: list[float] = []
-    if body.on_table and problem.table_center is not None:
-        corners = body.outline @ pose[:3, :3].T + pose[:3, 3]
-        offset = np.abs(corners[:, :2] - problem.table_center) - problem.table_size / 2  # type: ignore[operator]
-        out.extend(float(v) for v in offset.max(axis=0))
-    if body.joint_limits is not None and body.joint_axis is not None:
-        lower, upper = body.joint_limits
-        state = body.joint_state(pose)
-        out.extend((lower - state, state - upper))
-    return out
-
-
-def limit_words(problem: Problem, name: str, pose: np.ndarray, goal: GoalSpec | None = None) -> str:
-    """Which limit a body would pass, with the numbers: its joint's range, or the table's edge.
-
-    The joint's coordinate is where `goal` (else the body's first goal that says) puts it, if one does.
-    """
-    body = problem.bodies[name]
-    if body.joint_limits is not None and body.joint_axis is not None:
-        lower, upper = body.joint_limits
-        state = body.joint_state(pose)
-        scale, unit = (100.0, "cm") if body.joint == "prismatic" else (math.degrees(1.0), "deg")
-        needed = goal_joint_state(problem, name, goal)
-        if needed is not None and lower <= needed <= upper:
-            needed = None  # the goal is within the limits: it is the motion's way there that passes one
-        what = "the goal needs it at" if needed is not None else "it would have to move to"
-        state = needed if needed is not None else state
-        edge, side = (upper, "upper") if state > (lower + upper) / 2 else (lower, "lower")
-        return (
-            f"{name}: {what} {state * scale:.1f} {unit} on its {body.joint} joint, past its {side} limit of "
-            f"{edge * scale:.1f} {unit} (range {lower * scale:.1f} to {upper * scale:.1f} {unit})"
-        )
-    overhang = max(_stay_constraints(problem, name, pose) or [0.0])
-    return f"{name} would have to go {overhang * 100:.1f} cm past the table's edge (part of it leaves the table)"
-
-
-def goal_joint_state(problem: Problem, name: str, goal: GoalSpec | None = None) -> float | None:
-    """Where a goal puts a body's physical joint (m or rad); None without such a goal.
-
-    A joint goal says it (`opening`); a position goal says it for a prismatic
-    joint. `goal` picks the goal; by default, the body's first that says.
-    """
-    body = problem.bodies[name]
-    if body.joint_axis is None:
-        return None
-    for chosen in problem.goals if goal is None else [goal]:
-        if chosen.body != name:
-            continue
-        if chosen.opening is not None:
-            return chosen.opening
-        if body.joint == "prismatic" and chosen.position is not None:
-            offset = np.zeros(3)
-            offset[: len(chosen.position)] = chosen.position[:3] - body.rest[: len(chosen.position), 3]
-            return body.start_state + float(body.joint_axis @ (body.rest[:3, :3].T @ offset))
-    return None
 
 
 def task_space(
@@ -324,6 +253,7 @@ def task_space(
                 lower[n + j] = upper[n + j] = 0.0
     guess = np.clip(np.concatenate([guess, np.zeros(m), carry_guess]), lower, upper)
     best: tuple[float, np.ndarray] | None = None
+    uncertain: Rejection | None = None  # a solution the arcs' law errors could take out of the goal's tolerance
     restarts = [] if pinned or (offsets is None and seeds_only(problem, seq)) else _restarts(lower, upper)
     for x0 in [guess, *restarts]:
         if time.perf_counter() > deadline:
@@ -343,10 +273,16 @@ def task_space(
                 # the members' names keep the offsets to 0.01 cm, and an arc's pivot moves by centimetres per
                 # 0.01 cm near the centre: solved again with the contacts where the names put them
                 return task_space(problem, seq, deadline, counters, offsets=named_offsets(problem, seq, x))
-            return TaskSolution(values, traces, not pinned, renamed)
+            margins = law_margins(problem, named, values, traces)
+            if goal_holds(problem, traces[-1].end, margins=margins):
+                return TaskSolution(values, traces, not pinned, renamed)
+            uncertain = uncertain_rejection(problem, traces[-1].end, margins)
+            continue
         score = violation + float(residual @ residual)
         if best is None or score < best[0]:
             best = (score, x)
+    if uncertain is not None:
+        return uncertain
     return _why_not(problem, seq, best[1] if best is not None else guess)
 
 
@@ -428,7 +364,7 @@ def task_space_alternatives(
         if float(c.max()) > 1e-6 or any(np.allclose(x, other, atol=1e-3) for other in given):
             continue
         traces = rollout(problem, seq, x, JOINT_SAMPLES)
-        if goal_holds(problem, traces[-1].end):
+        if goal_holds(problem, traces[-1].end, margins=law_margins(problem, seq, x, traces)):
             given.append(x)
             yield TaskSolution(x, traces, free=True)
 

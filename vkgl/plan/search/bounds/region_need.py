@@ -25,7 +25,7 @@ each slide moves it along its axis as it lies at rest: by at most `A` (`across`,
 remaining modes make no turn therefore needs at least `ceil(D' / A)` slides (`inf` when `A` is 0: a body that
 slides only along the edge never crosses it), `D'` what the slides made so far left (each gained at most `A`);
 one that makes a turn needs at least `fewest_modes` with one turn at least. And the end of every mode keeps the
-body's outline on the table (`feasible.body_constraints`): the unturned poses lie in a box of translations (on a
+body's outline on the table (`body_limits.body_constraints`): the unturned poses lie in a box of translations (on a
 line when all the slides are parallel), so when none of them gains `D` against the normal (`straight_reach`), a
 turn is needed whatever the slides' ranges (an `open` slide may go 2 m by its range alone). While nothing has
 moved the body, a plan with a turn needs two modes at least when no one turn from rest puts the footprint in the
@@ -97,7 +97,7 @@ def region_gap(body: PlanBody, goal: GoalSpec) -> tuple[float, np.ndarray]:
 def straight_reach(problem: Problem, body: PlanBody, normal: np.ndarray, movers: list[Affordance]) -> float:
     """The most any pose of `body` that its slides alone reach from rest, with its outline on the table, lies
     against `normal` from its rest (m, `inf` when it does not lie on a table): the end of a mode keeps the outline
-    on the table (`feasible.body_constraints`), slides keep the heading and move the body along their axes (a
+    on the table (`body_limits.body_constraints`), slides keep the heading and move the body along their axes (a
     line when they are all parallel, else the plane), and the translations that keep the outline on the table form
     a box."""
     if not body.on_table or problem.table_center is None or problem.table_size is None:
