@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import statistics
 import sys
 import tempfile
@@ -123,10 +124,23 @@ def run_task(job: dict[str, Any]) -> dict[str, Any]:
         result["reason"] = (report.reason or "").splitlines()[0] if report.reason else ""
         result["disturbed"] = _disturbed(plan_json, report.final)
         result["slip_mm"] = _slip_mm(report)
+        result["goal_off"] = _goal_off(report)
     except Exception as exc:  # a benchmark reports every failure and goes on
         result["outcome"] = "error"
         result["reason"] = f"{type(exc).__name__}: {exc}".splitlines()[0]
     return result
+
+
+def _goal_off(report: Any) -> list[list[float | None]]:
+    """How far each goal body ended from its goal in DART: [cm, deg] per goal (None where the goal leaves it
+    free), so that plans that end near their tolerance show."""
+    return [
+        [
+            None if g.position_error is None else round(100.0 * g.position_error, 2),
+            None if g.yaw_error is None else round(math.degrees(abs(g.yaw_error)), 2),
+        ]
+        for g in report.goals
+    ]
 
 
 def _slip_mm(report: Any) -> float | None:
@@ -285,6 +299,10 @@ def progress_line(r: dict[str, Any]) -> str:
             outcome += f" | {len(r['findings'])} overlaps: {r['findings'][0]}"
         if r.get("slip_mm") is not None:
             outcome += f" slip {r['slip_mm']:.2f} mm"
+        for cm, deg in r.get("goal_off") or ():
+            outcome += (
+                " off" + (f" {cm:.2f} cm" if cm is not None else "") + (f" {deg:.2f} deg" if deg is not None else "")
+            )
     elif r.get("solve_cpu_s") is not None:
         outcome += f" ({r['solve_cpu_s']:.1f}s CPU, {(r.get('search') or {}).get('expanded')} expanded)"
     if r.get("missed"):
