@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 import re
+import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Union
@@ -35,7 +36,7 @@ if TYPE_CHECKING:
     from vkgl.lang.ir.program import Program
     from vkgl.plan.problem.avoid import Avoid
     from vkgl.plan.result.plan import Plan
-    from vkgl.sim.explore import Runner
+    from vkgl.sim.explore import ProgressMode, Runner
 
 ProgramLike = Union["Program", str, os.PathLike[str]]
 """A compiled Program, or the path of a `.vkg` file to compile."""
@@ -173,7 +174,7 @@ def resolver(program: Program, task: str, attempts: Attempts) -> PlanDocument:
 
 
 def explore(
-    body: Body, *, seed: int = 0, jobs: int | None = None, progress: bool = False, runner: Runner | None = None
+    body: Body, *, seed: int = 0, jobs: int | None = None, progress: ProgressMode = False, runner: Runner | None = None
 ) -> Trials:
     """Run the body's exploration grid in DART; return the `vkg-trials/1` dataset.
 
@@ -240,7 +241,7 @@ def learn(
     out_dir: str | os.PathLike[str] | None = None,
     seed: int = 0,
     jobs: int | None = None,
-    progress: bool = False,
+    progress: ProgressMode = False,
     force: bool = False,
     runner: Runner | None = None,
 ) -> list[Path]:
@@ -272,6 +273,8 @@ def learn(
     written = []
     for source, target, destination in jobs_to_run:
         destination.parent.mkdir(parents=True, exist_ok=True)
+        if progress == "lines":
+            print(f"{target.name}: learning into {destination}", file=sys.stderr, flush=True)
         # a body without an `explore` block is learned for its grasps alone (a carton to pick up)
         trials = explore(target, seed=seed, jobs=jobs, progress=progress, runner=runner) if target.explores else None
         grasp_trials, grasps = learn_grasps(target, seed=seed)

@@ -108,7 +108,7 @@ def cmd_explore(args: argparse.Namespace) -> int:
     print_diagnostics(program.warnings, program.sources, sys.stderr)  # what `vkgc check` would warn about
     check_outputs_against(args, program.files(), f"read by the compilation of {args.bodyfile}")
     body = program.body(args.body)
-    trials = api.explore(body, seed=args.seed, jobs=args.jobs, progress=_is_terminal(sys.stderr))
+    trials = api.explore(body, seed=args.seed, jobs=args.jobs, progress=_is_terminal(sys.stderr) or "lines")
     trials.save(args.output)
     failed = int((~trials.ok).sum())
     print(f"{args.output}: {len(trials)} trials of {body.name}" + (f", {failed} failed" if failed else ""))
@@ -166,7 +166,7 @@ def cmd_learn(args: argparse.Namespace) -> int:
             out_dir=args.output,
             seed=args.seed,
             jobs=args.jobs,
-            progress=_is_terminal(sys.stderr),
+            progress=_is_terminal(sys.stderr) or "lines",
             force=args.force,
             runner=run,
         ):

@@ -31,13 +31,15 @@ import contextlib
 import multiprocessing
 import os
 import signal
+import sys
 import threading
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures import TimeoutError as FuturesTimeout
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import dartpy as dart
 import numpy as np
@@ -78,13 +80,19 @@ class TrialResult:
 Runner = Callable[[list[TrialSpec], int], list[TrialResult]]
 
 
+ProgressMode = bool | Literal["lines"]
+"""How exploration shows its progress on stderr: not at all (False), a live bar (True: for a terminal), or a line
+every tenth of the trials ("lines": for a pipe or a log)."""
+
+
 def explore(
-    body: Body, *, seed: int = 0, jobs: int | None = None, progress: bool = False, runner: Runner | None = None
+    body: Body, *, seed: int = 0, jobs: int | None = None, progress: ProgressMode = False, runner: Runner | None = None
 ) -> Trials:
     """Run every trial of the body's `explore` blocks and return the dataset.
 
     `jobs`: parallel processes (default: all cores). `progress`: show a
-    progress bar on stderr. `runner`: run the trials with it instead of the
+    progress bar on stderr (`ProgressMode`: "lines" prints a line every
+    tenth of the trials instead). `runner`: run the trials with it instead of the
     local process pool. Raises InputError for a body without an `explore`
     block and SimulationError when DART cannot build the body.
     """
@@ -108,7 +116,7 @@ def _job_count(jobs: int | None, n_trials: int) -> int:
     return max(1, min(int(jobs), n_trials))
 
 
-def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: bool) -> list[TrialResult]:
+def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: ProgressMode) -> list[TrialResult]:
     """Run the trials in `jobs` worker processes; results in grid order.
 
     Workers are processes even for one job: a simulator that aborts (ODE
@@ -129,7 +137,9 @@ def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: bool) -> li
             pool = ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_ignore_sigint)
             futures = [pool.submit(run_trial, spec, seed) for spec in specs]
         try:
-            advance = _progress_bar(len(specs)) if progress else None
+            advance = (
+                _progress_lines(len(specs)) if progress == "lines" else _progress_bar(len(specs)) if progress else None
+            )
             try:
                 for i, future in enumerate(futures):
                     results[i] = _result(future)
@@ -210,6 +220,21 @@ def _run_isolated(spec: TrialSpec, seed: int, context: Any) -> TrialResult:
         raise
     pool.shutdown()
     return result
+
+
+def _progress_lines(total: int) -> Callable[..., None]:
+    """A line on stderr every tenth of `total` trials (and at the last): what a pipe or a log can show."""
+    done, started, every = 0, time.monotonic(), max(1, total // 10)
+
+    def advance(stop: bool = False) -> None:
+        nonlocal done
+        if stop:
+            return
+        done += 1
+        if done % every == 0 or done == total:
+            print(f"exploring: {done}/{total} trials ({time.monotonic() - started:.0f} s)", file=sys.stderr, flush=True)
+
+    return advance
 
 
 def _progress_bar(total: int) -> Callable[..., None]:
