@@ -15,17 +15,19 @@ from vkgl.robot import Arm
 
 @pytest.fixture(scope="module")
 def setup(compiled):
-    """The a_push problem's arm, with its scene's bodies and a tall post (parked far away) added."""
+    """The a_push problem's arm, with its scene's bodies, a tall post and a small peg (parked far away) added."""
     program = compiled("a_push")
     problem = build_problem(program, program.task())
     shapes = {name: body.type.shape for name, body in problem.bodies.items()}
     shapes["post"] = box(0.1, 0.1, 1.0)
+    shapes["peg"] = box(0.01, 0.004, 0.01)
     scene = CollisionScene(
         shapes, table_center=problem.table_center, table_size=problem.table_size, table_z=problem.table_z
     )
     arm = ArmCollision(scene, problem.arm)
     poses = {name: body.rest for name, body in problem.bodies.items()}
     poses["post"] = pose(5.0, 5.0, 0.5)
+    poses["peg"] = pose(-5.0, 5.0, 0.5)
     return problem, arm, poses
 
 
@@ -89,3 +91,23 @@ def test_a_held_hooks_whole_shape_is_checked_but_not_against_what_it_acts_on(set
     assert not arm.free(home, on_cross_piece, held=held)
     assert arm.free(home, on_cross_piece, held=Held("hook", in_hand, acts_on=frozenset({"post"})))
     assert arm.free(home, poses, held=held)
+
+
+def test_the_fingers_are_checked_open_around_a_held_tool_and_closed_without_one(setup) -> None:
+    """The executor closes the fingers onto a held tool's faces (each 1.05 cm open on the Hook's 2 cm), not
+    fully: a peg 1.5 cm beside the effector frame, clear of the closed fingers, is inside an open one."""
+    problem, arm, poses = setup
+    home = problem.arm.home
+    in_hand = np.linalg.inv(problem.action("hook", "wield"))
+    beside = dict(poses, peg=problem.arm.fk(home) @ pose(0.0, 0.015, 0.01))
+    fingers = set(arm.finger_links)
+    closed = Held("hook", in_hand, acts_on=frozenset({"peg"}))
+    opened = Held("hook", in_hand, acts_on=frozenset({"peg"}), opening=0.0105)
+    assert arm.overlap(home, beside, held=closed) == [] and arm.free(home, beside, held=closed)
+    hits = arm.overlap(home, beside, held=opened)
+    assert hits and {c.body_b for c in hits} == {"peg"} and {c.body_a for c in hits} <= fingers
+    assert not arm.free(home, beside, held=opened)
+    assert arm.clearance(opened)(home) <= 0.0 < arm.clearance(opened)(problem.arm.home + 0.3)
+    # the checker's skeleton is shared: the next query without a tool has its fingers closed again
+    away = dict(beside, hook=pose(5.0, -5.0, 0.0))
+    assert not {c.body_a for c in arm.overlap(home, away)} & fingers

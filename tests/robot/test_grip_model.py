@@ -49,3 +49,25 @@ def test_a_body_resists_with_its_weight_times_its_friction():
     assert resisting_force(1.0, 0.5) == pytest.approx(0.5 * GRAVITY)
     assert resisting_force(2.0, None) == pytest.approx(2.0 * DEFAULT_FRICTION * GRAVITY)
     assert Grip(20.0, 0.5).usage(np.array([20.0, 0.0, 0.0]), np.zeros(3)) == pytest.approx(1.0)
+
+
+def test_the_fingers_stand_open_around_a_tool_by_its_stated_width_else_its_measured_one():
+    """As the executor closes them: onto the tool's faces, `TOUCH_GAP` short. The Hook's grasp states 2 cm; its
+    `wield` (a fixed action) states none, and its shaft measures 2 cm across where the hand holds it."""
+    import vkgl
+    from vkgl.lang.ir.geometry import body_mesh
+    from vkgl.robot.grip import TOUCH_GAP, holding_opening
+
+    program = vkgl.compile_source("use stdlib.affordances.hook\n")
+    hook = program.bodies["Hook"]
+    by_name = {a.name: a for a in program.affordances["Hook"]}
+    mesh = body_mesh(hook)
+    grasp = by_name["grasp_top_x_p1"].action
+    assert holding_opening(grasp, mesh, np.eye(4)) == pytest.approx(0.01 + TOUCH_GAP)
+    wield = by_name["wield"].action
+    at_handle = np.eye(4)
+    at_handle[:3, 3] = (-0.15, 0.0, 0.0)
+    assert holding_opening(wield, mesh, at_handle) == pytest.approx(0.01 + TOUCH_GAP)
+    far_off = np.eye(4)
+    far_off[:3, 3] = (0.0, 0.0, 1.0)  # the pads' plane misses the tool: nothing between them
+    assert holding_opening(wield, mesh, far_off) == pytest.approx(TOUCH_GAP)

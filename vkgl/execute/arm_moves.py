@@ -167,7 +167,7 @@ class ArmMoves:
         held = None
         if self.sim.arm.held is not None:
             in_hand = np.linalg.inv(self.sim.arm.effector_pose()) @ self.sim.poses()[self.sim.arm.held.name]
-            held = Held(self.sim.arm.held.name, in_hand)
+            held = Held(self.sim.arm.held.name, in_hand, opening=self.sim.fingers.opening)  # as they are now
         found = transit_segment(self._collision, self.sim.arm.q, q_target, self.sim.poses(), held, seed=0)
         if isinstance(found, TransitFailure):
             raise ArmStuck(f"the arm cannot get to where its planned path starts: {found.reason}")

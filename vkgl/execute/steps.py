@@ -29,7 +29,7 @@ import numpy as np
 from vkgl.errors import InputError, SimulationError
 from vkgl.execute import effector_path as paths
 from vkgl.execute.arm_moves import ArmMoves
-from vkgl.execute.grip.fingers import FINGER_CLEARANCE, TOUCH_GAP, width_across_grip
+from vkgl.execute.grip.fingers import FINGER_CLEARANCE, TOUCH_GAP
 from vkgl.execute.grip.model import grip_for
 from vkgl.execute.scene_world import SceneWorld
 from vkgl.execute.world_arm import ArmStuck
@@ -37,6 +37,7 @@ from vkgl.formats.plan import PlanStepRecord
 from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import Affordance, Body, FixedC
 from vkgl.motion.moves import LIFT, STANDOFF, WayOut, way_out
+from vkgl.robot.grip import tool_width
 
 PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
@@ -212,14 +213,10 @@ class StepKinds:
         self.grasp_planned = self._action_pose(step, label)
 
     def _width(self, step: PlanStepRecord, label: str) -> float:
-        """The tool's width across the grip: the grasp's stated `width`, else measured on the tool's shape where
-        the action holds it."""
+        """The tool's width across the grip (`vkgl.robot.grip.tool_width`: stated, else measured where the action
+        holds it), as the planner has it when it checks the fingers around the tool."""
         action = self._affordance(step, label).action
-        width = getattr(action, "width", None)
-        if width is not None:
-            return float(width)
-        measured = width_across_grip(self.sim.meshes[step.body], self._action_pose(step, label))
-        return 0.0 if measured is None else measured
+        return tool_width(action, self.sim.meshes[step.body], self._action_pose(step, label))
 
     def _let_go_of_handle(self) -> None:
         """Open the fingers off a handle the hand holds (nothing if none)."""

@@ -38,12 +38,16 @@ class Held:
 
     For a tool grasped by an affordance whose action pose is `A` (the effector
     frame in the tool's frame), `in_hand` is `inv(A)`. `acts_on`: bodies the
-    tool may touch (the one it pushes or pulls).
+    tool may touch (the one it pushes or pulls). `opening`: m each finger stands
+    open around the tool (`vkgl.robot.grip.holding_opening`: as the executor
+    closes them onto its faces); the fingers are checked so opened while it is
+    held, closed otherwise (the hand pushes with its closed fingertip).
     """
 
     body: str
     in_hand: np.ndarray
     acts_on: frozenset[str] = frozenset()
+    opening: float = 0.0
 
 
 class ArmCollision:
@@ -62,6 +66,8 @@ class ArmCollision:
         self.skeleton, shape_nodes, pad = _collision_links(arm)
         self._dofs = [int(self.skeleton.getJoint(name).getIndexInSkeleton(0)) for name in arm.joint_names]
         self._all_dofs = self._dofs == list(range(self.skeleton.getNumDofs()))
+        self._finger_dofs = _finger_dofs(self.skeleton, arm)
+        self._opening = 0.0
         self._link = _probe(self.skeleton, arm.effector_link)
         self._q: np.ndarray | None = None
         self._other_lists: dict[tuple[tuple[str, ...], str | None, bool], list[str]] = {}
@@ -93,18 +99,22 @@ class ArmCollision:
                 self._links_and_pad.addShapeFrame(shape_node)
         self._links_and_pad.addShapeFrame(pad)
 
-    def set_configuration(self, q: Sequence[float] | np.ndarray) -> None:
-        """Put the arm's joints (order of `Arm.joint_names`) at `q`."""
+    def set_configuration(self, q: Sequence[float] | np.ndarray, opening: float = 0.0) -> None:
+        """Put the arm's joints (order of `Arm.joint_names`) at `q`, and every finger `opening` m open (the
+        skeleton is shared with the arm's other checkers: every query sets its fingers)."""
         self._q = np.array(q, dtype=float)
+        self._opening = opening
         if self._all_dofs:
             self.skeleton.setPositions(self._q)
         else:
             self.skeleton.setPositions(self._dofs, self._q)
+            if self._finger_dofs:
+                self.skeleton.setPositions(self._finger_dofs, np.full(len(self._finger_dofs), opening))
 
     def effector_pose(self) -> np.ndarray:
         """The world pose of the effector frame at the current configuration (equals `Arm.fk(q)`)."""
         if self._q is not None:  # the skeleton is shared with the arm's other checkers: be at our configuration
-            self.set_configuration(self._q)
+            self.set_configuration(self._q, self._opening)
         return self._link.getTransform().matrix() @ self.arm.link_offset
 
     def overlap(
@@ -129,7 +139,7 @@ class ArmCollision:
         """
         if poses is not None:
             self.scene.place(poses)
-        self.set_configuration(q)
+        self.set_configuration(q, _opening(held))
         others = self._others(ignore, held, table)
         out = self.scene.collide(self.group, self.scene.group(others), self.link_of) if others else []
         pad_others = self._pad_others(others, held, pad_may_touch)
@@ -156,7 +166,7 @@ class ArmCollision:
         """
         if poses is not None:
             self.scene.place(poses)
-        self.set_configuration(q)
+        self.set_configuration(q, _opening(held))
         others = self._others(ignore, held, table)
         if held is None and not pad_may_touch:
             return not (others and self.scene.collides(self._links_and_pad, self.scene.group(others)))
@@ -185,8 +195,10 @@ class ArmCollision:
         local = np.hstack([local for _, local, _ in spheres]).T  # (S, 4) homogeneous, each in its link's frame
         radii = np.concatenate([r for _, _, r in spheres])
 
+        opening = _opening(held)
+
         def links(q: np.ndarray) -> float:
-            self.set_configuration(q)
+            self.set_configuration(q, opening)
             frames = np.array([probe.getTransform().matrix() for probe in probes])[which, :3, :]
             return spheres_to_boxes(np.einsum("sij,sj->si", frames, local), radii, link_boxes)
 
@@ -225,6 +237,11 @@ class ArmCollision:
             found = [n for n in self.scene.names if n not in skip and (table or n != TABLE)]
             self._other_lists[key] = found
         return found
+
+
+def _opening(held: Held | None) -> float:
+    """m each finger stands open at a query: around a held tool as `held` says, closed without one."""
+    return 0.0 if held is None else held.opening
 
 
 _LINKS: dict[tuple[str, bytes, str, bytes], tuple[Any, list[tuple[Any, str]], Any]] = {}
@@ -314,6 +331,17 @@ def _pad(link: Any, arm: Arm) -> Any:
     node = body.createShapeNode(dart.dynamics.CylinderShape(FINGERTIP_RADIUS, FINGER_PAD_WIDTH + 2 * FINGERTIP_RADIUS))
     node.createCollisionAspect()
     return node
+
+
+def _finger_dofs(skeleton: Any, arm: Arm) -> list[int]:
+    """The skeleton's indices of the fingers' degrees of freedom (those of `_finger_links`' joints)."""
+    names = set(arm.joint_names)
+    out: list[int] = []
+    for i in range(skeleton.getNumJoints()):
+        joint = skeleton.getJoint(i)
+        if joint.getNumDofs() > 0 and joint.getName() not in names and joint is not skeleton.getRootJoint():
+            out.extend(int(joint.getIndexInSkeleton(d)) for d in range(joint.getNumDofs()))
+    return out
 
 
 def _finger_links(skeleton: Any, arm: Arm) -> tuple[str, ...]:

@@ -104,6 +104,49 @@ def grip_for(action: Any, tool_friction: float | None) -> Grip:
     return Grip(GRIP_FORCE if force is None else float(force), min(PAD_FRICTION, mu))
 
 
+PAD_SETBACK = 0.006
+"""m the Panda's closed pads are centred behind the effector frame's origin along its x (stdlib/robots/panda.urdf)."""
+
+TOUCH_GAP = 0.0005
+"""m left between a closed pad and the tool's face: kinematic pads pressed into the free tool would shove it."""
+
+
+def width_across_grip(mesh: Any, grasp: np.ndarray, reach: float = 0.03) -> float | None:
+    """The tool's width along the effector frame's y (where the fingers close) at the grasp: the extent of its
+    section by the plane through the pads' centre normal to the effector frame's x, within `reach` of the origin
+    along z (the pads' length). `mesh`: the tool's trimesh; `grasp`: the effector frame in the tool's frame;
+    None if the plane misses."""
+    import trimesh  # only where a grip is measured
+
+    local = mesh.copy()
+    local.apply_transform(np.linalg.inv(grasp))
+    lines = trimesh.intersections.mesh_plane(local, plane_normal=[1.0, 0.0, 0.0], plane_origin=[-PAD_SETBACK, 0.0, 0.0])
+    points = np.asarray(lines, dtype=float).reshape(-1, 3)
+    points = points[np.abs(points[:, 2]) <= reach]
+    if len(points) == 0:
+        return None
+    return float(points[:, 1].max() - points[:, 1].min())
+
+
+def tool_width(action: Any, mesh: Any, grasp: np.ndarray) -> float:
+    """m across the grip of a tool held by `action`: its stated `width` (a grasp), else measured on the tool's
+    `mesh` where the effector frame holds it (`grasp`: the effector frame in the tool's frame), 0 if the plane of
+    the pads misses it."""
+    width = getattr(action, "width", None)
+    if width is not None:
+        return float(width)
+    measured = width_across_grip(mesh, grasp)
+    return 0.0 if measured is None else measured
+
+
+def holding_opening(action: Any, mesh: Any, grasp: np.ndarray) -> float:
+    """m each finger stands open while the hand holds a tool by `action` (arguments of `tool_width`): the pads
+    close onto the tool's faces, `TOUCH_GAP` short of them. The executor opens the fingers exactly so; the
+    planner checks the fingers so opened (`vkgl.motion.arm_collision.Held.opening`): a finger beside a thin
+    grip stands a tool's half width out from the effector frame, where closed fingers do not reach."""
+    return tool_width(action, mesh, grasp) / 2 + TOUCH_GAP
+
+
 def push_load(
     effector: np.ndarray,
     contact: np.ndarray,
@@ -143,10 +186,15 @@ __all__ = [
     "GRIP_FORCE",
     "PAD_FRICTION",
     "PAD_RADIUS",
+    "PAD_SETBACK",
     "SLIP_ANGLE_TOLERANCE",
     "SLIP_TOLERANCE",
+    "TOUCH_GAP",
     "Grip",
     "grip_for",
+    "holding_opening",
     "push_load",
     "resisting_force",
+    "tool_width",
+    "width_across_grip",
 ]

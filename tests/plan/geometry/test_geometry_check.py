@@ -16,6 +16,7 @@ from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, wr
 from plan_geometry import check_plan
 
 import vkgl
+import vkgl.plan.geometry.grip_load as grip_load
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.collision import CollisionScene
 from vkgl.motion.density import edge_resolution, pieces
@@ -169,7 +170,8 @@ def test_a_held_tools_transits_keep_clear_of_every_body(tmp_path: Path) -> None:
                         assert not found, f"step {k}'s transit: {found[0].body_a} touches {found[0].body_b}"
         if step.motion == "free":  # a grasp puts the tool in the hand, its release takes it out
             in_hand = np.linalg.inv(plan.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
-            held = Held(step.body, in_hand) if step.op == "add" else None
+            grasp = step.affordance.partition(".")[2]
+            held = grip_load.held(plan.problem, step.body, grasp, in_hand) if step.op == "add" else None
     assert transits >= 1  # the plan carries the hook from one contact to the next
 
 

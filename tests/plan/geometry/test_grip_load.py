@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
+
+import numpy as np
+import pytest
+from generated_tasks import fixture_library, task_spec, write_task
+from scipy.spatial.transform import Rotation
 
 import vkgl
 import vkgl.plan.geometry.grip_load as grip_load
+from vkgl.plan.geometry.bodies import GeometryCheck
+from vkgl.plan.problem.problem import build_problem
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "tasks"
 
@@ -25,3 +33,31 @@ def test_a_block_too_heavy_for_the_grip_is_not_pushed_with_the_stick(monkeypatch
     assert plan.status == "infeasible"
     assert "would push harder with a held tool than its grip carries" in plan.reason
     assert "(60.0 N: its weight times its friction)" in plan.reason and "the push counted twice" in plan.reason
+
+
+def test_the_fingers_closed_on_a_held_tool_are_checked_where_the_executor_closes_them(tmp_path: Path) -> None:
+    """gen2_038 of the physical bench: the Hook held by its cross-piece (`grasp_top_x_p1`, 2 cm wide), rolled
+    20 deg over a 6 cm slab to pull it by its far face. With the fingers checked closed, the hand was clear of
+    the slab; closed onto the cross-piece they stand 1.05 cm open, and the inner one is 6.5 mm inside the slab's
+    top edge: in DART it caught the slab before the hook did and turned it 5 deg off its goal."""
+    spec = task_spec(2, 38)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    problem = build_problem(program, program.task(spec.name))
+    q = np.array([0.618871, 1.242566, -0.884291, -1.232755, 0.573860, 2.074865, 2.373948])  # the plan's pull start
+    in_hand = np.linalg.inv(problem.action("hook", "grasp_top_x_p1"))
+    hook = problem.arm.fk(q) @ in_hand
+    rolled = Rotation.from_euler("ZX", [-10.0, -20.0], degrees=True).as_matrix()
+    assert np.allclose(hook[:3, 3], (0.5359, -0.0357, 0.0811), atol=2e-3) and np.allclose(
+        hook[:3, :3], rolled, atol=2e-3
+    )
+    poses = {name: body.rest for name, body in problem.bodies.items()}
+    poses["hook"] = hook
+    poses["clutter1"] = poses["clutter1"].copy()
+    poses["clutter1"][:2, 3] = (0.3476, 0.3325)  # where the plan's first step pushed it
+    held = grip_load.held(problem, "hook", "grasp_top_x_p1", in_hand, frozenset({"target"}))
+    assert held.opening == pytest.approx(0.0105)
+    arm = GeometryCheck(problem).arm_collision
+    assert arm.overlap(q, poses, ignore={"hook"}, held=replace(held, opening=0.0)) == []  # the fingers closed
+    hits = arm.overlap(q, poses, ignore={"hook"}, held=held)
+    assert {c.body_b for c in hits} == {"target"} and {c.body_a for c in hits} <= set(arm.finger_links)
+    assert max(c.depth for c in hits) == pytest.approx(0.0065, abs=0.002)

@@ -17,21 +17,15 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-import trimesh
 
 from vkgl.execute.world_arm import CONTROL_PERIOD, WorldArm
+from vkgl.robot.grip import TOUCH_GAP, width_across_grip  # where the planner reads them too
 
 FINGER_SPEED = 0.05
 """m/s each finger moves (the Panda hand's fingers move at up to about 0.1 m/s)."""
 
 FINGER_CLEARANCE = 0.01
 """m between each open finger's pad and the tool's face as the hand comes down onto it."""
-
-PAD_SETBACK = 0.006
-"""m the Panda's closed pads are centred behind the effector frame's origin along its x (stdlib/robots/panda.urdf)."""
-
-TOUCH_GAP = 0.0005
-"""m left between a closed pad and the tool's face: kinematic pads pressed into the free tool would shove it."""
 
 
 class Fingers:
@@ -69,21 +63,6 @@ class Fingers:
             advance(substeps)
         for joint in self.joints:
             joint.setCommand(0, 0.0)
-
-
-def width_across_grip(mesh: trimesh.Trimesh, grasp: np.ndarray, reach: float = 0.03) -> float | None:
-    """The tool's width along the effector frame's y (where the fingers close) at the grasp: the extent of its
-    section by the plane through the pads' centre normal to the effector frame's x, within `reach` of the origin
-    along z (the pads' length). `grasp` is the effector frame in the tool's frame; None if the plane misses."""
-    to_effector = np.linalg.inv(grasp)
-    local = mesh.copy()
-    local.apply_transform(to_effector)
-    lines = trimesh.intersections.mesh_plane(local, plane_normal=[1.0, 0.0, 0.0], plane_origin=[-PAD_SETBACK, 0.0, 0.0])
-    points = np.asarray(lines, dtype=float).reshape(-1, 3)
-    points = points[np.abs(points[:, 2]) <= reach]
-    if len(points) == 0:
-        return None
-    return float(points[:, 1].max() - points[:, 1].min())
 
 
 __all__ = ["FINGER_CLEARANCE", "FINGER_SPEED", "TOUCH_GAP", "Fingers", "width_across_grip"]

@@ -20,6 +20,7 @@ turn (`vkgl.plan.arm.paths` takes the first whose approach works):
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -28,7 +29,6 @@ import numpy as np
 
 from vkgl.formats.plan import PlanStepRecord
 from vkgl.motion.approach import CartesianFailure, follow_poses
-from vkgl.motion.arm_collision import Held
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -205,7 +205,7 @@ class ContactChains:
         the pushed body; the rest of the hand, leaned back or turned, sweeps past the bodies beside it."""
         held = state.held
         if held is not None:
-            held = Held(held.body, held.in_hand, frozenset({step.body}))
+            held = dataclasses.replace(held, acts_on=frozenset({step.body}))
         grasp = self.moves.grasps(step)
         fractions = np.linspace(0.0, 1.0, len(chain))
         moving = {

@@ -50,6 +50,7 @@ from vkgl.plan.arm.contact_chains import ContactChains
 from vkgl.plan.arm.remembered import Remembered, Replay, step_key
 from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
 from vkgl.plan.geometry.bodies import TRANSIT_CLEARANCE, GeometryCheck
+from vkgl.plan.geometry.grip_load import held as held_tool
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 
@@ -241,7 +242,10 @@ class ArmPathPlanner:
             state.entered = self.moves.entered(step, approach)
         if step.motion == "free":  # a grasp: the tool rides in the hand from here on
             in_hand = np.linalg.inv(self.problem.arm.fk(step.q_start)) @ step.poses_start[step.body]
-            state.held, state.lift = Held(step.body, in_hand), True
+            state.held, state.lift = (
+                held_tool(self.problem, step.body, step.affordance.partition(".")[2], in_hand),
+                True,
+            )
         state.q = np.asarray(step.q_end, dtype=float)
         return tuple(segments), transit
 

@@ -31,6 +31,7 @@ import numpy as np
 from vkgl.motion.arm_collision import ArmCollision, Held
 from vkgl.motion.collision import TOUCH_TOL, CollisionScene, Contact, pair
 from vkgl.plan.geometry.grip_load import grip_rejection
+from vkgl.plan.geometry.grip_load import held as held_tool
 from vkgl.plan.geometry.keep_out import keep_out_rejection
 from vkgl.plan.geometry.sweep import sweep_mode
 from vkgl.plan.geometry.tool_parts import BESIDE_CLEARANCE, BesideParts
@@ -253,9 +254,9 @@ class GeometryCheck:
                 q = np.asarray(q, dtype=float)
                 hold = None
                 if held is not None:
-                    tool, acts_on = held
+                    tool, grasp, acts_on = held
                     in_hand = np.linalg.inv(self.problem.arm.fk(q)) @ poses[tool]
-                    hold = Held(tool, in_hand, frozenset(acts_on))
+                    hold = held_tool(self.problem, tool, grasp, in_hand, frozenset(acts_on))
                 self.queries += 1
                 found = self.arm_collision.overlap(q, poses, ignore=touched, held=hold)
                 if found:
@@ -271,12 +272,13 @@ class GeometryCheck:
                 out.add(pair(tool, e.body))
         return out
 
-    def _held(self, graph: KGraph, touched: set[str]) -> tuple[str, set[str]] | None:
-        """The tool the hand holds in a mode (the touched body whose affordance lets it move freely)."""
+    def _held(self, graph: KGraph, touched: set[str]) -> tuple[str, str, set[str]] | None:
+        """The tool the hand holds in a mode (the touched body whose affordance lets it move freely), the
+        affordance it is held by, and the bodies it acts on."""
         for e in graph.engaged:
             if e.body in touched and self.problem.affordance(e.body, e.affordance).motion.type == "free":
                 acts_on = {f.body for f in graph.engaged if self.problem.effector(f.effector).tool == e.body}
-                return e.body, acts_on
+                return e.body, e.affordance, acts_on
         return None
 
 

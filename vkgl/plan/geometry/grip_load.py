@@ -20,11 +20,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from vkgl.lang.ir.geometry import body_mesh
+from vkgl.motion.arm_collision import Held
 from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.grip import grip_for, push_load, resisting_force
+from vkgl.robot.grip import grip_for, holding_opening, push_load, resisting_force
 
 PUSH_FACTOR = 2.0
 """How much harder than the estimate a push may load the grip: the estimate leaves out what the tool's contact
@@ -109,4 +111,16 @@ def push_usage(
     return grip.usage(*load), force
 
 
-__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "push_usage"]
+def held(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray, acts_on: frozenset[str] = frozenset()) -> Held:
+    """`tool` in the hand, held by its affordance `grasp` at `in_hand` (its pose in the effector frame), for the
+    arm's collision checks: with the fingers open around it as the executor closes them
+    (`vkgl.robot.grip.holding_opening`). gen2_038 of the physical bench: the Hook held by its cross-piece, rolled
+    over a slab to pull it; checked with the fingers closed the hand was clear of the slab, but the fingers
+    closed on the 2 cm cross-piece stand 1 cm further out, and the inner one sat 6.5 mm inside the slab's top
+    edge: in DART it caught the slab before the hook did and turned it 5 deg off the goal."""
+    action = problem.affordance(tool, grasp).action
+    opening = holding_opening(action, body_mesh(problem.bodies[tool].type), np.linalg.inv(in_hand))
+    return Held(tool, in_hand, acts_on, opening)
+
+
+__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage"]
