@@ -19,7 +19,11 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
-Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent.
+Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
+search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
+until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
+the goal body where it lies first (`_Waiting.rank`): the work goes to the likeliest prefix, not to whichever side
+was tried first.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
 is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
@@ -74,9 +78,9 @@ second round (with `k` sides still to try, `1 / (k + 1)` when that is more): it 
 and for the goal."""
 
 THEN_SHARE = 0.8
-"""The part of the work left that the search for the goals after a plan clearing the way may spend: it is the
-likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8 graphs there at the last level, with
-about 450 units), and the rest is kept for the sides still to try."""
+"""The part of the work left that the search for the goals after a plan clearing the way may spend in its second
+round (after `THEN_FIRST`): it is the likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8
+graphs there at the last level, with about 450 units), and the rest is kept for the sides still to try."""
 
 THEN_FIRST = 0.1
 """The part of the work left that the search for the goals after each plan clearing the way gets first (the
@@ -394,17 +398,20 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
     also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
     clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again.
 
-    A goal body that only a tool can carry to its goal (`far_move_tools`) keeps only its slides here: in the
-    plan that clears its way it moves at most once, out of the tool's way (a Block pushed back 5 cm with the
-    fingertip before the Stick pushes the cube in its way aside), and its turns, each a branch of the search,
-    would only leave it at a heading the far move must undo (on the physical bench's gen9_041, the same plan
-    clearing the way in 1.3 s of CPU instead of 3.9 s)."""
+    A goal body with slides keeps no turn here: in the plan that clears its way it moves at most once, out of
+    the tool's or the hand's way (a Block pushed back 5 cm with the fingertip before the Stick pushes the cube in
+    its way aside), and its turns, each a branch of the search, would only leave it at a heading the move to its
+    goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
+    instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
+    to its goal (`far_move_tools`) keeps only its slides (no grasp either)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
     bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
-    far = bodies[goal.body]
-    slides = tuple(a for a in far.affordances if a.motion.type == "prismatic")
-    if slides:
-        bodies[goal.body] = replace(far, affordances=slides)
+    mover = bodies[goal.body]
+    far = far_move_tools(problem, goal) is not None
+    kept = tuple(a for a in mover.affordances if a.motion.type == ("prismatic" if far else a.motion.type))
+    kept = tuple(a for a in kept if a.motion.type != "revolute")
+    if any(a.motion.type == "prismatic" for a in kept):
+        bodies[goal.body] = replace(mover, affordances=kept)
     own = problem.bodies[blocker]
     movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
     bodies[blocker] = replace(own, affordances=movers)
