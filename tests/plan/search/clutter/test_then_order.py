@@ -1,7 +1,6 @@
-"""Clear first, then solve (`vkgl.plan.search.clutter.clear_first._clear_then_solve`): the search for the goals
-after a clearing plan that pushed the goal body back first gets a small budget and, when it spends that, goes again
-once every side had its first try; one after a clearing plan that left the goal body where it lies gets the large
-share at once.
+"""Clear first, then solve: the searches for the goals after the plans that clear the way
+(`vkgl.plan.search.clutter.clear_first._clear_then_solve`) first get a small budget each, and those that spend it
+are searched again once every side had its first try, the plan that left the goal body where it lies first.
 
 The walk's searches are stubbed here (no planning runs): what is tested is where the work goes."""
 
@@ -81,12 +80,12 @@ def _walk(problem: Problem, prefixes: list[object]) -> clear_first._Walk:
     return walk
 
 
-def test_a_prefix_that_pushed_the_goal_body_back_waits_while_one_beside_the_way_is_searched_at_once(
+def test_the_search_after_a_prefix_that_left_the_goal_body_still_goes_first_in_the_second_round(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """A prefix that pushed the block back (4 graphs, found first) gets `THEN_FIRST` of the work left; the one that
-    left it where it lies (3 graphs, found second) gets `THEN_SHARE` at once; once the round is over (the marker),
-    the first is searched again with `THEN_SHARE`. Each failure is in the walk's log, the waiting one's last."""
+    """A prefix that pushed the goal body back (4 graphs, found first) and one that did not (3 graphs, found
+    second): each search for the goals first gets `THEN_FIRST` of the work left, in the order found; once the
+    round is over (the marker), the one that left the block where it lies is searched with `THEN_SHARE` first."""
     problem = _problem(tmp_path)
     back = (_prefix(4, frozenset({"block", "block2"})), (), [("block2", LEFT)])
     aside = (_prefix(3, frozenset({"block2"})), (), [("block2", RIGHT)])
@@ -94,30 +93,20 @@ def test_a_prefix_that_pushed_the_goal_body_back_waits_while_one_beside_the_way_
     monkeypatch.setattr(clear_first, "search", recorder)
     walk = _walk(problem, [back, aside, None])
     assert clear_first._clear_then_solve(walk, [], Sequence(), 6) is None
-    assert [depth for depth, _ in recorder.calls] == [4, 3, 4]
-    budgets = [budget for _, budget in recorder.calls]
-    assert budgets[0] == pytest.approx(clear_first.THEN_FIRST * 1000.0)
-    assert budgets[1] == pytest.approx(clear_first.THEN_SHARE * (1000.0 - 1.0))  # 1 unit per search spent
-    assert budgets[2] == pytest.approx(clear_first.THEN_SHARE * (1000.0 - 2.0))
-    assert [line.split(" (")[0] for line in walk.log] == ["block2 right of the way", "block2 left of the way"]
-
-
-def test_waiting_prefixes_go_again_the_shorter_first(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Two prefixes that both pushed the block back wait; in the second round the shorter goes first."""
-    problem = _problem(tmp_path)
-    longer = (_prefix(5, frozenset({"block", "block2"})), (), [("block2", LEFT)])
-    shorter = (_prefix(4, frozenset({"block", "block2"})), (), [("block2", RIGHT)])
-    recorder = _Recorder(lambda root, budget: "timeout")
-    monkeypatch.setattr(clear_first, "search", recorder)
-    assert clear_first._clear_then_solve(_walk(problem, [longer, shorter, None]), [], Sequence(), 6) is None
-    assert [depth for depth, _ in recorder.calls] == [5, 4, 4, 5]
+    first, second = recorder.calls[:2], recorder.calls[2:]
+    assert [depth for depth, _ in first] == [4, 3]
+    assert [depth for depth, _ in second] == [3, 4]
+    assert first[0][1] == pytest.approx(clear_first.THEN_FIRST * 1000.0)
+    assert second[0][1] == pytest.approx(clear_first.THEN_SHARE * (1000.0 - 2.0))  # 1 unit per search spent
+    assert all(budget > first[0][1] for _, budget in second)
+    assert len(walk.log) == 2 and walk.log[0].startswith("block2 right of the way (3 graphs)")
 
 
 def test_a_prefix_whose_first_search_finds_the_plan_ends_the_walk_at_once(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The second prefix's search finds the plan: the first, waiting, is not searched again, and the words say how
-    the way was cleared."""
+    """The second prefix's small search finds the plan: nothing is searched again, and the words say how the way
+    was cleared."""
     problem = _problem(tmp_path)
     back = (_prefix(4, frozenset({"block", "block2"})), (), [("block2", LEFT)])
     aside = (_prefix(3, frozenset({"block2"})), (), [("block2", RIGHT)])

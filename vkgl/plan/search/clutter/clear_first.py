@@ -20,9 +20,10 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
-search for the goals after a clearing plan that moved a goal body (pushed it back to make room) first gets a small
-budget (`THEN_FIRST`); when it spends that, it waits until every side of the blocker had its first try and then
-goes again with `THEN_SHARE`: the work goes first to a clearing plan that leaves the goal body where it lies.
+search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
+until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
+the goal body where it lies first (`_Waiting.rank`): the work goes to the likeliest prefix, not to whichever side
+was tried first.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
 is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
@@ -82,11 +83,9 @@ round (after `THEN_FIRST`): it is the likeliest way to a plan (gen9_028 of the p
 graphs there at the last level, with about 450 units), and the rest is kept for the sides still to try."""
 
 THEN_FIRST = 0.1
-"""The part of the work left that the search for the goals after a plan clearing the way that moved a goal body
-gets first (the goal body's own plan, once the way is clear, is found with 10 to 60 units on the physical bench's
-near blocked tasks); when it spends that, it is searched again with `THEN_SHARE` once every side had its first
-try. A search after a clearing plan that left the goal bodies still gets `THEN_SHARE` at once (a first try and a
-second one would repeat the first's work: gen9_011, whose plan is found at 19.5 s of CPU, then ran out of time)."""
+"""The part of the work left that the search for the goals after each plan clearing the way gets first (the
+goal body's own plan, once the way is clear, is found with 10 to 60 units on the physical bench's near blocked
+tasks); those that spend it are searched again with `THEN_SHARE` once every side had its first try."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -166,12 +165,11 @@ def _clear_then_solve(
     combined plan (`Cleared` with a result), or `_NOTHING` when every body in the way lies clear of the straight
     way already (nothing to search anew), or None when none was found (what failed is in `walk.log`).
 
-    The search for the goals after a clearing plan that left the goal bodies where they lie gets `THEN_SHARE` of
-    the work left at once. One after a clearing plan that moved a goal body (pushed it back to make room) first
-    gets `THEN_FIRST`; when it spends that, it waits (`_Waiting`) until the sides of the blocker have all had
-    their first try (`_Walk.prefixes` says when), and is then searched again with `THEN_SHARE` of the work left
-    (the shorter prefix first): the work goes to a clearing plan found on a side tried later that needs no room,
-    before one that moved the goal body away."""
+    Each clearing plan's search for the goals first gets `THEN_FIRST` of the work left; those that spend it wait
+    (`_Waiting`) until the sides of the blocker have all had their first try (`_Walk.prefixes` says when), and are
+    then searched again with `THEN_SHARE` of the work left each, the most promising first (`_Waiting.rank`): the
+    work goes to the clearing plan that leaves the goal body where it lies before one that moved it away, not to
+    whichever side was tried first."""
     waiting: list[_Waiting] = []
     for item in walk.prefixes(blocking, start):
         if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn
@@ -186,11 +184,10 @@ def _clear_then_solve(
             walk.problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + walk.problem.max_depth), pinned=values
         )
         then = _Waiting(deeper, prefix, cleared, len(waiting))
-        back = then.moved_goal_body()
-        result = then.search(walk, (THEN_FIRST if back else THEN_SHARE) * walk.left)
+        result = then.search(walk, THEN_FIRST * walk.left)
         if result.status == "solved":
             return then.solved(walk, result, proven)
-        if back and result.status == "timeout":
+        if result.status == "timeout":
             waiting.append(then)
         else:
             then.log(walk, result)
@@ -226,14 +223,12 @@ class _Waiting:
     cleared: list[tuple[str, Side]]
     order: int
 
-    def moved_goal_body(self) -> bool:
-        """Whether the prefix moved a goal body (pushed it back to make room: it lies farther from its goal, with
-        more to undo, and another side may need no such room)."""
-        return any(goal.body in self.prefix.dependent for goal in self.deeper.goals)
-
-    def rank(self) -> tuple[int, int]:
-        """The order the waiting searches go in: the shorter prefix first, then the one found first."""
-        return self.prefix.depth, self.order
+    def rank(self) -> tuple[bool, int, int]:
+        """The order the waiting searches go in: a prefix that leaves every goal body where it lies first (one
+        that pushed the goal body back to make room leaves it farther from its goal, with more to undo), then
+        the shorter prefix, then the one found first."""
+        moved = any(goal.body in self.prefix.dependent for goal in self.deeper.goals)
+        return moved, self.prefix.depth, self.order
 
     def moved(self) -> str:
         """The blockers and the sides they were cleared to, in words."""
