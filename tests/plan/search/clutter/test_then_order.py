@@ -116,3 +116,16 @@ def test_a_prefix_whose_first_search_finds_the_plan_ends_the_walk_at_once(
     assert cleared is not None and cleared.result is not None
     assert [depth for depth, _ in recorder.calls] == [4, 3]
     assert "block2 right of the way" in cleared.words
+
+
+def test_a_prefix_found_in_the_second_round_of_sides_gets_the_large_share_at_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """After the marker (every side had its first try), a prefix found in the second round is not made to wait:
+    its search for the goals gets `THEN_SHARE` of the work left."""
+    problem = _problem(tmp_path)
+    late = (_prefix(3, frozenset({"block2"})), (), [("block2", RIGHT)])
+    recorder = _Recorder(lambda root, budget: "timeout")
+    monkeypatch.setattr(clear_first, "search", recorder)
+    assert clear_first._clear_then_solve(_walk(problem, [None, late]), [], Sequence(), 6) is None
+    assert [budget for _, budget in recorder.calls] == [pytest.approx(clear_first.THEN_SHARE * 1000.0)]

@@ -169,10 +169,14 @@ def _clear_then_solve(
     (`_Waiting`) until the sides of the blocker have all had their first try (`_Walk.prefixes` says when), and are
     then searched again with `THEN_SHARE` of the work left each, the most promising first (`_Waiting.rank`): the
     work goes to the clearing plan that leaves the goal body where it lies before one that moved it away, not to
-    whichever side was tried first."""
+    whichever side was tried first. A clearing plan found in the second round of sides gets `THEN_SHARE` at once
+    (gen9_043: the Hook's plan found there, its search cut at 26 units and again at 67 after the last side's
+    second try, where it needs a few hundred)."""
     waiting: list[_Waiting] = []
+    first = True  # the first round of sides: a search for the goals gets a first try and waits
     for item in walk.prefixes(blocking, start):
         if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn
+            first = False
             found = _then_again(walk, waiting, proven)
             if found is not None or walk.spent():
                 return found
@@ -184,10 +188,10 @@ def _clear_then_solve(
             walk.problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + walk.problem.max_depth), pinned=values
         )
         then = _Waiting(deeper, prefix, cleared, len(waiting))
-        result = then.search(walk, THEN_FIRST * walk.left)
+        result = then.search(walk, (THEN_FIRST if first else THEN_SHARE) * walk.left)
         if result.status == "solved":
             return then.solved(walk, result, proven)
-        if result.status == "timeout":
+        if first and result.status == "timeout":
             waiting.append(then)
         else:
             then.log(walk, result)
