@@ -232,3 +232,20 @@ def test_a_side_no_plan_reaches_says_its_closest_miss() -> None:
     stats.reject(Rejection(Kind.REACH, "the hand 5.6 mm outside it", 0.0056), "add Hook.wield on hook")
     stats.reject(Rejection(Kind.REACH, "the hand 9.0 mm outside it", 0.009), "add Stick.wield on stick")
     assert _closest(SearchResult("infeasible", "", stats)) == " (closest: the hand 5.6 mm outside it)"
+
+
+def test_a_near_goal_body_keeps_its_slides_but_no_turn_while_its_way_is_cleared() -> None:
+    """The hand can carry the block to its goal (no tool must): in the sub-problem that clears block2 from its
+    way the block may still step aside by a slide, never turn (a Block has both); block2 keeps what reaches the
+    side."""
+    from vkgl.plan.search.clutter.clear_first import _only_moving
+    from vkgl.plan.search.clutter.clear_tools import far_move_tools
+
+    problem = _problem(0.0)
+    goal = problem.goals[0]
+    assert far_move_tools(problem, goal) is None
+    side = way_sides(problem, goal, "block2")[0]
+    sub = _only_moving(problem, goal, "block2", side)
+    assert {a.motion.type for a in problem.bodies["block"].affordances} >= {"prismatic", "revolute"}
+    assert {a.motion.type for a in sub.bodies["block"].affordances} == {"prismatic"}
+    assert sub.bodies["block2"].affordances

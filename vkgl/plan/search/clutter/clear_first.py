@@ -19,7 +19,11 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
-Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent.
+Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
+search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
+until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
+the goal body where it lies first (`_Waiting.rank`): the work goes to the likeliest prefix, not to whichever side
+was tried first.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
 is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
@@ -74,9 +78,14 @@ second round (with `k` sides still to try, `1 / (k + 1)` when that is more): it 
 and for the goal."""
 
 THEN_SHARE = 0.8
-"""The part of the work left that the search for the goals after a plan clearing the way may spend: it is the
-likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8 graphs there at the last level, with
-about 450 units), and the rest is kept for the sides still to try."""
+"""The part of the work left that the search for the goals after a plan clearing the way may spend in its second
+round (after `THEN_FIRST`): it is the likeliest way to a plan (gen9_028 of the physical bench finds its plan of 8
+graphs there at the last level, with about 450 units), and the rest is kept for the sides still to try."""
+
+THEN_FIRST = 0.1
+"""The part of the work left that the search for the goals after each plan clearing the way gets first (the
+goal body's own plan, once the way is clear, is found with 10 to 60 units on the physical bench's near blocked
+tasks); those that spend it are searched again with `THEN_SHARE` once every side had its first try."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -133,22 +142,11 @@ def clear_first(
         return None
     proven = _proven(problem, before)
     walk = _Walk(problem, deadline, progress, before.stats, budget)
-    for prefix, values, cleared in walk.prefixes(blocking, start):
-        if not cleared:
-            return None  # every body in the way lies clear of the straight way already: nothing to search anew
-        deeper = replace(problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + problem.max_depth), pinned=values)
-        result = walk.search(deeper, prefix, THEN_SHARE * walk.left)
-        if result.status == "infeasible":  # the blockers' values free again: moved farther aside where need be
-            result = walk.search(replace(deeper, pinned=()), prefix, THEN_SHARE * walk.left)
-        moved = ", then ".join(f"{name} {side.words} of the way" for name, side in cleared)
-        if result.status == "solved":
-            assert result.sequence is not None
-            words = _words(moved, prefix, result.sequence.depth, proven)
-            return Cleared(replace(result, stats=walk.stats), words)
-        ended = f"no plan of at most {deeper.max_depth} graphs" if result.status == "infeasible" else walk.ran_out()
-        walk.log.append(f"{moved} ({prefix.depth} graphs), then {ended}{_closest(result)}")
-        if walk.spent():
-            break
+    found = _clear_then_solve(walk, blocking, start, proven)
+    if found is _NOTHING:
+        return None  # every body in the way lies clear of the straight way already: nothing to search anew
+    if found is not None:
+        return found
     if not walk.log:
         return None
     ran_out = f" ({walk.ran_out()})" if walk.spent() else ""
@@ -158,6 +156,113 @@ def clear_first(
         else ""
     )
     return Cleared(None, f"clearing the way first{share} found no plan either{ran_out}: " + "; ".join(walk.log))
+
+
+def _clear_then_solve(
+    walk: _Walk, blocking: list[tuple[GoalSpec, str]], start: Sequence, proven: int
+) -> Cleared | None:
+    """The plans that clear the blockers (`_Walk.prefixes`), each followed by the search for the goals: the
+    combined plan (`Cleared` with a result), or `_NOTHING` when every body in the way lies clear of the straight
+    way already (nothing to search anew), or None when none was found (what failed is in `walk.log`).
+
+    Each clearing plan's search for the goals first gets `THEN_FIRST` of the work left; those that spend it wait
+    (`_Waiting`) until the sides of the blocker have all had their first try (`_Walk.prefixes` says when), and are
+    then searched again with `THEN_SHARE` of the work left each, the most promising first (`_Waiting.rank`): the
+    work goes to the clearing plan that leaves the goal body where it lies before one that moved it away, not to
+    whichever side was tried first. A clearing plan found in the second round of sides gets `THEN_SHARE` at once
+    (gen9_043: the Hook's plan found there, its search cut at 26 units and again at 67 after the last side's
+    second try, where it needs a few hundred)."""
+    waiting: list[_Waiting] = []
+    first = True  # the first round of sides: a search for the goals gets a first try and waits
+    for item in walk.prefixes(blocking, start):
+        if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn
+            first = False
+            found = _then_again(walk, waiting, proven)
+            if found is not None or walk.spent():
+                return found
+            continue
+        prefix, values, cleared = item
+        if not cleared:
+            return _NOTHING
+        deeper = replace(
+            walk.problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + walk.problem.max_depth), pinned=values
+        )
+        then = _Waiting(deeper, prefix, cleared, len(waiting))
+        result = then.search(walk, (THEN_FIRST if first else THEN_SHARE) * walk.left)
+        if result.status == "solved":
+            return then.solved(walk, result, proven)
+        if first and result.status == "timeout":
+            waiting.append(then)
+        else:
+            then.log(walk, result)
+        if walk.spent():
+            break
+    return _then_again(walk, waiting, proven)
+
+
+def _then_again(walk: _Walk, waiting: list[_Waiting], proven: int) -> Cleared | None:
+    """The waiting searches for the goals, the most promising first, each with `THEN_SHARE` of the work left;
+    `waiting` is emptied."""
+    for then in sorted(waiting, key=_Waiting.rank):
+        if walk.spent():
+            walk.log.append(f"{then.moved()} ({then.prefix.depth} graphs), then {walk.ran_out()}")
+            continue
+        result = then.search(walk, THEN_SHARE * walk.left)
+        if result.status == "solved":
+            waiting.clear()
+            return then.solved(walk, result, proven)
+        then.log(walk, result)
+    waiting.clear()
+    return None
+
+
+@dataclass
+class _Waiting:
+    """A plan that clears the way (`prefix`, the blockers and their sides `cleared`) and the problem of the goals
+    after it (`deeper`: its values pinned, or free again once that was proven to have no plan); `order`: when it
+    was found."""
+
+    deeper: Problem
+    prefix: Sequence
+    cleared: list[tuple[str, Side]]
+    order: int
+
+    def rank(self) -> tuple[bool, int, int]:
+        """The order the waiting searches go in: a prefix that leaves every goal body where it lies first (one
+        that pushed the goal body back to make room leaves it farther from its goal, with more to undo), then
+        the shorter prefix, then the one found first."""
+        moved = any(goal.body in self.prefix.dependent for goal in self.deeper.goals)
+        return moved, self.prefix.depth, self.order
+
+    def moved(self) -> str:
+        """The blockers and the sides they were cleared to, in words."""
+        return ", then ".join(f"{name} {side.words} of the way" for name, side in self.cleared)
+
+    def search(self, walk: _Walk, budget: float) -> SearchResult:
+        """The goals searched from the prefix with `budget` units: with its values pinned, and free again (moved
+        farther aside where need be) when no plan keeps them."""
+        result = walk.search(self.deeper, self.prefix, budget)
+        if result.status == "infeasible" and self.deeper.pinned:
+            self.deeper = replace(self.deeper, pinned=())
+            result = walk.search(self.deeper, self.prefix, budget)
+        return result
+
+    def solved(self, walk: _Walk, result: SearchResult, proven: int) -> Cleared:
+        """The combined plan, with its words."""
+        assert result.sequence is not None
+        words = _words(self.moved(), self.prefix, result.sequence.depth, proven)
+        return Cleared(replace(result, stats=walk.stats), words)
+
+    def log(self, walk: _Walk, result: SearchResult) -> None:
+        """How the search for the goals after the prefix ended, in `walk.log`."""
+        ended = (
+            f"no plan of at most {self.deeper.max_depth} graphs" if result.status == "infeasible" else walk.ran_out()
+        )
+        walk.log.append(f"{self.moved()} ({self.prefix.depth} graphs), then {ended}{_closest(result)}")
+
+
+_NOTHING = Cleared(None, "")
+"""What `_clear_then_solve` returns when nothing lies in the way."""
 
 
 def _blocking(problem: Problem) -> list[tuple[GoalSpec, str]]:
@@ -177,6 +282,10 @@ def _proven(problem: Problem, before: SearchResult) -> int:
     if before.status == "infeasible":
         return problem.max_depth
     return max(1, math.ceil(before.stats.level) - 1)  # every sequence of fewer graphs than its level was checked
+
+
+_Prefix = tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]
+"""A plan that clears the way: its sequence, its motion values, the blockers and the sides they were cleared to."""
 
 
 @dataclass
@@ -208,10 +317,10 @@ class _Walk:
 
     def prefixes(
         self, blocking: list[tuple[GoalSpec, str]], root: Sequence, pinned: tuple[float, ...] = ()
-    ) -> Iterator[tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]]:
+    ) -> Iterator[_Prefix | None]:
         """Plans that clear every blocker in turn starting from `root` (each blocker's sides in turn), each with
         its motion values (`root`'s are `pinned`) and the blockers and the sides they were cleared to (none when
-        every one lies clear of the way already)."""
+        every one lies clear of the way already); None between a blocker's two rounds of sides."""
         if not blocking:
             yield root, pinned, []
             return
@@ -230,6 +339,8 @@ class _Walk:
                 again.append(side)
             elif found.status == "solved":
                 yield from self._then(found, rest, blocker, side)
+        if again:
+            yield None  # the first round is over: the searches for the goals waiting go first
         for k, side in enumerate(again):  # second round: a share of what is left
             if self.spent():
                 return
@@ -262,11 +373,16 @@ class _Walk:
 
     def _then(
         self, found: SearchResult, rest: list[tuple[GoalSpec, str]], blocker: str, side: Side
-    ) -> Iterator[tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]]:
-        """The prefixes that start with `found`'s plan clearing `blocker` to `side`, then clear the `rest`."""
+    ) -> Iterator[_Prefix | None]:
+        """The prefixes that start with `found`'s plan clearing `blocker` to `side`, then clear the `rest` (and
+        the markers between rounds of their sides)."""
         assert found.task is not None and found.sequence is not None
         values = tuple(float(v) for v in found.task.values[: len(found.sequence.variables)])
-        for prefix, kept, cleared in self.prefixes(rest, found.sequence, values):
+        for item in self.prefixes(rest, found.sequence, values):
+            if item is None:
+                yield None
+                continue
+            prefix, kept, cleared = item
             yield prefix, kept, [(blocker, side), *cleared]
 
 
@@ -286,17 +402,20 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
     also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
     clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again.
 
-    A goal body that only a tool can carry to its goal (`far_move_tools`) keeps only its slides here: in the
-    plan that clears its way it moves at most once, out of the tool's way (a Block pushed back 5 cm with the
-    fingertip before the Stick pushes the cube in its way aside), and its turns, each a branch of the search,
-    would only leave it at a heading the far move must undo (on the physical bench's gen9_041, the same plan
-    clearing the way in 1.3 s of CPU instead of 3.9 s)."""
+    A goal body with slides keeps no turn here: in the plan that clears its way it moves at most once, out of
+    the tool's or the hand's way (a Block pushed back 5 cm with the fingertip before the Stick pushes the cube in
+    its way aside), and its turns, each a branch of the search, would only leave it at a heading the move to its
+    goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
+    instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
+    to its goal (`far_move_tools`) keeps only its slides (no grasp either)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
     bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
-    far = bodies[goal.body]
-    slides = tuple(a for a in far.affordances if a.motion.type == "prismatic")
-    if slides and far_move_tools(problem, goal) is not None:
-        bodies[goal.body] = replace(far, affordances=slides)
+    mover = bodies[goal.body]
+    far = far_move_tools(problem, goal) is not None
+    kept = tuple(a for a in mover.affordances if a.motion.type == ("prismatic" if far else a.motion.type))
+    kept = tuple(a for a in kept if a.motion.type != "revolute")
+    if any(a.motion.type == "prismatic" for a in kept):
+        bodies[goal.body] = replace(mover, affordances=kept)
     own = problem.bodies[blocker]
     movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
     bodies[blocker] = replace(own, affordances=movers)
