@@ -24,7 +24,8 @@ def _failing_checks(monkeypatch: pytest.MonkeyPatch, why: str) -> list[tuple[str
 
     def failing(problem: Problem, seq: Sequence, stats: SearchStats, *args: object) -> None:
         checked.append(labels(problem, seq))
-        stats.reject(Rejection(Kind.COLLISION, why, 0.01), " -> ".join(checked[-1]))
+        named = frozenset({"other"}) if "other is in the way" in why else frozenset()
+        stats.reject(Rejection(Kind.COLLISION, why, 0.01, bodies=named), " -> ".join(checked[-1]))
 
     monkeypatch.setattr(search_module, "_check", failing)
     return checked
@@ -58,9 +59,9 @@ def test_a_body_a_rejection_names_gets_its_contacts_back(tmp_path, monkeypatch):
     assert len(set(checked)) == len(checked)
 
 
-def test_a_rejection_meets_a_body_only_by_its_whole_name():
+def test_a_rejection_meets_a_body_by_its_bodies_not_by_its_words():
     stats = SearchStats(watch=frozenset({"other", "clutter1"}))
-    stats.reject(Rejection(Kind.COLLISION, "block would pass through another body; clutter10 too"), "s")
+    stats.reject(Rejection(Kind.COLLISION, "block would pass through other; clutter1 too"), "s")
     assert stats.met == set()
-    stats.reject(Rejection(Kind.APPROACH, "the arm's way in is blocked: clutter1 is in the way"), "s")
+    stats.reject(Rejection(Kind.APPROACH, "the arm's way in is blocked", bodies=frozenset({"clutter1", "x"})), "s")
     assert stats.met == {"clutter1"}
