@@ -198,6 +198,8 @@ def test_a_tool_touches_the_body_it_acts_on_at_its_tip_and_never_passes_through_
         poses = {name: pose.copy() for name, pose in pull.poses_start.items()}
         poses["hook"][:3, 3] += shift
         rejection = check.bodies([graph], [ModeTrace(poses, poses, [], False, {})])
+        if rejection is not None:  # the two bodies by name, as the search reads them (not from the words)
+            assert rejection.bodies == {"hook", "block"} and set(rejection.between) == {"hook", "block"}
         return None if rejection is None else rejection.why
 
     assert clash(np.zeros(3)) is None

@@ -17,16 +17,13 @@ def test_an_arm_rejection_names_the_bodies_in_the_arms_way_but_no_goal_body(tmp_
     spec = task_spec(10, 27)
     program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
     problem = build_problem(program, program.task(spec.name))
-    ik = Rejection(
-        Kind.IK,
-        "no arm configuration carries the whole motion (closest: the arm's panda_link6 would "
-        "overlap clutter1 by 0.1 cm)",
-        1.0,
-    )
+    why = "no arm configuration carries the whole motion (closest: the arm's panda_link6 would overlap clutter1)"
+    ik = Rejection(Kind.IK, why, 1.0, bodies=frozenset({"clutter1"}))
     assert arm_hits(problem, ik) == {"clutter1"}
-    hand = Rejection(Kind.COLLISION, "the arm's panda_hand would pass through target by 1.0 cm: target is in the way")
+    assert arm_hits(problem, Rejection(Kind.IK, why, 1.0)) == set(), "read from `bodies`, not the words"
+    hand = Rejection(Kind.COLLISION, "the arm's panda_hand would pass through target", bodies=frozenset({"target"}))
     assert arm_hits(problem, hand) == set()  # a goal body is moved by the plan itself, never aside
-    assert arm_hits(problem, Rejection(Kind.REACH, "clutter1 is beyond the reach")) == set()
+    assert arm_hits(problem, Rejection(Kind.REACH, "clutter1 is beyond", bodies=frozenset({"clutter1"}))) == set()
 
 
 def test_gen10_027_pushes_the_crate_the_arm_brushes_back_before_the_hook_pulls(tmp_path: Path) -> None:

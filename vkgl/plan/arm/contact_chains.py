@@ -29,7 +29,7 @@ import numpy as np
 
 from vkgl.formats.plan import PlanStepRecord
 from vkgl.motion.approach import CartesianFailure, follow_poses
-from vkgl.plan.arm.straight_moves import ArmState, StraightMoves
+from vkgl.plan.arm.straight_moves import ArmState, Overlap, StraightMoves
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.robot.pad import FINGERTIP_RADIUS
@@ -117,9 +117,8 @@ class ContactChains:
                 yield from self._from_seeds(step, state, (hand, rolled), seeds, _Lean(), closest, words)
         if grasp:
             yield from self._grasp_chains(step, state, poses, closest)
-        yield Rejection(
-            Kind.IK, f"{label}: no arm configuration carries the whole motion (closest: {closest.words})", 1.0
-        )
+        why = f"{label}: no arm configuration carries the whole motion (closest: {closest.words})"
+        yield Rejection(Kind.IK, why, 1.0, bodies=closest.bodies)
 
     def _from_seeds(
         self,
@@ -156,10 +155,10 @@ class ContactChains:
                 continue
             clash = self._contact_clash(step, state, chain.joints)
             if clash is not None:
-                closest.note((2, -clash[1]), words + clash[0])
+                closest.note((2, -clash.depth), words + clash.words, clash.bodies)
                 # a link before the wrist may pass elsewhere in another configuration; the hand (and what it
                 # holds) is where the contact puts it in every one
-                rigid = self._rigid_with_hand(clash[0])
+                rigid = self._rigid_with_hand(clash.words)
                 lean.worth_others |= not rigid
                 lean.hand_hit |= rigid
                 continue
@@ -172,10 +171,10 @@ class ContactChains:
             collision = self.moves.geometry.arm_collision
             last = collision.skeleton.getJoint(self.problem.arm.joint_names[-1]).getChildBodyNode()
             self._hand_links = frozenset(_subtree(last))
-        part = clash.split(" would overlap ", 1)[0]
-        if not part.startswith("the arm's "):
+        part = clash.split(" would overlap ", 1)[0]  # after where along the motion: "at the contact the arm's ..."
+        if "the arm's " not in part:
             return True  # a held tool
-        return part.removeprefix("the arm's ") in self._hand_links
+        return part.split("the arm's ", 1)[1] in self._hand_links
 
     def _grasp_chains(
         self, step: PlanStepRecord, state: ArmState, poses: list[np.ndarray], closest: _ClosestMiss
@@ -195,11 +194,11 @@ class ContactChains:
             joints = chain.joints[::-1].copy()
             clash = self._contact_clash(step, state, joints)
             if clash is not None:
-                closest.note((2, -clash[1]), clash[0])
+                closest.note((2, -clash.depth), clash.words, clash.bodies)
                 continue
             yield joints
 
-    def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> tuple[str, float] | None:
+    def _contact_clash(self, step: PlanStepRecord, state: ArmState, chain: np.ndarray) -> Overlap | None:
         """What the arm hits along a contact's motion, and how deep: every configuration of `chain` (evenly
         spaced along the motion) with the moving bodies where the motion has them then. Only the pad may touch
         the pushed body; the rest of the hand, leaned back or turned, sweeps past the bodies beside it."""
@@ -219,12 +218,12 @@ class ContactChains:
                 clash = self.moves.grasp_overlap(np.asarray([q]), poses, held, step.body)
                 if clash is not None:
                     where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
-                    return f"{where} {clash[0]}", clash[1]
+                    return clash._replace(words=f"{where} {clash.words}")
                 continue
             clash = self.moves.first_overlap(np.asarray([q]), poses, held, set(), {step.body})
             if clash is not None:
                 where = "at the contact" if i == 0 else f"{fractions[i]:.0%} along the contact's motion"
-                return f"{where} {clash[0]}", clash[1]
+                return clash._replace(words=f"{where} {clash.words}")
         return None
 
 
@@ -249,15 +248,16 @@ def _subtree(node: Any) -> Iterator[str]:
 class _ClosestMiss:
     """The failure that came closest among a contact's arm configurations: an IK failure at the contact is
     farthest, then a chain that broke off (the later, the closer), then one whose links overlap the body (the
-    shallower, the closer); the first among equals."""
+    shallower, the closer); the first among equals. `bodies`: those its links overlap (`Rejection.bodies`)."""
 
     def __init__(self) -> None:
         self.rank: tuple[int, float] | None = None
         self.words = "no configuration tried"
+        self.bodies: frozenset[str] = frozenset()
 
-    def note(self, rank: tuple[int, float], words: str) -> None:
+    def note(self, rank: tuple[int, float], words: str, bodies: frozenset[str] = frozenset()) -> None:
         if self.rank is None or rank > self.rank:
-            self.rank, self.words = rank, words
+            self.rank, self.words, self.bodies = rank, words, bodies
 
 
 def _rolled(angle: float) -> np.ndarray:

@@ -294,15 +294,16 @@ class ArmPathPlanner:
         finally:
             self.transit_seconds += time.perf_counter() - began
         if isinstance(found, TransitFailure):
-            blocker = self._blocker(found.reason, transit)
+            blocker, bodies = self._blocker(found.reason, transit)
             why = f"{transit.label}: no collision-free way for the arm to the contact: {blocker}"
-            return Rejection(Kind.TRANSIT, why, 1.0)
+            return Rejection(Kind.TRANSIT, why, 1.0, bodies=bodies)
         return found
 
-    def _blocker(self, reason: str, transit: PendingTransit) -> str:
+    def _blocker(self, reason: str, transit: PendingTransit) -> tuple[str, frozenset[str]]:
         """The transit's failure in words, naming what blocks an end configuration when one is blocked: where
         the arm stands before the first step is named as such (a scene body beside the arm's ready pose blocks
-        every plan), and a body only the transit's room reaches is told from one the arm would enter."""
+        every plan), and a body only the transit's room reaches is told from one the arm would enter; and that
+        body (`Rejection.bodies`), if any."""
         for name, q in (("start", transit.start), ("goal", transit.goal)):
             clash = self.moves.first_overlap(
                 np.asarray([q]), transit.poses, transit.held, set(), collision=self.geometry.transit_collision
@@ -318,10 +319,10 @@ class ArmPathPlanner:
             if real is None:
                 return (
                     f"{where} the arm keeps less than the {TRANSIT_CLEARANCE * 100:g} cm of room a transit needs "
-                    f"({clash[0]}, with the bodies grown by that room)"
-                )
-            return f"{where} {real[0]}"
-        return reason
+                    f"({clash.words}, with the bodies grown by that room)"
+                ), clash.bodies
+            return f"{where} {real.words}", real.bodies
+        return reason, frozenset()
 
     def _has_way_out(self, q: np.ndarray, transit: PendingTransit) -> bool:
         """Whether the arm at `q` (inside the transit's room, clear of the real shapes) has a way out of the room."""

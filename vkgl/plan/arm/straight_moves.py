@@ -39,6 +39,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 
@@ -57,6 +58,15 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 CONTACT_SLACK = 0.003
 """m: how deep a held tool may seem to overlap the body it pushes at the contact (its tip on the face) before
 the contact itself counts as blocked."""
+
+
+class Overlap(NamedTuple):
+    """What the arm (or the tool in its hand) would overlap at a configuration (`StraightMoves.first_overlap`):
+    in words, how deep (m), and the scene's body it would overlap (none for the table), for `Rejection.bodies`."""
+
+    words: str
+    depth: float
+    bodies: frozenset[str] = frozenset()
 
 
 @dataclass
@@ -123,7 +133,7 @@ class StraightMoves:
             return self.approach(step, state, label, self.hand_axis(step), GRASP_STANDOFF)
         push = self.push_direction(step, step.poses_start)
         tried: list[Way] = []
-        closest: tuple[float, str] | None = None
+        closest: tuple[float, str, frozenset[str]] | None = None
         kind = Kind.APPROACH  # the first rule's failure's: a stand-off the transit cannot end in, or no way in
         for way in rules(push):
             found = self._approach(step, state, label, way.direction, way.standoff)
@@ -137,8 +147,8 @@ class StraightMoves:
             closest = _closer(closest, way, found, label)
         hopeless = self.tool_overlap_at_contact(step, state)
         if hopeless is not None:
-            why = f"{label}: at the contact itself {hopeless[0]}: no way into it can be clear"
-            return Rejection(Kind.APPROACH, why, hopeless[1])
+            why = f"{label}: at the contact itself {hopeless.words}: no way into it can be clear"
+            return Rejection(Kind.APPROACH, why, hopeless.depth, bodies=hopeless.bodies)
         for way in searched(push):
             found = self._approach(step, state, label, way.direction, way.standoff)
             if not isinstance(found, tuple):
@@ -148,16 +158,16 @@ class StraightMoves:
         assert closest is not None  # the rules were tried
         why = f"{label}: no straight approach into the contact ({summary(tried)}; closest: {closest[1]})"
         # how far it missed: the shallowest overlap of a blocked way (the search reports the closest miss)
-        return Rejection(kind, why, closest[0] if np.isfinite(closest[0]) else 1.0)
+        return Rejection(kind, why, closest[0] if np.isfinite(closest[0]) else 1.0, bodies=closest[2])
 
-    def tool_overlap_at_contact(self, step: PlanStepRecord, state: ArmState) -> tuple[str, float] | None:
+    def tool_overlap_at_contact(self, step: PlanStepRecord, state: ArmState) -> Overlap | None:
         """What a held tool overlaps, deeper than `CONTACT_SLACK`, at the contact itself (its tip touches the
         body it pushes; the rest of it must clear that body): no way into such a contact is clear. None for the
         bare hand (the contact's own checks cover it) or when the tool only touches."""
         if state.held is None:
             return None
         clash = self.first_overlap(np.asarray([step.q_start]), step.poses_start, state.held, set(), {step.body})
-        return clash if clash is not None and clash[1] > CONTACT_SLACK else None
+        return clash if clash is not None and clash.depth > CONTACT_SLACK else None
 
     def approach(
         self, step: PlanStepRecord, state: ArmState, label: str, direction: np.ndarray, standoff: float
@@ -190,14 +200,14 @@ class StraightMoves:
         ignore = {step.body} if grasp else set()
         clash = self.first_overlap(joints[:-1], step.poses_start, state.held, ignore, {step.body})
         if clash is not None:
-            why = f"{label}: the straight approach into the contact is blocked: {clash[0]}"
-            return Rejection(Kind.APPROACH, why, 1.0), clash[1]
+            why = f"{label}: the straight approach into the contact is blocked: {clash.words}"
+            return Rejection(Kind.APPROACH, why, 1.0, bodies=clash.bodies), clash.depth
         # the transit planned later must end here: with room to spare, or another way in is tried
         space = self.geometry.transit_space(state.held, step.body)
         clash = self.first_overlap(joints[:1], step.poses_start, state.held, set(), collision=space)
         if clash is not None:
-            why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash[0]}"
-            return Rejection(Kind.TRANSIT, why, 1.0), float("inf")
+            why = f"{label}: no collision-free way for the arm to the contact: at the goal of the transit {clash.words}"
+            return Rejection(Kind.TRANSIT, why, 1.0, bodies=clash.bodies), float("inf")
         way = np.asarray(direction, dtype=float)
         return Approach(joints[0].copy(), self.straight("approach", joints, length), way)
 
@@ -303,7 +313,7 @@ class StraightMoves:
         else:
             clash = self.first_overlap(joints[1:], poses, state.held, set(), pad_may_touch)
         if clash is not None:
-            return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash[0]}", 1.0), True
+            return Rejection(Kind.APPROACH, f"{label}: {blocked}: {clash.words}", 1.0, bodies=clash.bodies), True
         state.q = joints[-1]
         return self.straight(phase, joints, length)
 
@@ -331,9 +341,9 @@ class StraightMoves:
         ignore: set[str],
         pad_may_touch: set[str] | None = None,
         collision: ArmCollision | None = None,
-    ) -> tuple[str, float] | None:
+    ) -> Overlap | None:
         """What the arm (or a held tool) would overlap at the first blocked configuration of `joints`, in words,
-        and how deep (m); None when nothing is blocked.
+        how deep (m) and which body; None when nothing is blocked.
 
         `ignore`: bodies nothing of the arm is checked against; `pad_may_touch`: bodies only the fingertip pad
         may touch (the one a straight approach or retreat pushes: its yaw about the push direction is free).
@@ -349,12 +359,13 @@ class StraightMoves:
                 continue
             deepest = max(found, key=lambda c: c.depth)
             what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
-            return f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm", deepest.depth
+            words = f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm"
+            return Overlap(words, deepest.depth, frozenset({deepest.body_b}) & self.problem.bodies.keys())
         return None
 
     def grasp_overlap(
         self, joints: np.ndarray, poses: Mapping[str, np.ndarray], held: Held | None, body: str
-    ) -> tuple[str, float] | None:
+    ) -> Overlap | None:
         """`first_overlap` of a hand whose fingers close on `body`: the whole arm against everything else, and
         the arm but its fingers (`GeometryCheck.palm_collision`) against `body` too."""
         clash = self.first_overlap(joints, poses, held, {body})
@@ -382,15 +393,17 @@ __all__ = [
     "TOOL_DESCENT",
     "Approach",
     "ArmState",
+    "Overlap",
     "StraightMoves",
 ]
 
 
 def _closer(
-    closest: tuple[float, str] | None, way: Way, found: tuple[Rejection, float], label: str
-) -> tuple[float, str]:
-    """The closer of two misses: the shallower overlap of a blocked way; among others the first."""
+    closest: tuple[float, str, frozenset[str]] | None, way: Way, found: tuple[Rejection, float], label: str
+) -> tuple[float, str, frozenset[str]]:
+    """The closer of two misses (how deep, in words, the bodies in the way): the shallower overlap of a blocked
+    way; among others the first."""
     rejection, depth = found
     if closest is not None and closest[0] <= depth:
         return closest
-    return depth, f"{way.name}: {rejection.why.removeprefix(label + ': ')}"
+    return depth, f"{way.name}: {rejection.why.removeprefix(label + ': ')}", rejection.bodies

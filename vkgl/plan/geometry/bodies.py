@@ -79,6 +79,7 @@ class GeometryCheck:
     def __init__(self, problem: Problem) -> None:
         """Checks for `problem`'s bodies, table and arm."""
         self.problem = problem
+        self.names = frozenset(problem.bodies)  # the problem's bodies: those a rejection may name (`Rejection.bodies`)
         self._scene: CollisionScene | None = None
         self._arm: ArmCollision | None = None
         self._transit: ArmCollision | None = None
@@ -139,7 +140,9 @@ class GeometryCheck:
             self.queries += 1
             found = sweep_mode(self.scene, self.problem, trace, allowed)
             if found:
-                return _rejection(found, f"in mode {k}, {_moving(self.problem, graph, trace)}", placed=False)
+                return _rejection(
+                    found, f"in mode {k}, {_moving(self.problem, graph, trace)}", self.names, placed=False
+                )
             kept_out = keep_out_rejection(self.problem, trace, f"in mode {k}, {_moving(self.problem, graph, trace)}")
             if kept_out is not None:
                 return kept_out
@@ -147,18 +150,18 @@ class GeometryCheck:
                 self.queries += 1
                 found = self.scene.overlap(poses, ignore=allowed)
                 if found:
-                    return _rejection(found, f"at the {when} of mode {k}")
+                    return _rejection(found, f"at the {when} of mode {k}", self.names)
             through = self._tool_through(graph, trace.start)
             if through is not None:
                 where = f"at the start of mode {k} (a tool touches what it acts on at its tip only)"
-                return _rejection([through], where)
+                return _rejection([through], where, self.names)
             beside = self._beside(graph, trace.start, k)
             if beside is not None:
                 return beside
             for when, poses in (("start", trace.start), ("end", trace.end)):
                 close = self._bystander(graph, poses)
                 if close is not None:
-                    return _bystander_rejection(close, f"at the {when} of mode {k}")
+                    return _bystander_rejection(close, f"at the {when} of mode {k}", self.names)
         return None
 
     def _bystander(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
@@ -223,6 +226,7 @@ class GeometryCheck:
                     f"beside the contact keeps {BESIDE_CLEARANCE * 100:.1f} cm clear): {e.body} is in the way",
                     float(found.depth),
                     (effector.tool, e.body),
+                    frozenset({e.body}),
                 )
         return None
 
@@ -260,7 +264,7 @@ class GeometryCheck:
                 self.queries += 1
                 found = self.arm_collision.overlap(q, poses, ignore=touched, held=hold)
                 if found:
-                    return _rejection(found, f"with the arm at the {when} of mode {k}", bodies=self.scene.names)
+                    return _rejection(found, f"with the arm at the {when} of mode {k}", self.names, arm=True)
         return None
 
     def _tool_pairs(self, graph: KGraph) -> set[frozenset[str]]:
@@ -295,8 +299,9 @@ def _engagement_words(problem: Problem, e: Engagement, value: float) -> str:
     return f"{e.effector} moves {e.body} by {amount} ({problem.bodies[e.body].type.name}.{e.affordance})"
 
 
-def _bystander_rejection(close: Contact, where: str) -> Rejection:
-    """A tool at its contact too close to a body it does not act on (`GeometryCheck._bystander`)."""
+def _bystander_rejection(close: Contact, where: str, names: frozenset[str]) -> Rejection:
+    """A tool at its contact too close to a body it does not act on (`GeometryCheck._bystander`); `names`: the
+    problem's bodies."""
     gap = BYSTANDER_CLEARANCE - close.depth  # m: the tool's distance from the body (negative: inside it)
     at = close.point
     how = f"{-gap * 1000:.1f} mm inside" if gap < 0 else f"only {gap * 1000:.1f} mm from"
@@ -307,18 +312,20 @@ def _bystander_rejection(close: Contact, where: str) -> Rejection:
         f"it acts on: it would drag what it rests on): {close.body_b} is in the way",
         float(close.depth),
         (close.body_a, close.body_b),
+        frozenset({close.body_b}) & names,
     )
 
 
 def _rejection(
-    found: list[Contact], where: str, *, bodies: Iterable[str] | None = None, placed: bool = True
+    found: list[Contact], where: str, names: frozenset[str], *, arm: bool = False, placed: bool = True
 ) -> Rejection:
-    """A collision rejection naming the deepest overlap; `bodies`: the scene's (other names are arm links);
-    `placed`: an overlap where the parts are placed (a mode's start or end), whose pair it records, not one swept
-    through during a motion."""
+    """A collision rejection naming the deepest overlap; `names`: the problem's bodies (`Rejection.bodies` keeps
+    those of the overlap's two parts: not the table); `arm`: the arm's check (a part no body is the arm's
+    link); `placed`: an overlap where the parts are placed (a mode's start or end), whose pair it records, not one
+    swept through during a motion."""
     deepest = max(found, key=lambda c: c.depth)
     a, b = deepest.body_a, deepest.body_b
-    what = f"the arm's {a}" if bodies is not None and a not in set(bodies) else a
+    what = f"the arm's {a}" if arm and a not in names else a
     at = deepest.point
     return Rejection(
         Kind.COLLISION,
@@ -326,4 +333,5 @@ def _rejection(
         f"{at[2]:.2f}) m {where}: {b} is in the way",
         float(deepest.depth),
         (a, b) if placed else (),
+        frozenset({b} if arm else {a, b}) & names,
     )

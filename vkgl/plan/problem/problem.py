@@ -194,8 +194,6 @@ class Problem:
     pinned: tuple[float, ...] = ()
     """The first motion values of every sequence, fixed: those of a plan every sequence searched extends (a
     plan that cleared a body in the way, `vkgl.plan.search.clutter.clear_first`); none by default."""
-    # bodies kept still, their affordances withheld (`vkgl.plan.search.clutter.still`)
-    still: frozenset[str] = frozenset()
     _footprints: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)

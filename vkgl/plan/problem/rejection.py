@@ -77,12 +77,22 @@ _STAGE = {
 @dataclass
 class Rejection:
     """Why a sequence is not feasible: a kind (for the summary), a sentence, and how far from feasible (m), to
-    report the closest miss."""
+    report the closest miss.
+
+    `bodies` are the scene's bodies the rejection finds in the way, by name, where the check that made it knows
+    them (the words name them too, for people): both bodies of two that would pass through each other or
+    overlap where they are placed, the body a tool would stand in or too close to, the body the arm (or the
+    tool in its hand) would hit at its contacts, along a contact's motion, on its straight approach or at a
+    transit's end. Never an arm's link, the table, or a keep-out region. The search reads them, not the words:
+    a body kept still is met when a rejection names it here (`vkgl.plan.search.clutter.still`), and a body
+    the arm's checks name here may be pushed aside first (`vkgl.plan.search.arm_aside`).
+    """
 
     kind: Kind
     why: str
     excess: float = 0.0
     between: tuple[str, ...] = ()  # the two parts that overlap where they are placed (not swept into each other)
+    bodies: frozenset[str] = frozenset()  # the scene's bodies found in the way (see above)
 
 
 __all__ = ["Kind", "Rejection"]

@@ -19,7 +19,6 @@ rule would otherwise lose; nothing else changes (a sequence whose contacts all m
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Iterator
 
 import numpy as np
@@ -44,16 +43,12 @@ ARM_KINDS = (Kind.COLLISION, Kind.IK, Kind.APPROACH)
 
 def arm_hits(problem: Problem, rejection: Rejection) -> set[str]:
     """The bodies no goal names that `rejection`, from the arm's checks, says the arm (or the tool it holds) runs
-    into: read from its words, where the geometry names them ("... clutter1 is in the way", "... would overlap
-    clutter1 by 0.1 cm")."""
+    into: its `bodies`, as the geometry found them (its words name them too: "... clutter1 is in the way",
+    "... would overlap clutter1 by 0.1 cm")."""
     if rejection.kind not in ARM_KINDS:
         return set()
     goals = {g.body for g in problem.goals}
-    return {
-        name
-        for name in problem.bodies
-        if name not in goals and re.search(rf"(?<![\w.]){re.escape(name)}(?![\w.])", rejection.why)
-    }
+    return {name for name in rejection.bodies if name in problem.bodies and name not in goals}
 
 
 def moved_aside(

@@ -23,9 +23,12 @@ finds first. What never loses a solution besides:
   arm's reach at once, and when it is out of reach the whole subtree goes;
 - the task-space check starts with exact reasoning (`closed_form`) and runs
   the optimiser only when that cannot decide; joint space only after task space.
-- given `moving` (a search again after one with bodies kept still,
-  `vkgl.plan.search.clutter.still`), a sequence that moves none of those bodies is
-  not checked: the search before checked it against the same bodies.
+- given `still` (`vkgl.plan.search.clutter.still`), a contact on one of those
+  bodies is withheld until a rejected sequence names the body
+  (`Rejection.bodies`); from then on it is a successor like any other, and the
+  contacts on it withheld from the sequences already expanded are queued at
+  once (`vkgl.plan.search.withheld`): every sequence that moves only bodies not kept still is
+  queued as if none had been withheld, so the plan is a shortest among those.
 
 Each sequence carries what its prefix knows (`Sequence`: graphs, variables,
 poses with the values at zero), so no work is repeated along a branch.
@@ -53,6 +56,7 @@ from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
+from vkgl.plan.search.withheld import Withheld, withholds
 from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space, task_space_alternatives
 from vkgl.plan.task_space.idle import idle_contact
@@ -81,8 +85,7 @@ def search(
     progress: bool = False,
     root: Sequence | None = None,
     budget: float | None = None,
-    moving: frozenset[str] | None = None,
-    arm_hits: frozenset[str] = frozenset(),
+    still: frozenset[str] = frozenset(),
 ) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
@@ -94,12 +97,12 @@ def search(
     body in the way): the plan is then a shortest among those that start with it. `budget` (none by default)
     bounds the work the search may do, in counted units (`SearchStats.work_done`): a search that spends it ends
     like one that ran out of time ("timeout"), at the same sequence on any machine and under any load (the
-    deadline stays the wall-clock guard). `moving` (none by default): only sequences that move one of these bodies
-    are checked, the others only extended (`vkgl.plan.search.clutter.still`: a search before checked them all, with the
-    same outcome). `arm_hits` (none by default): bodies a search before found in the arm's way (`arm_aside`): with
-    `moving`, the sequences whose arm checks named them are not checked again, so what they learned is carried.
+    deadline stays the wall-clock guard). `still` (none by default): bodies whose contacts are withheld until a
+    rejected sequence names one of them (`vkgl.plan.search.clutter.still`; `SearchStats.met` says which were);
+    the plan is then a shortest among those that move no body still withheld when it was found (`Withheld`).
     """
-    stats = SearchStats(watch=problem.still, arm_hits=set(arm_hits))
+    stats = SearchStats(watch=still)
+    withheld = Withheld(still)
     reporter = Progress(progress)
     geometry = GeometryCheck(problem)
     checks = _Checks(geometry, ArmPathPlanner(problem, geometry), stats.arm_hits)
@@ -117,10 +120,12 @@ def search(
                 return SearchResult("timeout", timeout_reason(problem, stats, budget), stats)
             if checked:
                 pass  # queued again for its expansion only (`_Entry`)
-            elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq, moving):
+            elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
                 found = _check(problem, seq, stats, deadline, checks)
                 if found is not None:
                     return found
+                for parent, at, met in withheld.bring_back(stats):  # contacts on a body just met
+                    _expand(problem, frontier, parent, at, order, stats, withheld.bodies, only=met)
             elif seq.actions:
                 stats.passed_over += 1
             if seq.depth >= problem.max_depth:
@@ -131,7 +136,8 @@ def search(
             stats.graphs_expanded += 1
             stats.depth_reached = max(stats.depth_reached, seq.depth + 1)
             reporter.show(stats)
-            _expand(problem, frontier, seq, path, order, stats)
+            _expand(problem, frontier, seq, path, order, stats, withheld.bodies)
+            withheld.expanded(seq, path)
     finally:
         reporter.done()
     if time.perf_counter() > deadline:
@@ -165,11 +171,22 @@ class _Order:
 
 
 def _expand(
-    problem: Problem, frontier: list[_Entry], seq: Sequence, path: tuple[int, ...], order: _Order, stats: SearchStats
+    problem: Problem,
+    frontier: list[_Entry],
+    seq: Sequence,
+    path: tuple[int, ...],
+    order: _Order,
+    stats: SearchStats,
+    withheld: frozenset[str] = frozenset(),
+    only: frozenset[str] | None = None,
 ) -> None:
     """Queue `seq`'s children (`successors`), but those whose hand is out of reach at once, with everything
-    that would follow them, and those that repeat a step that failed in execution."""
+    that would follow them, and those that repeat a step that failed in execution. A contact on a body of
+    `withheld` is no child (`Withheld`); given `only`, only contacts on those bodies are (each keeps its index
+    among all the successors, so its key is the one it would have had)."""
     for index, action in enumerate(successors(problem, seq.graphs[-1], seq.last)):
+        if withholds(action, withheld) or (only is not None and not withholds(action, only)):
+            continue
         child, hand = extend(problem, seq, action)
         stats.sequences += 1
         if hand is not None and (rejection := unreachable(problem, hand)) is not None:
@@ -202,11 +219,9 @@ def _push(
     heapq.heappush(frontier, (total, order.in_the_way.left(seq), path, seq, False))
 
 
-def _moves_goal_body(problem: Problem, seq: Sequence, moving: frozenset[str] | None = None) -> bool:
+def _moves_goal_body(problem: Problem, seq: Sequence) -> bool:
     """Whether the last mode of `seq` moves a body that a goal names, or its last action sets one down that
-    the mode before carried (and, given `moving`, some mode moves one of those bodies)."""
-    if moving is not None and not any(e.body in moving for _, e in (*seq.variables, *seq.carries)):
-        return False
+    the mode before carried."""
     mode = seq.depth - 1
     goal_bodies = {g.body for g in problem.goals}
     if any(m == mode - 1 and e.body in goal_bodies for m, e in seq.carries):

@@ -4,7 +4,6 @@ rejection's closest miss, the `--max-depth` hint, the timeout's reason, and the 
 from __future__ import annotations
 
 import math
-import re
 import sys
 import time
 from collections import Counter
@@ -41,7 +40,7 @@ class SearchStats:
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
-    watch: frozenset[str] = frozenset()  # bodies kept still (`Problem.still`): a rejection naming one meets it
+    watch: frozenset[str] = frozenset()  # bodies kept still (`search(still=)`): a rejection naming one meets it
     met: set[str] = field(default_factory=set)  # those of `watch` that some rejection named
     arm_hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
 
@@ -64,8 +63,7 @@ class SearchStats:
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
             self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
-        if self.watch:
-            self.met.update(name for name in self.watch if re.search(rf"\b{re.escape(name)}\b", rejection.why))
+        self.met.update(rejection.bodies & self.watch)
 
 
 WORK_WEIGHTS = {

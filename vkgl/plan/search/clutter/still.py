@@ -8,19 +8,22 @@ that are no goal body, no tool, and lie in no goal body's straight way (`vkgl.pl
 when every goal has a position (with a goal of heading or region only nothing is kept still: there is no way to
 measure against).
 
-`search_moving_less` searches the problem with those bodies kept still (their affordances withheld, like the
-sub-problems of `vkgl.plan.search.clutter.clear_first`; they still count in every collision check). A rejected sequence
-that names one of them (`SearchStats.met`: a body passed through, hit by the arm or a tool, in the way of an
-approach, named anywhere in the rejection's words) shows that it matters: when the search ends without a plan,
-the bodies it met get their affordances back and the search runs again, until no body kept still was met or a
-plan is found or the time runs out. The search again checks only the sequences that move a body just met (the
-others were checked before, against the same bodies, and fail the same way): it only extends the rest. A "no
-plan" then says which bodies were kept still and that no sequence met them.
+`search_moving_less` searches the problem with those bodies kept still: their contacts withheld from the
+successors (`search(still=...)`); they still count in every collision check. A rejected sequence that names one
+of them (`Rejection.bodies`, filled by the checks that found it in the way: a body passed through it, the arm or
+a tool hit it, it blocked an approach or a transit's end; `SearchStats.met`) shows that it matters: from then
+on the same search gives it its contacts back, and queues at once the contacts on it that it withheld from the
+sequences already expanded, each with the key it would have had (`search._Withheld`). So a body met at the
+second level moves in sequences of the third, not after a search without it has exhausted every depth (the
+physical bench's gen10_017: a CubeS beside the way, turned in its plan, came back only after 1,149 graphs of a
+first search that could not succeed). A "no plan" then says which bodies stayed still and that no sequence met
+them.
 
 **What it can lose** (also in docs/planning.md): a plan that moves a body kept still although no rejected
 sequence named it. That is a plan in which moving the body helps without the body ever being what a shorter
-sequence collided with: a transit (OMPL) that finds no way because of it (transit rejections name no body), or
-a goal the optimiser could not reach for another reason while the body was also in the way. And a plan found
+sequence collided with: a transit (OMPL) that finds no way because of it (a transit's rejection names a body only
+where one blocks the arm at an end of the transit), or a goal the optimiser could not reach for another reason
+while the body was also in the way. And a plan found
 with bodies kept still is the shortest among those that move none of them: one graph shorter that moves one
 of them (to make room for a tool, say) is not looked for, as long as no sequence met them.
 """
@@ -30,11 +33,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 from vkgl.plan.problem.problem import Problem
-from vkgl.plan.search.bounds.bound import Bound
-from vkgl.plan.search.clutter.clear_first import add_stats
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import infeasible_reason
 
 
 def still_bodies(problem: Problem) -> frozenset[str]:
@@ -50,37 +50,23 @@ def still_bodies(problem: Problem) -> frozenset[str]:
 
 
 def kept_still(problem: Problem, names: frozenset[str]) -> Problem:
-    """`problem` with the bodies `names` kept still: no affordance, and named in `Problem.still` (the search
-    watches its rejections for them)."""
+    """`problem` with the bodies `names` kept still for good: no affordance (what a search after the one of
+    `search_moving_less` extends: clearing's, `vkgl.plan.search.clutter.clear_first`)."""
     if not names:
-        return replace(problem, still=frozenset())
+        return problem
     bodies = {name: replace(b, affordances=()) if name in names else b for name, b in problem.bodies.items()}
-    return replace(problem, bodies=bodies, still=names)
+    return replace(problem, bodies=bodies)
 
 
 def search_moving_less(problem: Problem, *, deadline: float, progress: bool = False) -> tuple[SearchResult, Problem]:
     """The search of `problem` with the bodies in no goal body's way kept still until a rejected sequence meets
-    them (see the module's docstring), and the problem last searched (its `still` bodies kept still)."""
+    them (see the module's docstring), and the problem it searched with those it never met kept still for good."""
     still = still_bodies(problem)
-    searched = kept_still(problem, still)
-    result = search(searched, deadline=deadline, progress=progress)
-    stats = result.stats
-    while result.status == "infeasible" and (met := frozenset(stats.met & still)):
-        still = still - met
-        searched = kept_still(problem, still)
-        # a sequence that moves none of the bodies just met was checked before, and fails the same way
-        again = search(searched, deadline=deadline, progress=progress, moving=met, arm_hits=frozenset(stats.arm_hits))
-        add_stats(again.stats, stats)  # the counters of every search, the last one's level
-        stats = again.stats
-        for kind, example in result.stats.examples.items():  # the closest miss of every search
-            if kind not in stats.examples or example[0] < stats.examples[kind][0]:
-                stats.examples[kind] = example
-        result = again
-        if result.status == "infeasible":
-            result = replace(result, reason=infeasible_reason(searched, stats, Bound(searched)))
-    if result.status == "infeasible" and still and not stats.cut_at_start:  # (the bound cut G0: no body matters)
-        result = replace(result, reason=f"{result.reason}\n{still_words(still)}")
-    return result, searched
+    result = search(problem, deadline=deadline, progress=progress, still=still)
+    left = still - result.stats.met
+    if result.status == "infeasible" and left and not result.stats.cut_at_start:  # (the bound cut G0: none matters)
+        result = replace(result, reason=f"{result.reason}\n{still_words(left)}")
+    return result, kept_still(problem, left)
 
 
 def still_words(still: frozenset[str]) -> str:
