@@ -39,6 +39,10 @@ def test_only_the_links_beyond_the_arms_last_joint_and_a_held_tool_move_with_the
     assert chains._rigid_with_hand("hook would overlap block by 0.3 cm")  # a held tool
     for part in ("panda_link6", "panda_link4"):  # another elbow or wrist position may pass clear
         assert not chains._rigid_with_hand(f"the arm's {part} would overlap block by 0.2 cm")
+    # as the chains' clashes word them: where along the motion first
+    assert not chains._rigid_with_hand("at the contact the arm's panda_link5 would overlap block by 0.2 cm")
+    assert chains._rigid_with_hand("69% along the contact's motion the arm's panda_hand would overlap block by 0.1 cm")
+    assert chains._rigid_with_hand("at the contact hook would overlap block by 0.3 cm")
 
 
 def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path) -> None:
