@@ -18,10 +18,10 @@ from vkgl.plan.graphs.graph import motion_type
 from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind
-from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading
+from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading, row_drifts
 from vkgl.plan.task_space.reach.hand_reach import hand_out_of_reach_on_the_way
 from vkgl.plan.task_space.reach.workspace import reach_violation
-from vkgl.plan.task_space.slides import closest, position_out_of_reach, row_distances
+from vkgl.plan.task_space.slides import closest, position_out_of_reach, row_distances, turn_rows
 
 
 @pytest.fixture(scope="module")
@@ -108,3 +108,27 @@ def test_row_distances_are_the_slides_best_or_below_it(seed, slides):
             assert found[row] == pytest.approx(exact, abs=1e-9)
         else:
             assert found[row] <= exact + 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    travel=st.floats(0.0, 0.05),
+    limit=st.floats(0.01, math.pi),
+    where=st.floats(0.0, 1.0),
+    toward=st.floats(-math.pi, math.pi),
+    length=st.floats(0.0, 1.0),
+    count=st.integers(2, 40),
+)
+def test_row_drifts_bound_the_pivots_travel_at_every_angle_near_the_row(travel, limit, where, toward, length, count):
+    # the true angle lies within half a step of its row and within the turn's limits; the pivot moved by d
+    # (|d| <= travel) moves the final position by |(I - R(a)) d|: never more than the row's drift
+    limits = [(0.0, limit)]
+    angles, steps = turn_rows(limits, count)
+    true = where * limit
+    row = int(np.argmin(np.abs(angles[:, 0] - true)))
+    d = travel * length * np.array([math.cos(toward), math.sin(toward)])
+    turned = np.array([[math.cos(true), -math.sin(true)], [math.sin(true), math.cos(true)]])
+    moved = float(np.linalg.norm(d - turned @ d))
+    drifts = row_drifts([travel], limits, angles, steps)
+    assert moved <= drifts[row] + 1e-12
+    assert drifts.max() <= 2.0 * travel * math.sin(limit / 2.0) + 1e-12  # never wider than the uniform slack

@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from vkgl.plan.graphs.graph import Engagement
+from vkgl.plan.graphs.members import pivot_travel
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
@@ -53,7 +54,8 @@ def hand_out_of_reach_at_free_heading(
     angles, and the hand at p + R(heading) c, c the fixed chain from the body to the hand at the contact's offset
     (`hand_reach.hand_ring`: a grid over the offset's band, each offset within `slack` of one of them).
     Scan each turn's angle on a grid of step h_i (`slides.turn_rows`). Any true values lie within h_i / 2 of a
-    row; at that row the slides' best distance to the goal is at most tol + `lever` sum(h_i) / 2 + `drifts`
+    row; at that row the slides' best distance to the goal is at most tol + `lever` sum(h_i) / 2 + the drifts of
+    the contacts along their families at that row's angles (`row_drifts`)
     (`slides.position_out_of_reach` proves the same bound the other way), so only rows within that of the goal
     can hold the true values. At such a row the true heading differs from the row's by at most sum(h_i) / 2,
     which moves the hand by at most |c| sum(h_i) / 2 (a chord is no longer than its arc). So the hand's distance
@@ -74,7 +76,8 @@ def hand_out_of_reach_at_free_heading(
     setup = scan_setup(problem, seq, goal, turns, slides)
     if setup is None:
         return None
-    turn_limits, slide_limits, lever, drifts = setup
+    turn_limits, slide_limits, lever, _ = setup
+    travels = [pivot_travel(problem, seq.variables[i][1].body, seq.variables[i][1].affordance) for i in turns]
     rest = problem.bodies[goal.body].rest
     heading0 = math.atan2(rest[1, 0], rest[0, 0])
     target = np.asarray(goal.position[:2], dtype=float) - problem.arm.base[:2, 3]
@@ -87,7 +90,9 @@ def hand_out_of_reach_at_free_heading(
         origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, turn_matrices)
         distance = row_distances(columns, origins, goal.position, slide_limits)
         spread = sum(steps) / 2
-        possible = distance <= goal.tol_position + lever * spread + drifts + 1e-9
+        possible = (
+            distance <= goal.tol_position + lever * spread + row_drifts(travels, turn_limits, angles, steps) + 1e-9
+        )
         if not possible.any():
             return None  # no row reaches the goal: `position_out_of_reach` speaks for that (its own slack)
         headings = heading0 + angles[possible] @ np.asarray(signs, dtype=float)
@@ -113,6 +118,30 @@ def hand_out_of_reach_at_free_heading(
         f"({low:.3f} to {high:.3f} m from its base at height {float(rest[2, 3]) + height:.3f} m)"
     )
     return Rejection(Kind.REACH, why, closest)
+
+
+def row_drifts(
+    travels: list[float], limits: list[tuple[float, float]], angles: np.ndarray, steps: list[float]
+) -> np.ndarray:
+    """Per row of turn `angles` (rows x turns, grid steps `steps`, each turn's values within `limits`), how far
+    moving the turns' contacts along their families can move the body's final position at any true angles within
+    half a step of the row's (m).
+
+    A turn by `a` whose pivot is moved by `d` (`members.pivot_travel`: |d| at most `travel`) is the same turn about
+    the unmoved pivot followed by a translation of the whole later path by (I - R(a)) d, whose length is the chord
+    2 |d| sin(a / 2) (`slides.position_out_of_reach`), increasing in `a` up to half a turn: at most
+    2 travel sin(min(|a_row| + h / 2, a_max, pi) / 2) for true angles within h / 2 of the row's and at most
+    a_max (the upper limit; the values are never negative). The sum over the turns
+    bounds them all. `slides.scan_setup`'s `drifts` is the same at each turn's largest angle, for every row: an
+    open slide's arc member (a turn of up to half a turn whose pivot moves by 2 cm) then widens every row by 4 cm,
+    where the rows near its goal turn it by a few tens of degrees (gen1_005 of the physical bench: 56 sequences
+    of 100 ms each, one NLopt run after another, that this proof now rejects)."""
+    total = np.zeros(len(angles))
+    for k, travel in enumerate(travels):
+        if travel > 0.0:
+            largest = np.minimum(np.abs(angles[:, k]) + steps[k] / 2, min(abs(limits[k][1]), math.pi))
+            total += 2.0 * travel * np.sin(largest / 2.0)
+    return total
 
 
 def _last_push(problem: Problem, seq: Sequence, body: str) -> tuple[int, Engagement] | None:
