@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_work_budget import BLOCKED
 
 import vkgl
 from vkgl.plan.graphs.graph import g0
@@ -22,23 +23,8 @@ from vkgl.plan.search.search import SearchResult
 from vkgl.plan.search.stats import SearchStats
 from vkgl.plan.task_space.clearing import Side
 
-SCENE = """
-use stdlib.robots.panda
-use stdlib.bodies.block
-use stdlib.affordances.block
-
-scene cluttered {
-    table size (1.6, 1.2) m at (0.5, 0, 0) m
-    robot arm : Panda at (0, 0, 0) m
-    block : Block on table at (0.45, 0) m yaw 0deg
-    block2 : Block on table at (0.62, 0) m yaw 90deg
-}
-
-task through {
-    scene cluttered
-    goal block at (0.75, 0) m within 1 cm
-}
-"""
+SCENE = BLOCKED.replace("    search { max_depth 3  timeout 60 s }\n", "")
+"""test_work_budget's Block with another across its way, the task's search block left to the defaults."""
 
 LEFT = Side("left", np.array([0.0, -1.0, -0.1]), 0.05)
 RIGHT = Side("right", np.array([0.0, 1.0, -0.1]), 0.05)
