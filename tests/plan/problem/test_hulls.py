@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from scipy.spatial import ConvexHull, QhullError
 
 from vkgl.plan.problem import hulls
-from vkgl.plan.problem.hulls import hull_vertices, outline_corners
+from vkgl.plan.problem.hulls import hull_vertices, kept_width, outline_corners
 
 
 @pytest.fixture
@@ -103,3 +103,17 @@ def test_flat_points_raise_as_qhull_does_and_are_a_whole_outline(cache: Path) ->
     assert np.array_equal(outline_corners(box), box[:8])
     assert np.array_equal(outline_corners(box), box[:8])  # read back
     assert len(list(cache.glob("hull-*.json"))) == 1
+
+
+def test_a_tools_width_is_measured_once_and_read_back(cache: Path) -> None:
+    points = _points(3, 12).ravel()
+    calls: list[int] = []
+
+    def measure() -> float:
+        calls.append(1)
+        return 0.0213
+
+    assert kept_width(points, measure) == 0.0213
+    assert kept_width(points, measure) == 0.0213  # read back from the cache folder
+    assert calls == [1]
+    assert kept_width(points + 0.5, measure) == 0.0213 and calls == [1, 1]  # another tool or grasp: measured

@@ -24,9 +24,11 @@ from vkgl.lang.ir.geometry import body_mesh
 from vkgl.motion.arm_collision import Held
 from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
+from vkgl.plan.problem.hulls import kept_width
+from vkgl.plan.problem.over import tool_parts
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.grip import grip_for, holding_opening, push_load, resisting_force
+from vkgl.robot.grip import TOUCH_GAP, grip_for, push_load, resisting_force, tool_width
 
 PUSH_FACTOR = 2.0
 """How much harder than the estimate a push may load the grip: the estimate leaves out what the tool's contact
@@ -118,9 +120,30 @@ def held(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray, acts_on: 
     over a slab to pull it; checked with the fingers closed the hand was clear of the slab, but the fingers
     closed on the 2 cm cross-piece stand 1 cm further out, and the inner one sat 6.5 mm inside the slab's top
     edge: in DART it caught the slab before the hook did and turned it 5 deg off the goal."""
+    return Held(tool, in_hand, acts_on, _opening(problem, tool, grasp, in_hand))
+
+
+_OPENINGS: dict[bytes, float] = {}
+"""The openings found in this process, by what determines them (`held` is asked at every check with a tool)."""
+
+
+def _opening(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray) -> float:
+    """`vkgl.robot.grip.holding_opening` of `tool` held by `grasp` at `in_hand`: the grasp's stated width, else the
+    width measured on the tool's mesh, kept in the cache folder (`hulls.kept_width`), so that a solve reads it
+    back without importing trimesh."""
     action = problem.affordance(tool, grasp).action
-    opening = holding_opening(action, body_mesh(problem.bodies[tool].type), np.linalg.inv(in_hand))
-    return Held(tool, in_hand, acts_on, opening)
+    stated = getattr(action, "width", None)
+    if stated is not None:
+        return float(stated) / 2 + TOUCH_GAP
+    body = problem.bodies[tool].type
+    grasp_frame = np.linalg.inv(in_hand)  # the effector frame in the tool's frame
+    parts = np.concatenate([np.asarray(part, dtype=float).ravel() for part in tool_parts(body.shape)])
+    what = np.concatenate([parts, grasp_frame.ravel()])
+    key = what.tobytes()
+    if key not in _OPENINGS:
+        width = kept_width(what, lambda: tool_width(action, body_mesh(body), grasp_frame))
+        _OPENINGS[key] = width / 2 + TOUCH_GAP
+    return _OPENINGS[key]
 
 
 __all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage"]

@@ -1,4 +1,5 @@
-"""`vkg-hull-cache/1`: the convex hulls of the bodies' shapes, as Qhull finds them, kept between processes.
+"""`vkg-hull-cache/2`: the convex hulls of the bodies' shapes, as Qhull finds them, kept between processes (and
+the held tools' widths across the grip, `kept_width`).
 
 The planner's hulls (a body's outline, the footprint a goal region must hold)
 are SciPy's `ConvexHull`, and importing `scipy.spatial` costs about a quarter
@@ -10,8 +11,9 @@ the hull's vertices among the points (`hull_vertices`), or, for an outline
 (`outline_corners`, whose points are first made unique with numpy's
 `unique`, which imports numpy's masked arrays), the corners themselves:
 
-    {"format": "vkg-hull-cache/1", "key": "<sha256>", "vertices": [0, 1, 3, ...]}
-    {"format": "vkg-hull-cache/1", "key": "<sha256>", "corners": [[0.1, -0.05, 0.0], ...]}
+    {"format": "vkg-hull-cache/2", "key": "<sha256>", "vertices": [0, 1, 3, ...]}
+    {"format": "vkg-hull-cache/2", "key": "<sha256>", "corners": [[0.1, -0.05, 0.0], ...]}
+    {"format": "vkg-hull-cache/2", "key": "<sha256>", "width": 0.02}
 
 `key` is the hash of which of the two it is, of the points' bytes and shape,
 and of the Qhull library file (its path, size and time, found without
@@ -40,7 +42,7 @@ from vkgl.atomic import write_text
 from vkgl.errors import InputError
 from vkgl.resources import cache_folder, read_cache_file
 
-CACHE_FORMAT = "vkg-hull-cache/1"
+CACHE_FORMAT = "vkg-hull-cache/2"
 MAX_BYTES = 1024 * 1024
 """The largest cache file read (a hull of 10,000 vertices is about 60 kB)."""
 
@@ -179,4 +181,12 @@ def _store(key: str, kind: str, value: Any) -> None:
         write_text(path, text + "\n")
 
 
-__all__ = ["hull_vertices", "outline_corners"]
+def kept_width(points: np.ndarray, compute: Callable[[], float]) -> float:
+    """`compute()`, a tool's width across the grip (m) that `points` determine (its shape's vertices and the grasp,
+    flattened), kept in the cache folder like a hull: measuring it slices the tool's mesh, which imports trimesh
+    and SciPy (`vkgl.robot.grip.width_across_grip`), more than a simple solve takes otherwise."""
+    points = np.ascontiguousarray(points, dtype=float)
+    return float(_kept("width", points, lambda: float(compute()), lambda kept: type(kept) is float))
+
+
+__all__ = ["hull_vertices", "kept_width", "outline_corners"]

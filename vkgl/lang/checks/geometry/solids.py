@@ -201,15 +201,19 @@ def pieces_depth(a: list[Piece], b: list[Piece], floor: float = -math.inf) -> fl
     Exact when deeper than `floor`; otherwise some value at most `floor`: callers that only ask whether the
     pieces overlap by more than a tolerance pass it, and pairs apart by more are not measured. (Two convex
     pieces never overlap deeper than their bounding boxes do along an axis: the depth is the least overlap
-    of their shadows over every direction.)"""
+    of their shadows over every direction. That bound holds for pieces that overlap; for pieces apart, `depth`
+    is the widest gap over the pieces' own axes, which may be narrower than their boxes' gap along x, y or z, so
+    boxes are compared only against a level of 0 or more: a hypothesis example had two pieces 3.1245 cm apart
+    by `depth` and 3.125 cm apart by their boxes, and a floor of -3.125 cm dropped the pair.)"""
     best = -math.inf
     for pa in a:
         for pb in b:
-            corners = zip(pa.high, pb.high, pa.low, pb.low, strict=True)
-            gap = min(min(ha, hb) - max(la, lb) for ha, hb, la, lb in corners)
-            if gap <= best or gap <= floor:
-                continue  # their boxes already overlap less than the deepest found, or than asked about
-            best = max(best, depth(pa, pb, max(best, floor)))
+            level = max(best, floor)
+            if level >= 0.0:
+                corners = zip(pa.high, pb.high, pa.low, pb.low, strict=True)
+                if min(min(ha, hb) - max(la, lb) for ha, hb, la, lb in corners) <= level:
+                    continue  # their boxes already overlap less than the deepest found, or than asked about
+            best = max(best, depth(pa, pb, level))
     return best
 
 
