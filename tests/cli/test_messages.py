@@ -243,3 +243,13 @@ def test_an_infeasible_reason_names_the_tools_nothing_lets_the_arm_grasp(
         "  `stick` and `hook` are tools with no affordance in the program, so no plan could grasp them: "
         "add `use stdlib.affordances.stick`, `use stdlib.affordances.hook` (or learn one with `vkgc learn`)"
     )
+
+
+def test_a_picture_asked_of_a_no_plan_is_said_not_written(
+    user_folder: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (user_folder / "no_tools.vkg").write_text(NO_TOOLS, encoding="utf-8")
+    status = main(["solve", "no_tools.vkg", "--plot", "plan.png"])
+    assert status == 2
+    assert "plan.png: not written (no plan to draw)" in capsys.readouterr().err
+    assert not (user_folder / "plan.png").exists()

@@ -218,6 +218,8 @@ def cmd_solve(args: argparse.Namespace) -> int:
 
         plot_plan(plan, args.plot)
         print(f"{args.plot}: picture of the plan")
+    elif args.plot:  # said, so that a missing picture is no surprise (nothing is written, nothing replaced)
+        print(f"{args.plot}: not written (no plan to draw)", file=sys.stderr)
     executes = args.execute or args.replan or args.animate or args.execution_json
     if plan.status == "solved" and executes and not _execute(args, program, plan):
         return EXIT_NOT_REACHED
