@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
+import vkgl
 from vkgl.cli import main
 
 NO_TOOLS = """use "examples/scenes/tabletop.vkg"
@@ -253,3 +254,12 @@ def test_a_picture_asked_of_a_no_plan_is_said_not_written(
     assert status == 2
     assert "plan.png: not written (no plan to draw)" in capsys.readouterr().err
     assert not (user_folder / "plan.png").exists()
+
+
+def test_a_goal_body_without_affordances_is_told_the_module_that_exists() -> None:
+    program = vkgl.compile_source(
+        NO_TOOLS.replace("use stdlib.affordances.block\n", ""), "bare.vkg", base_dir=EXAMPLES.parent
+    )
+    plan = vkgl.solve(program)
+    assert plan.status == "infeasible"
+    assert "has no affordance in the program (add `use stdlib.affordances.block`" in plan.reason

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from vkgl.lang.checks.learn_hint import affordance_hint
 from vkgl.lang.ir.nodes import Task
 from vkgl.lang.ir.program import Program
 from vkgl.plan.graphs.carry import carriable
@@ -173,7 +174,7 @@ def _hopeless(problem: Problem) -> str | None:
                 )
             return (
                 f"no affordance moves {goal.body}: its type {body.type.name} has no affordance in the program "
-                f"(is `use stdlib.affordances.{body.type.name.lower()}` missing?)"
+                f"({affordance_hint(body.type)})"
             )
     return None
 
