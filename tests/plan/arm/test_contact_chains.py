@@ -10,7 +10,7 @@ from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, wr
 
 import vkgl
 from vkgl.plan.arm.contact_chains import ContactChains
-from vkgl.plan.arm.straight_moves import StraightMoves
+from vkgl.plan.arm.straight_moves import Overlap, StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import build_problem
 
@@ -35,14 +35,10 @@ def test_only_the_links_beyond_the_arms_last_joint_and_a_held_tool_move_with_the
     problem = build_problem(program, program.task("a_push"))
     chains = ContactChains(problem, StraightMoves(problem, GeometryCheck(problem)))
     for part in ("panda_leftfinger", "panda_hand", "panda_link7", "fingertip"):
-        assert chains._rigid_with_hand(f"the arm's {part} would overlap block by 0.2 cm")
-    assert chains._rigid_with_hand("hook would overlap block by 0.3 cm")  # a held tool
+        assert chains._rigid_with_hand(Overlap(f"the arm's {part} would overlap block by 0.2 cm", 0.002, link=part))
+    assert chains._rigid_with_hand(Overlap("hook would overlap block by 0.3 cm", 0.003))  # a held tool
     for part in ("panda_link6", "panda_link4"):  # another elbow or wrist position may pass clear
-        assert not chains._rigid_with_hand(f"the arm's {part} would overlap block by 0.2 cm")
-    # as the chains' clashes word them: where along the motion first
-    assert not chains._rigid_with_hand("at the contact the arm's panda_link5 would overlap block by 0.2 cm")
-    assert chains._rigid_with_hand("69% along the contact's motion the arm's panda_hand would overlap block by 0.1 cm")
-    assert chains._rigid_with_hand("at the contact hook would overlap block by 0.3 cm")
+        assert not chains._rigid_with_hand(Overlap(f"the arm's {part} would overlap block", 0.002, link=part))
 
 
 def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path) -> None:

@@ -27,6 +27,7 @@ def test_the_body_the_arm_would_overlap_is_named_by_its_name_the_table_by_words_
     onto["block"][:3, 3] = hand[:3, 3] + [0.0, 0.0, 0.05]  # the block around the hand
     clash = moves.first_overlap(q[None, :], onto, None, set())
     assert clash is not None and clash.bodies == {"block"} and "would overlap block" in clash.words, clash
+    assert clash.link and f"the arm's {clash.link} would overlap" in clash.words  # the link, for contact chains
     lower = hand.copy()
     lower[2, 3] -= 0.04  # the fingertip 1.5 cm into the table
     q_low = problem.arm.ik(lower, q0=q)

@@ -158,23 +158,20 @@ class ContactChains:
                 closest.note((2, -clash.depth), words + clash.words, clash.bodies)
                 # a link before the wrist may pass elsewhere in another configuration; the hand (and what it
                 # holds) is where the contact puts it in every one
-                rigid = self._rigid_with_hand(clash.words)
+                rigid = self._rigid_with_hand(clash)
                 lean.worth_others |= not rigid
                 lean.hand_hit |= rigid
                 continue
             yield chain.joints.copy()
 
-    def _rigid_with_hand(self, clash: str) -> bool:
-        """Whether the part named first in `clash` (`StraightMoves.first_overlap`'s words: a held tool, or "the
-        arm's LINK") moves rigidly with the hand: a held tool, or a link beyond the arm's last joint."""
+    def _rigid_with_hand(self, clash: Overlap) -> bool:
+        """Whether what overlaps in `clash` moves rigidly with the hand: a held tool, or a link beyond the arm's
+        last joint."""
         if self._hand_links is None:
             collision = self.moves.geometry.arm_collision
             last = collision.skeleton.getJoint(self.problem.arm.joint_names[-1]).getChildBodyNode()
             self._hand_links = frozenset(_subtree(last))
-        part = clash.split(" would overlap ", 1)[0]  # after where along the motion: "at the contact the arm's ..."
-        if "the arm's " not in part:
-            return True  # a held tool
-        return part.split("the arm's ", 1)[1] in self._hand_links
+        return not clash.link or clash.link in self._hand_links  # no link: a held tool
 
     def _grasp_chains(
         self, step: PlanStepRecord, state: ArmState, poses: list[np.ndarray], closest: _ClosestMiss

@@ -62,11 +62,13 @@ the contact itself counts as blocked."""
 
 class Overlap(NamedTuple):
     """What the arm (or the tool in its hand) would overlap at a configuration (`StraightMoves.first_overlap`):
-    in words, how deep (m), and the scene's body it would overlap (none for the table), for `Rejection.bodies`."""
+    in words, how deep (m), the scene's body it would overlap (none for the table), for `Rejection.bodies`, and
+    the arm's link that overlaps it (empty when it is a held tool)."""
 
     words: str
     depth: float
     bodies: frozenset[str] = frozenset()
+    link: str = ""
 
 
 @dataclass
@@ -358,9 +360,11 @@ class StraightMoves:
             if not found:
                 continue
             deepest = max(found, key=lambda c: c.depth)
-            what = deepest.body_a if deepest.body_a in collision.scene.names else f"the arm's {deepest.body_a}"
+            link = "" if deepest.body_a in collision.scene.names else deepest.body_a
+            what = f"the arm's {link}" if link else deepest.body_a
             words = f"{what} would overlap {deepest.body_b} by {deepest.depth * 100:.1f} cm"
-            return Overlap(words, deepest.depth, frozenset({deepest.body_b}) & self.problem.bodies.keys())
+            bodies = frozenset({deepest.body_b}) & self.problem.bodies.keys()
+            return Overlap(words, deepest.depth, bodies, link)
         return None
 
     def grasp_overlap(
