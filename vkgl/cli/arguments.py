@@ -119,7 +119,8 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
         prog="vkgc",
         description="Compile, explore, infer and plan with VKG (virtual kinematic graph) programs.",
         epilog="exit codes: 0 ok, 1 input errors (usage errors too), 2 no plan, 3 timeout, 4 internal error, "
-        "5 plan executed in physics but the goal was not reached (solve --execute), 130 interrupted",
+        "5 plan executed in physics but the goal was not reached (solve --execute), 130 interrupted, "
+        "141 the output's reader went away (| head) after a success",
     )
     parser.add_argument("--version", action=_Version, help="print the version")
     parser.add_argument("--debug", action="store_true", help="show the traceback of internal errors")
