@@ -57,3 +57,9 @@ def test_a_given_use_that_declares_another_body_or_is_missing_is_refused(tmp_pat
     with pytest.raises(InputError, match=r"did you mean `mylib.bodies.crate`\?"):
         check_body_use("mylib.bodies.crat", "Crate", out, given=True)
     check_body_use("mylib.bodies.crate", "Crate", out, given=True)  # found beside the output: no error
+
+
+def test_a_body_file_beside_the_output_is_named_as_a_path_from_there(tmp_path: Path) -> None:
+    (tmp_path / "crate.vkg").write_text(_CRATE)
+    with pytest.raises(InputError, match=r"crate.vkg` declares it: pass `--use crate.vkg`"):
+        check_body_use("stdlib.bodies.crate", "Crate", tmp_path / "crate_affordances.vkg", given=False)

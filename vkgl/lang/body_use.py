@@ -8,8 +8,9 @@ one's own that module does not exist, and the module was written anyway: the
 first `vkgc check` of it said E501 and E301. Now `vkgc infer` stops first
 (exit 1, nothing written), saying which module it looked for, from where, and
 which `--use` to pass: the path, relative to the output's folder, of a body
-file beside it (`../bodies/crate.vkg` in the stdlib's layout) when one declares
-the body, else the two forms `--use` takes.
+file near it that declares the body (`../bodies/crate.vkg` in the stdlib's
+layout, `bodies/crate.vkg`, or `crate.vkg` beside it), else the two forms
+`--use` takes.
 """
 
 from __future__ import annotations
@@ -58,9 +59,17 @@ def _what_to_pass(body: str, destination: Path) -> str:
     folder = destination.parent
     stem = body.lower()
     declares = re.compile(rf"^\s*body\s+{re.escape(body)}\b", re.M)
-    for candidate in (folder.parent / "bodies" / f"{stem}.vkg", folder / "bodies" / f"{stem}.vkg"):
+    for candidate in (
+        folder.parent / "bodies" / f"{stem}.vkg",
+        folder / "bodies" / f"{stem}.vkg",
+        folder / f"{stem}.vkg",
+    ):
         try:
-            if candidate.is_file() and declares.search(candidate.read_text(encoding="utf-8", errors="replace")):
+            if (
+                candidate != destination
+                and candidate.is_file()
+                and declares.search(candidate.read_text(encoding="utf-8", errors="replace"))
+            ):
                 relative = Path(os.path.relpath(candidate, folder)).as_posix()
                 return f"`{candidate}` declares it: pass `--use {relative}` (its path from the output's folder)"
         except OSError:
