@@ -89,3 +89,16 @@ def test_the_pipe_end_puts_dev_null_in_place_of_a_closed_pipe() -> None:
         assert os.path.realpath(f"/proc/self/fd/{write_end}") == os.devnull
     finally:
         os.close(write_end)
+
+
+def test_closing_the_pipe_end_leaves_the_process_descriptor_open() -> None:
+    """`vkgc lsp`: pygls closes the stream it wrote to; Python must not then flush a closed file at exit (120)."""
+    read_end, write_end = os.pipe()
+    end = _PipeEnd(write_end)
+    try:
+        end.close()
+        assert end.closed
+        assert os.write(write_end, b"still open") == 10
+    finally:
+        os.close(read_end)
+        os.close(write_end)

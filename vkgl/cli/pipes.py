@@ -29,7 +29,8 @@ _ENDS: list[_PipeEnd] = []
 
 
 class _PipeEnd(io.RawIOBase):
-    """A descriptor written with `os.write`; once its reader is gone, `/dev/null` takes its place."""
+    """A descriptor written with `os.write`; once its reader is gone, `/dev/null` takes its place. Closing it
+    (RawIOBase's close: marks it closed) leaves the descriptor open: it is the process's, not this writer's."""
 
     def __init__(self, fd: int) -> None:
         super().__init__()
@@ -53,9 +54,6 @@ class _PipeEnd(io.RawIOBase):
         except BrokenPipeError:
             self._silence()
             return memoryview(data).nbytes
-
-    def close(self) -> None:  # the descriptor belongs to the process, not to this writer: never closed here
-        self.flush()
 
     def _silence(self) -> None:
         self.reader_gone = True
