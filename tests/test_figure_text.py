@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -32,3 +34,14 @@ def test_every_line_fits_and_no_character_is_lost(text: str, width: float) -> No
     fitted = fit_lines(text, width, 9)
     assert all(text_width(line, 9) <= width for line in fitted.split("\n") if len(line) > 1)
     assert fitted.replace("\n", "").replace(" ", "") == text.replace(" ", "")
+
+
+def test_a_number_keeps_its_unit_on_its_line() -> None:
+    """The last frame of task q's animation: its status broke as `drawer open 10.2` / `cm (goal 10.0 cm)`."""
+    text = (
+        "q_drawer_and_door   t = 19.12 s   end settle   hand  47 cm up  —  reached, drawer open 10.2 cm "
+        "(goal 10.0 cm), door open 30.4 deg (goal 30.0 deg)"
+    )
+    for width in (0.95 * 7 * 72, 150.0, 200.0, 260.0, 320.0):
+        lines = fit_lines(text, width, 10).split("\n")
+        assert not any(re.match(r"\s*(cm|s|deg)\b", line) for line in lines), lines

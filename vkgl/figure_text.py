@@ -3,8 +3,9 @@
 Matplotlib draws a title on one line however long it is: a plan's step named
 `add CrateM.turn_px_right@+2.63cm/over+20deg+1.00cm on target with hook.tip`
 ran over its neighbours' titles and past the figure's edge, where it was cut.
-`fit_lines` breaks a text between words (and inside a word longer than a
-line, after a `.`, `_`, `@`, `/` or `+`, or anywhere as a last resort), by the
+`fit_lines` breaks a text between words, never between a number and its unit
+(and inside a word longer than a line, after a `.`, `_`, `@`, `/` or `+`, or
+anywhere as a last resort), by the
 width matplotlib's own font metrics give it, so a title stays within its
 column. Only matplotlib's text layout is used: nothing is drawn.
 """
@@ -16,6 +17,7 @@ import re
 __all__ = ["fit_lines", "text_width"]
 
 _BREAKS = re.compile(r"(?<=[._@/+])")  # a long word is broken after these
+_UNIT = re.compile(r"(?:cm|mm|m|deg|rad|s|N|kg|%)(?![A-Za-z0-9_])")
 
 
 def text_width(text: str, fontsize: float) -> float:
@@ -38,7 +40,7 @@ def _fit_line(line: str, width: float, fontsize: float) -> str:
         return line
     lines: list[str] = []
     current = ""
-    for word in line.split(" "):
+    for word in _words(line):
         joined = f"{current} {word}" if current else word
         if text_width(joined, fontsize) <= width:
             current = joined
@@ -56,6 +58,17 @@ def _fit_line(line: str, width: float, fontsize: float) -> str:
     if current:
         lines.append(current)
     return "\n".join(lines)
+
+
+def _words(line: str) -> list[str]:
+    """The line's words, a unit kept with the number before it (`10.2 cm`, `47 cm)`): never broken apart."""
+    words: list[str] = []
+    for word in line.split(" "):
+        if words and _UNIT.match(word) and words[-1][-1:].isdigit():
+            words[-1] = f"{words[-1]} {word}"
+        else:
+            words.append(word)
+    return words
 
 
 def _pieces(word: str, width: float, fontsize: float) -> list[str]:
