@@ -72,10 +72,10 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
             continue
         worst = pushed if pushed.usage >= weight.usage else weight
         if worst.usage * GRIP_MARGIN > 1.0:
-            slip = _slip(problem, holding.affordance, e, worst)
+            slip = _slip(problem, holding.affordance, e, worst, weight.usage)
             return Rejection(
                 Kind.GRIP,
-                f"{slip_why(slip)} (DART's loads came to up to {PEAK_RATIO:.2f} times the estimate)",
+                slip_why(slip, f"(DART's loads came to up to {PEAK_RATIO:.2f} times the estimate)"),
                 worst.usage * GRIP_MARGIN - 1.0,
                 advice=slip_advice(slip),
             )
@@ -139,7 +139,7 @@ def _strain(
     )
 
 
-def _slip(problem: Problem, grasp: str, engagement: Engagement, strain: Strain) -> Slip:
+def _slip(problem: Problem, grasp: str, engagement: Engagement, strain: Strain, weight_usage: float) -> Slip:
     """The facts `grip_words` tells of a grip that would give way under `strain`."""
     tool = problem.effector(engagement.effector).tool
     assert tool is not None
@@ -162,6 +162,7 @@ def _slip(problem: Problem, grasp: str, engagement: Engagement, strain: Strain) 
         resists=resisting_force(float(body_type.mass.value), body_type.friction),
         factor=PUSH_FACTOR,
         strain=strain,
+        weight_usage=weight_usage,
         allowed=1.0 / GRIP_MARGIN,
     )
 

@@ -47,11 +47,12 @@ class Slip:
     resists: float  # N the body resists with (its weight times its friction)
     factor: float  # times the push is counted
     strain: Strain  # the load that decides: the larger of the push's and the weight's alone
+    weight_usage: float  # of the grip the tool's weight alone takes, held as it is at this push's start
     allowed: float  # the fraction of the grip a plan may use
 
 
-def slip_why(slip: Slip) -> str:
-    """The rejection's sentence: which load, against which limit, by how much."""
+def slip_why(slip: Slip, note: str = "") -> str:
+    """The rejection's sentence: which load, against which limit, by how much; `note` follows the limit."""
     s = slip.strain
     g = slip.grip
     twisted = s.twist / g.max_torque >= s.in_plane / g.max_force
@@ -71,10 +72,13 @@ def slip_why(slip: Slip) -> str:
         cause = f"its own weight ({slip.tool_mass:.2f} kg, {s.lever * 100:.1f} cm from the fingers), with {push}),"
     else:
         cause = f"{push}; {s.lever * 100:.1f} cm from the fingers), with its own weight ({slip.tool_mass:.2f} kg),"
+    alone = ""
+    if s.pushed and slip.weight_usage > slip.allowed:  # no lighter push would do: a deeper search will not help
+        alone = f"; its weight alone takes {slip.weight_usage:.0%}: held this way, no push with it can pass"
     return (
         f"{slip.tool} would slip in the hand: {cause} {load} "
         f"({slip.tool_type} held by `{slip.grasp}`: {g.text()}): {s.usage:.0%} of the grip, "
-        f"{s.usage / slip.allowed:.1f} times the {slip.allowed:.0%} a plan may use"
+        f"{s.usage / slip.allowed:.1f} times the {slip.allowed:.0%} a plan may use{f' {note}' if note else ''}{alone}"
     )
 
 
