@@ -25,7 +25,7 @@ def test_a_long_step_title_is_broken_between_words_and_after_punctuation_within_
     assert fitted.replace("\n", "").replace(" ", "") == _STEP.replace("\n", "").replace(" ", "")
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(
     st.text(alphabet=st.sampled_from("abcXYZ_.@/+ 0123456789"), min_size=1, max_size=120),
     st.floats(min_value=20.0, max_value=400.0),
