@@ -154,7 +154,12 @@ def _infer_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, metavar="MODULE.vkg", help="where to write the affordance module")
     p.add_argument("--report", metavar="R.json", help="also write the per-trial report (vkg-infer-report/2)")
     p.add_argument("--plot", metavar="F.png", help="also draw the posterior over types by contact")
-    p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
+    p.add_argument(
+        "--use",
+        metavar="MODULE",
+        help="module that declares the body, as the output will find it: a dotted name or a path from the output's "
+        "folder, e.g. ../bodies/crate.vkg (default stdlib.bodies.<body>; looked up before inferring)",
+    )
 
 
 def _learn_arguments(p: argparse.ArgumentParser) -> None:
