@@ -20,7 +20,7 @@ from typing import Any
 from vkgl.cli.arguments import build_parser
 from vkgl.cli.commands import COMMANDS, Command, print_diagnostics
 from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE_CLOSED
-from vkgl.cli.paths import check_inputs, check_paths
+from vkgl.cli.paths import check_inputs, check_paths, dash_means_stdout
 
 __all__ = ["build_parser", "main", "run"]
 
@@ -62,6 +62,7 @@ def _run(command: Command, args: argparse.Namespace) -> int:
     from vkgl.errors import CompileError, VkgError
 
     try:
+        dash_means_stdout(args)
         check_paths(args)
         check_inputs(args)
         return command(args)
