@@ -28,7 +28,7 @@ def test_the_grip_that_decides_is_said_first_with_what_to_change() -> None:
     lines = infeasible_reason(_PROBLEM, stats, bound=None).splitlines()  # type: ignore[arg-type]
     assert lines[0] == f"no sequence of at most 4 graphs reaches the goal: {_GRIP.why}"
     assert lines[1] == "  for the grip: lighter"
-    assert lines[2].startswith("  rejected: 1 would push harder with a held tool than its grip carries, 5 needed")
+    assert lines[2].startswith(f"  rejected: 1 {Kind.GRIP.words}, 5 needed")
     assert "    why: as said first" in lines and sum("947%" in line for line in lines) == 1
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from vkgl.lang.ir.geometry import body_mesh
+from vkgl.lang.ir.grasps import HAND_OPENING
 from vkgl.motion.arm_collision import Held
 from vkgl.plan.geometry.grip_words import Slip, Strain, slip_advice, slip_why
 from vkgl.plan.graphs.graph import Engagement, KGraph
@@ -62,6 +63,9 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
     holding = next((e for e in graph.engaged if e.body == tool and e.effector == robot), None)
     if holding is None:
         return None
+    too_wide = width_rejection(problem, tool, holding.affordance)
+    if too_wide is not None:
+        return too_wide
     for e in graph.engaged:
         spec = problem.effector(e.effector)
         if spec.tool != tool or trace.values.get(e, 0.0) <= 0.0 or problem.bodies[e.body].joint is not None:
@@ -80,6 +84,25 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
                 advice=slip_advice(slip),
             )
     return None
+
+
+def width_rejection(problem: Problem, tool: str, grasp: str) -> Rejection | None:
+    """Why the fingers cannot close on `tool` where its affordance `grasp` holds it (it is wider there than the
+    hand opens), or None. A grasp states its width (E461 keeps it within the hand); a tool held by a `fixed`
+    action (`wield`) is measured on its mesh, and nothing else stopped a 12 cm bar being planned in the hand."""
+    width = 2.0 * (_opening(problem, tool, grasp, np.linalg.inv(problem.action(tool, grasp))) - TOUCH_GAP)
+    if width <= HAND_OPENING + 1e-6:
+        return None
+    kind = problem.bodies[tool].type.name
+    hand = f"{HAND_OPENING * 100:.0f} cm"
+    return Rejection(
+        Kind.GRIP,
+        f"{tool} is {width * 100:.1f} cm across where `{grasp}` holds it ({kind}, along the effector frame's y, "
+        f"where the fingers close), and the hand's fingers open {hand} at most: they cannot close on it",
+        width - HAND_OPENING,
+        advice=f"for the hand to hold {tool}: hold it where it is at most {hand} across (`{grasp}`'s action pose, "
+        f"or a grasp of a narrower part), or a narrower {kind}",
+    )
 
 
 def push_usage(
@@ -200,4 +223,4 @@ def _opening(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray) -> fl
     return _OPENINGS[key]
 
 
-__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage"]
+__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage", "width_rejection"]

@@ -49,7 +49,7 @@ _WORDS = {
     Kind.IDLE: "had a contact that moves nothing (the same without it is shorter)",
     Kind.TABLE: "would push a body off the table or past its joint's limits",
     Kind.IK: "failed inverse kinematics",
-    Kind.GRIP: "would push harder with a held tool than its grip carries",
+    Kind.GRIP: "would push harder with a held tool than its grip carries (or hold one wider than the hand opens)",
     Kind.COLLISION: "would make a body pass through another (or the arm hit one)",
     Kind.APPROACH: "had a contact the arm cannot approach or leave in a straight line",
     Kind.TRANSIT: "found no collision-free way for the arm between contacts",
