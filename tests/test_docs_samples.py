@@ -82,8 +82,11 @@ SAMPLES: dict[str, Sample] = {
     "planning-no-plan": Sample(
         ["solve", "no_tools.vkg"], _user_folder("no_tools.vkg", lambda: _task("planning-no-plan-task"))
     ),
+    "planning-grip": Sample(
+        ["solve", "heavy_bar.vkg"], _user_folder("heavy_bar.vkg", lambda: _task("planning-grip-task"))
+    ),
 }
-TASKS = {"quickstart-task", "planning-no-plan-task"}
+TASKS = {"quickstart-task", "planning-no-plan-task", "planning-grip-task"}
 
 
 def _run(sample: Sample, tmp: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> str:

@@ -194,17 +194,24 @@ def infer(
     header: str | None = None,
     path: str = "<inferred>",
     grasps: Sequence[Affordance] = (),
+    check_from: str | os.PathLike[str] | None = None,
 ) -> InferenceResult:
     """Infer the affordances of the explored body; the result holds the module's IR and source.
 
     `body_use` is what the generated module imports to know the body
     (default `stdlib.bodies.<body>`); `header` its leading comment; `grasps`
     (the kept grasps, `learn_grasps`) are added after the inferred affordances.
+    `check_from`: where the module will be written; the module `body_use` names
+    must then be found from there and declare the body, or InputError before
+    anything is inferred (an output that is not a file, `/dev/stdout`, is
+    checked as if saved in the working directory).
     """
     from vkgl.infer.library import infer_library
 
     use = body_use or f"stdlib.bodies.{trials.body.lower()}"
     _check_use(use)
+    if check_from is not None:
+        _check_body_found(use, trials.body, Path(check_from), given=body_use is not None)
     text = header or f"Inferred from {len(trials)} trials. Do not edit."
     return infer_library(trials, body_use=use, header=text, path=path, grasps=grasps)
 
@@ -219,6 +226,15 @@ def learn_grasps(body: Body, *, seed: int = 0) -> tuple[GraspTrials, list[Afford
 
     trials = try_grasps(body, seed=seed)
     return trials, kept_grasps(body, trials)
+
+
+def _check_body_found(use: str, body: str, destination: Path, *, given: bool) -> None:
+    from vkgl.atomic import Way, decide
+    from vkgl.lang.body_use import check_body_use
+
+    if decide(destination)[0] is not Way.REPLACE:  # a stream or a device: no folder the module will be read from
+        destination = Path.cwd() / f"{body.lower()}.vkg"
+    check_body_use(use, body, destination, given=given)
 
 
 _MODULE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*")

@@ -189,6 +189,11 @@ def _final_target(path: Path) -> Path:
     return Path(os.path.realpath(path))
 
 
+def stream_descriptor(path: str | Path) -> int | None:
+    """The descriptor of this process's own stream `path` names (`/dev/stdout` 1, `/dev/fd/N` N), else None."""
+    return _stream_fd(Path(path))
+
+
 def _stream_fd(path: Path) -> int | None:
     """The descriptor of `/dev/stdout`, `/dev/fd/N` or `/proc/self/fd/N`: this process's own streams."""
     text = os.path.normpath(str(path)) if str(path).startswith("/") else ""
@@ -248,4 +253,13 @@ def _kind(mode: int) -> str:
     return "a special file"
 
 
-__all__ = ["Way", "check_destination", "decide", "discard_temporaries", "write_bytes", "write_text", "writing"]
+__all__ = [
+    "Way",
+    "check_destination",
+    "decide",
+    "discard_temporaries",
+    "stream_descriptor",
+    "write_bytes",
+    "write_text",
+    "writing",
+]

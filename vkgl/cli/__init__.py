@@ -3,7 +3,9 @@
 Exit codes (all sub-commands, `vkgl.cli.exit_codes`): 0 success; 1 errors in
 the input, usage errors included; 2 no plan within the search limits; 3
 timeout; 4 internal error (`--debug` shows the traceback); 5 a plan carried
-out in physics missed its goal (`solve --execute`); 130 interrupted.
+out in physics missed its goal (`solve --execute`); 130 interrupted; 141 the
+reader of the output went away (`| head -1`) and the command otherwise
+succeeded (`vkgl.cli.pipes`).
 """
 
 from __future__ import annotations
@@ -17,18 +19,28 @@ from typing import Any
 
 from vkgl.cli.arguments import build_parser
 from vkgl.cli.commands import COMMANDS, Command, print_diagnostics
-from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED
-from vkgl.cli.paths import check_inputs, check_paths
+from vkgl.cli.exit_codes import EXIT_INPUT, EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_OK, EXIT_PIPE_CLOSED
+from vkgl.cli.paths import check_inputs, check_paths, dash_means_stdout
 
 __all__ = ["build_parser", "main", "run"]
 
 
 def run() -> None:
-    """The `vkgc` console script: Ctrl-C ends it at once (`vkgl.cli.interrupt`); exit with `main()`'s code."""
-    from vkgl.cli import interrupt
+    """The `vkgc` console script: Ctrl-C ends it at once (`vkgl.cli.interrupt`); exit with `main()`'s code.
+
+    A closed pipe (`vkgc solve t.vkg | head -1`) silences the output and the
+    command runs on to write its files (`vkgl.cli.pipes`); a success is then
+    exit 141, as a shell reports for Unix tools.
+    """
+    from vkgl.cli import interrupt, pipes
 
     interrupt.install()
-    sys.exit(main())
+    pipes.install()
+    try:
+        code = main()
+    except SystemExit as exc:  # argparse's --help and usage errors
+        code = EXIT_OK if exc.code is None else exc.code if isinstance(exc.code, int) else EXIT_INPUT
+    sys.exit(EXIT_PIPE_CLOSED if pipes.closed_by_reader() and code == EXIT_OK else code)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -50,6 +62,7 @@ def _run(command: Command, args: argparse.Namespace) -> int:
     from vkgl.errors import CompileError, VkgError
 
     try:
+        dash_means_stdout(args)
         check_paths(args)
         check_inputs(args)
         return command(args)

@@ -119,7 +119,8 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
         prog="vkgc",
         description="Compile, explore, infer and plan with VKG (virtual kinematic graph) programs.",
         epilog="exit codes: 0 ok, 1 input errors (usage errors too), 2 no plan, 3 timeout, 4 internal error, "
-        "5 plan executed in physics but the goal was not reached (solve --execute), 130 interrupted",
+        "5 plan executed in physics but the goal was not reached (solve --execute), 130 interrupted, "
+        "141 the output's reader went away (| head) after a success",
     )
     parser.add_argument("--version", action=_Version, help="print the version")
     parser.add_argument("--debug", action="store_true", help="show the traceback of internal errors")
@@ -153,7 +154,12 @@ def _infer_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, metavar="MODULE.vkg", help="where to write the affordance module")
     p.add_argument("--report", metavar="R.json", help="also write the per-trial report (vkg-infer-report/2)")
     p.add_argument("--plot", metavar="F.png", help="also draw the posterior over types by contact")
-    p.add_argument("--use", metavar="MODULE", help="module that declares the body (default stdlib.bodies.<body>)")
+    p.add_argument(
+        "--use",
+        metavar="MODULE",
+        help="module that declares the body, as the output will find it: a dotted name or a path from the output's "
+        "folder, e.g. ../bodies/crate.vkg (default stdlib.bodies.<body>; looked up before inferring)",
+    )
 
 
 def _learn_arguments(p: argparse.ArgumentParser) -> None:
@@ -196,7 +202,7 @@ def _lsp_arguments(p: argparse.ArgumentParser) -> None:
 def _solve_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("taskfile", metavar="TASKFILE", help=".vkg file that declares the task")
     p.add_argument("--task", metavar="NAME", help="the task to solve (needed when the file declares several)")
-    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/7 JSON")
+    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/7 JSON (-: stdout, the text to stderr)")
     p.add_argument("--plot", metavar="F.png", help="draw the plan (one panel per mode)")
     p.add_argument(
         "--max-depth",

@@ -7,3 +7,4 @@ EXIT_TIMEOUT = 3  # `solve`: the search ran out of time
 EXIT_INTERNAL = 4  # a bug: one line says so, `--debug` shows the traceback
 EXIT_NOT_REACHED = 5  # `solve --execute`: carried out in physics, the plan missed its goal
 EXIT_INTERRUPTED = 130  # Ctrl-C
+EXIT_PIPE_CLOSED = 141  # 128 + SIGPIPE: the reader of stdout/stderr went away (`| head -1`); work finished

@@ -37,6 +37,13 @@ OUTPUT_FILES: dict[str, tuple[str, ...]] = {
 }
 
 
+def dash_means_stdout(args: argparse.Namespace) -> None:
+    """An output named `-` is the standard output (`--json -`), as Unix tools read it: never a file called `-`."""
+    for option in OUTPUT_FILES.get(args.command, ()):
+        if getattr(args, option, None) == "-":
+            setattr(args, option, "/dev/stdout")
+
+
 def check_inputs(args: argparse.Namespace) -> None:
     """Raise CompileError (diagnostics naming each file, no position) for input files that cannot be read.
 
@@ -82,7 +89,8 @@ def check_paths(args: argparse.Namespace) -> None:
                     "write to another file, so nothing is lost"
                 )
         seen.append((option, path))
-    if args.command == "infer" and args.output:
+    if args.command == "infer" and args.output and check_destination(Path(args.output)) is Way.REPLACE:
+        # not a stream: `-o /dev/stdout > out.vkg` names the shell's fresh file, which replaces nothing
         _check_module_output(Path(args.output), args.use)
 
 

@@ -26,6 +26,7 @@ from scipy.spatial import ConvexHull
 from vkgl.atomic import writing
 from vkgl.errors import InputError
 from vkgl.execute.gif import write_gif
+from vkgl.figure_text import fit_lines
 from vkgl.formats.execution_report import ExecutionReport, joint_value_text
 from vkgl.lang.ir.geometry import shape_mesh
 from vkgl.lang.ir.nodes import Body, UnionShape
@@ -33,6 +34,7 @@ from vkgl.motion.picture_paths import PHASE_STYLES
 
 MAX_FRAMES = 240  # longer executions are sped up to keep the file small
 FPS = 20
+_TITLE_ROOM = 0.95  # of the figure's width a line of the title may span
 COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]
 TRACE_SECONDS = 4.0
 """s of simulated time: how much of the effector's path trails behind it."""
@@ -138,7 +140,9 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
         shoved = f" ({', '.join(d.body for d in report.disturbed)})" if report.disturbed else ""
         status = f"  —  {report.status}{shoved}{_openings(report)}" if i == indices[-1] else ""
         height = f"   hand {(effector[i, 2] - table_z) * 100:3.0f} cm up"
-        title.set_text(f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{height}{status}")
+        # the last frame's status (goal openings, bodies shoved) made the line wider than the figure: wrapped
+        text = f"{report.task}   t = {frames.t[i]:5.2f} s   {frames.label[i]}{height}{status}"
+        title.set_text(fit_lines(text, _TITLE_ROOM * fig.get_figwidth() * 72, 10))
 
     moving: list[Any] = [patch for patches in (*real_patches.values(), *ghost_patches.values()) for patch in patches]
     moving += [arm_line, *traces.values(), tip, title]

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from vkgl.atomic import write_bytes
+from vkgl.figure_text import fit_lines
 from vkgl.infer.affordances import _direction_label, _left_of
 from vkgl.infer.models import TYPES
 
@@ -42,7 +43,8 @@ def plot_posteriors(result: InferenceResult, path: str | Path) -> None:
     axes[0][0].set_ylabel("posterior of the motion type")
     handles = [plt.Rectangle((0, 0), 1, 1, color=COLORS[k]) for k in TYPES]
     fig.legend(handles, TYPES, loc="upper center", ncol=len(TYPES), frameon=False)
-    fig.suptitle(f"{result.body}: what the body did, by where it was pushed", y=0.02, va="bottom", fontsize=9)
+    heading = fit_lines(f"{result.body}: what the body did, by where it was pushed", 0.95 * 4.5 * len(panels) * 72, 9)
+    fig.suptitle(heading, y=0.02, va="bottom", fontsize=9)
     fig.tight_layout(rect=(0, 0.05, 1, 0.9))
     buffer = io.BytesIO()
     try:  # rendered in memory, then written by the one writer (never over a device, never half a file)

@@ -23,6 +23,7 @@ import numpy as np
 
 from vkgl.atomic import write_bytes
 from vkgl.errors import InputError
+from vkgl.figure_text import fit_lines
 from vkgl.formats.trials import Trials
 
 AXES = "xyz"
@@ -51,7 +52,8 @@ def plot_trials(trials: Trials, path: str | Path) -> None:
     top.set_aspect("equal", adjustable="datalim")
     top.set_xlabel("x (m)")
     top.set_ylabel("y (m)")
-    top.set_title(f"{trials.body}: body paths from above ({len(trials)} trials)")
+    # the body's name may be long: the title wraps within its panel (5.9 of the figure's 12 inches)
+    top.set_title(fit_lines(f"{trials.body}: body paths from above ({len(trials)} trials)", 5.9 * 72, 12))
     turn.set_xlabel("t (s)")
     turn.set_ylabel("yaw change (deg)")
     turn.set_title("turn of the body over time")

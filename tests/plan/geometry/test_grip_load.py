@@ -14,6 +14,7 @@ import vkgl
 import vkgl.plan.geometry.grip_load as grip_load
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import build_problem
+from vkgl.plan.problem.rejection import Kind
 
 EXAMPLES = Path(__file__).resolve().parents[3] / "examples" / "tasks"
 
@@ -31,8 +32,12 @@ def test_a_block_too_heavy_for_the_grip_is_not_pushed_with_the_stick(monkeypatch
     monkeypatch.setattr(grip_load, "resisting_force", lambda mass, friction: 60.0)
     plan = vkgl.solve(vkgl.compile(EXAMPLES / "b_stick_push.vkg"))
     assert plan.status == "infeasible"
-    assert "would push harder with a held tool than its grip carries" in plan.reason
-    assert "(60.0 N: its weight times its friction)" in plan.reason and "the push counted twice" in plan.reason
+    first, change = plan.reason.splitlines()[:2]  # the grip decides: said first, then what to change
+    assert first.startswith("no sequence of at most 6 graphs reaches the goal: stick would slip in the hand: ")
+    assert "stick.tip pushing block (60.0 N: its weight times its friction" in first and "counted twice" in first
+    assert "in the pads' plane, where they hold 70.0 N" in first
+    assert change.startswith("  for the grip to hold stick: a lighter or more slippery block")
+    assert f"6 {Kind.GRIP.words}" in plan.reason
 
 
 def test_the_fingers_closed_on_a_held_tool_are_checked_where_the_executor_closes_them(tmp_path: Path) -> None:
@@ -61,3 +66,51 @@ def test_the_fingers_closed_on_a_held_tool_are_checked_where_the_executor_closes
     hits = arm.overlap(q, poses, ignore={"hook"}, held=held)
     assert {c.body_b for c in hits} == {"target"} and {c.body_a for c in hits} <= set(arm.finger_links)
     assert max(c.depth for c in hits) == pytest.approx(0.0065, abs=0.002)
+
+
+_WIDE_BAR = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.affordances.block
+
+body WideBar {
+    shape box (40, 12, 2) cm
+    mass 0.1 kg
+    frame tip = (20, 0, 0) cm
+}
+
+affordances WideBar {
+    affordance wield {
+        action fixed at (-15, 0, 0) cm yaw 0deg
+        motion free
+    }
+}
+
+correspondences { WideBar.tip ~ fingertip }
+
+scene bench {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.7, 0) m yaw 0deg
+    bar : WideBar on table at (0.3, -0.4) m yaw 0deg
+}
+
+task push {
+    scene bench
+    goal block at (0.95, 0) m yaw 0deg within 1 cm, 3deg
+    search { max_depth 3 }
+}
+"""
+
+
+def test_a_tool_wider_than_the_hand_opens_is_never_held(tmp_path: Path) -> None:
+    """A 12 cm bar held by a `fixed` action across its width: the fingers open 8 cm (it was planned, in the hand)."""
+    program = vkgl.compile_source(_WIDE_BAR, str(tmp_path / "wide.vkg"), base_dir=tmp_path)
+    problem = build_problem(program, program.task("push"))
+    rejection = grip_load.width_rejection(problem, "bar", "wield")
+    assert rejection is not None and rejection.kind == Kind.GRIP
+    assert rejection.why.startswith("bar is 12.0 cm across where `wield` holds it")
+    assert "the hand's fingers open 8 cm at most" in rejection.why
+    assert rejection.advice.startswith("for the hand to hold bar: hold it where it is at most 8 cm across")
+    stick = vkgl.compile(EXAMPLES / "b_stick_push.vkg")
+    assert grip_load.width_rejection(build_problem(stick, stick.task()), "stick", "wield") is None  # 2 cm

@@ -128,3 +128,31 @@ def test_the_sampling_is_fine_enough_for_the_panda(plans) -> None:
         for segment in step.path:
             points = np.array([fk(q)[:3, 3] for q in joint_samples(segment.joints, MAX_JOINT_STEP)])
             assert np.linalg.norm(np.diff(points, axis=0), axis=1).max() < 0.025
+
+
+def test_long_titles_wrap_within_their_columns_and_the_figure(plans) -> None:
+    """A long task name and a family member's long affordance name: every title stays inside the figure and
+    clear of its neighbours' (they were drawn on one line, over each other and cut at the figure's edge)."""
+    from dataclasses import replace
+    from itertools import pairwise
+
+    import matplotlib.pyplot as plt
+
+    plan = plans["b_stick_push"]
+    member = "turn_px_right_family_member@+2.63cm/over+20deg+1.00cm"
+    steps = [replace(s, affordance=s.affordance.replace("push_center_px", member)) for s in plan.steps]
+    long = replace(plan, task="push_the_block_beyond_the_fingertips_reach_" * 3, steps=steps)
+    fig = plan_figure(long)
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        figure = fig.bbox
+        titles = [ax.title for ax in fig.axes if ax.get_title()]
+        boxes = [t.get_window_extent(renderer) for t in [*titles, fig._suptitle]]
+        assert all(figure.x0 <= b.x0 and b.x1 <= figure.x1 and b.y1 <= figure.y1 for b in boxes)
+        for left, right in pairwise(boxes[: len(titles)]):
+            assert left.x1 < right.x0
+        assert boxes[-1].y0 > max(b.y1 for b in boxes[:-1])  # the heading above the column titles
+        assert fig._suptitle.get_text().endswith("3 graphs, 2 steps")
+    finally:
+        plt.close(fig)

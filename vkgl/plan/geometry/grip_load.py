@@ -21,14 +21,16 @@ from __future__ import annotations
 import numpy as np
 
 from vkgl.lang.ir.geometry import body_mesh
+from vkgl.lang.ir.grasps import HAND_OPENING
 from vkgl.motion.arm_collision import Held
+from vkgl.plan.geometry.grip_words import Slip, Strain, slip_advice, slip_why
 from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.hulls import kept_width
 from vkgl.plan.problem.over import tool_parts
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.grip import TOUCH_GAP, grip_for, push_load, resisting_force, tool_width
+from vkgl.robot.grip import DEFAULT_FRICTION, TOUCH_GAP, grip_for, push_load, resisting_force, tool_width
 
 PUSH_FACTOR = 2.0
 """How much harder than the estimate a push may load the grip: the estimate leaves out what the tool's contact
@@ -55,33 +57,52 @@ every such push broke the grip, whatever the push's own moment took off the weig
 
 def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndarray, tool: str) -> Rejection | None:
     """Why the grip on `tool` (held by the hand at joints `q` at the start of the mode) would give way under a
-    push the mode makes with it, or None."""
+    push the mode makes with it, or None. The rejection says which load decides (the push, or the tool's weight
+    alone), against which limit, by how much, and (`Rejection.advice`) what the task's author can change."""
     robot = problem.robot_effector.name
     holding = next((e for e in graph.engaged if e.body == tool and e.effector == robot), None)
     if holding is None:
         return None
+    too_wide = width_rejection(problem, tool, holding.affordance)
+    if too_wide is not None:
+        return too_wide
     for e in graph.engaged:
         spec = problem.effector(e.effector)
         if spec.tool != tool or trace.values.get(e, 0.0) <= 0.0 or problem.bodies[e.body].joint is not None:
             continue
-        load = push_usage(problem, holding.affordance, e, trace.start[tool], trace.end[tool], q)
-        if load is None:
+        move = (holding.affordance, e, trace.start[tool], trace.end[tool], q)
+        pushed, weight = _strain(problem, *move, PUSH_FACTOR), _strain(problem, *move, 0.0)
+        if pushed is None or weight is None:
             continue
-        pushed, force = load
-        weight = push_usage(problem, holding.affordance, e, trace.start[tool], trace.end[tool], q, 0.0)
-        usage = max(pushed, weight[0] if weight is not None else 0.0)
-        if usage * GRIP_MARGIN > 1.0:
-            grip = grip_for(problem.affordance(tool, holding.affordance).action, problem.bodies[tool].type.friction)
+        worst = pushed if pushed.usage >= weight.usage else weight
+        if worst.usage * GRIP_MARGIN > 1.0:
+            slip = _slip(problem, holding.affordance, e, worst, weight.usage)
             return Rejection(
                 Kind.GRIP,
-                f"{spec.name} would push {e.body} ({force:.1f} N: its weight times its friction) with "
-                f"{usage:.0%} of what the grip on {tool} carries ({grip.text()}; the push counted twice, for what "
-                f"the estimate leaves out, or the tool's weight alone if that is more), more than the "
-                f"{1.0 / GRIP_MARGIN:.0%} a plan may use (DART's loads came to up to {PEAK_RATIO:.2f} times the "
-                "estimate): it would slip in the hand",
-                usage * GRIP_MARGIN - 1.0,
+                slip_why(slip, f"(DART's loads came to up to {PEAK_RATIO:.2f} times the estimate)"),
+                worst.usage * GRIP_MARGIN - 1.0,
+                advice=slip_advice(slip),
             )
     return None
+
+
+def width_rejection(problem: Problem, tool: str, grasp: str) -> Rejection | None:
+    """Why the fingers cannot close on `tool` where its affordance `grasp` holds it (it is wider there than the
+    hand opens), or None. A grasp states its width (E461 keeps it within the hand); a tool held by a `fixed`
+    action (`wield`) is measured on its mesh, and nothing else stopped a 12 cm bar being planned in the hand."""
+    width = 2.0 * (_opening(problem, tool, grasp, np.linalg.inv(problem.action(tool, grasp))) - TOUCH_GAP)
+    if width <= HAND_OPENING + 1e-6:
+        return None
+    kind = problem.bodies[tool].type.name
+    hand = f"{HAND_OPENING * 100:.0f} cm"
+    return Rejection(
+        Kind.GRIP,
+        f"{tool} is {width * 100:.1f} cm across where `{grasp}` holds it ({kind}, along the effector frame's y, "
+        f"where the fingers close), and the hand's fingers open {hand} at most: they cannot close on it",
+        width - HAND_OPENING,
+        advice=f"for the hand to hold {tool}: hold it where it is at most {hand} across (`{grasp}`'s action pose, "
+        f"or a grasp of a narrower part), or a narrower {kind}",
+    )
 
 
 def push_usage(
@@ -97,6 +118,23 @@ def push_usage(
     `engagement` by a tool held by its affordance `grasp`, the tool moving from `tool_start` to `tool_end` (world
     poses), the arm at joints `q` at the push's start; the resisting force counted `factor` times. None when the
     tool's contact does not move."""
+    strain = _strain(problem, grasp, engagement, tool_start, tool_end, q, factor)
+    if strain is None:
+        return None
+    body = problem.bodies[engagement.body].type
+    return strain.usage, resisting_force(float(body.mass.value), body.friction)
+
+
+def _strain(
+    problem: Problem,
+    grasp: str,
+    engagement: Engagement,
+    tool_start: np.ndarray,
+    tool_end: np.ndarray,
+    q: np.ndarray,
+    factor: float,
+) -> Strain | None:
+    """`push_usage`'s load, in parts (`grip_words.Strain`); with `factor` 0 the tool's weight alone."""
     spec = problem.effector(engagement.effector)
     tool = spec.tool
     assert tool is not None
@@ -106,11 +144,50 @@ def push_usage(
     if float(np.linalg.norm(direction)) < 1e-6:
         return None
     grip = grip_for(problem.affordance(tool, grasp).action, problem.bodies[tool].type.friction)
-    force = resisting_force(float(body.type.mass.value), body.type.friction)
+    force = factor * resisting_force(float(body.type.mass.value), body.type.friction)
     tool_mass = float(problem.bodies[tool].type.mass.value)
     effector = problem.arm.fk(q)
-    load = push_load(effector, start, direction, factor * force, tool_start[:3, 3], tool_mass)
-    return grip.usage(*load), force
+    centre = tool_start[:3, 3]
+    load, torque = push_load(effector, start, direction, force, centre, tool_mass)
+    weight_alone = grip.usage(*push_load(effector, start, direction, 0.0, centre, tool_mass))
+    push_alone = grip.usage(*push_load(effector, start, direction, force, centre, 0.0))
+    by_weight = weight_alone >= push_alone
+    return Strain(
+        usage=grip.usage(load, torque),
+        in_plane=float(np.hypot(load[0], load[2])),
+        twist=abs(float(torque[1])),
+        pushed=factor > 0.0,
+        by_weight=by_weight,
+        lever=float(np.linalg.norm((centre if by_weight else start) - effector[:3, 3])),
+    )
+
+
+def _slip(problem: Problem, grasp: str, engagement: Engagement, strain: Strain, weight_usage: float) -> Slip:
+    """The facts `grip_words` tells of a grip that would give way under `strain`."""
+    tool = problem.effector(engagement.effector).tool
+    assert tool is not None
+    tool_type = problem.bodies[tool].type
+    body_type = problem.bodies[engagement.body].type
+    action = problem.affordance(tool, grasp).action
+    return Slip(
+        tool=tool,
+        tool_type=tool_type.name,
+        tool_mass=float(tool_type.mass.value),
+        tool_friction=DEFAULT_FRICTION if tool_type.friction is None else tool_type.friction,
+        friction_stated=tool_type.friction is not None,
+        grasp=grasp,
+        stated_force=getattr(action, "force", None) is not None,
+        grip=grip_for(action, tool_type.friction),
+        effector=engagement.effector,
+        body=engagement.body,
+        body_mass=float(body_type.mass.value),
+        body_friction=DEFAULT_FRICTION if body_type.friction is None else body_type.friction,
+        resists=resisting_force(float(body_type.mass.value), body_type.friction),
+        factor=PUSH_FACTOR,
+        strain=strain,
+        weight_usage=weight_usage,
+        allowed=1.0 / GRIP_MARGIN,
+    )
 
 
 def held(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray, acts_on: frozenset[str] = frozenset()) -> Held:
@@ -146,4 +223,4 @@ def _opening(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray) -> fl
     return _OPENINGS[key]
 
 
-__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage"]
+__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage", "width_rejection"]

@@ -49,7 +49,7 @@ _WORDS = {
     Kind.IDLE: "had a contact that moves nothing (the same without it is shorter)",
     Kind.TABLE: "would push a body off the table or past its joint's limits",
     Kind.IK: "failed inverse kinematics",
-    Kind.GRIP: "would push harder with a held tool than its grip carries",
+    Kind.GRIP: "would push harder with a held tool than its grip carries (or hold one wider than the hand opens)",
     Kind.COLLISION: "would make a body pass through another (or the arm hit one)",
     Kind.APPROACH: "had a contact the arm cannot approach or leave in a straight line",
     Kind.TRANSIT: "found no collision-free way for the arm between contacts",
@@ -86,6 +86,9 @@ class Rejection:
     transit's end. Never an arm's link, the table, or a keep-out region. The search reads them, not the words:
     a body kept still is met when a rejection names it here (`vkgl.plan.search.clutter.still`), and a body
     the arm's checks name here may be pushed aside first (`vkgl.plan.search.arm_aside`).
+
+    `advice`, where the check knows it, says what the task's author can change; when its kind decides a "no
+    plan" (`vkgl.plan.search.stats.infeasible_reason`), the reason says the closest miss's why and advice first.
     """
 
     kind: Kind
@@ -93,6 +96,7 @@ class Rejection:
     excess: float = 0.0
     between: tuple[str, ...] = ()  # the two parts that overlap where they are placed (not swept into each other)
     bodies: frozenset[str] = frozenset()  # the scene's bodies found in the way (see above)
+    advice: str = ""  # what the task's author can change to get past it (the grip: a lighter tool, ...)
 
 
 __all__ = ["Kind", "Rejection"]

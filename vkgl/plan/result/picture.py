@@ -23,10 +23,12 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.figure_text import fit_lines
 from vkgl.motion.picture_paths import draw_tracks, legend_handles, step_tracks
 
 _COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 _COLUMN_WIDTH = 3.6  # inches per mode
+_TITLE_ROOM = 0.92  # of a column's (or the figure's) width a title's line may span: a gap between neighbours
 _EDGE_STYLE = {"fixed": "solid", "prismatic": "dashed", "revolute": "dashdot", "free": "dotted"}
 
 
@@ -91,12 +93,14 @@ def plan_figure(plan: Any) -> Any:
     for k, (title, start, end, hand) in enumerate(modes):
         _draw_scene(axes[0][k], plan, start, end, hand, colors, outlines, limits)
         draw_tracks(axes[0][k], tracks[k], (0, 1), step=k)
-        axes[0][k].set_title(title, fontsize=9)
+        axes[0][k].set_title(fit_lines(title, _TITLE_ROOM * _COLUMN_WIDTH * 72, 9), fontsize=9)
         _draw_side(axes[1][k], plan, start, end, hand, colors, solids, (limits[0], heights))
         draw_tracks(axes[1][k], tracks[k], (0, 2), step=k)
         _draw_graph(axes[2][k], plan.graphs[k], colors)
     axes[1][0].set_ylabel("z (m)", fontsize=7)
-    fig.suptitle(f"{plan.task}: {plan.depth} graphs, {len(plan.steps)} steps", fontsize=11)
+    steps = f"{len(plan.steps)} step{'s' if len(plan.steps) != 1 else ''}"
+    heading = f"{plan.task}: {plan.depth} graphs, {steps}"
+    fig.suptitle(fit_lines(heading, _TITLE_ROOM * _COLUMN_WIDTH * len(modes) * 72, 11), fontsize=11)
     handles = [*legend_handles(), Line2D([], [], color="red", ls="--", lw=1, label="goal")]
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=7, frameon=False)
     fig.tight_layout(rect=(0, 0.03, 1, 1))

@@ -40,6 +40,7 @@ class SearchStats:
     depth_reached: int = 1
     rejections: Counter = field(default_factory=Counter)
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
+    advice: dict[str, str] = field(default_factory=dict)  # kind: what to change, of its example (if it says)
     watch: frozenset[str] = frozenset()  # bodies kept still (`search(still=)`): a rejection naming one meets it
     met: set[str] = field(default_factory=set)  # those of `watch` that some rejection named
     arm_hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
@@ -63,6 +64,7 @@ class SearchStats:
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
             self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
+            self.advice[rejection.kind] = rejection.advice
         self.met.update(rejection.bodies & self.watch)
 
 
@@ -92,14 +94,29 @@ def summary(stats: SearchStats) -> str:
     return ", ".join(f"{stats.rejections[kind]} {Kind(kind).words}" for kind in kinds(stats))
 
 
-def closest(stats: SearchStats, kind: str) -> list[str]:
-    """The closest miss of one kind, as indented lines: the steps of its sequence, one a line, then why."""
+def closest(stats: SearchStats, kind: str, said: bool = False) -> list[str]:
+    """The closest miss of one kind, as indented lines: the steps of its sequence, one a line, then why and what
+    to change where its check says (unless `said` first already)."""
     _, label, why = stats.examples[kind]
     steps = label.split(" -> ")
     lines = [f"  {stats.rejections[kind]} {Kind(kind).words}; the closest:"]
     lines += [f"    {'-> ' if k else ''}{step}" for k, step in enumerate(steps)]
-    lines.append(f"    why: {why}")
+    if said:
+        lines.append("    why: as said first")
+    else:
+        lines.append(f"    why: {why}")
+        if stats.advice.get(kind):
+            lines.append(f"    {stats.advice[kind]}")
     return lines
+
+
+def decisive(stats: SearchStats) -> str | None:
+    """The kind of rejection that decides a "no plan", when its check says what to change (the grip): the one
+    that leads (`kinds`: it got furthest, and most often among those that got as far). None otherwise."""
+    leading = kinds(stats)
+    if not leading or not stats.advice.get(leading[0]) or leading[0] not in stats.examples:
+        return None
+    return leading[0]
 
 
 def accounting(stats: SearchStats) -> str:
@@ -127,7 +144,9 @@ def accounting(stats: SearchStats) -> str:
 def infeasible_reason(problem: Problem, stats: SearchStats, bound: Bound) -> str:
     """A one-line summary (what scripts print), then an indented line per kind with its closest miss.
 
-    When the bound cut every sequence at the start, the summary says why with numbers instead. The
+    When the bound cut every sequence at the start, the summary says why with numbers instead. When the kind
+    that leads says what to change (`decisive`: the grip), the summary is its closest miss's why, and what to
+    change follows on a line of its own before the counts. The
     `--max-depth` hint, when the bound says a longer sequence could reach the goal, is a line of its own.
     """
     head = f"no sequence of at most {problem.max_depth} graphs reaches the goal"
@@ -135,6 +154,11 @@ def infeasible_reason(problem: Problem, stats: SearchStats, bound: Bound) -> str
         needed = "" if math.isinf(stats.shortest_cut) else f"the goal needs at least {stats.shortest_cut:g} graphs"
         detail = ": ".join(part for part in (bound.explain(), needed) if part)
         lines = [f"{head}: {detail}" if detail else head]
+    elif (lead := decisive(stats)) is not None:  # its why, then what to change, before the counts
+        lines = [f"{head}: {stats.examples[lead][2]}", f"  {stats.advice[lead]}", f"  rejected: {summary(stats)}"]
+        for kind in kinds(stats):
+            lines += closest(stats, kind, said=kind == lead)
+        lines.append(f"  ({accounting(stats)})")
     else:
         detail = summary(stats)
         lines = [f"{head}: {detail}" if detail else head]
@@ -187,6 +211,7 @@ def timeout_reason(problem: Problem, stats: SearchStats, budget: float | None = 
         + (f"; the closest miss: {closest}" if closest else "")
         + "\n"
         + (f"why the closest miss failed: {why}\n" if why else "")
+        + (f"{advice}\n" if (advice := closest_advice(stats)) else "")
         + (f"rejected so far: {summary(stats)}\n" if stats.rejections else "")
         + "raise `timeout` in the task's search block or pass --timeout"
     )
@@ -197,9 +222,18 @@ def closest_miss(stats: SearchStats) -> tuple[str, str]:
     sequence and why it failed, in words; empty when nothing was rejected."""
     if not stats.examples:
         return "", ""
-    kind = min(stats.examples, key=lambda k: (-Kind(k).stage, stats.examples[k][0], k))
-    _, label, why = stats.examples[kind]
+    _, label, why = stats.examples[_closest_kind(stats)]
     return label, why
+
+
+def closest_advice(stats: SearchStats) -> str:
+    """What to change for `closest_miss` to pass, where its check says (the grip); else empty."""
+    return stats.advice.get(_closest_kind(stats), "") if stats.examples else ""
+
+
+def _closest_kind(stats: SearchStats) -> str:
+    """The kind whose example got farthest towards a plan: the latest stage, then the smallest excess."""
+    return min(stats.examples, key=lambda k: (-Kind(k).stage, stats.examples[k][0], k))
 
 
 class Progress:
