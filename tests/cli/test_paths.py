@@ -111,7 +111,7 @@ def test_solve_feeds_a_fifo_and_leaves_it_a_fifo(examples: Path, capsys) -> None
         received = os.read(reader, 1 << 20)
     finally:
         os.close(reader)
-    assert json.loads(received)["format"] == "vkg-plan/7"
+    assert json.loads(received)["format"] == "vkg-plan/8"
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
 
 
@@ -128,8 +128,8 @@ def test_solve_json_to_dev_stdout_prints_it_with_the_rest(examples: Path, capsys
     out = capsys.readouterr().out
     assert out.startswith("task a_push: solved")
     document = out[out.index("\n{") + 1 : out.rindex("}\n") + 1]
-    assert json.loads(document)["format"] == "vkg-plan/7"
-    assert out.endswith("/dev/stdout: plan as vkg-plan/7\n")
+    assert json.loads(document)["format"] == "vkg-plan/8"
+    assert out.endswith("/dev/stdout: plan as vkg-plan/8\n")
 
 
 def test_a_device_output_is_not_checked_as_a_folder_to_write_in(monkeypatch) -> None:

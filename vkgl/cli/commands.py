@@ -212,7 +212,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
         print(_search_details(plan.details))
     if args.json:
         write_text(args.json, json.dumps(plan.to_json(), indent=1) + "\n")
-        print(f"{args.json}: plan as vkg-plan/7")
+        print(f"{args.json}: plan as vkg-plan/8")
     if args.plot and plan.status == "solved":
         from vkgl.plan.result.picture import plot_plan
 
