@@ -157,7 +157,8 @@ def tool_only(name: str) -> bool:
 
 def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | None:
     """The affordance called `name` among `affordances`, or the member `name` names (`push@+3.12cm`, a slide rolled
-    `push/over+20deg+1.00cm`, an arc's member rolled `push@-1.74cm/over+20deg+0.50cm`), renamed so; None when there
+    `push/over+20deg+1.00cm`, an arc's member rolled `push@-1.74cm/over+20deg+0.50cm`, a straight member rolled
+    `push@-4.00cm/straight/over+20deg+0.50cm`), renamed so; None when there
     is none (or the offset is outside the family's band by more than its rounding)."""
     over = over_pose(name)
     if over is not None:
