@@ -76,7 +76,7 @@ FLOW = [
     ("search", "plan/search: graph sequences\n(graphs: successors, rollout)", STAGE),
     ("feasible?", "plan/task_space: closed form, SLSQP;\nplan/geometry: sweeps (motion/collision)", STAGE),
     ("arm paths", "plan/arm: straight moves, contact chains;\ntransits (motion/transit, OMPL)", STAGE),
-    ("the plan", "plan/result: Plan → text, vkg-plan/7, PNG", DATA),
+    ("the plan", "plan/result: Plan → text, vkg-plan/8, PNG", DATA),
     ("carry it out", "execute: scene world, the arm in it,\nsteps (motion/approach, moves)", STAGE),
     ("goal reached?", "execute/goal_checks; a re-solve\ngoes back to the driver (api)", STAGE),
     ("report", "formats: vkg-execution/5, GIF", DATA),

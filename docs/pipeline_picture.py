@@ -27,7 +27,7 @@ BOXES = {
     "infer": ((0.50, 0.18), "vkgl/infer\nconstraint models ·\nmodel selection", STAGE),
     "module": ((0.50, 0.45), "affordance module\n(.vkg, via the printer)", DATA),
     "plan": ((0.67, 0.80), "vkgl/plan\ngraph search · task space ·\njoint space (IK)", STAGE),
-    "planout": ((0.87, 0.80), "Plan\n→ text · vkg-plan/7 · PNG", DATA),
+    "planout": ((0.87, 0.80), "Plan\n→ text · vkg-plan/8 · PNG", DATA),
     "execute": ((0.77, 0.45), "vkgl/execute\nDART replay ·\nclosed loop", STAGE),
     "report": ((0.77, 0.18), "vkg-execution/5\nreport · GIF", DATA),
     "api": ((0.08, 0.45), "vkgl/api.py\nthe driver\n(vkgc, notebooks)", SHARED),

@@ -123,7 +123,7 @@ def example_tasks() -> list[Path]:
 
 @pytest.fixture(scope="session")
 def a_push_scripted() -> tuple[Any, Any]:
-    """Task (a) compiled, and its hand-derived plan (push the block 15 cm) as a vkg-plan/7 document."""
+    """Task (a) compiled, and its hand-derived plan (push the block 15 cm) as a vkg-plan/8 document."""
     from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
     from vkgl.lang.compiler import compile_file

@@ -38,7 +38,7 @@ class CompileError(InputError):
 
 
 class PlanFormatError(InputError):
-    """A `vkg-plan/7` document is malformed; `path` is the JSON path of the bad field (e.g. `steps[2].value`)."""
+    """A `vkg-plan/8` document is malformed; `path` is the JSON path of the bad field (e.g. `steps[2].value`)."""
 
     def __init__(self, path: str, problem: str) -> None:
         self.path = path

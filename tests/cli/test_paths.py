@@ -111,7 +111,7 @@ def test_solve_feeds_a_fifo_and_leaves_it_a_fifo(examples: Path, capsys) -> None
         received = os.read(reader, 1 << 20)
     finally:
         os.close(reader)
-    assert json.loads(received)["format"] == "vkg-plan/7"
+    assert json.loads(received)["format"] == "vkg-plan/8"
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
 
 
@@ -127,9 +127,9 @@ def test_solve_json_to_dev_stdout_leaves_stdout_to_the_plan_alone(examples: Path
     """`vkgc solve t.vkg --json - | jq`: the text goes to stderr when an output is stdout itself."""
     assert main(["solve", str(examples / "tasks" / "a_push.vkg"), "--json", "/dev/stdout"]) == 0
     captured = capsys.readouterr()
-    assert json.loads(captured.out)["format"] == "vkg-plan/7"
+    assert json.loads(captured.out)["format"] == "vkg-plan/8"
     assert captured.err.startswith("task a_push: solved")
-    assert captured.err.endswith("/dev/stdout: plan as vkg-plan/7\n")
+    assert captured.err.endswith("/dev/stdout: plan as vkg-plan/8\n")
 
 
 def test_a_device_output_is_not_checked_as_a_folder_to_write_in(monkeypatch) -> None:

@@ -1,6 +1,6 @@
 """Executing plans in DART: the pushed block really ends at the goal, and a wrong plan is caught.
 
-The plans are `vkg-plan/7` documents written by `plan_script` from the
+The plans are `vkg-plan/8` documents written by `plan_script` from the
 hand-derived step scripts of the example tasks (so these tests do not depend
 on the search); wrong plans are made by mutating their JSON and reading it
 back (`vkgl.formats.plan`). The last tests re-solve with the planner
@@ -31,7 +31,7 @@ TASK = "a_push"
 
 @pytest.fixture(scope="module")
 def task_a(a_push_scripted) -> tuple[Program, PlanDocument]:
-    """Task (a) compiled, and its plan (push the block 15 cm) as a vkg-plan/7 document (tests/conftest.py)."""
+    """Task (a) compiled, and its plan (push the block 15 cm) as a vkg-plan/8 document (tests/conftest.py)."""
     return a_push_scripted
 
 
@@ -165,7 +165,7 @@ def test_a_plan_for_another_task_is_rejected(task_a):
     data = to_json(plan)
     with pytest.raises(InputError, match="not `a_push`"):
         execute(program, TASK, from_json({**data, "task": "b_stick_push"}))
-    with pytest.raises(InputError, match="vkg-plan/7"):
+    with pytest.raises(InputError, match="vkg-plan/8"):
         execute(program, TASK, from_json({**data, "format": "vkg-plan/0"}))
     unsolved = {**data, "status": "infeasible", "depth": None, "graphs": [], "steps": [], "reason": "none found"}
     with pytest.raises(InputError, match="nothing to execute"):

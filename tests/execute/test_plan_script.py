@@ -1,4 +1,4 @@
-"""Scripted plans: valid vkg-plan/7 whose joints put the effector where the steps say."""
+"""Scripted plans: valid vkg-plan/8 whose joints put the effector where the steps say."""
 
 from __future__ import annotations
 
@@ -20,8 +20,8 @@ def program_b():
 
 def test_a_stick_push_moves_block_and_stick_together_and_fk_matches(program_b):
     plan = to_json(scripted_plan(program_b, "b_stick_push", EXAMPLE_SCRIPTS["b_stick_push"]))
-    assert to_json(from_json(plan)) == plan  # valid vkg-plan/7
-    assert plan["format"] == "vkg-plan/7" and plan["status"] == "solved" and plan["depth"] == 3
+    assert to_json(from_json(plan)) == plan  # valid vkg-plan/8
+    assert plan["format"] == "vkg-plan/8" and plan["status"] == "solved" and plan["depth"] == 3
     np.testing.assert_allclose(np.array(plan["final"]["block"])[:3, 3], [0.95, 0.0, 0.025], atol=1e-9)
     push = plan["steps"][1]
     moved = {n for n in push["poses_start"] if not np.allclose(push["poses_start"][n], push["poses_end"][n])}

@@ -47,8 +47,8 @@ def test_a_fifo_is_fed_not_replaced(tmp_path: Path, monkeypatch: pytest.MonkeyPa
     reader = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
     try:
         _no_rename(monkeypatch)
-        atomic.write_text(fifo, '{"format": "vkg-plan/7"}\n')
-        assert os.read(reader, 1 << 16) == b'{"format": "vkg-plan/7"}\n'
+        atomic.write_text(fifo, '{"format": "vkg-plan/8"}\n')
+        assert os.read(reader, 1 << 16) == b'{"format": "vkg-plan/8"}\n'
     finally:
         os.close(reader)
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)

@@ -1,4 +1,4 @@
-"""`vkg-plan/7` (vkgl.formats.plan): round trips, the example plans' JSON against golden files (as numbers,
+"""`vkg-plan/8` (vkgl.formats.plan): round trips, the example plans' JSON against golden files (as numbers,
 see tests/support/plan_close.py), and every bad field named by its JSON path."""
 
 from __future__ import annotations
@@ -275,10 +275,10 @@ BAD_FIELDS = [
     (_set("graphs[1].edges[0][2]", "glued"), "graphs[1].edges[0][2]: expected one of fixed, prismatic"),
     (_set("graphs[0].edges[0]", ["arm", "world"]), "graphs[0].edges[0]: expected [parent, child, type]"),
     (_set("status", "done"), "status: expected one of solved, infeasible, timeout"),
-    (_set("format", "vkg-plan/0"), "format: expected 'vkg-plan/7', found 'vkg-plan/0'"),
+    (_set("format", "vkg-plan/0"), "format: expected 'vkg-plan/8', found 'vkg-plan/0'"),
     (
         _set("format", "vkg-plan/1"),
-        "format: found 'vkg-plan/1', expected 'vkg-plan/7': the plan was written by an older",
+        "format: found 'vkg-plan/1', expected 'vkg-plan/8': the plan was written by an older",
     ),
     (_set("steps[0].path[0].phase", "fly"), "steps[0].path[0].phase: expected one of lift, retreat, transit, approach"),
     (_set("steps[0].path[0].times[0]", 0.5), "steps[0].path[0].times: expected seconds from 0, increasing"),
@@ -364,11 +364,11 @@ def test_formats_sit_below_the_stages_and_the_executor_never_imports_the_planner
 
 
 def test_the_format_has_one_definition():
-    assert plan_format.PLAN_FORMAT == "vkg-plan/7"
+    assert plan_format.PLAN_FORMAT == "vkg-plan/8"
     for path in [*(REPO / "vkgl").rglob("*.py"), REPO / "tests" / "support" / "plan_script.py"]:
         if path.name == "document.py" and path.parent.name == "plan" and path.parent.parent.name == "formats":
             continue
-        assert '"vkg-plan/7"' not in path.read_text(encoding="utf-8"), path
+        assert '"vkg-plan/8"' not in path.read_text(encoding="utf-8"), path
 
 
 def test_documents_are_typed(scripted):
@@ -378,12 +378,12 @@ def test_documents_are_typed(scripted):
     assert doc.graphs[0][0] == ("arm", "world", "free")
 
 
-@pytest.mark.parametrize("version", ["vkg-plan/3", "vkg-plan/4", "vkg-plan/5", "vkg-plan/6"])
-def test_a_vkg_plan_3_to_6_document_is_read_as_the_current_version(scripted, version):
+@pytest.mark.parametrize("version", ["vkg-plan/3", "vkg-plan/4", "vkg-plan/5", "vkg-plan/6", "vkg-plan/7"])
+def test_a_vkg_plan_3_to_7_document_is_read_as_the_current_version(scripted, version):
     doc = from_json({**scripted, "format": version})
-    assert to_json(doc) == scripted  # the same fields, written back as vkg-plan/7
-    with pytest.raises(PlanFormatError, match=r"format: expected 'vkg-plan/7', found 'vkg-plan/8'"):
-        from_json({**scripted, "format": "vkg-plan/8"})
+    assert to_json(doc) == scripted  # the same fields, written back as vkg-plan/8
+    with pytest.raises(PlanFormatError, match=r"format: expected 'vkg-plan/8', found 'vkg-plan/9'"):
+        from_json({**scripted, "format": "vkg-plan/9"})
 
 
 def test_a_vkg_plan_2_document_is_still_read_without_contact_chains(scripted):
@@ -392,7 +392,7 @@ def test_a_vkg_plan_2_document_is_still_read_without_contact_chains(scripted):
         del step["contact"]
     doc = from_json(older)
     assert all(step.contact is None for step in doc.steps)
-    assert to_json(doc)["format"] == "vkg-plan/7"  # written back as the current version
+    assert to_json(doc)["format"] == "vkg-plan/8"  # written back as the current version
     with pytest.raises(PlanFormatError, match=r"steps\[0\]\.contact: unknown key"):
         from_json({**older, "steps": [{**older["steps"][0], "contact": []}, *older["steps"][1:]]})
 

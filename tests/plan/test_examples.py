@@ -155,7 +155,7 @@ def test_the_replay_check_takes_a_leaned_hand_only_with_its_pad_at_the_contact(p
 def test_json_has_exactly_the_vkg_plan_4_keys(plans):
     out = plans["e_rotate_stick_push"].to_json()
     assert list(out) == ["format", "task", "status", "depth", "stats", "robot", "graphs", "steps", "final"]
-    assert out["format"] == "vkg-plan/7" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
+    assert out["format"] == "vkg-plan/8" and out["depth"] == len(out["graphs"]) == len(out["steps"]) + 1
     assert set(out["stats"]) == {"solve_time_s", "graphs_expanded", "task_space_checks", "joint_space_checks"}
     assert set(out["robot"]) == {"name", "urdf", "base", "effector", "effector_link", "effector_offset", "joints"}
     step_keys = [

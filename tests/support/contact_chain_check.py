@@ -1,4 +1,4 @@
-"""An independent check of a plan's contact chains (`vkg-plan/7` `steps[k].contact`): the contact is rigid.
+"""An independent check of a plan's contact chains (`vkg-plan/8` `steps[k].contact`): the contact is rigid.
 
 A chain lists the arm's joints at evenly spaced fractions s_i = i / (n - 1) of
 a contact's motion, `q_start` first and `q_end` last. While the arm pushes

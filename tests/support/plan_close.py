@@ -1,4 +1,4 @@
-"""Comparing two `vkg-plan/7` documents (parsed JSON) as a planner's results, not as text.
+"""Comparing two `vkg-plan/8` documents (parsed JSON) as a planner's results, not as text.
 
 Two kinds of numbers are in a plan, and another CPU changes them differently (measured on the example
 tasks, this machine's plans against golden files written on another one):

@@ -2,7 +2,7 @@
 
 The planner's own checks are not used here (nothing from `vkgl.plan` is
 imported): the scene comes from the compiled IR (`vkgl.lang`), the motions
-from the plan's `vkg-plan/7` JSON only. For every step, each body's pose is
+from the plan's `vkg-plan/8` JSON only. For every step, each body's pose is
 interpolated between `poses_start` and `poses_end` along the screw motion
 between the two (a slide is a straight line, a turn an arc about its pivot,
 a held tool moves with what it pushes), at `samples` evenly spaced points,
@@ -142,7 +142,7 @@ def check_plan(
 ) -> list[Finding]:
     """Every overlap deeper than `tolerance` along the plan's motions: the deepest per step and pair.
 
-    `plan_json` is the plan's `vkg-plan/7` document (`plan.to_json()`); a
+    `plan_json` is the plan's `vkg-plan/8` document (`plan.to_json()`); a
     plan that is not solved has no steps and no findings.
     """
     task = program.tasks[task_name]

@@ -1,8 +1,8 @@
-"""Write a `vkg-plan/7` plan from a script of steps, by kinematics alone (no search).
+"""Write a `vkg-plan/8` plan from a script of steps, by kinematics alone (no search).
 
     from plan_script import scripted_plan
     plan = scripted_plan(program, "a_push", ["add Block.push_center_px block arm.fingertip 0.15"])
-    # a vkgl.formats.plan.PlanDocument; vkgl.formats.plan.to_json(plan) is its vkg-plan/7 JSON
+    # a vkgl.formats.plan.PlanDocument; vkgl.formats.plan.to_json(plan) is its vkg-plan/8 JSON
 
 The planner (`vkgl.plan.solve`) finds the steps; this module only carries out
 given ones on paper: each pushed body moves by its affordance's motion
@@ -106,7 +106,7 @@ def affordance_motion(aff: Affordance, body_start: np.ndarray, value: float) -> 
 
 
 def scripted_plan(program: Program, task: str | Task | None, script: list[str | tuple]) -> PlanDocument:
-    """A solved `vkg-plan/7` document for `task` made of the scripted steps (see the module docstring).
+    """A solved `vkg-plan/8` document for `task` made of the scripted steps (see the module docstring).
 
     Raises InputError for an unknown affordance, body or effector, or when the
     arm has no IK solution for a step's effector pose.
@@ -176,7 +176,7 @@ def scripted_plan(program: Program, task: str | Task | None, script: list[str | 
 
 
 def _with_arm_paths(program: Program, task: Task, steps: list[PlanStepRecord]) -> list[PlanStepRecord]:
-    """The steps with the arm's paths between contacts, planned as the planner plans them (vkg-plan/7)."""
+    """The steps with the arm's paths between contacts, planned as the planner plans them (vkg-plan/8)."""
     from vkgl.plan.arm.paths import ArmPathPlanner
     from vkgl.plan.geometry.bodies import GeometryCheck
     from vkgl.plan.problem.problem import build_problem

@@ -1,4 +1,4 @@
-"""An independent check of a `vkg-plan/7` plan: recompute everything from the JSON, the program and the URDF.
+"""An independent check of a `vkg-plan/8` plan: recompute everything from the JSON, the program and the URDF.
 
 Nothing here imports the planner. Poses are recomposed from the affordances
 (scipy for the rotations), the arm's forward kinematics comes from DART

@@ -202,7 +202,7 @@ def _lsp_arguments(p: argparse.ArgumentParser) -> None:
 def _solve_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("taskfile", metavar="TASKFILE", help=".vkg file that declares the task")
     p.add_argument("--task", metavar="NAME", help="the task to solve (needed when the file declares several)")
-    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/7 JSON (-: stdout, the text to stderr)")
+    p.add_argument("--json", metavar="F", help="write the plan as vkg-plan/8 JSON (-: stdout, the text to stderr)")
     p.add_argument("--plot", metavar="F.png", help="draw the plan (one panel per mode)")
     p.add_argument(
         "--max-depth",

@@ -49,7 +49,7 @@ def _text_out(args: argparse.Namespace) -> Any:
 
 
 def _written(path: str, what: str, out: Any) -> None:
-    """Say that `path` was written (`plan.json: plan as vkg-plan/7`) on `out` (`_text_out`)."""
+    """Say that `path` was written (`plan.json: plan as vkg-plan/8`) on `out` (`_text_out`)."""
     print(f"{path}: {what}", file=out)
 
 
@@ -230,7 +230,7 @@ def cmd_solve(args: argparse.Namespace) -> int:
         print(_search_details(plan.details), file=out)
     if args.json:
         write_text(args.json, json.dumps(plan.to_json(), indent=1) + "\n")
-        _written(args.json, "plan as vkg-plan/7", out)
+        _written(args.json, "plan as vkg-plan/8", out)
     if args.plot and plan.status == "solved":
         from vkgl.plan.result.picture import plot_plan
 

@@ -76,7 +76,7 @@ def execute(
     on_progress: Callable[[Progress], None] | None = None,
     on_resolve: Callable[[Resolve], None] | None = None,
 ) -> ExecutionReport:
-    """Carry out a solved `vkg-plan/7` plan for `task` in DART and report how close it got to the goal.
+    """Carry out a solved `vkg-plan/8` plan for `task` in DART and report how close it got to the goal.
 
     `on_step(step_report)` is called as each step ends (progress for long runs),
     `on_progress(progress)` while the world runs (`vkgl.execute.progress`: the

@@ -1,4 +1,4 @@
-"""Carry out the steps of a `vkg-plan/7` plan in a DART world of the task's scene.
+"""Carry out the steps of a `vkg-plan/8` plan in a DART world of the task's scene.
 
 `Replay` is the façade the closed loop (`vkgl.execute.closed_loop`) drives:
 one simulated world of the scene (`scene_world.SceneWorld`: table, bodies,

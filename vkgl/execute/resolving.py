@@ -48,12 +48,12 @@ class Attempts:
 
     @property
     def failed_steps(self) -> tuple[PlanStepRecord, ...]:
-        """The `vkg-plan/7` records of the steps that failed, in order."""
+        """The `vkg-plan/8` records of the steps that failed, in order."""
         return tuple(f.step for f in self.failed)
 
 
 Resolver = Callable[[Program, str, Attempts], PlanDocument]
-"""Solves a task (by name) of a program, repeating none of the attempts; returns its `vkg-plan/7` document, of
+"""Solves a task (by name) of a program, repeating none of the attempts; returns its `vkg-plan/8` document, of
 any status. Must not return a plan of `attempts.plans` nor repeat a step of `attempts.failed` where it failed
 (`vkgl.plan.problem.avoid` says how the planner decides). May raise VkgError (reported as a re-solve
 that found no plan)."""

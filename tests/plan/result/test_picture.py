@@ -1,7 +1,7 @@
 """The plan picture (`vkgc solve --plot`) draws the arm's planned paths: the effector's track along every segment.
 
 The tracks are checked against the arm's forward kinematics of the plan's own
-joints (`vkg-plan/7` `steps[k].path`), in the top view (x, y) and in the side
+joints (`vkg-plan/8` `steps[k].path`), in the top view (x, y) and in the side
 view (x, z), one line per segment, in its phase's style.
 """
 

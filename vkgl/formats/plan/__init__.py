@@ -1,4 +1,4 @@
-"""The `vkg-plan/7` document: the one definition of the plan format, its only reader and
+"""The `vkg-plan/8` document: the one definition of the plan format, its only reader and
 writer (`document`: the types; `writing`; `reading`).
 
 docs/formats.md is the contract. In memory a plan document is a tree of frozen

@@ -1,4 +1,4 @@
-"""The `vkg-plan/7` document in memory: its constants and its frozen dataclasses (docs/formats.md)."""
+"""The `vkg-plan/8` document in memory: its constants and its frozen dataclasses (docs/formats.md)."""
 
 from __future__ import annotations
 
@@ -8,14 +8,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-PLAN_FORMAT = "vkg-plan/7"
+PLAN_FORMAT = "vkg-plan/8"
 OLDER_READABLE = "vkg-plan/2"
 """Still read: the same without `steps[k].contact` (its steps get `contact` None)."""
-SAME_LAYOUT = ("vkg-plan/3", "vkg-plan/4", "vkg-plan/5", "vkg-plan/6")
+SAME_LAYOUT = ("vkg-plan/3", "vkg-plan/4", "vkg-plan/5", "vkg-plan/6", "vkg-plan/7")
 """Still read exactly as the current version: the same fields, written before family members and pick and place
-(/3), arc members and straight slides off the centre (/4), slides by a tool rolled over the body (/5) or arc members
-by a tool rolled (/6) had their
-meaning in the contract."""
+(/3), arc members and straight slides off the centre (/4), slides by a tool rolled over the body (/5), arc members
+by a tool rolled (/6) or straight slides off the centre by a tool rolled (/7) had their meaning in the contract."""
 STATUSES = ("solved", "infeasible", "timeout")
 OPS = ("add", "remove")
 MOTIONS = ("fixed", "prismatic", "revolute", "free")
@@ -102,7 +101,7 @@ class PlanStepRecord:
     transition and after the motion; `q_start`/`q_end` the arm's joints there;
     `value` is the motion's amount (m or rad, >= 0; 0 for a REMOVE); `path`
     the arm's planned motions before the step's action (vkg-plan/2): from
-    where the previous step left the arm to `q_start`; `contact` (vkg-plan/7;
+    where the previous step left the arm to `q_start`; `contact` (vkg-plan/8;
     k x n, k >= 2, or None) the arm's joints at k evenly spaced fractions of a
     contact's motion, `q_start` first and `q_end` last: the one arm
     configuration the planner checked carries the whole motion, which
@@ -140,7 +139,7 @@ class PlanStepRecord:
 
 @dataclass(frozen=True, eq=False)
 class PlanDocument:
-    """A whole `vkg-plan/7` plan.
+    """A whole `vkg-plan/8` plan.
 
     `status` is "solved", "infeasible" or "timeout"; `depth` is the number of
     graphs (G0 included) of a solved plan, None otherwise; `graphs` holds each

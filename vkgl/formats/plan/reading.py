@@ -1,4 +1,4 @@
-"""Reading `vkg-plan/7` (and /5, /4, /3, /2): every field checked, the first bad one named by its JSON path."""
+"""Reading `vkg-plan/8` (and /7 down to /2): every field checked, the first bad one named by its JSON path."""
 
 from __future__ import annotations
 
@@ -48,7 +48,7 @@ from vkgl.formats.plan.document import (
 
 
 def read(path: str | Path) -> PlanDocument:
-    """Read and check a `vkg-plan/7` (or /5, /4, /3, /2) file. InputError if it cannot be read or is not JSON;
+    """Read and check a `vkg-plan/8` (or /7 down to /2) file. InputError if it cannot be read or is not JSON;
     PlanFormatError (an InputError) naming the file and the bad field's path if it is not a valid plan."""
     try:
         text = Path(path).read_text(encoding="utf-8")

@@ -1,4 +1,4 @@
-"""Writing `vkg-plan/7`: plain JSON data in the contract's key order, rounded, written atomically; and `rounded`,
+"""Writing `vkg-plan/8`: plain JSON data in the contract's key order, rounded, written atomically; and `rounded`,
 the document with its numbers exactly as its JSON reads back."""
 
 from __future__ import annotations
@@ -95,7 +95,7 @@ def _rounded_step(step: PlanStepRecord) -> PlanStepRecord:
 
 
 def dumps(doc: PlanDocument) -> str:
-    """The text of a `vkg-plan/7` file (what `write` puts in it)."""
+    """The text of a `vkg-plan/8` file (what `write` puts in it)."""
     return json.dumps(to_json(doc), indent=1) + "\n"
 
 

@@ -148,15 +148,25 @@ def is_straight_member(name: str) -> bool:
     return MEMBER_MARK in name and name.endswith(STRAIGHT_MARK)
 
 
+def tool_only(name: str) -> bool:
+    """Whether `name` names a member that only the tool effector it was made for may enact: a slide or an arc's
+    member by a tool rolled (`NAME/over+20deg+1.00cm`), or a slide by a tool's flat face off the centre
+    (`NAME@+2.00cm/straight`), listed in its body's `PlanBody.tool_members` with that effector."""
+    return OVER_MARK in name or is_straight_member(name)
+
+
 def find_member(affordances: Iterable[Affordance], name: str) -> Affordance | None:
     """The affordance called `name` among `affordances`, or the member `name` names (`push@+3.12cm`, a slide rolled
-    `push/over+20deg+1.00cm`, an arc's member rolled `push@-1.74cm/over+20deg+0.50cm`), renamed so; None when there
+    `push/over+20deg+1.00cm`, an arc's member rolled `push@-1.74cm/over+20deg+0.50cm`, a straight member rolled
+    `push@-4.00cm/straight/over+20deg+0.50cm`), renamed so; None when there
     is none (or the offset is outside the family's band by more than its rounding)."""
     over = over_pose(name)
     if over is not None:
-        if MEMBER_MARK in over[0] and not is_straight_member(over[0]):  # an arc's member rolled: `push@-1.74cm/over..`
-            turn = find_member(affordances, over[0])
-            return None if turn is None else over_member(turn, over[1], over[2]).model_copy(update={"name": name})
+        if (
+            MEMBER_MARK in over[0]
+        ):  # an arc's member rolled (`push@-1.74cm/over..`), or a straight one (`../straight/over..`)
+            moved = find_member(affordances, over[0])
+            return None if moved is None else over_member(moved, over[1], over[2]).model_copy(update={"name": name})
         slide = next((a for a in affordances if a.name == over[0]), None)
         if slide is None or not isinstance(slide.motion, PrismaticC):
             return None

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from vkgl.lang.ir.families import OVER_MARK
+from vkgl.lang.ir.families import tool_only
 from vkgl.lang.ir.nodes import Constraint
 from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.problem import Problem
@@ -142,8 +142,8 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
                 continue
             for aff in body.affordances:
                 action = Action("add", Engagement(effector.name, name, aff.name))
-                if OVER_MARK in aff.name and (aff.name, effector.name) not in body.tool_members:
-                    continue  # a tool rolled over the body: that tool's alone (`vkgl.plan.problem.over`)
+                if tool_only(aff.name) and (aff.name, effector.name) not in body.tool_members:
+                    continue  # a tool rolled over the body, or its flat face off the centre: that tool's alone
                 if _may_add(problem, effector.tool, body.joint, aff.motion, action, last):
                     out.append(action)
     for e in graph.engaged:

@@ -34,7 +34,7 @@ plan's reason and details). Two rules:
   motion, the same when both its steps are (picked up and set down at the
   same poses).
 
-Keys are built from `vkg-plan/7` step records (`StepKey.of`), so what is
+Keys are built from `vkg-plan/8` step records (`StepKey.of`), so what is
 avoided is said in the terms of the plans the executor carried out.
 """
 
@@ -65,7 +65,7 @@ class StepKey:
     """One plan step as a re-solve compares it: the transition, its motion value and the bodies at its start.
 
     `affordance` is qualified by the body type (`Block.push_center_px`), as in
-    `vkg-plan/7`; `start` holds the world pose of every body at the step's
+    `vkg-plan/8`; `start` holds the world pose of every body at the step's
     start.
     """
 
@@ -79,7 +79,7 @@ class StepKey:
 
     @classmethod
     def of(cls, step: PlanStepRecord) -> StepKey:
-        """The key of a `vkg-plan/7` step."""
+        """The key of a `vkg-plan/8` step."""
         return cls(
             step.op,
             step.affordance,
@@ -132,7 +132,7 @@ class Avoid:
 
     @classmethod
     def of(cls, tried: Iterable[PlanDocument] = (), failed: Iterable[PlanStepRecord] = ()) -> Avoid:
-        """From the `vkg-plan/7` plans tried (unsolved ones are skipped) and the step records that failed."""
+        """From the `vkg-plan/8` plans tried (unsolved ones are skipped) and the step records that failed."""
         plans = tuple(tuple(StepKey.of(s) for s in doc.steps) for doc in tried if doc.solved)
         return cls(plans, tuple(StepKey.of(s) for s in failed))
 

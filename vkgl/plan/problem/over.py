@@ -138,7 +138,7 @@ def is_arc_turn(affordance: Affordance) -> bool:
 
 
 def roll_for(
-    parts: list[np.ndarray], body: np.ndarray, centre: float, *, turn: bool = False
+    parts: list[np.ndarray], body: np.ndarray, centre: float, *, turn: bool = False, fixed: bool = False
 ) -> tuple[float, float] | None:
     """(roll in rad, lift in m) of the least rolled tool that passes over the body (module docstring), or None:
     the tool lying flat stands in nothing, it has no flat face or no part beside it, or no roll clears the top.
@@ -147,12 +147,14 @@ def roll_for(
     `body`: the body's hull points in the same frame (lying flat: z up); `centre`: the body's origin along y.
     `turn`: the contact is an arc's member (a turn at its own offset): the flat face must cover the contact
     itself (y = 0), not the centre line, and moving it along the face is no alternative (the offset makes the arc).
+    `fixed`: the contact was moved along the face already (`vkgl.plan.problem.reach_members`: for the hand's reach),
+    so moving it back aside is no alternative either; the face covers the centre line as for a slide.
     """
     face = [p for p in parts if abs(float(p[:, 0].max())) <= FLAT]
     beside = [p for p in parts if float(p[:, 0].max()) > FLAT]
     if not face or not beside or not any(_stands_in(p, body) for p in beside):
         return None
-    if not turn and _slides_aside(face, beside, body, centre):
+    if not (turn or fixed) and _slides_aside(face, beside, body, centre):
         return None  # moved along the face it clears the body lying flat (`vkgl.plan.graphs.tool_faces`)
     covered = 0.0 if turn else centre
     side = 1.0 if np.mean([p[:, 1].mean() for p in beside]) > centre else -1.0

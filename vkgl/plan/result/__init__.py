@@ -1,1 +1,1 @@
-"""The result of a solve: `Plan` (text, `vkg-plan/7` document) and its picture."""
+"""The result of a solve: `Plan` (text, `vkg-plan/8` document) and its picture."""

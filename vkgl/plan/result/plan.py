@@ -1,4 +1,4 @@
-"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/7` document, or drawn (`picture`).
+"""The result of `vkgc solve`: a Plan, printed as text, as a `vkg-plan/8` document, or drawn (`picture`).
 
 A plan of depth D has D graphs (G0 included) and D - 1 steps. Step k is the
 transition into G_k followed by the motion G_k allows: `poses_start` are the
@@ -31,14 +31,14 @@ from vkgl.se3 import yaw_of
 
 @dataclass(frozen=True, eq=False)
 class PlanStep(PlanStepRecord):
-    """One step of a plan: the `vkg-plan/7` step record, plus the hand's poses along it (for pictures)."""
+    """One step of a plan: the `vkg-plan/8` step record, plus the hand's poses along it (for pictures)."""
 
     hand: list[np.ndarray] = field(default_factory=list)
 
 
 @dataclass(frozen=True)
 class Plan:
-    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/7`.
+    """A solved, infeasible or timed-out plan for one task, with what the planner knows beyond `vkg-plan/8`.
 
     `status` is "solved", "infeasible" or "timeout"; `reason` says why when it
     is not solved. `graphs` holds each graph's edges `(parent, child, type)`.
@@ -56,7 +56,7 @@ class Plan:
     final: dict[str, np.ndarray] = field(default_factory=dict)
     start: dict[str, np.ndarray] = field(default_factory=dict)
     problem: Problem | None = field(default=None, repr=False)
-    details: dict[str, Any] = field(default_factory=dict)  # more counters, not part of vkg-plan/7
+    details: dict[str, Any] = field(default_factory=dict)  # more counters, not part of vkg-plan/8
 
     @property
     def depth(self) -> int | None:
@@ -66,7 +66,7 @@ class Plan:
     # ------------------------------------------------------------ the document
 
     def document(self) -> PlanDocument:
-        """The plan as a `vkg-plan/7` document (`vkgl.formats.plan`), exactly as its JSON reads back.
+        """The plan as a `vkg-plan/8` document (`vkgl.formats.plan`), exactly as its JSON reads back.
 
         Numbers are rounded as the JSON writes them (`formats.plan.rounded`),
         so that carrying out the document in memory and carrying out the file
@@ -93,7 +93,7 @@ class Plan:
         )
 
     def to_json(self) -> dict[str, Any]:
-        """The plan in the `vkg-plan/7` format (docs/formats.md); unsolved plans add a `reason`."""
+        """The plan in the `vkg-plan/8` format (docs/formats.md); unsolved plans add a `reason`."""
         return to_json(self._unrounded_document())
 
     # ------------------------------------------------------------ text

@@ -34,7 +34,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from vkgl.lang.ir.families import OVER_MARK
+from vkgl.lang.ir.families import tool_only
 from vkgl.lang.ir.regions import convex_hull
 from vkgl.lang.ir.regions import footprint as region_footprint
 from vkgl.plan.graphs.graph import Engagement
@@ -327,7 +327,7 @@ def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[str,
         for effector in problem.effectors:
             if effector.tool is None or effector.tool == body:
                 continue
-            if OVER_MARK in affordance.name and (affordance.name, effector.name) not in plan_body.tool_members:
+            if tool_only(affordance.name) and (affordance.name, effector.name) not in plan_body.tool_members:
                 continue
             tool_pose = tool_pose_on(problem, Engagement(effector.name, body, affordance.name), rest)
             out.append((effector.tool, footprint(problem, body, rest), footprint(problem, effector.tool, tool_pose)))
