@@ -48,6 +48,15 @@ def test_a_margin_grows_every_body_but_those_kept_exact() -> None:
     assert {frozenset((c.body_a, c.body_b)) for c in kept.overlap(poses)} == {pair("a", "c")}
 
 
+def test_a_grown_bodys_bounding_ball_holds_its_grown_corners() -> None:
+    # two cubes corner to corner, 1.5 cm apart along each axis: grown by 1 cm each, their corners overlap 5 mm. The
+    # balls by which `overlap` (and a sweep) skip pairs far apart must hold the grown corners, not only the bodies'
+    shapes = {"a": box(0.1, 0.1, 0.1), "b": box(0.1, 0.1, 0.1)}
+    poses = {"a": pose(0, 0, 0), "b": pose(0.115, 0.115, 0.115)}
+    assert CollisionScene(shapes).overlap(poses) == []
+    assert [{c.body_a, c.body_b} for c in CollisionScene(shapes, margin=0.01).overlap(poses)] == [{"a", "b"}]
+
+
 def test_ignored_pairs_may_overlap() -> None:
     scene = CollisionScene({"a": box(0.1, 0.1, 0.1), "b": box(0.1, 0.1, 0.1), "c": box(0.1, 0.1, 0.1)})
     poses = {"a": pose(0, 0, 0), "b": pose(0.05, 0, 0), "c": pose(0.0, 0.05, 0)}

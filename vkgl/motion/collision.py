@@ -22,6 +22,7 @@ The boundary is plain numpy: poses are 4x4 world matrices keyed by body name.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -114,8 +115,10 @@ class CollisionScene:
         for name, shape in shapes.items():
             grow = (margins or {}).get(name, margin if name not in kept else 0.0)
             parts = [(_grown(part, grow), local) for part, local in dart_shapes(shape)] if grow else dart_shapes(shape)
-            # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them
-            self._add(name, parts, _extent(shape) * 1.005 + tol + self.lifts.get(name, 0.0))
+            # the mesh's round parts are inscribed polygons (32 sides): 0.5 % more, and the tolerance, cover them;
+            # a grown box's corner lies its margin further out along each of its three axes
+            reach = _extent(shape) * 1.005 + tol + self.lifts.get(name, 0.0) + grow * math.sqrt(3.0)
+            self._add(name, parts, reach)
             self._support[name] = [_support(part, local, shape) for part, local in parts]
         self.table_box: tuple[np.ndarray, np.ndarray] | None = None  # (lower, upper) corners of the slab
         self.table_top = float(table_z)

@@ -219,3 +219,42 @@ def test_a_tool_at_its_contact_does_not_rest_on_a_bystander(tmp_path: Path) -> N
     assert plan.status == "infeasible", plan.reason
     assert "hook would stand" in plan.reason and "mm inside clutter3" in plan.reason, plan.reason
     assert "keeps 2 mm from every body but the one it acts on" in plan.reason
+
+
+def test_a_tool_does_not_pass_over_a_bystander_touching_it(tmp_path: Path) -> None:
+    # gen3_017: the Stick turns a 6 cm slab 52 deg at its mid-height, so the Stick's underside is 2 cm up, the
+    # top of the Hook lying beside. Halfway through the arc the Stick's handle end passed over the Hook touching it
+    # (0 mm apart: the exact sweep allows a touch) and in DART dragged it 9.8 cm. Clear where the turn starts and
+    # ends, it is now rejected along the motion, naming the Hook (which the search may then move first)
+    from vkgl.plan.geometry.bodies import GeometryCheck
+    from vkgl.plan.geometry.sweep import sweep_mode
+    from vkgl.plan.graphs.graph import Engagement, KGraph
+    from vkgl.plan.graphs.motions import motion_matrix
+    from vkgl.plan.graphs.rollout import ModeTrace, tool_pose_on
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.rotations import yaw_matrix
+
+    spec = task_spec(3, 17)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    problem = build_problem(program, program.tasks[spec.name])
+    wield = Engagement(problem.robot_effector.name, "stick", "wield")
+    turn = Engagement("stick.tip", "target", "push_center_px@+5.28cm")  # the plan's arc
+    start = {name: body.rest.copy() for name, body in problem.bodies.items()}
+    start["target"][:3, :3] = yaw_matrix(np.radians(10.0))
+    start["target"][:3, 3] = (0.695, 0.199, start["target"][2, 3])  # where the plan's first push left it
+
+    def trace(degrees: float) -> ModeTrace:
+        at = dict(start, stick=tool_pose_on(problem, turn, start["target"]))
+        value = np.radians(degrees)
+        end = dict(at, target=at["target"] @ motion_matrix(problem.affordance("target", turn.affordance).motion, value))
+        end["stick"] = tool_pose_on(problem, turn, end["target"])
+        return ModeTrace(at, end, [], True, {turn: value})
+
+    touching = trace(52.0)
+    assert sweep_mode(GeometryCheck(problem).scene, problem, touching) == []  # a touch: the exact sweep passes it
+    graph = KGraph((wield, turn))
+    rejection = GeometryCheck(problem).bodies([graph], [touching])
+    assert rejection is not None and rejection.bodies == {"hook"} and rejection.between == (), rejection
+    assert "stick would pass only" in rejection.why and "mm from hook" in rejection.why, rejection.why
+    assert "keeps 2 mm from every body but the one it acts on" in rejection.why
+    assert GeometryCheck(problem).bodies([graph], [trace(15.0)]) is None  # stopped before the Stick meets the Hook

@@ -13,7 +13,7 @@ for the arm once joint space found its configurations (`arm`):
   a released tool must land clear of the others), and a tool's parts beside
   its contact (a hook's shaft) `BESIDE_CLEARANCE` clear of the body it acts on
   (`vkgl.plan.geometry.tool_parts`), and the tool `BYSTANDER_CLEARANCE` clear of
-  every other body (a tool resting on a bystander drags it);
+  every other body there and along the mode's motion (a tool touching a bystander drags it);
 - the arm's links at the configurations inverse kinematics returned, and a
   held tool in its hand, against the bodies and the table (the body the hand
   touches excepted).
@@ -66,11 +66,21 @@ ended its transit touching it in DART."""
 
 BYSTANDER_CLEARANCE = HELD_TRANSIT_CLEARANCE
 """m: a tool at a contact keeps this far (less the 1 mm tolerance of a touch) from every body but the one it acts on,
-at the start and the end of the contact's mode. Touching is not enough room there: the tool and what it acts on
-move together, and a tool resting on a bystander drags it. gen9_015 of the physical bench: the Hook, pulling a
-12 cm cube at its mid-height, lay with its underside on the top of a 5 cm slab beside the cube (0 mm apart, a
-touch); in DART the slab was dragged 3.5 cm and the Hook turned 6 deg in the hand. The same room as a held tool's
-transit keeps from the bodies it does not go to (`HELD_TRANSIT_CLEARANCE`)."""
+at the start and the end of the contact's mode and all along its motion (`GeometryCheck._bystander_sweep`).
+Touching is not enough room there: the tool and what it acts on move together, the tool driven by the arm, and a
+tool resting on a bystander drags it. gen9_015 of the physical bench: the Hook, pulling a 12 cm cube at its
+mid-height, lay with its underside on the top of a 5 cm slab beside the cube (0 mm apart, a touch); in DART the
+slab was dragged 3.5 cm and the Hook turned 6 deg in the hand. The same room as a held tool's transit keeps from
+the bodies it does not go to (`HELD_TRANSIT_CLEARANCE`)."""
+
+BYSTANDER_STEP = 0.003
+"""m: the largest displacement of any point of a tool between two samples of its sweep against the bystanders
+(`vkgl.plan.geometry.sweep`). A touch between two samples lies within half of it of the nearer one, where the
+tool is then at most that far from the bystander: inside it grown by `BYSTANDER_CLEARANCE` by at least
+`BYSTANDER_CLEARANCE - BYSTANDER_STEP / 2` (1.5 mm), more than a touch's tolerance, so no touch slips through.
+The exact sweep's 6 mm step lets a 5 mm overlap slip."""
+
+assert BYSTANDER_CLEARANCE - BYSTANDER_STEP / 2 > TOUCH_TOL, "a touch must not slip between a tool's samples"
 
 
 class GeometryCheck:
@@ -162,7 +172,37 @@ class GeometryCheck:
                 close = self._bystander(graph, poses)
                 if close is not None:
                     return _bystander_rejection(close, f"at the {when} of mode {k}", self.names)
+            passing = self._bystander_sweep(graph, trace)
+            if passing is not None:
+                where = f"in mode {k}, {_moving(self.problem, graph, trace)}"
+                return _bystander_rejection(passing, where, self.names, placed=False)
         return None
+
+    def _bystander_sweep(self, graph: KGraph, trace: ModeTrace) -> Contact | None:
+        """The first overlap, along the mode's motion, of a tool that moves with the body it acts on with a body
+        it does not act on, grown by `BYSTANDER_CLEARANCE` (sampled every `BYSTANDER_STEP`), or None. The exact
+        sweep lets a tool slide over a bystander touching it (within the 1 mm of a touch): gen3_017 of the
+        physical bench, the Stick turning a 6 cm slab at its mid-height, its underside 3 cm up, passed with
+        0 mm to spare over the 2 cm high Hook lying beside, and in DART dragged it 9.8 cm."""
+        for tool in self._tools(graph):
+            self.queries += 1
+            # the table is not grown (`collision_scene`): the exact sweep checked the tool against it
+            scene = self._bystander_scene(tool)
+            found = sweep_mode(scene, self.problem, trace, step=BYSTANDER_STEP, only={tool}, table=False)
+            if found:
+                return max(found, key=lambda c: c.depth)
+        return None
+
+    def _bystander_scene(self, tool: str) -> CollisionScene:
+        """The bodies grown by `BYSTANDER_CLEARANCE`, but `tool` (exact), made when first asked."""
+        if tool not in self._bystanders:
+            self._bystanders[tool] = collision_scene(self.problem, margin=BYSTANDER_CLEARANCE, exact={tool})
+        return self._bystanders[tool]
+
+    def _tools(self, graph: KGraph) -> list[str]:
+        """The tools that act on a body in `graph`, each once."""
+        tools = (self.problem.effector(e.effector).tool for e in graph.engaged)
+        return list(dict.fromkeys(tool for tool in tools if tool is not None))
 
     def _bystander(self, graph: KGraph, poses: dict[str, np.ndarray]) -> Contact | None:
         """The deepest overlap of a tool at its contact with a body it does not act on, grown by
@@ -175,9 +215,7 @@ class GeometryCheck:
             others = [name for name in poses if name != tool and name not in acted_on]
             if not others:
                 continue
-            if tool not in self._bystanders:
-                self._bystanders[tool] = collision_scene(self.problem, margin=BYSTANDER_CLEARANCE, exact={tool})
-            scene = self._bystanders[tool]
+            scene = self._bystander_scene(tool)
             scene.place({name: poses[name] for name in others})
             self.queries += 1
             found = scene.against(tool, poses[tool], others)
@@ -299,19 +337,20 @@ def _engagement_words(problem: Problem, e: Engagement, value: float) -> str:
     return f"{e.effector} moves {e.body} by {amount} ({problem.bodies[e.body].type.name}.{e.affordance})"
 
 
-def _bystander_rejection(close: Contact, where: str, names: frozenset[str]) -> Rejection:
-    """A tool at its contact too close to a body it does not act on (`GeometryCheck._bystander`); `names`: the
-    problem's bodies."""
+def _bystander_rejection(close: Contact, where: str, names: frozenset[str], *, placed: bool = True) -> Rejection:
+    """A tool at its contact (or along its motion: not `placed`, `GeometryCheck._bystander_sweep`) too close to a
+    body it does not act on (`GeometryCheck._bystander`); `names`: the problem's bodies."""
     gap = BYSTANDER_CLEARANCE - close.depth  # m: the tool's distance from the body (negative: inside it)
     at = close.point
     how = f"{-gap * 1000:.1f} mm inside" if gap < 0 else f"only {gap * 1000:.1f} mm from"
+    verb, when = ("stand", "at its contact") if placed else ("pass", "along its motion")
     return Rejection(
         Kind.COLLISION,
-        f"{close.body_a} would stand {how} {close.body_b} at ({at[0]:.2f}, {at[1]:.2f}, {at[2]:.2f}) m {where} "
-        f"(a tool at its contact keeps {(BYSTANDER_CLEARANCE - TOUCH_TOL) * 1000:.0f} mm from every body but the one "
-        f"it acts on: it would drag what it rests on): {close.body_b} is in the way",
+        f"{close.body_a} would {verb} {how} {close.body_b} at ({at[0]:.2f}, {at[1]:.2f}, {at[2]:.2f}) m {where} "
+        f"(a tool {when} keeps {(BYSTANDER_CLEARANCE - TOUCH_TOL) * 1000:.0f} mm from every body but the one "
+        f"it acts on: it would drag what it touches): {close.body_b} is in the way",
         float(close.depth),
-        (close.body_a, close.body_b),
+        (close.body_a, close.body_b) if placed else (),
         frozenset({close.body_b}) & names,
     )
 

@@ -30,7 +30,7 @@ from the table's slab) are not handed to FCL: that numpy test is conservative.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping
 
 import numpy as np
 
@@ -117,7 +117,14 @@ def sweep(
 
 
 def sweep_mode(
-    scene: CollisionScene, problem: Problem, trace: ModeTrace, ignore: Iterable[frozenset[str]] = (), step: float = STEP
+    scene: CollisionScene,
+    problem: Problem,
+    trace: ModeTrace,
+    ignore: Iterable[frozenset[str]] = (),
+    step: float = STEP,
+    *,
+    only: Collection[str] | None = None,
+    table: bool = True,
 ) -> list[Contact]:
     """The overlaps along one mode of a rollout: every moving affordance's body and what moves with it vs the rest.
 
@@ -128,6 +135,8 @@ def sweep_mode(
     touch (their pair is ignored, as are the `ignore` pairs). Bodies that do
     not move in the mode are the still ones; a body that moves but follows no
     engagement's motion is only checked at the mode's ends (by `overlap`).
+    `only`: of the movers, check these alone (a tool against the bystanders, `bodies.BYSTANDER_CLEARANCE`);
+    `table`: whether the table counts.
     """
     moving = {n for n in trace.start if not _close(trace.start[n], trace.end[n], 1e-9)}
     still = {n: p for n, p in trace.start.items() if n not in moving}
@@ -137,7 +146,11 @@ def sweep_mode(
         if tool is not None:
             skip.add(pair(tool, e.body))
     for frame, constraint, value, movers in moving_groups(problem, trace):
-        found = sweep(scene, frame, constraint, value, movers, still, skip, step=step)
+        if only is not None:
+            movers = {name: pose for name, pose in movers.items() if name in only}
+            if not movers:
+                continue
+        found = sweep(scene, frame, constraint, value, movers, still, skip, table=table, step=step)
         if found:
             return found
     return []
