@@ -54,6 +54,7 @@ from vkgl.plan.result.plan import PlanStep, plan_step
 from vkgl.plan.search.arm_aside import arm_hits, moved_aside
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
+from vkgl.plan.search.last_motion import LastMotion
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
 from vkgl.plan.search.withheld import Withheld, withholds
@@ -247,6 +248,7 @@ class _Checks:
     geometry: GeometryCheck
     arm_paths: ArmPathPlanner
     hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
+    last_motion: LastMotion = field(default_factory=LastMotion)  # last motions that failed alone, whatever came before
 
 
 def _check(
@@ -260,12 +262,17 @@ def _check(
     (`vkgl.plan.task_space.idle`): the sequence without that contact, checked before, puts every body where it
     does; a body in the way moved aside by that contact comes in another candidate."""
     label = " -> ".join(a.label(problem) for a in seq.actions) or "G0"
+    if (known := checks.last_motion.known(problem, seq)) is not None:
+        stats.last_motion_known += 1
+        stats.reject(known, label)
+        return None
     if seq.variables or seq.actions:
         stats.task_space_checks += 1
         solution = task_space(problem, seq, deadline, stats.work)
     else:
         solution = TaskSolution(np.zeros(0), rollout(problem, seq, np.zeros(0)))
     if isinstance(solution, Rejection):
+        checks.last_motion.remember(problem, seq, solution)
         stats.reject(solution, label)
         return None
     stats.geometry_checks += 1
@@ -323,6 +330,8 @@ def _check(
     # moved, when that was tried: what is left once the tool stands clear)
     rejection = first or (clashes[-1] if clashes else clash) or idle
     assert rejection is not None
+    if first is None and rejection is not idle:  # the bodies' geometry, not the arm's: the same after any prefix
+        checks.last_motion.remember(problem, seq, rejection)
     stats.reject(rejection, label)
     return None
 

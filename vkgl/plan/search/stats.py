@@ -29,6 +29,7 @@ class SearchStats:
     cut_at_start: bool = False  # G0 alone already needs more graphs than max_depth allows
     level: float = 1  # depth plus bound of the sequence checked last: every one below it has been checked
     task_space_checks: int = 0
+    last_motion_known: int = 0  # rejected unchecked: their last motion failed alone before (`last_motion`)
     geometry_checks: int = 0
     joint_space_checks: int = 0
     arm_path_checks: int = 0  # sequences whose straight moves (approach, retreat, lift) were planned

@@ -245,7 +245,24 @@ def test_a_near_goal_body_keeps_its_slides_but_no_turn_while_its_way_is_cleared(
     goal = problem.goals[0]
     assert far_move_tools(problem, goal) is None
     side = way_sides(problem, goal, "block2")[0]
-    sub = _only_moving(problem, goal, "block2", side)
+    sub, _ = _only_moving(problem, goal, "block2", side)
     assert {a.motion.type for a in problem.bodies["block"].affordances} >= {"prismatic", "revolute"}
     assert {a.motion.type for a in sub.bodies["block"].affordances} == {"prismatic"}
     assert sub.bodies["block2"].affordances
+
+
+def test_a_third_body_is_kept_still_in_the_clearing_not_stripped() -> None:
+    """A body in no goal body's way keeps its contacts in the sub-problem that clears block2, withheld until a
+    rejection names it (`search(still=)`): a tool's way to the blocker may cross it (gen1_001 of the physical
+    bench: the stick that pushes the cube aside would pass through a crate the hand must push away first)."""
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.search.clutter.clear_first import _only_moving
+
+    third = SCENE.replace("}}\n\ntask", "    block3 : Block on table at (0.45, -0.3) m yaw 0deg\n}}\n\ntask")
+    program = vkgl.compile_source(third.format(y2=0.0), "third.vkg", base_dir=_HERE)
+    problem = build_problem(program, program.tasks["through"])
+    goal = problem.goals[0]
+    side = way_sides(problem, goal, "block2")[0]
+    sub, still = _only_moving(problem, goal, "block2", side)
+    assert still == frozenset({"block3"})
+    assert sub.bodies["block3"].affordances == problem.bodies["block3"].affordances

@@ -100,7 +100,7 @@ def test_a_far_goal_body_keeps_only_its_slides_while_its_way_is_cleared(pushed: 
 
     goal = pushed.goals[0]
     side = way_sides(pushed, goal, "block2", tools=far_move_tools(pushed, goal))[0]
-    sub = _only_moving(pushed, goal, "block2", side)
+    sub, _ = _only_moving(pushed, goal, "block2", side)
     kinds = {a.motion.type for a in sub.bodies["block"].affordances}
     assert kinds == {"prismatic"}
     assert {a.motion.type for a in pushed.bodies["block"].affordances} >= {"prismatic", "revolute"}

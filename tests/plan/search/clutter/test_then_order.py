@@ -46,7 +46,16 @@ class _Recorder:
         self.calls: list[tuple[int, float]] = []
         self.outcome = outcome
 
-    def __call__(self, problem: Problem, *, deadline: float, progress: bool, root: Sequence, budget: float) -> object:
+    def __call__(
+        self,
+        problem: Problem,
+        *,
+        deadline: float,
+        progress: bool,
+        root: Sequence,
+        budget: float,
+        still: frozenset[str] = frozenset(),
+    ) -> object:
         self.calls.append((root.depth, budget))
         stats = SearchStats()
         stats.graphs_expanded = 20  # 1 unit of work (`WORK_WEIGHTS`)

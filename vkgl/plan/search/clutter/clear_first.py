@@ -300,9 +300,12 @@ class _Walk:
     left: float
     log: list[str] = field(default_factory=list)
 
-    def search(self, problem: Problem, root: Sequence, budget: float) -> SearchResult:
-        """`problem` searched from `root` with at most `budget` units of the work left; its work is taken off."""
-        result = search(problem, deadline=self.deadline, progress=self.progress, root=root, budget=budget)
+    def search(
+        self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
+    ) -> SearchResult:
+        """`problem` searched from `root` with at most `budget` units of the work left (the bodies `still` kept
+        still until a rejection names one, `search(still=)`); its work is taken off."""
+        result = search(problem, deadline=self.deadline, progress=self.progress, root=root, budget=budget, still=still)
         add_stats(self.stats, result.stats)
         self.left -= result.stats.work_done()
         return result
@@ -356,13 +359,14 @@ class _Walk:
     ) -> SearchResult:
         """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work: its
         result, solved (with its sequence), proven infeasible (then logged) or "timeout" (its budget spent)."""
+        moving, still = _only_moving(self.problem, goal, blocker, side)
         sub = replace(
-            _only_moving(self.problem, goal, blocker, side),
+            moving,
             goals=[side_goal(self.problem, goal, blocker, side)],
             max_depth=root.depth - 1 + CLEAR_DEPTH,
             pinned=pinned,
         )
-        found = self.search(sub, root, budget)
+        found = self.search(sub, root, budget, still=still)
         if found.status == "solved" and found.sequence is not None:
             return found
         if found.status != "timeout":
@@ -394,13 +398,16 @@ def _closest(found: SearchResult) -> str:
     return f" (closest: {why})" if why else ""
 
 
-def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> Problem:
-    """`problem` in which only the goal bodies and the tools keep their affordances, and `blocker` those one
-    motion of which takes it to `side` (all of them when none does): the plan that clears a blocker moves it,
-    with the hand or a tool, after moving a goal body out of the tool's way at most; the other bodies stay
-    where they lie (they still count in every collision check). A tool keeps only the grasps with which it can
-    also end a goal body where its goal is, when it has some (`Bound`'s wrong grasps): the plan after the
-    clearing keeps the tool in hand, and one held otherwise would have to be let go of and grasped again.
+def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> tuple[Problem, frozenset[str]]:
+    """`problem` in which the goal bodies and the tools keep their affordances, and `blocker` those one motion of
+    which takes it to `side` (all of them when none does), and the other free bodies, kept still (the second
+    result, for `search(still=)`): the plan that clears a blocker moves it, with the hand or a tool, after moving
+    a goal body out of the tool's way at most, or a body that a rejected sequence met (the tool's or the arm's
+    way to the blocker crosses it: on the physical bench's gen1_001 the stick that pushes the cube in the way
+    aside would pass through a crate, which the hand pushes away first); bodies with a joint keep none. A tool
+    keeps only the grasps with which it can also end a goal body where its goal is, when it has some (`Bound`'s
+    wrong grasps): the plan after the clearing keeps the tool in hand, and one held otherwise would have to be
+    let go of and grasped again.
 
     A goal body with slides keeps no turn here: in the plan that clears its way it moves at most once, out of
     the tool's or the hand's way (a Block pushed back 5 cm with the fingertip before the Stick pushes the cube in
@@ -408,8 +415,9 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
     goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
     instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
     to its goal (`far_move_tools`) keeps only its slides (no grasp either)."""
-    keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None}
-    bodies = {name: b if name in keep else replace(b, affordances=()) for name, b in problem.bodies.items()}
+    keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None} | {blocker}
+    still = frozenset(n for n, b in problem.bodies.items() if n not in keep and b.joint is None and b.affordances)
+    bodies = {n: b if n in keep or n in still else replace(b, affordances=()) for n, b in problem.bodies.items()}
     mover = bodies[goal.body]
     far = far_move_tools(problem, goal) is not None
     kept = tuple(a for a in mover.affordances if a.motion.type == ("prismatic" if far else a.motion.type))
@@ -425,7 +433,7 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
         right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
         if any(a.motion.type == "free" for a in right):
             bodies[tool] = replace(body, affordances=right)
-    return replace(problem, bodies=bodies)
+    return replace(problem, bodies=bodies), still
 
 
 def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
