@@ -61,7 +61,23 @@ def test_a_way_along_the_door_is_refused(touching, monkeypatch) -> None:
     """Up or level along the door's face the hand would slide on it: those ways do not leave the room."""
     geometry, _, home = touching
     monkeypatch.setattr(escape, "ESCAPE_DIRECTIONS", escape.ESCAPE_DIRECTIONS[:3])  # up, back, forward
+    monkeypatch.setattr(escape, "ESCAPE_DIAGONALS", ())
     assert escape.way_out(geometry.transit_collision, geometry.arm_collision, home) is None
+
+
+def test_where_no_axis_leads_out_a_level_diagonal_does(touching, monkeypatch) -> None:
+    """A held tool left along a face it has just turned (gen9_008 of the physical bench) gets out only slanted
+    away from it: with up and the axes along the door alone, the hand leaves along the diagonal back and away
+    from the door (the first of the two that lead out), as soon as it has the room, touching nothing."""
+    geometry, _, home = touching
+    room, exact = geometry.transit_collision, geometry.arm_collision
+    monkeypatch.setattr(escape, "ESCAPE_DIRECTIONS", escape.ESCAPE_DIRECTIONS[:3])  # up, back, forward: none
+    joints = escape.way_out(room, exact, home)
+    assert joints is not None
+    assert room.free(joints[-1]) and not any(room.free(q) for q in joints[:-1])
+    assert all(exact.free(q) for q in joints)
+    moved = geometry.problem.arm.fk(joints[-1])[:3, 3] - geometry.problem.arm.fk(home)[:3, 3]
+    assert moved[1] > 0.009 and moved[0] == pytest.approx(-moved[1], abs=1e-3) and abs(moved[2]) < 1e-3
 
 
 def test_no_way_out_where_the_hand_overlaps_the_door() -> None:

@@ -8,7 +8,8 @@ a transit refuses every plan, which a person moving the arm would not do: they m
 what is close, and go on from there. `way_out` is that move:
 
 - a straight move of the hand (its orientation kept), `ESCAPE_STEP` at a time by chained IK
-  (`vkgl.motion.approach.follow_poses`), along each of `ESCAPE_DIRECTIONS`, at most `ESCAPE_REACH`;
+  (`vkgl.motion.approach.follow_poses`), along each of `ESCAPE_DIRECTIONS` (up and the world's level axes), at
+  most `ESCAPE_REACH`; along the level diagonals (`ESCAPE_DIAGONALS`) only when none of those leads out;
 - it ends at the first pose clear of the room (the transit's own check), so it leaves the room as soon as
   it can; the shortest of the directions wins (the first of them on a tie);
 - along it the arm's links (and a held tool) keep clear of the real shapes (the exact check, every
@@ -52,6 +53,15 @@ ESCAPE_DIRECTIONS = (
 """World directions of the hand's move: up first (over a table the room is usually above), then level along the
 world's axes; never down (the table)."""
 
+ESCAPE_DIAGONALS = tuple(
+    np.array([x, y, 0.0]) / np.sqrt(2.0) for x, y in ((-1.0, 1.0), (-1.0, -1.0), (1.0, 1.0), (1.0, -1.0))
+)
+"""Level directions between the world's axes, tried only when none of `ESCAPE_DIRECTIONS` leads out: a held tool
+that has just turned a body lies along one of its faces at the end of the contact, where a move along one axis
+slides along the face or back into it and the other needs the wrist to flip (gen9_008 of the physical bench: the
+Stick beside the cube it turned, out only along -x+y). Back towards the arm's base first (the arm folds rather
+than stretches)."""
+
 
 def way_out(
     room: ArmCollision, exact: ArmCollision, q: np.ndarray, held: Held | None = None, tool_reach: float = 0.0
@@ -64,12 +74,15 @@ def way_out(
     if not exact.free(q, held=held):
         return None
     resolution = edge_resolution(room.arm, ESCAPE_TOLERANCE, tool_reach)
-    best: np.ndarray | None = None
-    for direction in ESCAPE_DIRECTIONS:
-        found = _along(room, exact, q, held, direction, resolution)
-        if found is not None and (best is None or len(found) < len(best)):
-            best = found
-    return best
+    for directions in (ESCAPE_DIRECTIONS, ESCAPE_DIAGONALS):
+        best: np.ndarray | None = None
+        for direction in directions:
+            found = _along(room, exact, q, held, direction, resolution)
+            if found is not None and (best is None or len(found) < len(best)):
+                best = found
+        if best is not None:
+            return best
+    return None
 
 
 def _along(
@@ -109,4 +122,12 @@ def _depths(room: ArmCollision, q: np.ndarray, held: Held | None) -> dict[str, f
     return out
 
 
-__all__ = ["ESCAPE_DIRECTIONS", "ESCAPE_GAIN", "ESCAPE_REACH", "ESCAPE_STEP", "ESCAPE_TOLERANCE", "way_out"]
+__all__ = [
+    "ESCAPE_DIAGONALS",
+    "ESCAPE_DIRECTIONS",
+    "ESCAPE_GAIN",
+    "ESCAPE_REACH",
+    "ESCAPE_STEP",
+    "ESCAPE_TOLERANCE",
+    "way_out",
+]

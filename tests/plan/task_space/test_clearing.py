@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from pushed_cube import CUBE_SOURCE
@@ -252,3 +253,32 @@ def test_the_bounding_boxes_gap_never_exceeds_the_distance_so_the_clearing_short
     if len(pa) < 3 or len(pb) < 3:
         return
     assert _box_gap(_box(pa), _box(pb)) <= polygon_distance(pa, pb) + 1e-12
+
+
+def test_a_blocker_that_the_hand_still_meets_is_moved_a_little_farther_before_half_its_range() -> None:
+    """After the crate pushed just clear of the block's corridor, the next candidate moves it a twentieth of the
+    rest of its range farther (the hand passing beside the block is wider than its corridor), not half of it."""
+    import time
+
+    from vkgl.plan.graphs.graph import Action, Engagement
+    from vkgl.plan.graphs.rollout import extend, start_sequence
+    from vkgl.plan.problem.problem import build_problem
+    from vkgl.plan.task_space.clearing import cleared_values
+    from vkgl.plan.task_space.feasible import TaskSolution, bounds, task_space, task_space_alternatives
+
+    program = vkgl.compile_source(SHORT_SLIDES, "short.vkg", base_dir=_EMPTY)
+    problem = build_problem(program, program.tasks["through"])
+    seq = start_sequence(problem)
+    crate = Engagement("arm.fingertip", "crate", "push_center_ny")
+    for op in ("add", "remove", "add", "remove"):
+        seq, _ = extend(problem, seq, Action(op, crate))
+    seq, _ = extend(problem, seq, Action("add", Engagement("arm.fingertip", "block", "push_center_px")))
+    found = task_space(problem, seq, time.perf_counter() + 30)
+    assert isinstance(found, TaskSolution) and found.free, found
+    lower, upper = bounds(problem, seq)
+    cleared = cleared_values(problem, seq, found.values, found.traces, lower, upper)
+    assert cleared is not None
+    candidates = task_space_alternatives(problem, seq, found, time.perf_counter() + 30)
+    first, second = next(candidates).values, next(candidates).values
+    assert first[1] == pytest.approx(cleared[1])
+    assert second[1] == pytest.approx(cleared[1] + 0.05 * (upper[1] - cleared[1]))

@@ -54,10 +54,15 @@ ALTERNATIVE_FRACTIONS = (0.25, 0.5, 1.0)
 """Where in their ranges the motion values start when the search asks the optimiser for other solutions of a
 sequence, after the geometric ones (`ASIDE_BEYOND`) failed."""
 
-ASIDE_BEYOND = (0.0, 0.5, 1.0)
+ASIDE_BEYOND = (0.0, 0.05, 0.1, 0.5, 1.0)
 """A body in the way is moved by the smallest value that clears the later motions' corridors
 (`clearing.cleared_values`), then that value plus these fractions of what is left of its range: farther aside,
-for when the arm cannot carry the first (`task_space_alternatives`)."""
+for when the arm cannot carry the first (`task_space_alternatives`). The corridors are the pushed bodies' and
+their tools' footprints, not the hand's, which passes beside a small body wider than it (the Panda's hand is
+20 cm across, a cube 6 cm): a crate pushed back 1 cm clear of the cube's corridor before the fingertip slides
+the cube past it still meets the hand by a millimetre (gen3_046 of the physical bench). So a little farther
+first (a twentieth and a tenth of the rest: 1.5 to 4 cm on the bench's slides), then half and all of it, which
+leave the body far from where it lay (a goal body pushed back to make room must come back)."""
 
 FD_STEP = 1e-7
 """Step of the forward-difference gradients (m or rad)."""
