@@ -1,6 +1,6 @@
-"""The fingertip raised on a tall face (`vkgl.plan.problem.raised`): the least lift that keeps the upright hand's
-fingers out of the face above the pad, offered for pulls only, to the arm's fingertip only, never where the pull
-could tip the body."""
+"""The fingertip raised on a tall face (`vkgl.plan.problem.raised`, `vkgl.plan.task_space.raised_contacts`): the
+least lift that keeps the upright hand's fingers out of the face above the pad, tried only when the written contact
+fails the arm's checks, never where the push could tip the body."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import vkgl
 from vkgl.lang.ir.families import find_member, over_pose
 from vkgl.lang.ir.nodes import Body
 from vkgl.plan.problem.problem import build_problem
-from vkgl.plan.problem.raised import LIFT_STEP, PAD_CLEAR, TIP_SHARE, leading_edge, needed_lift, raised_members
+from vkgl.plan.problem.raised import LIFT_STEP, PAD_CLEAR, TIP_SHARE, leading_edge, needed_lift, raised_name
 from vkgl.plan.search.search import search
 
 
@@ -29,11 +29,6 @@ def _crate_task(tmp_path, x=0.673, y=0.014, yaw=-25.0, goal=(0.331, 0.173, -25.0
     library = generated_tasks.fixture_library(("CrateM",))
     program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "raised", library))
     return program, build_problem(program, program.tasks["raised"], max_depth=2)
-
-
-def _raised(problem):
-    """The raised members (no roll; the Hook's rolled members, `vkgl.plan.problem.over`, have one)."""
-    return [a.name for a in problem.bodies["target"].affordances if "/over+0deg" in a.name]
 
 
 @given(st.floats(-0.05, 0.05), st.floats(0.0, 0.2))
@@ -53,12 +48,16 @@ def test_the_leading_edge_is_half_the_box_along_its_push_and_the_corner_diagonal
     assert leading_edge(box, np.array([1.0, 1.0, 0.0])) == pytest.approx(0.25 / np.sqrt(2.0))
 
 
-def test_a_tall_crate_pulled_from_its_far_face_gets_the_pull_raised_for_the_fingertip_alone(tmp_path):
+def test_a_tall_crate_pulled_from_its_far_face_is_pulled_by_its_raised_far_face(tmp_path):
+    """Upright at mid-height the hand stands 3 cm in the crate; leaned back 30 to 60 deg it has no IK solution at
+    0.77 m: before the raised contact there was no plan of any depth that pulled the crate alone. The raised
+    member is the same slide, its action 6.5 cm higher (2.5 cm below the crate's top), and reads back as the
+    executor reads it."""
     program, problem = _crate_task(tmp_path)
-    name = "push_center_nx/over+0deg+6.50cm"  # 9 cm of face above the written contact: raised to 2.5 cm below the top
-    # the arm's base lies behind the -x face at this yaw: its push (+x) points away and is not raised
-    assert _raised(problem) == [name]
-    assert {(n, e) for n, e in problem.bodies["target"].tool_members if n == name} == {(name, "arm.fingertip")}
+    found = search(problem, deadline=time.perf_counter() + generated_tasks.TEST_SOLVE_TIMEOUT_S)
+    assert found.status == "solved", found.reason
+    name = "push_center_nx/over+0deg+6.50cm"
+    assert [a.label(problem) for a in found.sequence.actions] == [f"add CrateM.{name} on target with arm.fingertip"]
     raised, written = problem.affordance("target", name), problem.affordance("target", "push_center_nx")
     assert raised.motion == written.motion
     assert raised.action.pose.matrix()[2, 3] == pytest.approx(written.action.pose.matrix()[2, 3] + 0.065)
@@ -67,16 +66,14 @@ def test_a_tall_crate_pulled_from_its_far_face_gets_the_pull_raised_for_the_fing
     assert over_pose(name) == ("push_center_nx", 0.0, pytest.approx(0.065))
 
 
-def test_the_crate_alone_is_pulled_by_its_raised_far_face_where_the_written_contact_has_no_arm_configuration(
-    tmp_path,
-):
-    """Upright at mid-height the hand stands 3 cm in the crate; leaned back 30 to 60 deg it has no IK solution at
-    0.77 m: before the raised member there was no plan of any depth that pulled the crate alone."""
-    _, problem = _crate_task(tmp_path)
+def test_a_push_the_written_contact_carries_is_not_raised(tmp_path):
+    """The crate pushed 20 cm away from the arm, its near face 0.35 m from the base: the hand leaned back carries it
+    as written, and the plan keeps the contact exploration made."""
+    _, problem = _crate_task(tmp_path, x=0.45, y=0.0, yaw=0.0, goal=(0.65, 0.0, 0.0))
     found = search(problem, deadline=time.perf_counter() + generated_tasks.TEST_SOLVE_TIMEOUT_S)
     assert found.status == "solved", found.reason
     assert [a.label(problem) for a in found.sequence.actions] == [
-        "add CrateM.push_center_nx/over+0deg+6.50cm on target with arm.fingertip"
+        "add CrateM.push_center_px on target with arm.fingertip"
     ]
 
 
@@ -91,11 +88,12 @@ def _tall(depth: float, height: float, friction: float) -> Body:
 def test_no_raise_where_the_raised_pull_could_tip_the_body_nor_where_the_face_is_low(tmp_path):
     _, problem = _crate_task(tmp_path)
     crate = problem.bodies["target"]
-    written = tuple(a for a in crate.affordances if "/" not in a.name and "@" not in a.name)
-    base = np.zeros(3)
-    assert raised_members(crate.type, written, crate.rest, base, [])  # the crate: raised to 16 cm, d / mu = 20 cm
+    pull = problem.affordance("target", "push_center_nx")
+    assert raised_name(crate.type, pull, []) == "push_center_nx/over+0deg+6.50cm"  # at 15.5 cm; d / mu = 20 cm
     narrow = _tall(0.10, 0.30, 0.5)  # d = 5 cm: tips above 10 cm; raised 12.5 cm over its 15 cm mid-height
     assert TIP_SHARE * 0.05 / 0.5 < 0.275
-    assert raised_members(narrow, written, crate.rest, base, []) == ()
+    assert raised_name(narrow, pull, []) is None
     low = _tall(0.20, 0.05, 0.5)  # a Block's height: its face rises 2.5 cm over the contact, the fingers clear it
-    assert raised_members(low, written, crate.rest, base, []) == ()
+    assert raised_name(low, pull, []) is None
+    turn = problem.affordance("target", "turn_center_nx")  # a turn about an axis off the body: not raised
+    assert raised_name(crate.type, turn, []) is None

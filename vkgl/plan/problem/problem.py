@@ -36,7 +36,6 @@ from vkgl.plan.problem.arcs import arc_members
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.hulls import hull_vertices, outline_corners
 from vkgl.plan.problem.over import clearing_height, over_members
-from vkgl.plan.problem.raised import raised_members
 from vkgl.plan.problem.tipping import TooHigh, split_by_tipping
 from vkgl.robot import Arm
 
@@ -269,7 +268,7 @@ def build_problem(
     goals = [_goal_spec(task, g, bodies) for g in task.goals]
     for goal in goals:
         arcs = _with_arc_members(bodies[goal.body], goal)
-        bodies[goal.body] = _with_effector_members(arcs, bodies, effectors, table_top(scene), (program, arm))
+        bodies[goal.body] = _with_over_members(arcs, bodies, effectors, table_top(scene))
     search = task.search
     depth = max_depth if max_depth is not None else (search.max_depth if search and search.max_depth else None)
     limit = timeout if timeout is not None else (search.timeout.value if search and search.timeout else None)
@@ -317,14 +316,12 @@ def _with_arc_members(body: PlanBody, goal: GoalSpec) -> PlanBody:
     return replace(body, affordances=body.affordances + members, arc_seeds=body.arc_seeds | seeds)
 
 
-def _with_effector_members(
-    body: PlanBody, bodies: dict[str, PlanBody], effectors: list[EffectorSpec], table: float, arm: tuple[Program, Arm]
+def _with_over_members(
+    body: PlanBody, bodies: dict[str, PlanBody], effectors: list[EffectorSpec], table: float
 ) -> PlanBody:
-    """`body` with the members one effector alone may enact: its slides enacted by a tool rolled over its top,
-    where the tool lying flat would stand in it, its arcs' members rolled over the low bodies beside it
-    (`vkgl.plan.problem.over`), and its pulls enacted by the arm's fingertip raised on a face that rises above the
-    upright hand's fingers (`vkgl.plan.problem.raised`: `arm`, the program and its arm, whose fingertip is the first
-    of `effectors`); only a body lying on the table (`table`: its height)."""
+    """`body` with its slides enacted by a tool rolled over its top, where the tool lying flat would stand in it,
+    and its arcs' members rolled over the low bodies beside it (`vkgl.plan.problem.over`); only a body lying on the
+    table (`table`: the table top's height)."""
     if not body.on_table or body.joint is not None or abs(body.rest[2, 2]) < 0.99:
         return body
     tools = [(e.name, bodies[e.tool].type, e.frame) for e in effectors if e.tool is not None and e.tool != body.name]
@@ -333,13 +330,10 @@ def _with_effector_members(
     others = [(b.rest, _hull_points(b.type)) for b in near]
     beside = clearing_height(body.rest, points, [tool for _, tool, _ in tools], others, table) if tools else 0.0
     members, pairs = over_members(body.affordances, points, tools, beside)
-    clauses = arm[0].tipping.get(body.type.name, [])
-    raised = raised_members(body.type, body.affordances, body.rest, arm[1].base[:3, 3], clauses)
     known = {a.name for a in body.affordances}
-    fresh = tuple({m.name: m for m in members + raised if m.name not in known}.values())
+    fresh = tuple(m for m in members if m.name not in known)
     if not fresh:
         return body
-    pairs |= {(m.name, effectors[0].name) for m in raised}
     return replace(body, affordances=body.affordances + fresh, tool_members=body.tool_members | pairs)
 
 
