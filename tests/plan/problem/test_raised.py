@@ -14,7 +14,9 @@ from hypothesis import strategies as st
 
 import vkgl
 from vkgl.lang.ir.families import find_member, over_pose
-from vkgl.lang.ir.nodes import Body
+from vkgl.lang.ir.geometry import pushed_face
+from vkgl.lang.ir.nodes import Body, Tipping
+from vkgl.lang.ir.values import Quantity
 from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.problem.raised import LIFT_STEP, PAD_CLEAR, TIP_SHARE, leading_edge, needed_lift, raised_name
 from vkgl.plan.search.search import search
@@ -97,3 +99,7 @@ def test_no_raise_where_the_raised_pull_could_tip_the_body_nor_where_the_face_is
     assert raised_name(low, pull, []) is None
     turn = problem.affordance("target", "turn_center_nx")  # a turn about an axis off the body: not raised
     assert raised_name(crate.type, turn, []) is None
+    # a `tips above` clause measured lower than the raised contact rules it out; one above it does not
+    face = pushed_face(pull.action.pose.matrix()[:3, 0])
+    assert raised_name(crate.type, pull, [Tipping(height=Quantity(value=0.14, unit="m"), faces=[face])]) is None
+    assert raised_name(crate.type, pull, [Tipping(height=Quantity(value=0.16, unit="m"), faces=[face])]) is not None
