@@ -1,0 +1,63 @@
+"""A candidate with its fingertip contacts raised on their faces: tried when the arm's checks reject it as written.
+
+The arm's checks (joint space, the arm's geometry at each contact, the chains along each contact's motion) may
+reject a candidate because the upright hand at a contact pressed at the body's mid-height stands in that body or
+in a taller one beside it, and leaning back cannot help (`vkgl.plan.problem.raised`). `raised_contacts` gives the
+same candidate with every fingertip contact on a body lying flat raised as that module says (`raised_name`): the
+same motion values, the same bodies' poses in every mode, the hand higher on each face; the search checks it like
+any candidate (`vkgl.plan.search.search._check`), and only after the written one failed, so a plan that pushed
+where exploration pushed is never replaced by a raised one, and the search makes no more sequences: the raised
+contact is another candidate of the same sequence, as a body moved farther aside is.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import replace
+
+from vkgl.plan.graphs.graph import Action, Engagement
+from vkgl.plan.graphs.rollout import Sequence, extend, rollout, start_sequence
+from vkgl.plan.problem.problem import Problem
+from vkgl.plan.problem.raised import raised_name
+from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TaskSolution
+
+
+def raised_contacts(problem: Problem, seq: Sequence, found: TaskSolution) -> tuple[Sequence, TaskSolution] | None:
+    """`seq` (its families' members named) with each fingertip contact that can be raised renamed to its raised
+    member, and `found`'s values rolled out along it; None when no contact can be raised."""
+    fingertip = problem.robot_effector.name
+    renamed: dict[Engagement, Engagement] = {}
+    out = start_sequence(problem)
+    for action in seq.actions:
+        e = action.engagement
+        if action.op == "add" and e.effector == fingertip and (name := _raised(problem, e)) is not None:
+            renamed[e] = Engagement(e.effector, e.body, name)
+        member = renamed.get(e, e)
+        if action.op == "remove":
+            renamed.pop(e, None)
+        out, _ = extend(problem, out, Action(action.op, member))
+    if out.actions == seq.actions:
+        return None
+    traces = rollout(problem, out, found.values, JOINT_SAMPLES)
+    return out, replace(found, traces=traces, sequence=out)
+
+
+def raised_after(
+    problem: Problem, rejected: list[tuple[Sequence, TaskSolution]]
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """The first of `rejected` (the candidates the arm's checks rejected, read when this is asked for its item)
+    with its fingertip contacts raised (`raised_contacts`), if any can be."""
+    if rejected and (found := raised_contacts(problem, *rejected[0])) is not None:
+        yield found
+
+
+def _raised(problem: Problem, e: Engagement) -> str | None:
+    """The raised member's name of engagement `e` (`raised_name`), for a body lying flat on the table; else None."""
+    body = problem.bodies[e.body]
+    if not body.on_table or body.joint is not None or abs(body.rest[2, 2]) < 0.99:
+        return None
+    clauses = problem.program.tipping.get(body.type.name, [])
+    return raised_name(body.type, problem.affordance(e.body, e.affordance), clauses)
+
+
+__all__ = ["raised_after", "raised_contacts"]
