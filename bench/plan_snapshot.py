@@ -1,13 +1,16 @@
 """Record every plan of the examples and of generated tasks, or compare plans against such a recording.
 
     python bench/plan_snapshot.py record before.json [--seed 1] [--count 50] [--timeout 60] [--only 3,7-9]
+                                  [--cpu-clock]
     python bench/plan_snapshot.py compare before.json after.json [--rtol 0]
 
 For a refactoring that must not change any plan: record on the old code, record on the new, compare. Each task
 is solved with `vkgl.solve` (two worker processes); a plan's document is kept without its timings and the URDF's
 path. `compare` prints each task whose status or plan differs (numbers within `--rtol`, 0 by default: the same
 machine gives the same floats) and exits 1 if any does. A task that timed out in either recording is compared by
-status only, and reported apart: a timeout depends on the machine's load, not on the code.
+status only, and reported apart: a timeout depends on the machine's load, not on the code. `--cpu-clock` counts
+each timeout in CPU seconds of its worker (`time.process_time`), as `bench_physical.py --cpu-clock` does: under
+load a task then ends the same way as on an idle machine, and fewer are compared by status only.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import json
 import math
 import sys
 import tempfile
+import time
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
 from pathlib import Path
@@ -46,11 +50,14 @@ def task_files(
     return jobs
 
 
-def solve_one(job: tuple[str, str, str | None, float]) -> dict[str, Any]:
-    """The plans of one task file (every task it declares when no name is given)."""
+def solve_one(job: tuple[str, str, str | None, float, bool]) -> dict[str, Any]:
+    """The plans of one task file (every task it declares when no name is given); with `cpu_clock` the solve's
+    deadlines count this worker's CPU seconds."""
     import vkgl
 
-    key, path, name, timeout = job
+    key, path, name, timeout, cpu_clock = job
+    if cpu_clock:
+        time.perf_counter = time.process_time  # every deadline (`time.perf_counter() > deadline`) then counts CPU
     program = vkgl.compile(path)
     names = [name] if name else [d.name for d in program.root.decls if type(d).__name__ == "Task"]
     out = {}
@@ -63,11 +70,14 @@ def solve_one(job: tuple[str, str, str | None, float]) -> dict[str, Any]:
     return out
 
 
-def record(out: Path, seed: int, count: int, timeout: float, only: list[int] | None = None) -> int:
-    """Solve every task (`only`: those generated tasks) and write the recording."""
+def record(
+    out: Path, seed: int, count: int, timeout: float, only: list[int] | None = None, cpu_clock: bool = False
+) -> int:
+    """Solve every task (`only`: those generated tasks; `cpu_clock`: timeouts in CPU seconds) and write the
+    recording."""
     results: dict[str, Any] = {}
     with tempfile.TemporaryDirectory() as scratch:
-        jobs = [(*job, timeout) for job in task_files(seed, count, Path(scratch), only)]
+        jobs = [(*job, timeout, cpu_clock) for job in task_files(seed, count, Path(scratch), only)]
         with ProcessPoolExecutor(2, mp_context=get_context("spawn")) as pool:
             for done in pool.map(solve_one, jobs):
                 results.update(done)
@@ -133,6 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     rec.add_argument("--count", type=int, default=50)
     rec.add_argument("--timeout", type=float, default=60.0, help="per task, s (default 60)")
     rec.add_argument("--only", help="these generated tasks alone, no example (indices: 3,7-9)")
+    rec.add_argument("--cpu-clock", action="store_true", help="count timeouts in each worker's CPU seconds")
     cmp_ = sub.add_parser("compare", help="compare two recordings")
     cmp_.add_argument("before", type=Path)
     cmp_.add_argument("after", type=Path)
@@ -140,7 +151,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.command == "record":
         only = None if args.only is None else _indices(args.only)
-        return record(args.out, args.seed, args.count, args.timeout, only)
+        return record(args.out, args.seed, args.count, args.timeout, only, args.cpu_clock)
     return compare(args.before, args.after, args.rtol)
 
 
