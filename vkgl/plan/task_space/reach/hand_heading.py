@@ -86,10 +86,10 @@ def hand_out_of_reach_at_free_heading(
     last = _last_turn(seq, goal.body, mode, turns)
     turn = None if last is None else _LastTurn.of(problem, seq, last, acting, limits, chain, goal.tol_position + slack)
     scan = _Scan(problem, seq, goal, turns, slides, signs, setup, travels, heading0, target, (low, high), chain, slack)
-    found = scan.closest(None if turn is None or last is None else (turns.index(last), turn))
-    if found is None:
+    proven = scan.closest(None if turn is None or last is None else (turns.index(last), turn))
+    if proven is None:
         return None
-    closest, started = found
+    closest, started = proven
     where = "where that turn starts or ends " if started else ""
     label = seq.actions[mode - 1].label(problem) if mode > 0 else "G0"
     why = (
@@ -126,6 +126,7 @@ class _Scan:
         nothing, a row also counts as out of reach when the hand is so where the turn starts (on at most
         `START_GRIDS` grids: each finer grid costs more than the optimiser's runs it saves, `FINER`)."""
         goal = self.goal
+        assert goal.position is not None
         turn_limits, slide_limits, lever, _ = self.setup
         radius = float(np.max(np.linalg.norm(self.chain, axis=1)))
         ended = False  # the end alone has decided nothing can be proven from it
