@@ -85,7 +85,9 @@ def hand_out_of_reach_at_free_heading(
     chain = np.array(points)  # q x 2, the hand in the body's frame at each grid offset
     last = _last_turn(seq, goal.body, mode, turns)
     turn = None if last is None else _LastTurn.of(problem, seq, last, acting, limits, chain, goal.tol_position + slack)
-    scan = _Scan(problem, seq, goal, turns, slides, signs, setup, travels, heading0, target, (low, high), chain, slack)
+    reach = (low, high)
+    base = problem.arm.base[:2, 3]
+    scan = _Scan(problem, seq, goal, turns, slides, signs, setup, travels, heading0, target, reach, chain, slack, base)
     proven = scan.closest(None if turn is None or last is None else (turns.index(last), turn))
     if proven is None:
         return None
@@ -118,6 +120,7 @@ class _Scan:
     reach: tuple[float, float]
     chain: np.ndarray  # offsets x 2, the hand in the body's frame at each grid offset
     slack: float
+    base: np.ndarray  # the arm's base, x and y in the world
 
     def closest(self, start: tuple[int, _LastTurn] | None) -> tuple[float, bool] | None:
         """(the least excess over the rows that may hold the true values, more than `ACCEPTED_VIOLATION`: proven
@@ -158,12 +161,47 @@ class _Scan:
             column, turn = start  # the hand where the last turn starts: the body's final pose, that turn undone
             back, start_give = turn.back(angles[possible, column], spread, steps[column])
             begun, begun_bare = _excess(self.target, headings, back, start_give, self.reach)
-            worst = float(np.maximum(excess, begun).min())
+            excess, bare = np.maximum(excess, begun), np.maximum(bare, begun_bare)
+            if not self.slides:  # and where the turns before it leave the body (no slide: exact per row)
+                begun, begun_bare = self._before_last(angles[possible], steps, column, radius + lever)
+                excess, bare = np.maximum(excess, begun), np.maximum(bare, begun_bare)
+            worst = float(excess.min())
             if worst > ACCEPTED_VIOLATION:
                 return worst, True
-            if (np.maximum(bare, begun_bare)[at_goal] <= 0.0).any():
+            if (bare[at_goal] <= 0.0).any():
                 return None
         return None
+
+    def _before_last(
+        self, angles: np.ndarray, steps: list[float], column: int, reach_per_radian: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(rows x offsets) how far outside the usable reach the hand lies where the last turn starts, read
+        forward: the body's rest pose turned by the rows' angles of the turns before it (no slide between), less
+        the give (the chain's slack, its and the body's motion over the rows' half steps, `reach_per_radian`
+        times their sum, and the drifts of those turns' contacts along their families), and without it."""
+        before = [k for k in range(len(self.turns)) if k != column]
+        turns = [self.turns[k] for k in before]
+        origins, _ = affine_positions(
+            self.problem, self.seq, self.goal.body, turns, [], angles[:, before], turn_matrices
+        )
+        headings = self.heading0 + angles[:, before] @ np.asarray([self.signs[k] for k in before], dtype=float)
+        turn_limits = self.setup[0]
+        spread = sum(steps[k] for k in before) / 2
+        drifts = row_drifts(
+            [self.travels[k] for k in before],
+            [turn_limits[k] for k in before],
+            angles[:, before],
+            [steps[k] for k in before],
+        )
+        give = self.slack + reach_per_radian * spread + drifts[:, None]
+        cos, sin = np.cos(headings)[:, None], np.sin(headings)[:, None]
+        cx, cy = self.chain[:, 0], self.chain[:, 1]
+        x = origins[:, 0:1] - self.base[0] + cos * cx - sin * cy
+        y = origins[:, 1:2] - self.base[1] + sin * cx + cos * cy
+        centre = np.hypot(x, y)
+        low, high = self.reach
+        bare = np.maximum(centre - high, low - centre)
+        return bare - give, bare
 
 
 START_GRIDS = 2
