@@ -14,9 +14,10 @@ from far_block import block_moving_sequences, far_block_problem
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vkgl.plan.graphs.graph import motion_type
-from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
-from vkgl.plan.problem.problem import GoalSpec, Problem
+from vkgl.lang.compiler import compile_file
+from vkgl.plan.graphs.graph import motion_type, successors
+from vkgl.plan.graphs.rollout import Sequence, bounds, extend, rollout, start_sequence
+from vkgl.plan.problem.problem import GoalSpec, Problem, build_problem
 from vkgl.plan.problem.rejection import Kind
 from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading, row_drifts
 from vkgl.plan.task_space.reach.hand_reach import hand_out_of_reach_on_the_way
@@ -51,9 +52,10 @@ def _verdict(problem: Problem, seq: Sequence, position: np.ndarray):
     fractions=st.lists(st.floats(0.0, 1.0), min_size=12, max_size=12),
     miss=st.tuples(st.floats(0.0, 1.0), st.floats(-math.pi, math.pi)),
 )
-def test_never_rejects_values_whose_last_push_ends_in_reach(problem, sequences, fractions, miss):
+def test_never_rejects_values_whose_last_push_stays_in_reach(problem, sequences, fractions, miss):
     # the witness: values (motions, then contacts along their families) and a goal they meet within its
-    # tolerance; where the hand ends its last push in reach, the proof must not reject the sequence
+    # tolerance; where the hand starts and ends its last push in reach, the proof must not reject the sequence
+    # (a last turn is also proven out of reach where it starts: the body's final pose with that turn undone)
     checked = 0
     for seq in sequences:
         lower, upper = bounds(problem, seq, offsets=True)
@@ -61,8 +63,8 @@ def test_never_rejects_values_whose_last_push_ends_in_reach(problem, sequences, 
         traces = rollout(problem, seq, x)
         end = traces[-1].end["block"][:2, 3]
         goal = end + 0.01 * miss[0] * np.array([math.cos(miss[1]), math.sin(miss[1])])
-        hand = traces[-1].hand[-1][:3, 3] if traces[-1].hand else None
-        if hand is None or reach_violation(problem, hand) > 0.0:
+        hands = [h[:3, 3] for h in traces[-1].hand]
+        if not hands or any(reach_violation(problem, h) > 0.0 for h in (hands[0], hands[-1])):
             continue
         assert _verdict(problem, seq, goal)[0] is None, (seq.actions, x)
         checked += 1
@@ -132,3 +134,56 @@ def test_row_drifts_bound_the_pivots_travel_at_every_angle_near_the_row(travel, 
     drifts = row_drifts([travel], limits, angles, steps)
     assert moved <= drifts[row] + 1e-12
     assert drifts.max() <= 2.0 * travel * math.sin(limit / 2.0) + 1e-12  # never wider than the uniform slack
+
+
+STICK_ARC = """
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.bodies.stick
+use stdlib.affordances.stick
+use stdlib.tools
+
+affordances Block {
+    affordance arc_back {
+        action fixed at (5, 3, 0) cm yaw 180deg
+        motion revolute about (-5, -30, 0) cm axis (0, 0, 1) range 0 to 120 deg
+    }
+}
+
+scene s {
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.62, 0.05) m yaw 0deg
+    stick : Stick on table at (0.3, -0.4) m yaw 0deg
+}
+
+task t { scene s  goal block at (0.6, 0.1) m within 1 cm }
+"""
+"""The Block 62 cm out, turned toward the arm by the wielded Stick pushing its far face: the hand starts 35 cm
+beyond that face, out of reach, and the turn swings it back within reach."""
+
+
+def test_a_last_turn_that_starts_out_of_reach_is_rejected(tmp_path):
+    # where the turn ends with the hand in reach, the end alone proves nothing; the body's final pose with the
+    # turn undone puts the hand where it started, 22.8 cm out of reach: rejected, by no more than that
+    path = tmp_path / "stick_arc.vkg"
+    path.write_text(STICK_ARC, encoding="utf-8")
+    program = compile_file(str(path))
+    problem = build_problem(program, program.task(), max_depth=3)
+    seq = start_sequence(problem)
+    for label in ("add Stick.wield on stick with arm.fingertip", "add Block.arc_back on block with stick.tip"):
+        action = next(a for a in successors(problem, seq.graphs[-1], seq.last) if a.label(problem) == label)
+        seq, _ = extend(problem, seq, action)
+    lower, upper = bounds(problem, seq, offsets=True)
+    proven = 0
+    for fraction in np.linspace(0.0, 1.0, 9):
+        x = lower + fraction * (upper - lower)
+        traces = rollout(problem, seq, x)
+        start, end = (reach_violation(problem, h[:3, 3]) for h in (traces[-1].hand[0], traces[-1].hand[-1]))
+        goal = traces[-1].end["block"][:2, 3]
+        found = _verdict(replace(problem, goals=[GoalSpec("block", goal, None, 0.01, 0.05)]), seq, goal)[0]
+        assert found is not None and found.excess <= max(start, end) + 1e-6  # never past the true violation
+        if end <= 0.0:
+            assert "where that turn starts or ends" in found.why
+            proven += 1
+    assert proven >= 3

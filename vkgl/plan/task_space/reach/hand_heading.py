@@ -14,16 +14,17 @@ and asks where the hand is at each of them.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from vkgl.plan.graphs.graph import Engagement
-from vkgl.plan.graphs.members import pivot_travel
+from vkgl.plan.graphs.members import pivot_shift, pivot_travel
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, acting_engagement, bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.reach.hand_reach import ACCEPTED_VIOLATION, LEVEL, hand_ring, reach_interval
+from vkgl.plan.task_space.reach.hand_reach import ACCEPTED_VIOLATION, LEVEL, hand_ring, offset_grid, reach_interval
 from vkgl.plan.task_space.slides import (
     FREE_TURN_GRIDS,
     affine_positions,
@@ -76,48 +77,219 @@ def hand_out_of_reach_at_free_heading(
     setup = scan_setup(problem, seq, goal, turns, slides)
     if setup is None:
         return None
-    turn_limits, slide_limits, lever, _ = setup
     travels = [pivot_travel(problem, seq.variables[i][1].body, seq.variables[i][1].affordance) for i in turns]
     rest = problem.bodies[goal.body].rest
     heading0 = math.atan2(rest[1, 0], rest[0, 0])
     target = np.asarray(goal.position[:2], dtype=float) - problem.arm.base[:2, 3]
     low, high = reach_interval(problem, float(rest[2, 3]) + height)
     chain = np.array(points)  # q x 2, the hand in the body's frame at each grid offset
-    radius = float(np.max(np.linalg.norm(chain, axis=1)))
-    closest: float | None = None
-    for count in FINER[len(turns)]:
-        angles, steps = turn_rows(turn_limits, count)
-        origins, columns = affine_positions(problem, seq, goal.body, turns, slides, angles, turn_matrices)
-        distance = row_distances(columns, origins, goal.position, slide_limits)
-        spread = sum(steps) / 2
-        possible = (
-            distance <= goal.tol_position + lever * spread + row_drifts(travels, turn_limits, angles, steps) + 1e-9
-        )
-        if not possible.any():
-            return None  # no row reaches the goal: `position_out_of_reach` speaks for that (its own slack)
-        headings = heading0 + angles[possible] @ np.asarray(signs, dtype=float)
-        cos, sin = np.cos(headings)[:, None], np.sin(headings)[:, None]
-        hands_x = target[0] + cos * chain[:, 0] - sin * chain[:, 1]  # rows x offsets
-        hands_y = target[1] + sin * chain[:, 0] + cos * chain[:, 1]
-        centre = np.hypot(hands_x, hands_y)
-        give = goal.tol_position + slack + radius * spread
-        excess = np.maximum(centre - give - high, low - centre - give)
-        worst = float(excess.min())
-        at_goal = distance[possible] <= goal.tol_position
-        if worst <= ACCEPTED_VIOLATION and (np.maximum(centre - high, low - centre)[at_goal] <= 0.0).any():
-            return None  # a row reaches the goal with the hand in reach itself: no finer scan can prove otherwise
-        if worst > ACCEPTED_VIOLATION:
-            closest = worst
-            break
-    if closest is None:
+    last = _last_turn(seq, goal.body, mode, turns)
+    turn = None if last is None else _LastTurn.of(problem, seq, last, acting, limits, chain, goal.tol_position + slack)
+    reach = (low, high)
+    base = problem.arm.base[:2, 3]
+    scan = _Scan(problem, seq, goal, turns, slides, signs, setup, travels, heading0, target, reach, chain, slack, base)
+    proven = scan.closest(None if turn is None or last is None else (turns.index(last), turn))
+    if proven is None:
         return None
+    closest, started = proven
+    where = "where that turn starts or ends " if started else ""
     label = seq.actions[mode - 1].label(problem) if mode > 0 else "G0"
     why = (
         f"after {label}: at every heading at which {goal.body} can end within {goal.tol_position * 100:.1f} cm "
-        f"of its goal, the hand would be at least {closest * 1000:.1f} mm outside the arm's usable reach "
-        f"({low:.3f} to {high:.3f} m from its base at height {float(rest[2, 3]) + height:.3f} m)"
+        f"of its goal, the hand {where}would be at least {closest * 1000:.1f} mm outside "
+        f"the arm's usable reach ({low:.3f} to {high:.3f} m from its base at height {float(rest[2, 3]) + height:.3f} m)"
     )
     return Rejection(Kind.REACH, why, closest)
+
+
+@dataclass(frozen=True)
+class _Scan:
+    """The rows of turn angles at which the goal body can reach its goal, scanned coarse to fine (`FINER`), and
+    how far outside the usable reach the hand lies at each (the arguments of `hand_out_of_reach_at_free_heading`)."""
+
+    problem: Problem
+    seq: Sequence
+    goal: GoalSpec
+    turns: list[int]
+    slides: list[int]
+    signs: list[float]
+    setup: tuple[list[tuple[float, float]], np.ndarray, float, object]
+    travels: list[float]
+    heading0: float
+    target: np.ndarray
+    reach: tuple[float, float]
+    chain: np.ndarray  # offsets x 2, the hand in the body's frame at each grid offset
+    slack: float
+    base: np.ndarray  # the arm's base, x and y in the world
+
+    def closest(self, start: tuple[int, _LastTurn] | None) -> tuple[float, bool] | None:
+        """(the least excess over the rows that may hold the true values, more than `ACCEPTED_VIOLATION`: proven
+        out of reach; whether the turn's start was needed to prove it), or None. The hand where the push ends is
+        judged as before; with `start` (the last turn's column among the rows, and the turn), when that proves
+        nothing, a row also counts as out of reach when the hand is so where the turn starts (on at most
+        `START_GRIDS` grids: each finer grid costs more than the optimiser's runs it saves, `FINER`)."""
+        goal = self.goal
+        assert goal.position is not None
+        turn_limits, slide_limits, lever, _ = self.setup
+        radius = float(np.max(np.linalg.norm(self.chain, axis=1)))
+        ended = False  # the end alone has decided nothing can be proven from it
+        for grid, count in enumerate(FINER[len(self.turns)]):
+            if ended and (start is None or grid >= START_GRIDS):
+                return None
+            angles, steps = turn_rows(turn_limits, count)
+            origins, columns = affine_positions(
+                self.problem, self.seq, goal.body, self.turns, self.slides, angles, turn_matrices
+            )
+            distance = row_distances(columns, origins, goal.position, slide_limits)
+            spread = sum(steps) / 2
+            drifts = row_drifts(self.travels, turn_limits, angles, steps)
+            possible = distance <= goal.tol_position + lever * spread + drifts + 1e-9
+            if not possible.any():
+                return None  # no row reaches the goal: `position_out_of_reach` speaks for that (its own slack)
+            headings = self.heading0 + angles[possible] @ np.asarray(self.signs, dtype=float)
+            give = goal.tol_position + self.slack + radius * spread
+            excess, bare = _excess(self.target, headings, self.chain, give, self.reach)
+            at_goal = distance[possible] <= goal.tol_position
+            if not ended:
+                worst = float(excess.min())
+                if worst > ACCEPTED_VIOLATION:
+                    return worst, False
+                # a row reaches the goal with the hand in reach where it ends: no finer scan proves otherwise
+                ended = bool((bare[at_goal] <= 0.0).any())
+            if start is None or grid >= START_GRIDS:
+                continue
+            column, turn = start  # the hand where the last turn starts: the body's final pose, that turn undone
+            back, start_give = turn.back(angles[possible, column], spread, steps[column])
+            begun, begun_bare = _excess(self.target, headings, back, start_give, self.reach)
+            excess, bare = np.maximum(excess, begun), np.maximum(bare, begun_bare)
+            if not self.slides:  # and where the turns before it leave the body (no slide: exact per row)
+                begun, begun_bare = self._before_last(angles[possible], steps, column, radius + lever)
+                excess, bare = np.maximum(excess, begun), np.maximum(bare, begun_bare)
+            worst = float(excess.min())
+            if worst > ACCEPTED_VIOLATION:
+                return worst, True
+            if (bare[at_goal] <= 0.0).any():
+                return None
+        return None
+
+    def _before_last(
+        self, angles: np.ndarray, steps: list[float], column: int, reach_per_radian: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(rows x offsets) how far outside the usable reach the hand lies where the last turn starts, read
+        forward: the body's rest pose turned by the rows' angles of the turns before it (no slide between), less
+        the give (the chain's slack, its and the body's motion over the rows' half steps, `reach_per_radian`
+        times their sum, and the drifts of those turns' contacts along their families), and without it."""
+        before = [k for k in range(len(self.turns)) if k != column]
+        turns = [self.turns[k] for k in before]
+        origins, _ = affine_positions(
+            self.problem, self.seq, self.goal.body, turns, [], angles[:, before], turn_matrices
+        )
+        headings = self.heading0 + angles[:, before] @ np.asarray([self.signs[k] for k in before], dtype=float)
+        turn_limits = self.setup[0]
+        spread = sum(steps[k] for k in before) / 2
+        drifts = row_drifts(
+            [self.travels[k] for k in before],
+            [turn_limits[k] for k in before],
+            angles[:, before],
+            [steps[k] for k in before],
+        )
+        give = self.slack + reach_per_radian * spread + drifts[:, None]
+        cos, sin = np.cos(headings)[:, None], np.sin(headings)[:, None]
+        cx, cy = self.chain[:, 0], self.chain[:, 1]
+        x = origins[:, 0:1] - self.base[0] + cos * cx - sin * cy
+        y = origins[:, 1:2] - self.base[1] + sin * cx + cos * cy
+        centre = np.hypot(x, y)
+        low, high = self.reach
+        bare = np.maximum(centre - high, low - centre)
+        return bare - give, bare
+
+
+START_GRIDS = 2
+"""Grids of `FINER` on which the hand where a last turn starts is judged too: the finest (1801 rows for one turn,
+241 x 241 for two) cost 5 ms a sequence on the physical bench's far tasks, more than the optimiser's runs it saved."""
+
+
+def _excess(
+    target: np.ndarray, headings: np.ndarray, chain: np.ndarray, give: np.ndarray | float, reach: tuple[float, float]
+) -> tuple[np.ndarray, np.ndarray]:
+    """(rows x offsets) how far the hand at `target` plus the body-frame `chain` (offsets x 2, or rows x offsets x
+    2) turned by each of `headings` lies outside the usable `reach` (low, high) less `give`, and without it."""
+    cos, sin = np.cos(headings)[:, None], np.sin(headings)[:, None]
+    cx, cy = chain[..., 0], chain[..., 1]
+    centre = np.hypot(target[0] + cos * cx - sin * cy, target[1] + sin * cx + cos * cy)
+    low, high = reach
+    bare = np.maximum(centre - high, low - centre)
+    return bare - give, bare
+
+
+def _last_turn(seq: Sequence, body: str, mode: int, turns: list[int]) -> int | None:
+    """The index (in `seq.variables`) of `body`'s motion in `mode`, the last push, when it is one of `turns`."""
+    own = [i for i, (m, e) in enumerate(seq.variables) if m == mode and e.body == body]
+    return own[0] if len(own) == 1 and own[0] in turns else None
+
+
+@dataclass(frozen=True)
+class _LastTurn:
+    """The goal body's last motion, a turn made by the pushing hand's contact, as the hand sees it where the turn
+    starts: at each grid offset of the contact (`hand_reach.offset_grid`) the chain `chain` (body frame, the same at
+    the turn's start and end: the contact holds), its pivot `pivots` there (the family's drift or an arc member's
+    pivot shift, `members.pivot_shift`), how far the pivot may lie from that within half a grid step `pivot_give`,
+    and `give` (the goal's tolerance and the chain's own slack between grid offsets)."""
+
+    sign: float  # +1 / -1: the turn about +z / -z of the body's frame (level: the world's)
+    chain: np.ndarray  # offsets x 2
+    pivots: np.ndarray  # offsets x 2
+    pivot_give: np.ndarray  # offsets
+    give: float
+
+    @staticmethod
+    def of(
+        problem: Problem,
+        seq: Sequence,
+        index: int,
+        acting: Engagement,
+        limits: tuple[np.ndarray, np.ndarray],
+        chain: np.ndarray,
+        give: float,
+    ) -> _LastTurn | None:
+        """The last turn `seq.variables[index]` with the hand's `chain` at `acting`'s grid offsets; None when its
+        axis is not vertical."""
+        e = seq.variables[index][1]
+        axis, center = unit_axis_and_center(problem.affordance(e.body, e.affordance).motion)
+        if center is None or abs(abs(float(axis[2])) - 1.0) > LEVEL:
+            return None
+        grid = offset_grid(seq, acting, limits)
+        half = (grid[-1] - grid[0]) / (len(grid) - 1) / 2 if len(grid) > 1 else 0.0
+
+        def pivot(offset: float) -> np.ndarray:
+            shift = pivot_shift(problem, e.body, e.affordance, float(offset))
+            return np.asarray(center[:2] if shift is None else center[:2] + shift[:2], dtype=float)
+
+        pivots = np.array([pivot(o) for o in grid])
+        near = [[pivot(min(max(o + d, grid[0]), grid[-1])) for d in (-half, half)] for o in grid]
+        give_pivot = np.array([max(float(np.linalg.norm(q - p)) for q in qs) for p, qs in zip(pivots, near)])
+        return _LastTurn(float(np.sign(axis[2])), chain, pivots, give_pivot, give)
+
+    def back(self, angles: np.ndarray, spread: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+        """(rows x offsets x 2) the hand in the final body frame where the turn by each of `angles` started (the
+        chain turned back about its pivot: the end frame is the start frame times the turn), and (rows x offsets)
+        how far the true one may lie from it: `give`, the heading's `spread` over the chain's length (a chord is no
+        longer than its arc), the turn's own half `step` over the chain's distance from its pivot, and the chord of
+        the pivot's give at the turn's angle (the same turn about a moved pivot, then a translation)."""
+        a = -self.sign * angles[:, None]  # rows x 1: the turn undone
+        cos, sin = np.cos(a), np.sin(a)
+        rel = self.chain - self.pivots  # offsets x 2
+        back_x = self.pivots[:, 0] + cos * rel[:, 0] - sin * rel[:, 1]
+        back_y = self.pivots[:, 1] + sin * rel[:, 0] + cos * rel[:, 1]
+        back = np.stack((back_x, back_y), axis=2)
+        largest = np.minimum(np.abs(angles)[:, None] + step / 2, math.pi)
+        give = (
+            self.give
+            + np.linalg.norm(back, axis=2) * spread
+            + np.linalg.norm(rel, axis=1) * step / 2
+            + 2.0 * self.pivot_give * np.sin(largest / 2)
+        )
+        return back, give
 
 
 def row_drifts(

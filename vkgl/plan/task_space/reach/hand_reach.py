@@ -215,13 +215,8 @@ def hand_ring(
 
     The chain is affine in the offset (`members.action_at`), so an offset within h / 2 of a grid offset puts
     the hand within |a| h / 2 of that one's (a: the chain's change per metre of offset)."""
-    lower, upper = limits
-    n = len(seq.variables)
-    lo = hi = 0.0
-    for j, (_, e) in enumerate(seq.offsets):
-        if e == acting:
-            lo, hi = min(lo, float(lower[n + j])), max(hi, float(upper[n + j]))
-    grid = np.linspace(lo, hi, OFFSET_GRID) if hi > lo else np.zeros(1)
+    grid = offset_grid(seq, acting, limits)
+    lo, hi = float(grid[0]), float(grid[-1])
     chains = [hand_chain(problem, graph, acting, float(o)) for o in grid]
     if any(c is None for c in chains):
         return None
@@ -234,6 +229,18 @@ def hand_ring(
         step = (hi - lo) / (OFFSET_GRID - 1)
         slack = float(np.linalg.norm((points[-1] - points[0])[:2])) / (hi - lo) * step / 2
     return [p[:2] for p in points], slack, heights[0]
+
+
+def offset_grid(seq: Sequence, acting: Engagement, limits: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """The `OFFSET_GRID` offsets over the acting contact's band (its offset variables' limits, 0 included) at which
+    `hand_ring` places the hand; one offset, 0, when the contact does not move along its face."""
+    lower, upper = limits
+    n = len(seq.variables)
+    lo = hi = 0.0
+    for j, (_, e) in enumerate(seq.offsets):
+        if e == acting:
+            lo, hi = min(lo, float(lower[n + j])), max(hi, float(upper[n + j]))
+    return np.linspace(lo, hi, OFFSET_GRID) if hi > lo else np.zeros(1)
 
 
 def _outside(problem: Problem, nearest: float, farthest: float, height: float) -> tuple[float, str] | None:
