@@ -94,3 +94,29 @@ def test_the_arms_paths_carry_a_tool_set_down_away_from_its_contact() -> None:
     # pick and place as before
     assert _places(_step("remove", "free", "stick", here, here), _step("add", "free", "stick", here, here))
     assert not _places(None, contact_off)
+
+
+def test_the_arm_retreats_carries_the_tool_to_its_place_and_lets_go_there(tmp_path: Path) -> None:
+    """The straight stage of the arm's paths for the put-back sequence: the stick's contact is left by a retreat
+    (not let go of where it touched), the release comes down onto the stick's place, from a transit, at the
+    joints that put the hand at its grasp there, and the fingertip's step lifts the open hand off it first."""
+    import time
+
+    from vkgl.plan.search import search as s
+    from vkgl.plan.search.stats import SearchStats
+
+    problem, seq, values = _stick_then_fingertip(tmp_path)
+    back = returned_tools(problem, seq, rollout(problem, seq, values), frozenset({"stick"}))
+    assert back is not None
+    solution = TaskSolution(values, rollout(problem, back, values, 6), sequence=back)
+    geometry = GeometryCheck(problem)
+    checks = s._Checks(geometry, s.ArmPathPlanner(problem, geometry))
+    found = s._arm_checks(problem, back, solution, SearchStats(), time.perf_counter() + 120, checks, set())
+    assert not isinstance(found, Rejection), found.why
+    steps = found.steps
+    assert [p.phase for p in steps[2].path] == ["retreat"]  # the stick backs out of the block's face
+    assert [p.phase for p in steps[3].path][-1] == "approach"  # down onto its place (after the transit)
+    assert any(t.step == 3 for t in found.paths.pending)
+    hand = problem.arm.fk(steps[3].q_start)
+    assert np.allclose(hand[:3, 3], (problem.bodies["stick"].rest @ problem.action("stick", "wield"))[:3, 3], atol=2e-3)
+    assert steps[4].path[0].phase == "lift"
