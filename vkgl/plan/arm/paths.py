@@ -121,8 +121,9 @@ class ArmPathPlanner:
                 following = steps[k] if k < len(steps) else None
                 previous = steps[k - 2] if k > 1 else None
                 planned = self._planned_step(
-                    k, step, state, last=following is None, following=following, places=_places(step, previous)
-                )
+                    k, step, state, last=following is None, following=following, places=_places(step, previous),
+                    then_places=_places(following, step),
+                )  # fmt: skip
                 if isinstance(planned, Rejection):
                     return planned
                 found, transit = planned
@@ -154,14 +155,18 @@ class ArmPathPlanner:
         last: bool = False,
         following: PlanStepRecord | None = None,
         places: bool = False,
+        then_places: bool = False,
     ) -> tuple[StepT, PendingTransit | None] | Rejection:
         """The step with its straight moves and the transit it needs; a contact tries each arm configuration
         that carries its motion in turn, until one can be approached (and, for the `last` step, left again).
         A release happens where the arm is (its `q_start`/`q_end` become those joints), unless it `places` a
-        carried body: then its path carries the body to its place first (`q_start`, as the search solved it)."""
+        carried body or a tool (`_places`): then its path carries the body to its place first (`q_start`, as the
+        search solved it), and the contact before such a tool's release (`then_places`) retreats out of it."""
         if step.op != "add" or step.motion == "free":
             q_before = state.q
-            found = self._step(k, step, state, releases_next=_releases(following, state.held), places=places)
+            # a tool the next step carries elsewhere backs out of its contact first (a retreat, as before a contact)
+            releases = _releases(following, state.held) and not then_places
+            found = self._step(k, step, state, releases_next=releases, places=places)
             if isinstance(found, Rejection):
                 return found
             segments, transit = found
@@ -261,7 +266,7 @@ class ArmPathPlanner:
         transit = PendingTransit(
             k - 1, len(segments), state.q.copy(), down.pre_contact, step.poses_start, state.held, label, clear=True
         )
-        state.held, state.lift = None, True
+        state.held, state.lift, state.placed = None, True, step.body
         state.q = np.asarray(step.q_start, dtype=float)
         return (*segments, down.segment), transit
 
@@ -338,18 +343,22 @@ class ArmPathPlanner:
         return f"{ready}the hand at ({x:.2f}, {y:.2f}, {z:.2f}) m, before the first step"
 
 
-def _places(step: PlanStepRecord, previous: PlanStepRecord | None) -> bool:
-    """Whether `step` lets go of a body carried since the step before grasped it (pick and place: the search
-    lets go of a tool it has just grasped never, `vkgl.plan.graphs.graph.successors`)."""
-    return (
-        previous is not None
-        and step.op == "remove"
-        and step.motion == "free"
-        and previous.op == "add"
-        and previous.motion == "free"
-        and previous.body == step.body
-        and previous.effector == step.effector
-    )
+def _places(step: PlanStepRecord | None, previous: PlanStepRecord | None) -> bool:
+    """Whether `step` sets a body down somewhere else than the hand holds it: a body carried since the step
+    before grasped it (pick and place: the search lets go of a tool it has just grasped never,
+    `vkgl.plan.graphs.graph.successors`), or a tool set down where it was picked up, away from where its last
+    contact left it (`vkgl.plan.search.put_back`)."""
+    if step is None or previous is None or step.op != "remove" or step.motion != "free":
+        return False
+    if previous.op == "add" and previous.motion == "free":
+        return previous.body == step.body and previous.effector == step.effector
+    there, here = previous.poses_end.get(step.body), step.poses_start.get(step.body)
+    return there is not None and here is not None and float(np.hypot(*(there[:2, 3] - here[:2, 3]))) > PLACED_AWAY
+
+
+PLACED_AWAY = 1e-3
+"""m: a released tool set down farther than this (horizontally) from where its last contact left it is carried
+there (`_places`); one put down where it was used keeps its place's x and y (`rollout.put_down`)."""
 
 
 def _releases(following: PlanStepRecord | None, held: Held | None) -> bool:

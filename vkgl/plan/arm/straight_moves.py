@@ -80,10 +80,11 @@ class ArmState:
     held: Held | None = None
     lift: bool = False
     entered: tuple[WayOut, np.ndarray] | None = None  # the contact the arm is in: how it leaves (`entered`)
+    placed: str | None = None  # a body the open fingers are still around, set down on its place: lifted off
 
     def copy(self) -> ArmState:
         """The same state with joints of its own (a trial that may be dropped)."""
-        return ArmState(np.asarray(self.q, dtype=float).copy(), self.held, self.lift, self.entered)
+        return ArmState(np.asarray(self.q, dtype=float).copy(), self.held, self.lift, self.entered, self.placed)
 
 
 @dataclass(frozen=True)
@@ -267,9 +268,11 @@ class StraightMoves:
         return first if isinstance(above, Rejection) else above
 
     def lift(self, state: ArmState, poses: Mapping[str, np.ndarray], label: str) -> ArmSegment | Rejection:
-        """Straight up `LIFT` from where the arm is (after a grasp or a release)."""
+        """Straight up `LIFT` from where the arm is (after a grasp or a release); the open fingers may touch a
+        body just set down on its place (`ArmState.placed`: a held tool's grasp has them around its handle)."""
         what = ("lift", "the hand cannot rise straight up", "the way straight up is blocked")
-        return self.move_away(state, -DOWN, LIFT, poses, set(), label, what)
+        placed, state.placed = state.placed, None
+        return self.move_away(state, -DOWN, LIFT, poses, set(), label, what, grasped=placed)
 
     def move_away(
         self,

@@ -280,9 +280,10 @@ class GeometryCheck:
         before: set[str] = set()
         for k, (graph, trace) in enumerate(zip(graphs, traces, strict=True)):
             touched = {e.body for e in graph.engaged if e.effector == robot}
-            if not trace.hand:
+            if not trace.hand or graph.using(robot) is None:
                 # the hand rests where the previous mode left it, still at the contact it has just removed
-                # (the retreat out of it is checked with the arm's paths)
+                # (the retreat out of it is checked with the arm's paths), or around the tool it has just set
+                # down where it was picked up (`vkgl.plan.search.put_back`: the mode's one hand pose)
                 touched |= before
             before = touched
             held = self._held(graph, touched)

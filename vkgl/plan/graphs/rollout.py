@@ -50,7 +50,10 @@ class Sequence:
     a rollout given only the motion values puts every offset at 0.
     `carries[j] = (mode, grasp)`: the grasped body is carried during that
     mode and set down where values `len(variables) + len(offsets) + 3 j ..
-    + 3` put it (`vkgl.plan.graphs.carry`).
+    + 3` put it (`vkgl.plan.graphs.carry`). `returns[j] = (mode, pose)`: the
+    tool let go of at the transition into that mode is set down at that world
+    pose (where it was picked up: `vkgl.plan.graphs.put_back`), not where it
+    was used, and the hand lets go of it there.
     """
 
     actions: tuple[Action, ...] = ()
@@ -60,6 +63,7 @@ class Sequence:
     dependent: frozenset[str] = frozenset()
     zero_poses: dict[str, np.ndarray] = field(default_factory=dict, compare=False)
     carries: tuple[tuple[int, Engagement], ...] = ()
+    returns: tuple[tuple[int, np.ndarray], ...] = field(default=(), compare=False)
 
     @property
     def size(self) -> int:
@@ -368,6 +372,9 @@ def roll_mode(
         _transition(problem, poses, action, live.get(action.engagement, 0.0))
         if action.op == "remove":
             live.pop(action.engagement, None)
+            for mode, pose in seq.returns:  # a tool set down where it was picked up
+                if mode == k:
+                    poses[action.engagement.body] = pose
     start = dict(poses)
     moves = given.moves.get(k, [])
     paths = {}  # the body's motion at `samples` fractions of its value, for the hand path
@@ -422,7 +429,11 @@ def _hand_path(
     graph = seq.graphs[k]
     holding = graph.using(problem.robot_effector.name)
     if holding is None:
-        return [], True
+        returned = next((seq.actions[k - 1].engagement for mode, _ in seq.returns if mode == k), None)
+        if returned is None:
+            return [], True
+        # the hand lets go of the tool where it set it down: there at the start of the mode (`put_back`)
+        return [start[returned.body] @ problem.action(returned.body, returned.affordance)], False
     acting = acting_engagement(problem, graph)
     if acting is None:  # a tool free in the hand: only a grasp made at this transition pins the hand
         just_grasped = k > 0 and seq.actions[k - 1].op == "add" and seq.actions[k - 1].engagement == holding

@@ -56,6 +56,7 @@ from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.exclusions import excluded, repeated_failure
 from vkgl.plan.search.last_motion import LastMotion
 from vkgl.plan.search.ordering import InTheWay
+from vkgl.plan.search.put_back import put_back
 from vkgl.plan.search.stats import Progress, SearchStats, infeasible_reason, timeout_reason
 from vkgl.plan.search.withheld import Withheld, withholds
 from vkgl.plan.task_space.contacts import other_contacts
@@ -279,6 +280,8 @@ def _check(
     stats.geometry_checks += 1
     named = solution.sequence or seq  # with the families' members the optimiser chose named
     clash = checks.geometry.bodies(named.graphs, solution.traces)
+    if clash is not None and (back := put_back(problem, named, solution, clash, checks.geometry)) is not None:
+        (named, solution), clash = back, None  # a tool let go of in the way set down where it was picked up
     clashes: list[Rejection] = []  # those of the contacts elsewhere along their faces, if tried
     clear = ((named, s) for s in _clear_of_each_other(problem, named, solution, stats, deadline, checks.geometry))
     # bodies clear of each other: the solution, then, only when its transits fail, the bodies in the way farther aside
