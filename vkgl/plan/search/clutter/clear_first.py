@@ -12,7 +12,8 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    blocker's own affordances reaches first, then the nearest). It is searched like any problem, to at most
    `CLEAR_DEPTH` graphs (G0, a tool's grasp, the push that clears it, one more), and its plan passes every
    check a plan passes. Several blockers are cleared in turn, each sub-problem starting where the one before
-   ended.
+   ended; one that no plan moves is left where it lies, the others cleared (the blocker may lie where no plan
+   meets it, as behind the goal body's start: the search after says).
 2. **Then solve.** The original problem is searched again from that plan (`search(..., root=prefix)`): every
    sequence extends it, with up to `max_depth - 1` graphs more, so the tool the prefix holds is still in hand
    and its contact still in force. The plan found is one graph sequence like any other: its motion values are
@@ -323,7 +324,8 @@ class _Walk:
     ) -> Iterator[_Prefix | None]:
         """Plans that clear every blocker in turn starting from `root` (each blocker's sides in turn), each with
         its motion values (`root`'s are `pinned`) and the blockers and the sides they were cleared to (none when
-        every one lies clear of the way already); None between a blocker's two rounds of sides."""
+        every one lies clear of the way already); None between a blocker's two rounds of sides. A blocker no
+        side's plan moves is left where it lies: the plans that clear the others (if any)."""
         if not blocking:
             yield root, pinned, []
             return
@@ -333,6 +335,7 @@ class _Walk:
             yield from self.prefixes(rest, root, pinned)
             return
         first = FIRST_TRY * self.left
+        moved = False  # some side's plan moved it
         again: list[Side] = []  # the sides that spent their first budget
         for side in sides:  # first round: every side with a small budget
             if self.spent():
@@ -341,6 +344,7 @@ class _Walk:
             if found.status == "timeout":
                 again.append(side)
             elif found.status == "solved":
+                moved = True
                 yield from self._then(found, rest, blocker, side)
         if again:
             yield None  # the first round is over: the searches for the goals waiting go first
@@ -352,7 +356,10 @@ class _Walk:
             if found.status == "timeout":
                 self.log.append(f"{blocker} {side.words} of the way: no plan within its budget{_closest(found)}")
             elif found.status == "solved":
+                moved = True
                 yield from self._then(found, rest, blocker, side)
+        if not moved and not self.spent():  # no plan moves it: the others cleared, it is left where it lies
+            yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
 
     def _clear(
         self, goal: GoalSpec, blocker: str, side: Side, root: Sequence, pinned: tuple[float, ...], budget: float

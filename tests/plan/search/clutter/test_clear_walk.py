@@ -1,0 +1,68 @@
+"""Clear first, then solve: the walk over the blockers (`vkgl.plan.search.clutter.clear_first._Walk.prefixes`) leaves
+a blocker that no plan moves where it lies and goes on with the others (gen13_018 of the physical bench: a Block
+behind the crate's start counts as in its way, no side of it is reachable, and the cube that is in the way was
+cleared for nothing).
+
+The walk's searches are stubbed here (no planning runs): what is tested is which prefixes it yields."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from test_then_order import LEFT, _prefix, _problem
+
+from vkgl.plan.graphs.rollout import Sequence
+from vkgl.plan.search.clutter import clear_first
+from vkgl.plan.search.search import SearchResult
+from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.task_space.feasible import TaskSolution
+
+
+def _walk(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, movable: set[str]) -> clear_first._Walk:
+    """A walk whose blockers each have one side (`LEFT`), which a plan reaches for the blockers in `movable`."""
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+
+    def clear(
+        walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float
+    ) -> SearchResult:
+        if blocker not in movable:
+            return SearchResult("infeasible", "", SearchStats())
+        moved = _prefix(root.depth + 2, frozenset({blocker}))
+        return SearchResult("solved", "", SearchStats(), sequence=moved, task=TaskSolution(np.zeros(0), []))
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    return clear_first._Walk(_problem(tmp_path), math.inf, False, SearchStats(), 1000.0)
+
+
+def _moved(items: list[object]) -> list[list[str]]:
+    return [[name for name, _ in item[2]] for item in items if item is not None]  # type: ignore[index]
+
+
+def test_a_blocker_no_plan_moves_is_left_where_it_lies_after_the_one_cleared_before_it(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    walk = _walk(tmp_path, monkeypatch, {"cube"})
+    goal = walk.problem.goals[0]
+    items = list(walk.prefixes([(goal, "cube"), (goal, "behind")], Sequence()))
+    assert _moved(items) == [["cube"]]
+    prefix = next(item for item in items if item is not None)
+    assert prefix[0].depth == 3  # the cube's clearing plan, nothing after it
+
+
+def test_the_blockers_after_one_no_plan_moves_are_still_cleared(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    walk = _walk(tmp_path, monkeypatch, {"cube"})
+    goal = walk.problem.goals[0]
+    assert _moved(list(walk.prefixes([(goal, "behind"), (goal, "cube")], Sequence()))) == [["cube"]]
+
+
+def test_no_prefix_when_no_plan_moves_any_blocker(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Nothing cleared is no prefix (not "nothing lies in the way", which would end clearing with no words)."""
+    walk = _walk(tmp_path, monkeypatch, set())
+    goal = walk.problem.goals[0]
+    assert _moved(list(walk.prefixes([(goal, "behind"), (goal, "cube")], Sequence()))) == []
