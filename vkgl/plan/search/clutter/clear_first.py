@@ -58,6 +58,7 @@ from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
+from vkgl.plan.search.clutter.rolled import with_rolled_members
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, closest_miss
@@ -361,7 +362,7 @@ class _Walk:
         result, solved (with its sequence), proven infeasible (then logged) or "timeout" (its budget spent)."""
         moving, still = _only_moving(self.problem, goal, blocker, side)
         sub = replace(
-            moving,
+            with_rolled_members(moving, blocker),
             goals=[side_goal(self.problem, goal, blocker, side)],
             max_depth=root.depth - 1 + CLEAR_DEPTH,
             pinned=pinned,
