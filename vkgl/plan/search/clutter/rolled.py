@@ -94,4 +94,9 @@ def _hull_points(body: PlanBody) -> np.ndarray:
     return points[hull_vertices(points)] if len(points) > 4 else points
 
 
-__all__ = ["with_rolled_members"]
+def rolls(problem: Problem, blocker: str) -> bool:
+    """Whether `with_rolled_members` gives `blocker` any member."""
+    return with_rolled_members(problem, blocker) is not problem
+
+
+__all__ = ["rolls", "with_rolled_members"]
