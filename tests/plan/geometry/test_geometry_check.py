@@ -7,6 +7,7 @@ with the planner's collision checks (`vkgl.plan.geometry.bodies`).
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -255,6 +256,8 @@ def test_a_tool_does_not_pass_over_a_bystander_touching_it(tmp_path: Path) -> No
     graph = KGraph((wield, turn))
     rejection = GeometryCheck(problem).bodies([graph], [touching])
     assert rejection is not None and rejection.bodies == {"hook"} and rejection.between == (), rejection
-    assert "stick would pass only" in rejection.why and "mm from hook" in rejection.why, rejection.why
+    # said at its deepest along the turn (`sweep._deepest_after`): the touch itself, 0.0 mm either side
+    assert re.search(r"stick would pass (only \d+\.\d mm from|\d+\.\d mm inside) hook", rejection.why), rejection.why
+    assert float(re.search(r"pass (?:only )?(\d+\.\d) mm", rejection.why).group(1)) < 1.0, rejection.why
     assert "keeps 2 mm from every body but the one it acts on" in rejection.why
     assert GeometryCheck(problem).bodies([graph], [trace(15.0)]) is None  # stopped before the Stick meets the Hook

@@ -27,11 +27,21 @@ def test_a_block_pushed_through_another_is_caught_and_one_stopping_short_is_free
     start, wall = pose(0, 0, 0), {"wall": pose(0.5, 0, 0)}
     hits = sweep(scene, start, ALONG_X, 0.8, {"mover": start}, wall)
     assert [(c.body_a, c.body_b) for c in hits] == [("mover", "wall")]
-    # the first sample that overlaps: the mover's face barely inside the wall
-    assert hits[0].depth < STEP + 0.001
+    # how deep it goes, not how deep the first sample that overlaps is (its face barely inside the wall): the
+    # two 5 cm high boxes overlap by up to their height (lifting one 5 cm parts them)
+    assert hits[0].depth == pytest.approx(0.05, abs=0.003)
     # faces meet at 0.4 m of travel; stopping 1 cm short is free, and so is just touching
     assert sweep(scene, start, ALONG_X, 0.39, {"mover": start}, wall) == []
     assert sweep(scene, start, ALONG_X, 0.4, {"mover": start}, wall) == []
+
+
+def test_a_graze_is_reported_as_a_graze() -> None:
+    """A mover passing a post's side by 3 mm: the depth said is the graze's, not a deep one."""
+    scene = CollisionScene({"mover": box(0.1, 0.1, 0.05), "post": box(0.012, 0.1, 0.05)})
+    start = pose(0, 0, 0)
+    hits = sweep(scene, start, ALONG_X, 0.9, {"mover": start}, {"post": pose(0.4, 0.097, 0)})
+    assert [(c.body_a, c.body_b) for c in hits] == [("mover", "post")]
+    assert hits[0].depth == pytest.approx(0.003, abs=0.001)
 
 
 def test_an_overlap_between_coarse_samples_is_still_caught() -> None:

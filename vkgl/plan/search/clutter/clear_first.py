@@ -59,6 +59,7 @@ from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
+from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, closest_miss
@@ -202,8 +203,7 @@ def _clear_then_solve(
 
 
 def _then_again(walk: _Walk, waiting: list[_Waiting], proven: int) -> Cleared | None:
-    """The waiting searches for the goals, the most promising first, each with `THEN_SHARE` of the work left;
-    `waiting` is emptied."""
+    """The waiting searches for the goals (`waiting` emptied), the likeliest first, each with `THEN_SHARE` left."""
     for then in sorted(waiting, key=_Waiting.rank):
         if walk.spent():
             walk.log.append(f"{then.moved()} ({then.prefix.depth} graphs), then {walk.ran_out()}")
@@ -220,8 +220,7 @@ def _then_again(walk: _Walk, waiting: list[_Waiting], proven: int) -> Cleared | 
 @dataclass
 class _Waiting:
     """A plan that clears the way (`prefix`, the blockers and their sides `cleared`) and the problem of the goals
-    after it (`deeper`: its values pinned, or free again once that was proven to have no plan); `order`: when it
-    was found."""
+    after it (`deeper`: its values pinned, or free again once proven to have no plan); `order`: when found."""
 
     deeper: Problem
     prefix: Sequence
@@ -340,9 +339,9 @@ class _Walk:
         for side in sides:  # first round: every side with a small budget
             if self.spent():
                 return
-            found = self._clear(goal, blocker, side, root, pinned, first)
-            if found.status == "timeout":
-                again.append(side)
+            found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
+            if found.status == "timeout" or (found.status == "infeasible" and rolls(self.problem, blocker)):
+                again.append(side)  # (a rolled hook's pulls only now: `vkgl.plan.search.clutter.rolled`)
             elif found.status == "solved":
                 moved = True
                 yield from self._then(found, rest, blocker, side)
@@ -352,7 +351,7 @@ class _Walk:
             if self.spent():
                 return
             budget = max(CLEAR_SHARE, 1.0 / (len(again) - k + 1)) * self.left
-            found = self._clear(goal, blocker, side, root, pinned, budget)
+            found = self._clear(goal, blocker, side, root, pinned, budget, rolled=True)
             if found.status == "timeout":
                 self.log.append(f"{blocker} {side.words} of the way: no plan within its budget{_closest(found)}")
             elif found.status == "solved":
@@ -362,13 +361,21 @@ class _Walk:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
 
     def _clear(
-        self, goal: GoalSpec, blocker: str, side: Side, root: Sequence, pinned: tuple[float, ...], budget: float
+        self,
+        goal: GoalSpec,
+        blocker: str,
+        side: Side,
+        root: Sequence,
+        pinned: tuple[float, ...],
+        budget: float,
+        *,
+        rolled: bool,
     ) -> SearchResult:
-        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work: its
-        result, solved (with its sequence), proven infeasible (then logged) or "timeout" (its budget spent)."""
+        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work (`rolled`:
+        its slides also by a rolled hook): solved (with its sequence), proven infeasible (logged) or "timeout"."""
         moving, still = _only_moving(self.problem, goal, blocker, side)
         sub = replace(
-            moving,
+            with_rolled_members(moving, blocker) if rolled else moving,
             goals=[side_goal(self.problem, goal, blocker, side)],
             max_depth=root.depth - 1 + CLEAR_DEPTH,
             pinned=pinned,
