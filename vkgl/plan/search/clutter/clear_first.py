@@ -51,7 +51,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Iterator
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -62,7 +62,7 @@ from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import SearchStats, closest_miss
+from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
 
 CLEAR_DEPTH = 5
@@ -477,27 +477,11 @@ def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
     )
 
 
-def add_stats(total: SearchStats, part: SearchStats) -> None:
-    """Add the counters of another search (`part`) to `total`: sequences, checks, rejections, times (what
-    describes where one search ended, its level and cut sequences, stays `total`'s)."""
-    kept = {"level", "depth_reached", "shortest_cut", "cut_at_start", "examples"}
-    for f in fields(SearchStats):
-        if f.name in kept:
-            continue
-        mine, theirs = getattr(total, f.name), getattr(part, f.name)
-        if isinstance(mine, (int, float)):
-            setattr(total, f.name, mine + theirs)
-    for f in fields(total.work):
-        setattr(total.work, f.name, getattr(total.work, f.name) + getattr(part.work, f.name))
-    total.rejections.update(part.rejections)
-
-
 __all__ = [
     "CLEAR_DEPTH",
     "SEARCH_SHARE",
     "WORK_PER_SECOND",
     "Cleared",
-    "add_stats",
     "blocked",
     "clear_first",
     "side_goal",
