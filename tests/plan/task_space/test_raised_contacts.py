@@ -3,6 +3,8 @@ bodies' poses, each fingertip contact that can be raised renamed from its ADD to
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import generated_tasks
 import numpy as np
 import pytest
@@ -52,3 +54,17 @@ def test_nothing_to_raise_on_a_low_body(tmp_path):
     problem = _problem(tmp_path, "SlabN")  # 5 cm tall: its face rises 2.5 cm over the pad, the fingers clear it
     push = Engagement("arm.fingertip", "target", "push_center_nx")
     assert raised_contacts(problem, *_candidate(problem, Action("add", push))) is None
+
+
+def test_a_tool_set_down_where_it_was_picked_up_stays_so_when_raised(tmp_path):
+    # gen13_018 of the physical bench: the put-back variant (`Sequence.returns`) passed the bodies' check, the arm
+    # rejected it, and its raised retry had lost the returns: the crate was planned through the Stick
+    problem = _problem(tmp_path, "CrateM")
+    pull = Engagement("arm.fingertip", "target", "push_center_nx")
+    seq, found = _candidate(problem, Action("add", pull), Action("remove", pull))
+    where = found.traces[2].start["target"].copy()  # the pose it has there anyway: only the field is under test
+    raised = raised_contacts(problem, replace(seq, returns=((2, where),)), found)
+    assert raised is not None
+    named, solution = raised
+    assert [mode for mode, _ in named.returns] == [2] and np.allclose(named.returns[0][1], where)
+    assert solution.sequence is named

@@ -38,6 +38,7 @@ def raised_contacts(problem: Problem, seq: Sequence, found: TaskSolution) -> tup
         out, _ = extend(problem, out, Action(action.op, member))
     if out.actions == seq.actions:
         return None
+    out = replace(out, returns=seq.returns)  # a tool set down where it was picked up stays so (`put_back`)
     traces = rollout(problem, out, found.values, JOINT_SAMPLES)
     return out, replace(found, traces=traces, sequence=out)
 
