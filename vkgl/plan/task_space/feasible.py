@@ -34,7 +34,7 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
 from vkgl.plan.task_space.body_limits import _stay_constraints, body_constraints, limit_words
 from vkgl.plan.task_space.carry_start import carry_start
-from vkgl.plan.task_space.clearing import blockers, cleared_values
+from vkgl.plan.task_space.clearing import RESOLUTION, blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
 from vkgl.plan.task_space.law_error import law_margins, uncertain_rejection
 from vkgl.plan.task_space.reach.workspace import reach_violations, unreachable
@@ -270,7 +270,7 @@ def task_space(
         violation = float(c.max())
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
-            x = _near_edge(problem, seq, evaluator, x)
+            x = least_room(problem, seq, evaluator, _near_edge(problem, seq, evaluator, x))
             named, values = materialise(problem, seq, x)
             renamed = named if named.actions != seq.actions else None
             traces = rollout(problem, named, values, JOINT_SAMPLES)
@@ -327,6 +327,34 @@ def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
         middle = (low + high) / 2
         low, high = (low, middle) if inside(middle) else (middle, high)
     return np.where(scaled, x * high, x)
+
+
+def least_room(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.ndarray) -> np.ndarray:
+    """`x` with each motion of a body of `problem.least` (moved only to make room for a later motion: a goal body
+    of the problem that a clearing sub-problem serves) shortened to the least that takes the body out of every
+    later motion's corridor with `clearing.MARGIN` (`clearing.cleared_values`), when that is shorter and every
+    constraint and goal still holds; `x` itself otherwise.
+
+    The optimiser stops anywhere in the set of values that reach a region goal: a Crate pushed 46 cm aside so
+    that a tool may pass where 10 cm would do. What a plan moves only to make room, the plan after it must
+    undo (`clear_first`: the goal body still has its own goal to reach), so the least move is the one to keep. A
+    motion whose body lies clear of the later corridors from the start (moved for the arm's sake, which the
+    corridors do not see) keeps its value; so does one the checks after this reject with the least value: the
+    search then tries the values farther aside (`task_space_alternatives`)."""
+    least = [b for b in blockers(problem, seq) if b.engagement.body in problem.least]
+    if not least:
+        return x
+    lower, upper = bounds(problem, seq)
+    cleared = cleared_values(problem, seq, x, rollout(problem, seq, x, TASK_SAMPLES), lower, upper)
+    if cleared is None:
+        return x
+    trial = x.copy()
+    for b in least:
+        if RESOLUTION < cleared[b.index] < x[b.index]:
+            trial[b.index] = cleared[b.index]
+    if np.array_equal(trial, x) or float(evaluator.evaluate(trial)[1].max()) > 1e-6:
+        return x
+    return trial if goal_holds(problem, rollout(problem, seq, trial, 2)[-1].end) else x
 
 
 def task_space_alternatives(

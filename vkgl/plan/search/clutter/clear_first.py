@@ -365,6 +365,7 @@ class _Walk:
             goals=[side_goal(self.problem, goal, blocker, side)],
             max_depth=root.depth - 1 + CLEAR_DEPTH,
             pinned=pinned,
+            least=frozenset(g.body for g in self.problem.goals),  # moved only to make room: kept least
         )
         found = self.search(sub, root, budget, still=still)
         if found.status == "solved" and found.sequence is not None:
