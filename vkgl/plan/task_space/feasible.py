@@ -270,7 +270,7 @@ def task_space(
         violation = float(c.max())
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
-            x = least_room(problem, seq, evaluator, _near_edge(problem, seq, evaluator, x))
+            x = least_room(problem, seq, _near_edge(problem, seq, evaluator, x), evaluator)
             named, values = materialise(problem, seq, x)
             renamed = named if named.actions != seq.actions else None
             traces = rollout(problem, named, values, JOINT_SAMPLES)
@@ -329,7 +329,7 @@ def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
     return np.where(scaled, x * high, x)
 
 
-def least_room(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.ndarray) -> np.ndarray:
+def least_room(problem: Problem, seq: Sequence, x: np.ndarray, evaluator: _Evaluator | None = None) -> np.ndarray:
     """`x` with each motion of a body of `problem.least` (moved only to make room for a later motion: a goal body
     of the problem that a clearing sub-problem serves) shortened to the least that takes the body out of every
     later motion's corridor with `clearing.MARGIN` (`clearing.cleared_values`), when that is shorter and every
@@ -344,6 +344,7 @@ def least_room(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
     least = [b for b in blockers(problem, seq) if b.engagement.body in problem.least]
     if not least:
         return x
+    evaluator = evaluator or _Evaluator(problem, seq)
     lower, upper = bounds(problem, seq)
     cleared = cleared_values(problem, seq, x, rollout(problem, seq, x, TASK_SAMPLES), lower, upper)
     if cleared is None:
