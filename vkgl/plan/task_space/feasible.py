@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterator
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
+from vkgl.plan.graphs.graph import KGraph
 from vkgl.plan.graphs.reuse import Rollouts
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.graphs.tool_faces import slide_band
@@ -84,6 +85,7 @@ class TaskSolution:
     traces: list[ModeTrace]
     free: bool = False  # the goal leaves some value free: other solutions may exist (`task_space_alternatives`)
     sequence: Sequence | None = None  # the sequence with its families' members named (`materialise`), if any
+    roomier: np.ndarray | None = None  # the values before `least_room` shortened a move that made room, if it did
 
 
 # ---------------------------------------------------------------- task space
@@ -270,8 +272,10 @@ def task_space(
         violation = float(c.max())
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
-            x = least_room(problem, seq, _near_edge(problem, seq, evaluator, x), evaluator)
+            found = _near_edge(problem, seq, evaluator, x)
+            x = least_room(problem, seq, found, evaluator)
             named, values = materialise(problem, seq, x)
+            roomier = None if x is found else materialise(problem, seq, found)[1]
             renamed = named if named.actions != seq.actions else None
             traces = rollout(problem, named, values, JOINT_SAMPLES)
             if renamed is not None and offsets is None and not goal_holds(problem, traces[-1].end):
@@ -280,7 +284,7 @@ def task_space(
                 return task_space(problem, seq, deadline, counters, offsets=named_offsets(problem, seq, x))
             margins = law_margins(problem, named, values, traces)
             if goal_holds(problem, traces[-1].end, margins=margins):
-                return TaskSolution(values, traces, not pinned, renamed)
+                return TaskSolution(values, traces, not pinned, renamed, roomier)
             uncertain = uncertain_rejection(problem, traces[-1].end, margins)
             continue
         score = violation + float(residual @ residual)
@@ -356,6 +360,23 @@ def least_room(problem: Problem, seq: Sequence, x: np.ndarray, evaluator: _Evalu
     if np.array_equal(trial, x) or float(evaluator.evaluate(trial)[1].max()) > 1e-6:
         return x
     return trial if goal_holds(problem, rollout(problem, seq, trial, 2)[-1].end) else x
+
+
+def roomier_after(
+    problem: Problem,
+    rejected: list[tuple[Sequence, TaskSolution]],
+    clash: Callable[[tuple[KGraph, ...], list[ModeTrace]], object | None],
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """The first of `rejected` (the candidates the arm's checks rejected, read when this is asked for its item)
+    with the values the optimiser found before `least_room` shortened them, when it did and their bodies pass
+    clear of one another (`clash` None): a body moved farther aside than the least may leave the arm room that
+    the least move does not (the corridors `least_room` reads are the bodies' and the tools', not the arm's);
+    `clash` is the bodies' collision check (`GeometryCheck.bodies`)."""
+    if rejected and (roomy := rejected[0][1].roomier) is not None:
+        named, found = rejected[0]
+        traces = rollout(problem, named, roomy, JOINT_SAMPLES)
+        if clash(named.graphs, traces) is None:
+            yield named, replace(found, values=roomy, traces=traces, roomier=None)
 
 
 def task_space_alternatives(
