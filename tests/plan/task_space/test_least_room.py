@@ -13,7 +13,7 @@ from vkgl.plan.graphs.graph import Action, Engagement
 from vkgl.plan.graphs.rollout import extend, rollout, start_sequence
 from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.task_space.clearing import MARGIN, footprint
-from vkgl.plan.task_space.feasible import goal_holds, least_room
+from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, least_room, roomier_after
 
 _HERE = Path(__file__).resolve().parent
 
@@ -65,3 +65,16 @@ def test_nothing_changes_without_least_bodies_or_when_the_move_is_already_least(
     problem, seq = _aside_then_through(frozenset({"block2"}))
     short = np.array([0.12, 0.30])  # not clear of the way yet: the sweep check, not this, rejects it
     assert least_room(problem, seq, short) is short
+
+
+def test_when_the_arm_rejects_the_least_move_the_optimisers_own_values_come_next_if_the_bodies_pass_clear() -> None:
+    problem, seq = _aside_then_through(frozenset({"block2"}))
+    far = np.array([0.30, 0.30])
+    least = least_room(problem, seq, far)
+    found = TaskSolution(least, rollout(problem, seq, least), free=True, roomier=far)
+    clear = list(roomier_after(problem, [(seq, found)], lambda graphs, traces: None))
+    assert len(clear) == 1 and clear[0][0] is seq
+    assert clear[0][1].values is far and clear[0][1].roomier is None  # tried once, never shortened again
+    assert clear[0][1].traces[-1].end["block2"][1, 3] == pytest.approx(0.30, abs=1e-6)  # rolled out anew
+    assert not list(roomier_after(problem, [(seq, found)], lambda graphs, traces: "the bodies clash"))
+    assert not list(roomier_after(problem, [], lambda graphs, traces: None))  # nothing rejected (yet)
