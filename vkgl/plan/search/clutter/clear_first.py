@@ -175,9 +175,10 @@ def _clear_then_solve(
     waiting: list[_Waiting] = []
     first = True  # the first round of sides: a search for the goals gets a first try and waits
     for item in walk.prefixes(blocking, start):
-        if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn
-            first = False
-            found = _then_again(walk, waiting, proven)
+        if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn, but those
+            first = False  # after a prefix that moved a goal body wait for the sides' second round too
+            now, waiting[:] = [w for w in waiting if not w.rank()[0]], [w for w in waiting if w.rank()[0]]
+            found = _then_again(walk, now, proven)
             if found is not None or walk.spent():
                 return found
             continue
