@@ -7,7 +7,7 @@ import math
 import sys
 import time
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -260,3 +260,18 @@ class Progress:
         if self._shown:
             sys.stderr.write("\r\033[K")
             sys.stderr.flush()
+
+
+def add_stats(total: SearchStats, part: SearchStats) -> None:
+    """Add the counters of another search (`part`) to `total`: sequences, checks, rejections, times (what
+    describes where one search ended, its level and cut sequences, stays `total`'s)."""
+    kept = {"level", "depth_reached", "shortest_cut", "cut_at_start", "examples"}
+    for f in fields(SearchStats):
+        if f.name in kept:
+            continue
+        mine, theirs = getattr(total, f.name), getattr(part, f.name)
+        if isinstance(mine, (int, float)):
+            setattr(total, f.name, mine + theirs)
+    for f in fields(total.work):
+        setattr(total.work, f.name, getattr(total.work, f.name) + getattr(part.work, f.name))
+    total.rejections.update(part.rejections)

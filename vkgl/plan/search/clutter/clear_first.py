@@ -50,7 +50,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Iterator
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -60,7 +60,7 @@ from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import SearchStats, closest_miss
+from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
 
 CLEAR_DEPTH = 5
@@ -366,7 +366,6 @@ class _Walk:
             goals=[side_goal(self.problem, goal, blocker, side)],
             max_depth=root.depth - 1 + CLEAR_DEPTH,
             pinned=pinned,
-            least=frozenset(g.body for g in self.problem.goals),  # moved only to make room: kept least
         )
         found = self.search(sub, root, budget, still=still)
         if found.status == "solved" and found.sequence is not None:
@@ -416,7 +415,7 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
     its way aside), and its turns, each a branch of the search, would only leave it at a heading the move to its
     goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
     instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
-    to its goal (`far_move_tools`) keeps only its slides (no grasp either)."""
+    to its goal (`far_move_tools`) keeps only its slides (no grasp either); its moves are kept least (`least`)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None} | {blocker}
     still = frozenset(n for n, b in problem.bodies.items() if n not in keep and b.joint is None and b.affordances)
     bodies = {n: b if n in keep or n in still else replace(b, affordances=()) for n, b in problem.bodies.items()}
@@ -435,7 +434,7 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
         right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
         if any(a.motion.type == "free" for a in right):
             bodies[tool] = replace(body, affordances=right)
-    return replace(problem, bodies=bodies), still
+    return replace(problem, bodies=bodies, least=frozenset(g.body for g in problem.goals)), still
 
 
 def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
@@ -465,27 +464,11 @@ def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
     )
 
 
-def add_stats(total: SearchStats, part: SearchStats) -> None:
-    """Add the counters of another search (`part`) to `total`: sequences, checks, rejections, times (what
-    describes where one search ended, its level and cut sequences, stays `total`'s)."""
-    kept = {"level", "depth_reached", "shortest_cut", "cut_at_start", "examples"}
-    for f in fields(SearchStats):
-        if f.name in kept:
-            continue
-        mine, theirs = getattr(total, f.name), getattr(part, f.name)
-        if isinstance(mine, (int, float)):
-            setattr(total, f.name, mine + theirs)
-    for f in fields(total.work):
-        setattr(total.work, f.name, getattr(total.work, f.name) + getattr(part.work, f.name))
-    total.rejections.update(part.rejections)
-
-
 __all__ = [
     "CLEAR_DEPTH",
     "SEARCH_SHARE",
     "WORK_PER_SECOND",
     "Cleared",
-    "add_stats",
     "blocked",
     "clear_first",
     "side_goal",
