@@ -195,6 +195,8 @@ class Problem:
     pinned: tuple[float, ...] = ()
     """The first motion values of every sequence, fixed: those of a plan every sequence searched extends (a
     plan that cleared a body in the way, `vkgl.plan.search.clutter.clear_first`); none by default."""
+    least: frozenset[str] = frozenset()
+    """Bodies moved only to make room (`clear_first`'s goal bodies): their motions kept least (`least_room`)."""
     _footprints: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)

@@ -63,7 +63,7 @@ from vkgl.plan.task_space.contacts import other_contacts
 from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space, task_space_alternatives
 from vkgl.plan.task_space.idle import idle_contact
 from vkgl.plan.task_space.joint_space import JointSolution, joint_space
-from vkgl.plan.task_space.raised_contacts import raised_after
+from vkgl.plan.task_space.raised_contacts import after_arm
 from vkgl.plan.task_space.reach.workspace import unreachable
 
 
@@ -295,7 +295,7 @@ def _check(
     idle_seen: list[tuple[Sequence, TaskSolution]] = []  # the first idle candidate, for `arm_aside`
     candidates = itertools.chain(candidates, _aside(problem, idle_seen, checks))
     rejected: list[tuple[Sequence, TaskSolution]] = []  # those the arm's checks rejected: raised contacts after all
-    candidates = itertools.chain(candidates, raised_after(problem, rejected))
+    candidates = itertools.chain(candidates, after_arm(problem, rejected, checks.geometry.bodies))
     first: Rejection | None = None
     idle: Rejection | None = None  # a candidate with a contact that moves nothing (`idle_contact`), if any
     reached: set[str] = set()  # the stages any candidate got to: each sequence counts once in each

@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Iterator
-from dataclasses import dataclass
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from vkgl.lang.ir.regions import footprint, overlap_depth
+from vkgl.plan.graphs.graph import KGraph
 from vkgl.plan.graphs.reuse import Rollouts
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, bounds, materialise, rollout
 from vkgl.plan.graphs.tool_faces import slide_band
@@ -34,7 +35,7 @@ from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
 from vkgl.plan.task_space.body_limits import _stay_constraints, body_constraints, limit_words
 from vkgl.plan.task_space.carry_start import carry_start
-from vkgl.plan.task_space.clearing import blockers, cleared_values
+from vkgl.plan.task_space.clearing import RESOLUTION, blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
 from vkgl.plan.task_space.law_error import law_margins, uncertain_rejection
 from vkgl.plan.task_space.reach.workspace import reach_violations, unreachable
@@ -84,6 +85,7 @@ class TaskSolution:
     traces: list[ModeTrace]
     free: bool = False  # the goal leaves some value free: other solutions may exist (`task_space_alternatives`)
     sequence: Sequence | None = None  # the sequence with its families' members named (`materialise`), if any
+    roomier: np.ndarray | None = None  # the values before `least_room` shortened a move that made room, if it did
 
 
 # ---------------------------------------------------------------- task space
@@ -270,8 +272,10 @@ def task_space(
         violation = float(c.max())
         traces = rollout(problem, seq, x, TASK_SAMPLES)
         if violation <= 1e-6 and goal_holds(problem, traces[-1].end):
-            x = _near_edge(problem, seq, evaluator, x)
+            found = _near_edge(problem, seq, evaluator, x)
+            x = least_room(problem, seq, found, evaluator)
             named, values = materialise(problem, seq, x)
+            roomier = None if x is found else materialise(problem, seq, found)[1]
             renamed = named if named.actions != seq.actions else None
             traces = rollout(problem, named, values, JOINT_SAMPLES)
             if renamed is not None and offsets is None and not goal_holds(problem, traces[-1].end):
@@ -280,7 +284,7 @@ def task_space(
                 return task_space(problem, seq, deadline, counters, offsets=named_offsets(problem, seq, x))
             margins = law_margins(problem, named, values, traces)
             if goal_holds(problem, traces[-1].end, margins=margins):
-                return TaskSolution(values, traces, not pinned, renamed)
+                return TaskSolution(values, traces, not pinned, renamed, roomier)
             uncertain = uncertain_rejection(problem, traces[-1].end, margins)
             continue
         score = violation + float(residual @ residual)
@@ -327,6 +331,52 @@ def _near_edge(problem: Problem, seq: Sequence, evaluator: _Evaluator, x: np.nda
         middle = (low + high) / 2
         low, high = (low, middle) if inside(middle) else (middle, high)
     return np.where(scaled, x * high, x)
+
+
+def least_room(problem: Problem, seq: Sequence, x: np.ndarray, evaluator: _Evaluator | None = None) -> np.ndarray:
+    """`x` with each motion of a body of `problem.least` (moved only to make room for a later motion: a goal body
+    of the problem that a clearing sub-problem serves) shortened to the least that takes the body out of every
+    later motion's corridor with `clearing.MARGIN` (`clearing.cleared_values`), when that is shorter and every
+    constraint and goal still holds; `x` itself otherwise.
+
+    The optimiser stops anywhere in the set of values that reach a region goal: a Crate pushed 46 cm aside so
+    that a tool may pass where 10 cm would do. What a plan moves only to make room, the plan after it must
+    undo (`clear_first`: the goal body still has its own goal to reach), so the least move is the one to keep. A
+    motion whose body lies clear of the later corridors from the start (moved for the arm's sake, which the
+    corridors do not see) keeps its value; so does one the checks after this reject with the least value: the
+    search then tries the values farther aside (`task_space_alternatives`)."""
+    least = [b for b in blockers(problem, seq) if b.engagement.body in problem.least]
+    if not least:
+        return x
+    evaluator = evaluator or _Evaluator(problem, seq)
+    lower, upper = bounds(problem, seq)
+    cleared = cleared_values(problem, seq, x, rollout(problem, seq, x, TASK_SAMPLES), lower, upper)
+    if cleared is None:
+        return x
+    trial = x.copy()
+    for b in least:
+        if RESOLUTION < cleared[b.index] < x[b.index]:
+            trial[b.index] = cleared[b.index]
+    if np.array_equal(trial, x) or float(evaluator.evaluate(trial)[1].max()) > 1e-6:
+        return x
+    return trial if goal_holds(problem, rollout(problem, seq, trial, 2)[-1].end) else x
+
+
+def roomier_after(
+    problem: Problem,
+    rejected: list[tuple[Sequence, TaskSolution]],
+    clash: Callable[[tuple[KGraph, ...], list[ModeTrace]], object | None],
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """The first of `rejected` (the candidates the arm's checks rejected, read when this is asked for its item)
+    with the values the optimiser found before `least_room` shortened them, when it did and their bodies pass
+    clear of one another (`clash` None): a body moved farther aside than the least may leave the arm room that
+    the least move does not (the corridors `least_room` reads are the bodies' and the tools', not the arm's);
+    `clash` is the bodies' collision check (`GeometryCheck.bodies`)."""
+    if rejected and (roomy := rejected[0][1].roomier) is not None:
+        named, found = rejected[0]
+        traces = rollout(problem, named, roomy, JOINT_SAMPLES)
+        if clash(named.graphs, traces) is None:
+            yield named, replace(found, values=roomy, traces=traces, roomier=None)
 
 
 def task_space_alternatives(

@@ -8,18 +8,22 @@ same motion values, the same bodies' poses in every mode, the hand higher on eac
 any candidate (`vkgl.plan.search.search._check`), and only after the written one failed, so a plan that pushed
 where exploration pushed is never replaced by a raised one, and the search makes no more sequences: the raised
 contact is another candidate of the same sequence, as a body moved farther aside is.
+
+`after_arm` gives the candidates tried once the arm's checks rejected the first: its contacts raised, then its
+values as the optimiser found them before `feasible.least_room` shortened a move that made room
+(`feasible.roomier_after`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 
-from vkgl.plan.graphs.graph import Action, Engagement
-from vkgl.plan.graphs.rollout import Sequence, extend, rollout, start_sequence
+from vkgl.plan.graphs.graph import Action, Engagement, KGraph
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, extend, rollout, start_sequence
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.raised import raised_name
-from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TaskSolution
+from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TaskSolution, roomier_after
 
 
 def raised_contacts(problem: Problem, seq: Sequence, found: TaskSolution) -> tuple[Sequence, TaskSolution] | None:
@@ -52,6 +56,18 @@ def raised_after(
         yield found
 
 
+def after_arm(
+    problem: Problem,
+    rejected: list[tuple[Sequence, TaskSolution]],
+    clash: Callable[[tuple[KGraph, ...], list[ModeTrace]], object | None],
+) -> Iterator[tuple[Sequence, TaskSolution]]:
+    """The candidates tried after the arm's checks rejected the first of `rejected` (read when asked for): its
+    fingertip contacts raised (`raised_after`), then its roomier values (`roomier_after`; `clash`: the bodies'
+    collision check)."""
+    yield from raised_after(problem, rejected)
+    yield from roomier_after(problem, rejected, clash)
+
+
 def _raised(problem: Problem, e: Engagement) -> str | None:
     """The raised member's name of engagement `e` (`raised_name`), for a body lying flat on the table; else None."""
     body = problem.bodies[e.body]
@@ -61,4 +77,4 @@ def _raised(problem: Problem, e: Engagement) -> str | None:
     return raised_name(body.type, problem.affordance(e.body, e.affordance), clauses)
 
 
-__all__ = ["raised_after", "raised_contacts"]
+__all__ = ["after_arm", "raised_after", "raised_contacts"]

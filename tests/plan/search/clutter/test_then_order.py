@@ -124,3 +124,19 @@ def test_a_prefix_found_in_the_second_round_of_sides_gets_the_large_share_at_onc
     monkeypatch.setattr(clear_first, "search", recorder)
     assert clear_first._clear_then_solve(_walk(problem, [None, late]), [], Sequence(), 6) is None
     assert [budget for _, budget in recorder.calls] == [pytest.approx(clear_first.THEN_SHARE * 1000.0)]
+
+
+def test_a_prefix_that_moved_the_goal_body_waits_for_the_second_round_of_sides(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The search after a prefix that pushed the goal body back spends its first try; at the marker it waits on,
+    and a prefix found in the second round of sides (one that leaves the goal body where it lies) is searched
+    first: the pushed-back one, with more to undo, gets its large share last."""
+    problem = _problem(tmp_path)
+    back = (_prefix(4, frozenset({"block", "block2"})), (), [("block2", LEFT)])
+    late = (_prefix(3, frozenset({"block2"})), (), [("block2", RIGHT)])
+    recorder = _Recorder(lambda root, budget: "timeout")
+    monkeypatch.setattr(clear_first, "search", recorder)
+    assert clear_first._clear_then_solve(_walk(problem, [back, None, late]), [], Sequence(), 6) is None
+    assert [depth for depth, _ in recorder.calls] == [4, 3, 4]
+    assert recorder.calls[1][1] == pytest.approx(clear_first.THEN_SHARE * (1000.0 - 1.0))

@@ -177,9 +177,10 @@ def _clear_then_solve(
     waiting: list[_Waiting] = []
     first = True  # the first round of sides: a search for the goals gets a first try and waits
     for item in walk.prefixes(blocking, start):
-        if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn
-            first = False
-            found = _then_again(walk, waiting, proven)
+        if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn, but those
+            first = False  # after a prefix that moved a goal body wait for the sides' second round too
+            now, waiting[:] = [w for w in waiting if not w.rank()[0]], [w for w in waiting if w.rank()[0]]
+            found = _then_again(walk, now, proven)
             if found is not None or walk.spent():
                 return found
             continue
@@ -428,7 +429,7 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
     its way aside), and its turns, each a branch of the search, would only leave it at a heading the move to its
     goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
     instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
-    to its goal (`far_move_tools`) keeps only its slides (no grasp either)."""
+    to its goal (`far_move_tools`) keeps only its slides (no grasp either); its moves are kept least (`least`)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None} | {blocker}
     still = frozenset(n for n, b in problem.bodies.items() if n not in keep and b.joint is None and b.affordances)
     bodies = {n: b if n in keep or n in still else replace(b, affordances=()) for n, b in problem.bodies.items()}
@@ -447,7 +448,7 @@ def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> 
         right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
         if any(a.motion.type == "free" for a in right):
             bodies[tool] = replace(body, affordances=right)
-    return replace(problem, bodies=bodies), still
+    return replace(problem, bodies=bodies, least=frozenset(g.body for g in problem.goals)), still
 
 
 def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
