@@ -25,9 +25,18 @@ def _walk(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, movable: set[str]) ->
     """A walk whose blockers each have one side (`LEFT`), which a plan reaches for the blockers in `movable`."""
     monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT])
     monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    monkeypatch.setattr(clear_first, "rolls", lambda *args: False)  # no rolled hook's second try
 
     def clear(
-        walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float
+        walk: object,
+        goal: object,
+        blocker: str,
+        side: object,
+        root: Sequence,
+        pinned: object,
+        budget: float,
+        *,
+        rolled: bool = True,
     ) -> SearchResult:
         if blocker not in movable:
             return SearchResult("infeasible", "", SearchStats())
