@@ -178,7 +178,7 @@ def _convex_region(draw: st.DrawFn) -> Region:
     return _region("polygon", *corners)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=200, deadline=None, derandomize=True)
 @given(
     _convex_region(),
     st.tuples(st.integers(1, 40), st.integers(1, 40)).map(lambda v: (v[0] / 100, v[1] / 100)),
@@ -200,8 +200,18 @@ def test_a_footprint_fits_exactly_when_scipys_linear_program_says_so(
     turned = np.array([[c, -s], [s, c]]) @ corners.T
     planes = region.halfplanes()
     reach = (planes[:, :2] @ turned).max(axis=1)
-    found = linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=planes[:, 2] + tolerance - reach, bounds=[(None, None)] * 2)
-    assert translation_fits(planes, reach, tolerance) == (found.status == 0)
+
+    def lp_fits(slack: float) -> bool:
+        rows = planes[:, 2] + slack - reach
+        return linprog(np.zeros(2), A_ub=planes[:, :2], b_ub=rows, bounds=[(None, None)] * 2).status == 0
+
+    # HiGHS's own feasibility tolerance (1e-7) decides a footprint that fits to within it (hypothesis found a
+    # 5 cm side in a 1 cm box grown by 2 cm on each side, turned 1e-7 rad: 2e-9 m too wide, "optimal" for the
+    # LP): the verdicts compared are those a micrometre does not change
+    if lp_fits(tolerance - 1e-6):
+        assert translation_fits(planes, reach, tolerance)
+    elif not lp_fits(tolerance + 1e-6):
+        assert not translation_fits(planes, reach, tolerance)
 
 
 def test_a_corner_written_twice_bounds_nothing() -> None:
