@@ -8,7 +8,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from vkgl.lang.compiler import compile_file
-from vkgl.plan.graphs.rollout import Sequence
+from vkgl.plan.graphs.graph import successors
+from vkgl.plan.graphs.rollout import Sequence, extend, start_sequence
 from vkgl.plan.problem.problem import Problem, build_problem
 
 PROGRAM = """
@@ -100,3 +101,13 @@ IN_THE_WAY = "    other : Block on table at (0.77, 0.02) m yaw 90deg\n"
 
 ASIDE = "    other : Block on table at (0.77, -0.35) m yaw 90deg\n"
 """The same Block well to the side of that way."""
+
+
+def labelled_sequence(problem: Problem, *labels: str) -> Sequence:
+    """The sequence of the actions with these labels (`Action.label`: "add Block.push_px on block with
+    arm.fingertip"), each among the successors of the graph before it."""
+    seq = start_sequence(problem)
+    for label in labels:
+        action = next(a for a in successors(problem, seq.graphs[-1], seq.last) if a.label(problem) == label)
+        seq, _ = extend(problem, seq, action)
+    return seq

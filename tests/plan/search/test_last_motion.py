@@ -5,23 +5,12 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from block_problems import IN_THE_WAY, block_to
+from block_problems import IN_THE_WAY, block_to, labelled_sequence
 
-from vkgl.plan.graphs.graph import successors
-from vkgl.plan.graphs.rollout import Sequence, extend, start_sequence
-from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.search.last_motion import LastMotion, last_motion_key
 
 OUT_OF_REACH = Rejection(Kind.REACH, "the hand would be 0.9 m from the arm's base", 0.1)
-
-
-def _sequence(problem: Problem, *labels: str) -> Sequence:
-    seq = start_sequence(problem)
-    for label in labels:
-        action = next(a for a in successors(problem, seq.graphs[-1], seq.last) if a.label(problem) == label)
-        seq, _ = extend(problem, seq, action)
-    return seq
 
 
 PUSH = "add Block.push_px on block with arm.fingertip"
@@ -32,7 +21,7 @@ PUSH_OFF = "remove Block.push_px on block with arm.fingertip"
 
 def test_a_push_out_of_reach_is_known_after_a_prefix_that_moved_another_body(tmp_path: Path) -> None:
     problem = block_to(tmp_path, 0.66, stick=False, grasp=False, depth=6, other=IN_THE_WAY)
-    alone, after_other = _sequence(problem, PUSH), _sequence(problem, OTHER, OTHER_OFF, PUSH)
+    alone, after_other = labelled_sequence(problem, PUSH), labelled_sequence(problem, OTHER, OTHER_OFF, PUSH)
     assert last_motion_key(problem, alone) == last_motion_key(problem, after_other) is not None
     memo = LastMotion()
     assert memo.known(problem, after_other) is None
@@ -44,17 +33,17 @@ def test_nothing_is_known_after_a_prefix_that_moved_the_body_itself(tmp_path: Pa
     """The block pushed before starts its last push elsewhere: the hand's poses differ."""
     problem = block_to(tmp_path, 0.66, stick=False, grasp=False, depth=6, other=IN_THE_WAY)
     memo = LastMotion()
-    memo.remember(problem, _sequence(problem, PUSH), OUT_OF_REACH)
-    assert last_motion_key(problem, _sequence(problem, PUSH, PUSH_OFF, PUSH)) is None
-    assert memo.known(problem, _sequence(problem, PUSH, PUSH_OFF, PUSH)) is None
+    memo.remember(problem, labelled_sequence(problem, PUSH), OUT_OF_REACH)
+    assert last_motion_key(problem, labelled_sequence(problem, PUSH, PUSH_OFF, PUSH)) is None
+    assert memo.known(problem, labelled_sequence(problem, PUSH, PUSH_OFF, PUSH)) is None
 
 
 def test_only_a_sequences_one_motion_out_of_reach_is_remembered(tmp_path: Path) -> None:
     """A rejection of a sequence with an earlier motion may be that motion's fault; other kinds are not kept."""
     problem = block_to(tmp_path, 0.66, stick=False, grasp=False, depth=6, other=IN_THE_WAY)
     memo = LastMotion()
-    memo.remember(problem, _sequence(problem, OTHER, OTHER_OFF, PUSH), OUT_OF_REACH)
-    memo.remember(problem, _sequence(problem, PUSH), Rejection(Kind.GOAL, "missed", 0.0))
+    memo.remember(problem, labelled_sequence(problem, OTHER, OTHER_OFF, PUSH), OUT_OF_REACH)
+    memo.remember(problem, labelled_sequence(problem, PUSH), Rejection(Kind.GOAL, "missed", 0.0))
     assert not memo.seen
 
 
@@ -64,14 +53,14 @@ def test_bodies_passing_through_one_another_are_known_while_the_body_named_has_n
     problem = block_to(tmp_path, 0.66, stick=False, grasp=False, depth=6, other=IN_THE_WAY)
     through = Rejection(Kind.COLLISION, "block would pass through other", 0.02, bodies=frozenset({"block", "other"}))
     memo = LastMotion()
-    memo.remember(problem, _sequence(problem, PUSH), Rejection(Kind.COLLISION, "the arm's link", 0.01))
+    memo.remember(problem, labelled_sequence(problem, PUSH), Rejection(Kind.COLLISION, "the arm's link", 0.01))
     assert not memo.seen
-    memo.remember(problem, _sequence(problem, PUSH), through)
-    assert memo.known(problem, _sequence(problem, OTHER, OTHER_OFF, PUSH)) is None
+    memo.remember(problem, labelled_sequence(problem, PUSH), through)
+    assert memo.known(problem, labelled_sequence(problem, OTHER, OTHER_OFF, PUSH)) is None
     two = IN_THE_WAY + "    far : Block on table at (0.4, -0.35) m yaw 90deg\n"
     problem = block_to(tmp_path, 0.66, stick=False, grasp=False, depth=6, other=two)
     memo = LastMotion()
-    memo.remember(problem, _sequence(problem, PUSH), through)
+    memo.remember(problem, labelled_sequence(problem, PUSH), through)
     far = ("add Block.push_px on far with arm.fingertip", "remove Block.push_px on far with arm.fingertip")
-    assert memo.known(problem, _sequence(problem, *far, PUSH)) is through
-    assert memo.known(problem, _sequence(problem, OTHER, OTHER_OFF, PUSH)) is None
+    assert memo.known(problem, labelled_sequence(problem, *far, PUSH)) is through
+    assert memo.known(problem, labelled_sequence(problem, OTHER, OTHER_OFF, PUSH)) is None

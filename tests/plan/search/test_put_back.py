@@ -7,12 +7,11 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from block_problems import block_to
+from block_problems import block_to, labelled_sequence
 
 from vkgl.plan.arm.paths import _places
 from vkgl.plan.geometry.bodies import GeometryCheck
-from vkgl.plan.graphs.graph import successors
-from vkgl.plan.graphs.rollout import Sequence, extend, rollout, start_sequence
+from vkgl.plan.graphs.rollout import Sequence, rollout
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep
@@ -26,18 +25,10 @@ LET_GO = "remove Stick.wield on stick with arm.fingertip"
 FINGERTIP = "add Block.push_px on block with arm.fingertip"
 
 
-def _sequence(problem: Problem, *labels: str) -> Sequence:
-    seq = start_sequence(problem)
-    for label in labels:
-        action = next(a for a in successors(problem, seq.graphs[-1], seq.last) if a.label(problem) == label)
-        seq, _ = extend(problem, seq, action)
-    return seq
-
-
 def _stick_then_fingertip(tmp_path: Path) -> tuple[Problem, Sequence, np.ndarray]:
     """The stick pushes the block 4 cm, is let go of, and the fingertip pushes the block 3 cm more."""
     problem = block_to(tmp_path, 0.67, stick=True, grasp=False, depth=6)
-    seq = _sequence(problem, WIELD, PUSH, PUSH_OFF, LET_GO, FINGERTIP)
+    seq = labelled_sequence(problem, WIELD, PUSH, PUSH_OFF, LET_GO, FINGERTIP)
     return problem, seq, np.array([0.04, 0.03])
 
 
