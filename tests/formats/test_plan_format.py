@@ -428,3 +428,20 @@ def test_a_plans_document_is_what_its_json_reads_back(solved, name):
     plan = solved[name]
     assert not _same(plan.document(), from_json(plan.to_json()))
     assert plan.document() is plan.document()
+
+
+def test_a_release_whose_path_carries_the_body_says_where_it_is_set_down() -> None:
+    """A tool put back where it was picked up (or a carried body placed) is let go of elsewhere than where the hand
+    took it over: the step's words say where (its `poses_start`); a release with no carry says nothing more."""
+    from vkgl.formats.plan.document import ArmSegment, PlanStepRecord
+
+    place = np.eye(4)
+    place[:3, 3] = (0.3, -0.4, 0.01)
+    q = np.zeros(7)
+    carry = ArmSegment("transit", np.array([0.0, 1.0]), np.zeros((2, 7)))
+    step = PlanStepRecord("remove", "Stick.wield", "stick", "arm.fingertip", "free", 0.0, {"stick": place}, {}, q, q)
+    assert step.title() == "remove Stick.wield on stick with arm.fingertip"
+    carried = PlanStepRecord(
+        "remove", "Stick.wield", "stick", "arm.fingertip", "free", 0.0, {"stick": place}, {}, q, q, path=(carry,)
+    )
+    assert carried.title() == "remove Stick.wield on stick with arm.fingertip: set down at (0.300, -0.400) m"

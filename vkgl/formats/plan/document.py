@@ -124,6 +124,11 @@ class PlanStepRecord:
     def title(self) -> str:
         """The step in words: `add Block.push_center_px on block with arm.fingertip: slide 15.0 cm`."""
         text = f"{self.op} {self.affordance} on {self.body} with {self.effector}"
+        if self.op == "remove" and any(segment.phase == "transit" for segment in self.path):
+            # a release whose path carries the body first: set down elsewhere (a carried body's place, or a tool
+            # put back where it was picked up), not where the hand held it
+            where = self.poses_start.get(self.body)
+            return text if where is None else f"{text}: set down at ({where[0, 3]:.3f}, {where[1, 3]:.3f}) m"
         if self.op != "add" or self.motion not in ("prismatic", "revolute"):
             return text
         amount = (
