@@ -336,23 +336,27 @@ class _Walk:
             return
         first = FIRST_TRY * self.left
         moved = False  # some side's plan moved it
-        again: list[Side] = []  # the sides that spent their first budget
+        again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
         for side in sides:  # first round: every side with a small budget
             if self.spent():
                 return
             found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
-            if found.status == "timeout" or (found.status == "infeasible" and rolls(self.problem, blocker)):
-                again.append(side)  # (a rolled hook's pulls only now: `vkgl.plan.search.clutter.rolled`)
+            if found.status == "timeout":
+                again.append((side, False))
+            elif found.status == "infeasible" and rolls(self.problem, blocker):
+                # a rolled hook's pulls only where the flat tools are proven to fail (`clutter.rolled`): on a
+                # side that merely ran out, they widen its second search (gen1_001 lost its plan to them)
+                again.append((side, True))
             elif found.status == "solved":
                 moved = True
                 yield from self._then(found, rest, blocker, side)
         if again:
             yield None  # the first round is over: the searches for the goals waiting go first
-        for k, side in enumerate(again):  # second round: a share of what is left
+        for k, (side, rolled) in enumerate(again):  # second round: a share of what is left
             if self.spent():
                 return
             budget = max(CLEAR_SHARE, 1.0 / (len(again) - k + 1)) * self.left
-            found = self._clear(goal, blocker, side, root, pinned, budget, rolled=True)
+            found = self._clear(goal, blocker, side, root, pinned, budget, rolled=rolled)
             if found.status == "timeout":
                 self.log.append(f"{blocker} {side.words} of the way: no plan within its budget{_closest(found)}")
             elif found.status == "solved":
