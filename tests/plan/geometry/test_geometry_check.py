@@ -120,7 +120,7 @@ def test_every_example_plan_passes_the_independent_check(task: str) -> None:
 def test_when_the_arm_fails_the_first_values_that_clear_the_path_the_next_ones_are_tried(monkeypatch) -> None:
     # block2 across the path: half of its push clears it. When the arm's checks refuse those values, the search
     # tries the next ones that clear the path (three quarters) for the same sequence, not another sequence
-    import vkgl.plan.search.search as search
+    import vkgl.plan.search.check as search
     from vkgl.plan.problem.rejection import Kind, Rejection
 
     source = SCENE.replace("at ({x2}, {y2}) m yaw 0deg", "at ({x2}, {y2}) m yaw 90deg").replace(

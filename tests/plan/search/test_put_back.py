@@ -93,7 +93,7 @@ def test_the_arm_retreats_carries_the_tool_to_its_place_and_lets_go_there(tmp_pa
     joints that put the hand at its grasp there, and the fingertip's step lifts the open hand off it first."""
     import time
 
-    from vkgl.plan.search import search as s
+    from vkgl.plan.search import check as s
     from vkgl.plan.search.stats import SearchStats
 
     problem, seq, values = _stick_then_fingertip(tmp_path)
@@ -101,7 +101,7 @@ def test_the_arm_retreats_carries_the_tool_to_its_place_and_lets_go_there(tmp_pa
     assert back is not None
     solution = TaskSolution(values, rollout(problem, back, values, 6), sequence=back)
     geometry = GeometryCheck(problem)
-    checks = s._Checks(geometry, s.ArmPathPlanner(problem, geometry))
+    checks = s.Checks(geometry, s.ArmPathPlanner(problem, geometry))
     found = s._arm_checks(problem, back, solution, SearchStats(), time.perf_counter() + 120, checks, set())
     assert not isinstance(found, Rejection), found.why
     steps = found.steps

@@ -31,7 +31,7 @@ def _checked_by_search(problem: Problem, monkeypatch: pytest.MonkeyPatch) -> lis
     def failing(problem_: Problem, seq: Sequence, *args: object, **kwargs: object) -> None:
         checked.append(labels(problem_, seq))
 
-    monkeypatch.setattr(search_module, "_check", failing)
+    monkeypatch.setattr(search_module, "check", failing)
     result = search_module.search(problem, deadline=time.perf_counter() + 600)
     assert result.status == "infeasible"
     return checked

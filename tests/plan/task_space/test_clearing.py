@@ -215,7 +215,8 @@ def test_a_stick_that_would_stand_in_the_target_at_its_contact_tries_the_contact
     from vkgl.plan.graphs.graph import Action, Engagement
     from vkgl.plan.graphs.rollout import extend, start_sequence
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.search.search import _check, _Checks
+    from vkgl.plan.search.check import Checks as _Checks
+    from vkgl.plan.search.check import check as _check
     from vkgl.plan.search.stats import SearchStats
 
     program = vkgl.compile_source(ACROSS_THE_STICK, "across.vkg", base_dir=_EMPTY)

@@ -3,7 +3,7 @@ its sequence's depth.
 
 The task-space optimiser starts a motion value that the goal does not need at 0 and leaves it there: a sequence
 such as "push the slab 0 cm, let go, push it along its arc" reaches the goal with the first push idle. The search
-passes over such a candidate (`vkgl.plan.search.search._check`), after the bodies' geometry. Take the contact
+passes over such a candidate (`vkgl.plan.search.check.check`), after the bodies' geometry. Take the contact
 added at the transition into mode k whose values are 0 in every mode it is in force, and delete its ADD and its
 REMOVE (if the sequence has one): the graphs after the REMOVE are the same (`KGraph.apply` keeps the order of the
 others), every other motion value is unchanged, and each body starts and ends every remaining mode where it did

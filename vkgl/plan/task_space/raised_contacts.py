@@ -5,7 +5,7 @@ reject a candidate because the upright hand at a contact pressed at the body's m
 in a taller one beside it, and leaning back cannot help (`vkgl.plan.problem.raised`). `raised_contacts` gives the
 same candidate with every fingertip contact on a body lying flat raised as that module says (`raised_name`): the
 same motion values, the same bodies' poses in every mode, the hand higher on each face; the search checks it like
-any candidate (`vkgl.plan.search.search._check`), and only after the written one failed, so a plan that pushed
+any candidate (`vkgl.plan.search.check.check`), and only after the written one failed, so a plan that pushed
 where exploration pushed is never replaced by a raised one, and the search makes no more sequences: the raised
 contact is another candidate of the same sequence, as a body moved farther aside is.
 

@@ -262,13 +262,13 @@ def test_the_search_checks_only_sequences_the_bound_lets_end_there(tmp_path, mon
 
     problem = block_problem(tmp_path, x=0.45, gx=0.73, gy=0, yaw=" yaw -20deg", slide=30, turn=25, stick="")
     bound, checked = Bound(problem), []
-    check = search_module._check
+    check = search_module.check
 
     def recording(problem_, seq, *args, **kwargs):
         checked.append(seq)
         return check(problem_, seq, *args, **kwargs)
 
-    monkeypatch.setattr(search_module, "_check", recording)
+    monkeypatch.setattr(search_module, "check", recording)
     result = search_module.search(problem, deadline=time.perf_counter() + 60)
     assert result.status == "solved" and result.sequence is not None
     assert checked and all(bound(seq) == 0 for seq in checked)
