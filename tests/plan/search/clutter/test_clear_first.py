@@ -143,7 +143,7 @@ def test_a_goal_no_sequence_of_any_length_reaches_is_answered_at_once_without_cl
 
 
 def test_the_sub_goal_is_a_region_goal_on_the_blocker_with_any_heading() -> None:
-    from vkgl.plan.search.clutter.clear_first import side_goal
+    from vkgl.plan.search.clutter.side_problem import side_goal
 
     problem = _problem(0.0)
     side = way_sides(problem, problem.goals[0], "block2")[0]
@@ -238,8 +238,8 @@ def test_a_near_goal_body_keeps_its_slides_but_no_turn_while_its_way_is_cleared(
     """The hand can carry the block to its goal (no tool must): in the sub-problem that clears block2 from its
     way the block may still step aside by a slide, never turn (a Block has both); block2 keeps what reaches the
     side."""
-    from vkgl.plan.search.clutter.clear_first import _only_moving
     from vkgl.plan.search.clutter.clear_tools import far_move_tools
+    from vkgl.plan.search.clutter.side_problem import only_moving as _only_moving
 
     problem = _problem(0.0)
     goal = problem.goals[0]
@@ -256,7 +256,7 @@ def test_a_third_body_is_kept_still_in_the_clearing_not_stripped() -> None:
     rejection names it (`search(still=)`): a tool's way to the blocker may cross it (gen1_001 of the physical
     bench: the stick that pushes the cube aside would pass through a crate the hand must push away first)."""
     from vkgl.plan.problem.problem import build_problem
-    from vkgl.plan.search.clutter.clear_first import _only_moving
+    from vkgl.plan.search.clutter.side_problem import only_moving as _only_moving
 
     third = SCENE.replace("}}\n\ntask", "    block3 : Block on table at (0.45, -0.3) m yaw 0deg\n}}\n\ntask")
     program = vkgl.compile_source(third.format(y2=0.0), "third.vkg", base_dir=_HERE)

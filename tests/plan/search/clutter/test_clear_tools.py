@@ -96,7 +96,7 @@ def test_a_side_is_kept_free_for_one_tool_that_carries_the_goal_body_not_for_eve
 def test_a_far_goal_body_keeps_only_its_slides_while_its_way_is_cleared(pushed: Problem) -> None:
     """In the sub-problem that clears block2 from the far block's way, the block may step out of the tool's way
     by a slide, never turn; block2 keeps the motions that reach the side, the tools their grasps."""
-    from vkgl.plan.search.clutter.clear_first import _only_moving
+    from vkgl.plan.search.clutter.side_problem import only_moving as _only_moving
 
     goal = pushed.goals[0]
     side = way_sides(pushed, goal, "block2", tools=far_move_tools(pushed, goal))[0]

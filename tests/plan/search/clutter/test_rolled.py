@@ -14,9 +14,11 @@ import vkgl
 from vkgl.lang.ir.families import over_pose
 from vkgl.plan.problem.over import MAX_BESIDE_ROLL
 from vkgl.plan.problem.problem import Problem, build_problem
-from vkgl.plan.search.clutter.clear_first import _blocking, _only_moving, side_goal
+from vkgl.plan.search.clutter.clear_first import _blocking
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import with_rolled_members
+from vkgl.plan.search.clutter.side_problem import only_moving as _only_moving
+from vkgl.plan.search.clutter.side_problem import side_goal
 from vkgl.plan.search.search import search
 from vkgl.plan.task_space.clearing import way_sides
 

@@ -60,10 +60,11 @@ from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
+from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
-from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, way_sides
+from vkgl.plan.task_space.clearing import Side, way_sides
 
 CLEAR_DEPTH = 5
 """Graphs of a plan that clears one blocker, G0 included: the push (2), or a tool's grasp first (3)."""
@@ -378,7 +379,7 @@ class _Walk:
     ) -> SearchResult:
         """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work (`rolled`:
         its slides also by a rolled hook): solved (with its sequence), proven infeasible (logged) or "timeout"."""
-        moving, still = _only_moving(self.problem, goal, blocker, side)
+        moving, still = only_moving(self.problem, goal, blocker, side)
         sub = replace(
             with_rolled_members(moving, blocker) if rolled else moving,
             goals=[side_goal(self.problem, goal, blocker, side)],
@@ -415,58 +416,6 @@ def _closest(found: SearchResult) -> str:
     reach, the blocker through the goal body)."""
     _, why = closest_miss(found.stats)
     return f" (closest: {why})" if why else ""
-
-
-def _only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> tuple[Problem, frozenset[str]]:
-    """`problem` in which the goal bodies and the tools keep their affordances, and `blocker` those one motion of
-    which takes it to `side` (all of them when none does), and the other free bodies, kept still (the second
-    result, for `search(still=)`): the plan that clears a blocker moves it, with the hand or a tool, after moving
-    a goal body out of the tool's way at most, or a body that a rejected sequence met (the tool's or the arm's
-    way to the blocker crosses it: on the physical bench's gen1_001 the stick that pushes the cube in the way
-    aside would pass through a crate, which the hand pushes away first); bodies with a joint keep none. A tool
-    keeps only the grasps with which it can also end a goal body where its goal is, when it has some (`Bound`'s
-    wrong grasps): the plan after the clearing keeps the tool in hand, and one held otherwise would have to be
-    let go of and grasped again.
-
-    A goal body with slides keeps no turn here: in the plan that clears its way it moves at most once, out of
-    the tool's or the hand's way (a Block pushed back 5 cm with the fingertip before the Stick pushes the cube in
-    its way aside), and its turns, each a branch of the search, would only leave it at a heading the move to its
-    goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
-    instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
-    to its goal (`far_move_tools`) keeps only its slides (no grasp either); its moves are kept least (`least`)."""
-    keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None} | {blocker}
-    still = frozenset(n for n, b in problem.bodies.items() if n not in keep and b.joint is None and b.affordances)
-    bodies = {n: b if n in keep or n in still else replace(b, affordances=()) for n, b in problem.bodies.items()}
-    mover = bodies[goal.body]
-    far = far_move_tools(problem, goal) is not None
-    kept = tuple(a for a in mover.affordances if a.motion.type == ("prismatic" if far else a.motion.type))
-    kept = tuple(a for a in kept if a.motion.type != "revolute")
-    if any(a.motion.type == "prismatic" for a in kept):
-        bodies[goal.body] = replace(mover, affordances=kept)
-    own = problem.bodies[blocker]
-    movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
-    bodies[blocker] = replace(own, affordances=movers)
-    wrong = frozenset().union(*(need.wrong_grasps for need in Bound(problem).needs))
-    for tool in {e.tool for e in problem.effectors if e.tool is not None}:
-        body = bodies[tool]
-        right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
-        if any(a.motion.type == "free" for a in right):
-            bodies[tool] = replace(body, affordances=right)
-    return replace(problem, bodies=bodies, least=frozenset(g.body for g in problem.goals)), still
-
-
-def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
-    """The region goal that puts `blocker`'s footprint beyond `side` of `goal`'s straight way, any heading."""
-    return GoalSpec(
-        blocker,
-        None,
-        None,
-        SIDE_TOLERANCE,
-        math.pi,
-        region=side.halfplane[np.newaxis, :],
-        footprint=problem.footprint_points(blocker),
-        region_words=f"{side.words} of {goal.body}'s way",
-    )
 
 
 def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
