@@ -11,7 +11,8 @@ from block_problems import block_to, labelled_sequence
 
 from vkgl.plan.arm.paths import _places
 from vkgl.plan.geometry.bodies import GeometryCheck
-from vkgl.plan.graphs.rollout import Sequence, rollout
+from vkgl.plan.graphs.graph import successors
+from vkgl.plan.graphs.rollout import Sequence, extend, materialise, renamed, rollout
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep
@@ -54,6 +55,25 @@ def test_a_tool_not_named_stays_where_it_is_let_go_of(tmp_path: Path) -> None:
     traces = rollout(problem, seq, values)
     assert returned_tools(problem, seq, traces, frozenset({"block"})) is None
     assert seq.returns == ()
+
+
+def test_a_tool_put_back_stays_so_through_every_rebuild_of_its_sequence(tmp_path: Path) -> None:
+    """`Sequence.returns` survives what rebuilds a sequence: an extension (the search after a clearing prefix that
+    put a tool back), a rename of members (`renamed`: raised contacts) and the naming of family members
+    (`materialise`); a raised retry once dropped it and planned a crate through the Stick."""
+    problem, seq, values = _stick_then_fingertip(tmp_path)
+    back = returned_tools(problem, seq, rollout(problem, seq, values), frozenset({"stick"}))
+    assert back is not None and back.returns
+    off = "remove Block.push_px on block with arm.fingertip"
+    action = next(a for a in successors(problem, back.graphs[-1], back.last) if a.label(problem) == off)
+    longer, _ = extend(problem, back, action)
+    assert [m for m, _ in longer.returns] == [m for m, _ in back.returns]
+    same = renamed(problem, back, lambda k, e: None)
+    assert same.actions == back.actions and [m for m, _ in same.returns] == [4]
+    named, _ = materialise(problem, back, values)
+    assert [m for m, _ in named.returns] == [4]
+    rest = problem.bodies["stick"].rest
+    assert np.allclose(rollout(problem, longer, values)[4].start["stick"], rest)
 
 
 def test_put_back_answers_a_clash_that_names_the_tool_only(tmp_path: Path) -> None:

@@ -15,7 +15,8 @@ frame, so a body at `P` moved by value `v` ends at `P @ motion_matrix(c, v)`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -123,9 +124,33 @@ def extend(problem: Problem, seq: Sequence, action: Action) -> tuple[Sequence, n
     if action.op == "add" and (has_family(problem, e.body, e.affordance) or slide_band(problem, e) is not None):
         offsets += ((mode, e),)
     child = Sequence(
-        seq.actions + (action,), seq.graphs + (graph,), tuple(variables), offsets, frozenset(dependent), poses, carries
+        seq.actions + (action,),
+        seq.graphs + (graph,),
+        tuple(variables),
+        offsets,
+        frozenset(dependent),
+        poses,
+        carries,
+        seq.returns,  # a prefix's tools put back stay so (`put_back`; its modes are the prefix's)
     )
     return child, hand
+
+
+def renamed(problem: Problem, seq: Sequence, member: Callable[[int, Engagement], str | None]) -> Sequence:
+    """`seq` built again with each engagement added at transition `k` renamed to `member(k, e)` (None: kept) from
+    its ADD to its REMOVE, keeping the tools it puts back (`returns`): the one way a sequence is rebuilt with other
+    members, so that nothing a rebuild does not know of is dropped."""
+    names: dict[Engagement, Engagement] = {}
+    out = start_sequence(problem)
+    for k, action in enumerate(seq.actions, start=1):
+        e = action.engagement
+        if action.op == "add" and (name := member(k, e)) is not None:
+            names[e] = Engagement(e.effector, e.body, name)
+        engaged = names.get(e, e)
+        if action.op == "remove":
+            names.pop(e, None)
+        out, _ = extend(problem, out, Action(action.op, engaged))
+    return replace(out, returns=seq.returns)
 
 
 def is_carry(problem: Problem, seq: Sequence, action: Action) -> bool:
@@ -252,17 +277,11 @@ def materialise(problem: Problem, seq: Sequence, values: np.ndarray) -> tuple[Se
     if not seq.offsets:
         return seq, kept
     offset_of = {key: float(v) for key, v in zip(seq.offsets, values[n : n + m])}
-    renamed: dict[Engagement, Engagement] = {}
-    out = start_sequence(problem)
-    for k, action in enumerate(seq.actions, start=1):
-        e = action.engagement
-        if action.op == "add" and (k, e) in offset_of:
-            renamed[e] = Engagement(e.effector, e.body, _member_at(problem, e, offset_of[(k, e)]))
-        member = renamed.get(e, e)
-        if action.op == "remove":
-            renamed.pop(e, None)
-        out, _ = extend(problem, out, Action(action.op, member))
-    return out, kept
+
+    def at_offset(k: int, e: Engagement) -> str | None:
+        return _member_at(problem, e, offset_of[(k, e)]) if (k, e) in offset_of else None
+
+    return renamed(problem, seq, at_offset), kept
 
 
 def _member_at(problem: Problem, e: Engagement, offset: float) -> str:

@@ -19,8 +19,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import replace
 
-from vkgl.plan.graphs.graph import Action, Engagement, KGraph
-from vkgl.plan.graphs.rollout import ModeTrace, Sequence, extend, rollout, start_sequence
+from vkgl.plan.graphs.graph import Engagement, KGraph
+from vkgl.plan.graphs.rollout import ModeTrace, Sequence, renamed, rollout
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.raised import raised_name
 from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TaskSolution, roomier_after
@@ -30,19 +30,13 @@ def raised_contacts(problem: Problem, seq: Sequence, found: TaskSolution) -> tup
     """`seq` (its families' members named) with each fingertip contact that can be raised renamed to its raised
     member, and `found`'s values rolled out along it; None when no contact can be raised."""
     fingertip = problem.robot_effector.name
-    renamed: dict[Engagement, Engagement] = {}
-    out = start_sequence(problem)
-    for action in seq.actions:
-        e = action.engagement
-        if action.op == "add" and e.effector == fingertip and (name := _raised(problem, e)) is not None:
-            renamed[e] = Engagement(e.effector, e.body, name)
-        member = renamed.get(e, e)
-        if action.op == "remove":
-            renamed.pop(e, None)
-        out, _ = extend(problem, out, Action(action.op, member))
+
+    def raised(k: int, e: Engagement) -> str | None:
+        return _raised(problem, e) if e.effector == fingertip else None
+
+    out = renamed(problem, seq, raised)  # a tool set down where it was picked up stays so (`put_back`)
     if out.actions == seq.actions:
         return None
-    out = replace(out, returns=seq.returns)  # a tool set down where it was picked up stays so (`put_back`)
     traces = rollout(problem, out, found.values, JOINT_SAMPLES)
     return out, replace(found, traces=traces, sequence=out)
 
