@@ -114,3 +114,15 @@ def test_a_tool_wider_than_the_hand_opens_is_never_held(tmp_path: Path) -> None:
     assert rejection.advice.startswith("for the hand to hold bar: hold it where it is at most 8 cm across")
     stick = vkgl.compile(EXAMPLES / "b_stick_push.vkg")
     assert grip_load.width_rejection(build_problem(stick, stick.task()), "stick", "wield") is None  # 2 cm
+
+
+def test_the_hand_opens_as_far_as_its_urdf_fingers_travel(tmp_path: Path) -> None:
+    """The width check reads the arm's own finger joints (the Panda's travel 4 cm each: 8 cm); an arm without
+    the Panda's finger joints falls back on the language's `HAND_OPENING`, by which E461 judged its grasps."""
+    from vkgl.lang.ir.grasps import HAND_OPENING
+    from vkgl.sim.grasp.run import panda_urdf
+
+    assert abs(grip_load.hand_opening(panda_urdf()) - 0.08) < 1e-6
+    bare = tmp_path / "bare.urdf"
+    bare.write_text('<robot name="bare"><link name="base"/></robot>')
+    assert grip_load.hand_opening(str(bare)) == HAND_OPENING

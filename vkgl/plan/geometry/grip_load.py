@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from vkgl.errors import InputError
 from vkgl.lang.ir.geometry import body_mesh
 from vkgl.lang.ir.grasps import HAND_OPENING
 from vkgl.motion.arm_collision import Held
@@ -31,6 +32,7 @@ from vkgl.plan.problem.over import tool_parts
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.robot.grip import DEFAULT_FRICTION, TOUCH_GAP, grip_for, push_load, resisting_force, tool_width
+from vkgl.robot.gripper import gripper
 
 PUSH_FACTOR = 2.0
 """How much harder than the estimate a push may load the grip: the estimate leaves out what the tool's contact
@@ -86,20 +88,30 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
     return None
 
 
+def hand_opening(urdf: str) -> float:
+    """m: the widest the arm's fingers open, from its URDF's finger joints (`Gripper.max_opening`), else the
+    language's `HAND_OPENING` (an arm without the Panda's finger joints: E461 judged its grasps by that)."""
+    try:
+        return gripper(urdf).max_opening
+    except InputError:
+        return HAND_OPENING
+
+
 def width_rejection(problem: Problem, tool: str, grasp: str) -> Rejection | None:
     """Why the fingers cannot close on `tool` where its affordance `grasp` holds it (it is wider there than the
     hand opens), or None. A grasp states its width (E461 keeps it within the hand); a tool held by a `fixed`
     action (`wield`) is measured on its mesh, and nothing else stopped a 12 cm bar being planned in the hand."""
     width = 2.0 * (_opening(problem, tool, grasp, np.linalg.inv(problem.action(tool, grasp))) - TOUCH_GAP)
-    if width <= HAND_OPENING + 1e-6:
+    opening = hand_opening(problem.arm.urdf)
+    if width <= opening + 1e-6:
         return None
     kind = problem.bodies[tool].type.name
-    hand = f"{HAND_OPENING * 100:.0f} cm"
+    hand = f"{opening * 100:.0f} cm"
     return Rejection(
         Kind.GRIP,
         f"{tool} is {width * 100:.1f} cm across where `{grasp}` holds it ({kind}, along the effector frame's y, "
         f"where the fingers close), and the hand's fingers open {hand} at most: they cannot close on it",
-        width - HAND_OPENING,
+        width - opening,
         advice=f"for the hand to hold {tool}: hold it where it is at most {hand} across (`{grasp}`'s action pose, "
         f"or a grasp of a narrower part), or a narrower {kind}",
     )
