@@ -49,3 +49,19 @@ def test_a_timeout_whose_closest_miss_is_the_grip_says_what_to_change() -> None:
         "why the closest miss failed: bar would slip in the hand: ... 947% of the grip\nfor the grip: lighter\n"
         in reason
     )
+
+
+def test_a_rejections_label_is_made_only_when_it_becomes_the_example() -> None:
+    """The search names a pruned child by its whole sequence, made lazily: thousands are pruned, few kept."""
+    made: list[str] = []
+
+    def label(words: str) -> Any:
+        return lambda: made.append(words) or words
+
+    stats = SearchStats()
+    stats.reject(_REACH, label("add Stick.wield on stick with arm.fingertip -> add Block.push on block with stick.tip"))
+    stats.reject(_REACH, label("farther"))  # not closer: never made
+    closer = Rejection(Kind.REACH, "the hand would be 0.9 m from the arm's base", 0.1)
+    stats.reject(closer, label("closer"))
+    assert made == ["add Stick.wield on stick with arm.fingertip -> add Block.push on block with stick.tip", "closer"]
+    assert stats.examples[Kind.REACH][1] == "closer"

@@ -36,6 +36,7 @@ poses with the values at zero), so no work is repeated along a branch.
 
 from __future__ import annotations
 
+import functools
 import heapq
 import time
 from dataclasses import dataclass
@@ -170,13 +171,19 @@ def _expand(
         stats.sequences += 1
         if hand is not None and (rejection := unreachable(problem, hand)) is not None:
             stats.pruned += 1
-            stats.reject(rejection, action.label(problem))
+            stats.reject(rejection, functools.partial(_label, problem, child))
             continue
         if (rejection := repeated_failure(problem, seq, child, action)) is not None:
             stats.excluded += 1  # with everything that would follow it
-            stats.reject(rejection, action.label(problem))
+            stats.reject(rejection, functools.partial(_label, problem, child))
             continue
         _push(problem, frontier, child, path + (index,), order, stats)
+
+
+def _label(problem: Problem, seq: Sequence) -> str:
+    """The sequence in words, its actions in turn: a pruned child is named whole, not by its last action alone
+    (which read as a tool used before its grasp)."""
+    return " -> ".join(a.label(problem) for a in seq.actions)
 
 
 def _push(

@@ -7,6 +7,7 @@ import math
 import sys
 import time
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 
 from vkgl.plan.problem.problem import Problem
@@ -59,12 +60,14 @@ class SearchStats:
             + self.transits * w["transit"]
         )
 
-    def reject(self, rejection: Rejection, label: str) -> None:
-        """Count a rejection; keep the closest miss of each kind (the first among equals) as its example."""
+    def reject(self, rejection: Rejection, label: str | Callable[[], str]) -> None:
+        """Count a rejection; keep the closest miss of each kind (the first among equals) as its example, with the
+        sequence's `label` (made only then when given as a function: the search prunes thousands)."""
         self.rejections[rejection.kind] += 1
         kept = self.examples.get(rejection.kind)
         if kept is None or rejection.excess < kept[0]:
-            self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
+            words = label() if callable(label) else label
+            self.examples[rejection.kind] = (rejection.excess, words, rejection.why)
             self.advice[rejection.kind] = rejection.advice
         self.met.update(rejection.bodies & self.watch)
 
