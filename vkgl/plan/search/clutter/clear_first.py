@@ -12,7 +12,8 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    blocker's own affordances reaches first, then the nearest). It is searched like any problem, to at most
    `CLEAR_DEPTH` graphs (G0, a tool's grasp, the push that clears it, one more), and its plan passes every
    check a plan passes. Several blockers are cleared in turn, each sub-problem starting where the one before
-   ended; one that no plan moves is left where it lies, the others cleared (the blocker may lie where no plan
+   ended (one that plan already moved is first left to the goals' search, its values free: `_moves`); one that
+   no plan moves is left where it lies, the others cleared (the blocker may lie where no plan
    meets it, as behind the goal body's start: the search after says).
 2. **Then solve.** The original problem is searched again from that plan (`search(..., root=prefix)`): every
    sequence extends it, with up to `max_depth - 1` graphs more, so the tool the prefix holds is still in hand
