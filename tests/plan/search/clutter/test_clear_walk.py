@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from test_then_order import LEFT, _prefix, _problem
 
+from vkgl.plan.graphs.graph import Engagement, g0
 from vkgl.plan.graphs.rollout import Sequence
 from vkgl.plan.search.clutter import clear_first
 from vkgl.plan.search.search import SearchResult
@@ -75,3 +76,37 @@ def test_no_prefix_when_no_plan_moves_any_blocker(tmp_path: Path, monkeypatch: p
     walk = _walk(tmp_path, monkeypatch, set())
     goal = walk.problem.goals[0]
     assert _moved(list(walk.prefixes([(goal, "behind"), (goal, "cube")], Sequence()))) == []
+
+
+def test_a_blocker_the_plan_before_moved_is_first_left_to_the_goals_values(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """gen3_023 of the physical bench: the plan that clears the cube nudges the body behind it out of the Hook's
+    way; the prefix that leaves that body to the goal's search (its values free, so that `cleared_values` moves it
+    farther) comes before the one whose own plan clears it again."""
+    walk = _walk(tmp_path, monkeypatch, {"cube", "behind"})
+    nudged = (1, Engagement("arm.fingertip", "behind", "push")), (3, Engagement("stick.tip", "cube", "push"))
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, *args: object, **kw: object):
+        if blocker == "cube":  # the cube's plan moves the body behind too
+            moved = Sequence(graphs=(g0(),) * 5, variables=nudged, dependent=frozenset({"cube", "behind"}))
+            return SearchResult("solved", "", SearchStats(), sequence=moved, task=TaskSolution(np.ones(2), []))
+        moved = _prefix(root.depth + 2, frozenset({blocker}))
+        return SearchResult("solved", "", SearchStats(), sequence=moved, task=TaskSolution(np.zeros(0), []))
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    goal = walk.problem.goals[0]
+    items = [item for item in walk.prefixes([(goal, "cube"), (goal, "behind")], Sequence()) if item is not None]
+    assert _moved(items) == [["cube"], ["cube", "behind"]]
+    assert items[0][0].depth == 5 and items[0][1] == ()  # the cube's plan, its values free for the goal's search
+    assert items[1][0].depth == 7  # then the body behind cleared by a plan of its own, after the cube's
+
+
+def test_a_blocker_only_an_earlier_plan_of_another_moved_is_not_skipped_at_the_start(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """At the walk's start nothing has moved: every blocker gets its own clearing plan."""
+    walk = _walk(tmp_path, monkeypatch, {"cube", "behind"})
+    goal = walk.problem.goals[0]
+    items = [item for item in walk.prefixes([(goal, "cube"), (goal, "behind")], Sequence()) if item is not None]
+    assert _moved(items) == [["cube", "behind"]]

@@ -12,7 +12,8 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    blocker's own affordances reaches first, then the nearest). It is searched like any problem, to at most
    `CLEAR_DEPTH` graphs (G0, a tool's grasp, the push that clears it, one more), and its plan passes every
    check a plan passes. Several blockers are cleared in turn, each sub-problem starting where the one before
-   ended; one that no plan moves is left where it lies, the others cleared (the blocker may lie where no plan
+   ended (one that plan already moved is first left to the goals' search, its values free: `_moves`); one that
+   no plan moves is left where it lies, the others cleared (the blocker may lie where no plan
    meets it, as behind the goal body's start: the search after says).
 2. **Then solve.** The original problem is searched again from that plan (`search(..., root=prefix)`): every
    sequence extends it, with up to `max_depth - 1` graphs more, so the tool the prefix holds is still in hand
@@ -335,6 +336,8 @@ class _Walk:
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
+        if _moves(root, blocker):  # moved by the plan before, still in the way: first left to the goal's values
+            yield from self.prefixes(rest, root, ())
         first = FIRST_TRY * self.left
         moved = False  # some side's plan moved it
         again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
@@ -408,6 +411,15 @@ class _Walk:
                 continue
             prefix, kept, cleared = item
             yield prefix, kept, [(blocker, side), *cleared]
+
+
+def _moves(root: Sequence, blocker: str) -> bool:
+    """Whether a motion value of `root` (the plan that cleared the blockers before) moves `blocker`: a body that
+    plan nudged out of its tool's way (gen3_023 of the physical bench: the fingertip pushes a cube 0.9 cm so that
+    the Hook, pushing the other cube aside, passes it). The search for the goals after `root`, its values free,
+    moves it as far as the goal body's motions need (`clearing.cleared_values`), with no plan of its own: the
+    plan is then two graphs shorter than one that clears it again."""
+    return root.depth > 1 and any(e.body == blocker for _, e in root.variables)
 
 
 def _closest(found: SearchResult) -> str:
