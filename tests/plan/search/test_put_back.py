@@ -3,6 +3,7 @@ the arm's paths that carry it there (`vkgl.plan.arm.paths._places`)."""
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 from pathlib import Path
 
@@ -16,8 +17,8 @@ from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep
 from vkgl.plan.search.put_back import PLACE_BEARINGS, PLACE_RINGS, moved_returns, put_back, returned_tools
-from vkgl.plan.task_space.reach.workspace import reach_violation
 from vkgl.plan.task_space.feasible import TaskSolution
+from vkgl.plan.task_space.reach.workspace import reach_violation
 
 WIELD = "add Stick.wield on stick with arm.fingertip"
 PUSH = "add Block.push_px on block with stick.tip"
@@ -176,7 +177,7 @@ def test_places_beside_stay_on_the_table_and_in_reach(tmp_path: Path) -> None:
         corners = (outline @ pose[:3, :3].T + pose[:3, 3])[:, :2]
         assert np.all(corners >= low) and np.all(corners <= high)
     distances = [float(np.hypot(*(v.returns[0][1][:2, 3] - back.returns[0][1][:2, 3]))) for v in places]
-    assert all(b >= a - 1e-9 for a, b in zip(distances, distances[1:])) and len(places) > 1
+    assert all(b >= a - 1e-9 for a, b in itertools.pairwise(distances)) and len(places) > 1
     assert len(places) < 1 + len(PLACE_RINGS) * PLACE_BEARINGS or problem.table_size is None  # some are left out
     tableless = replace(problem, table_center=None, table_size=None)
     assert list(moved_returns(tableless, back)) == [back]
