@@ -49,11 +49,19 @@ seconds, load average 16 to 24): with a tool let go of in the way set down where
 "A tool set down where it was picked up") 17 of 24 solved, 17 clean (277 CPU-s): SlabW's and CrateT's `free-` goal
 0, each at depth 6 (the hook pulls or turns the body, is carried back, the fingertip finishes; 0.03 cm from the plan
 in DART), "no plan" on main given the same 40 CPU-s; the other 15 plans as on main (15 of 24, 15 clean).
+Again on 2026-11-27 (15:48-16:43, same options, load average 5 to 15): main 17 of 24, 17 clean (290 CPU-s); with a
+tool whose place is taken set down beside it (docs/planning.md, "A place that is taken") 18 of 24, 18 clean (310
+CPU-s): CrateM's `free+` goal 0 at depth 6 (the rolled hook pulls the crate 46 cm onto the hook's place, the hook is
+set down 20 cm nearer the base, the fingertip turns the crate; 0.02 cm from the plan in DART); the other 17 plans as
+on main. With a rolled hook's contact raised where the crate does not tip (docs/planning.md, "A rolled tool's contact
+raised where the body does not tip"), `--bodies CrateM`: 8 of 8, 8 clean (148 CPU-s): `free-` goal 1 at depth 3 (the
+hook rolled 20 deg, not 35, and pulling 16 cm up; 0.07 cm from the plan in DART), the other 7 plans the same; SlabW's
+and CrateT's members are unchanged by it: all kinds 19 of 24, 19 clean.
 
 | body | goals: arc / free+ / free- / kept | 11-26 | main 11-27 noon | now | depths | clean in DART | worst vs DART |
 |---|---|---|---|---|---|---|---|
 | SlabW | 2 each | 1 / 1 / 0 / 0 | 1 / 1 / 1 / 2 | 1 / 1 / 2 / 2 | 3, 6 | all | 0.04 cm, 0.03 deg |
-| CrateM | 2 each | 2 / 1 / 0 / 0 | 2 / 1 / 1 / 2 | 2 / 1 / 1 / 2 | 3, 5 | all | 0.16 cm, 0.10 deg |
+| CrateM | 2 each | 2 / 1 / 0 / 0 | 2 / 1 / 1 / 2 | 2 / 2 / 2 / 2 | 3, 5, 6 | all | 0.16 cm, 0.10 deg |
 | CrateT | 2 each | 1 / 0 / 0 / 2 | 2 / 0 / 0 / 2 | 2 / 0 / 1 / 2 | 3, 6 | all | 0.04 cm, 0.09 deg |
 
     PYTHONPATH=$PWD:tests/support .venv/bin/python bench/bench_wide_pulls.py [--goals 2] [--timeout 60]

@@ -16,7 +16,16 @@ import vkgl
 from vkgl.lang.ir.families import find_member, over_name, over_pose
 from vkgl.plan.graphs.graph import Action, Engagement, g0, successors
 from vkgl.plan.graphs.rollout import extend, start_sequence
-from vkgl.plan.problem.over import COVER_MARGIN, PART_CLEARANCE, TABLE_CLEARANCE, _rolled, roll_for, roll_over_beside
+from vkgl.plan.problem.over import (
+    COVER_MARGIN,
+    PART_CLEARANCE,
+    TABLE_CLEARANCE,
+    TIP_SHARE,
+    _rolled,
+    highest_lift,
+    roll_for,
+    roll_over_beside,
+)
 from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.task_space.feasible import TaskSolution, task_space
 
@@ -65,6 +74,31 @@ def test_a_tall_crate_needs_more_roll_and_the_cross_piece_still_covers_its_centr
     assert _rolled(SHAFT, roll, lift)[:, 2].min() >= 0.09 + PART_CLEARANCE
     face = _rolled(CROSS[CROSS[:, 0] == 0.0], roll, lift)  # the contact plane's corners: the slanted strip
     assert face[:, 1].min() <= -COVER_MARGIN and face[:, 1].max() >= COVER_MARGIN
+
+
+def test_a_crate_whose_friction_lets_it_be_pulled_high_gets_less_roll_below_its_tipping_height():
+    crate = _box(0.20, 0.30, 0.18)
+    assert highest_lift(crate, None) == pytest.approx(0.045)  # half-way to the top, friction unknown
+    # friction 0.5, 20 cm deep: the contact at most 0.8 x 10 cm / 0.5 = 16 cm over the table, 7 cm over mid-height
+    assert highest_lift(crate, 0.5) == pytest.approx(-0.09 + TIP_SHARE * 0.10 / 0.5)
+    assert highest_lift(crate, 1.0) == pytest.approx(0.045)  # a grippy crate: never below half-way
+    assert highest_lift(crate, 0.1) == pytest.approx(0.085)  # a slippery one: a lift step below its top
+    roll, lift = roll_for([CROSS, SHAFT], crate, 0.0, friction=0.5)
+    assert math.degrees(roll) == pytest.approx(20.0) and 0.045 < lift <= highest_lift(crate, 0.5) + 1e-9
+    assert 0.5 * (0.09 + lift) <= TIP_SHARE * 0.10 + 1e-9  # friction times the height under the half-depth's share
+    assert _rolled(SHAFT, roll, lift)[:, 2].min() >= 0.09 + PART_CLEARANCE
+    face = _rolled(CROSS[CROSS[:, 0] == 0.0], roll, lift)
+    assert face[:, 1].min() <= -COVER_MARGIN and face[:, 1].max() >= COVER_MARGIN
+    grippy_roll, grippy_lift = roll_for([CROSS, SHAFT], crate, 0.0, friction=1.0)
+    assert (grippy_roll, grippy_lift) == roll_for([CROSS, SHAFT], crate, 0.0)  # as without friction
+
+
+def test_a_crate_gets_the_higher_member_after_the_half_way_one_and_a_slab_only_the_half_way_one(tmp_path):
+    crate = [n for n in _over(_problem(tmp_path, "CrateM")) if n.startswith("push_center_nx/")]
+    assert crate == ["push_center_nx/over+35deg+4.50cm", "push_center_nx/over+20deg+7.00cm"]
+    assert [n for n in _over(_problem(tmp_path, "SlabW")) if n.startswith("push_center_nx/")] == [
+        "push_center_nx/over+20deg+1.00cm"  # 15 deg 2 cm up saves 5 deg only
+    ]
 
 
 def test_nothing_where_the_tool_lying_flat_clears_the_body_or_slides_aside_to_clear_it():
@@ -145,7 +179,7 @@ def test_a_free_heading_pull_whose_arc_needs_the_shaft_side_gets_the_rolled_hook
     program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "arc_over", {}))
     problem = build_problem(program, program.tasks["arc_over"])
     name = "push_center_nx@-1.74cm/over+20deg+0.50cm"
-    assert _over(problem) == [name]
+    assert _over(problem) == [name]  # pulled 1 cm higher it rolls 15 deg: too little saved for another member
     assert problem.bodies["target"].tool_members == {(name, "hook.tip")}
     turn, rolled = problem.affordance("target", "push_center_nx@-1.74cm"), problem.affordance("target", name)
     assert rolled.motion == turn.motion  # the arc's turn, enacted rolled

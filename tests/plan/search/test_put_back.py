@@ -3,6 +3,7 @@ the arm's paths that carry it there (`vkgl.plan.arm.paths._places`)."""
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 from pathlib import Path
 
@@ -16,8 +17,9 @@ from vkgl.plan.graphs.rollout import Sequence, extend, materialise, renamed, rol
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.result.plan import PlanStep
-from vkgl.plan.search.put_back import put_back, returned_tools
+from vkgl.plan.search.put_back import PLACE_BEARINGS, PLACE_RINGS, moved_returns, put_back, returned_tools
 from vkgl.plan.task_space.feasible import TaskSolution
+from vkgl.plan.task_space.reach.workspace import reach_violation
 
 WIELD = "add Stick.wield on stick with arm.fingertip"
 PUSH = "add Block.push_px on block with stick.tip"
@@ -131,3 +133,71 @@ def test_the_arm_retreats_carries_the_tool_to_its_place_and_lets_go_there(tmp_pa
     hand = problem.arm.fk(steps[3].q_start)
     assert np.allclose(hand[:3, 3], (problem.bodies["stick"].rest @ problem.action("stick", "wield"))[:3, 3], atol=2e-3)
     assert steps[4].path[0].phase == "lift"
+
+
+class _PlaceTaken:
+    """A stand-in for the bodies' geometry check: a body lies on the stick's place (within `taken` m of it), so a
+    stick set down there clashes; `other` names a clash elsewhere too."""
+
+    def __init__(self, problem: Problem, taken: float, other: bool = False) -> None:
+        self.rest, self.taken, self.other, self.calls = problem.bodies["stick"].rest, taken, other, 0
+
+    def bodies(self, graphs: object, traces: list) -> Rejection | None:  # type: ignore[type-arg]
+        self.calls += 1
+        if self.other:
+            return Rejection(Kind.COLLISION, "block would pass through block", 0.01, bodies=frozenset({"block"}))
+        if np.hypot(*(traces[4].start["stick"][:2, 3] - self.rest[:2, 3])) < self.taken:
+            return Rejection(Kind.COLLISION, "block would pass through stick", 0.01, bodies=frozenset({"stick"}))
+        return None
+
+
+def test_a_tool_whose_place_is_taken_is_set_down_beside_it(tmp_path: Path) -> None:
+    problem, seq, values = _stick_then_fingertip(tmp_path)
+    solution = TaskSolution(values, rollout(problem, seq, values, 6))
+    clash = Rejection(Kind.COLLISION, "block would pass through stick", 0.02, bodies=frozenset({"block", "stick"}))
+    geometry = _PlaceTaken(problem, taken=0.15)
+    found = put_back(problem, seq, solution, clash, geometry)  # type: ignore[arg-type]
+    assert found is not None
+    variant, moved = found
+    place = moved.traces[4].start["stick"]
+    rest = problem.bodies["stick"].rest
+    assert 0.15 <= np.hypot(*(place[:2, 3] - rest[:2, 3])) <= 0.2 + 1e-9  # the nearest ring that is free
+    assert np.allclose(place[:3, :3], rest[:3, :3]) and np.isclose(place[2, 3], rest[2, 3])
+    assert np.allclose(variant.returns[0][1], place)
+    grasp = problem.action("stick", "wield")
+    assert np.allclose(moved.traces[4].hand[0], place @ grasp)  # the hand lets go of it there
+    assert np.allclose(moved.traces[-1].end["block"], solution.traces[-1].end["block"])
+
+
+def test_a_clash_that_names_no_returned_tool_ends_the_tries(tmp_path: Path) -> None:
+    problem, seq, values = _stick_then_fingertip(tmp_path)
+    solution = TaskSolution(values, rollout(problem, seq, values, 6))
+    clash = Rejection(Kind.COLLISION, "block would pass through stick", 0.02, bodies=frozenset({"block", "stick"}))
+    geometry = _PlaceTaken(problem, taken=0.0, other=True)
+    assert put_back(problem, seq, solution, clash, geometry) is None  # type: ignore[arg-type]
+    assert geometry.calls == 1
+    everywhere = _PlaceTaken(problem, taken=10.0)  # no place on the table is free
+    assert put_back(problem, seq, solution, clash, everywhere) is None  # type: ignore[arg-type]
+    assert 1 < everywhere.calls <= 1 + len(PLACE_RINGS) * PLACE_BEARINGS
+
+
+def test_places_beside_stay_on_the_table_and_in_reach(tmp_path: Path) -> None:
+    problem, seq, values = _stick_then_fingertip(tmp_path)
+    back = returned_tools(problem, seq, rollout(problem, seq, values), frozenset({"stick"}))
+    assert back is not None
+    places = list(moved_returns(problem, back))
+    assert places[0] is back  # where it was picked up, first
+    grasp = problem.action("stick", "wield")
+    low = problem.table_center - problem.table_size / 2  # type: ignore[operator]
+    high = problem.table_center + problem.table_size / 2  # type: ignore[operator]
+    outline = problem.bodies["stick"].outline
+    for variant in places[1:]:
+        ((mode, pose),) = variant.returns
+        assert mode == 4 and reach_violation(problem, (pose @ grasp)[:3, 3]) <= 0
+        corners = (outline @ pose[:3, :3].T + pose[:3, 3])[:, :2]
+        assert np.all(corners >= low) and np.all(corners <= high)
+    distances = [float(np.hypot(*(v.returns[0][1][:2, 3] - back.returns[0][1][:2, 3]))) for v in places]
+    assert all(b >= a - 1e-9 for a, b in itertools.pairwise(distances)) and len(places) > 1
+    assert len(places) < 1 + len(PLACE_RINGS) * PLACE_BEARINGS or problem.table_size is None  # some are left out
+    tableless = replace(problem, table_center=None, table_size=None)
+    assert list(moved_returns(tableless, back)) == [back]

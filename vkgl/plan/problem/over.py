@@ -78,8 +78,20 @@ MAX_BESIDE_HEIGHT = 0.10
 """m: bodies beside a contact taller than this are no body a rolled tool passes over (a 12 cm lever rolled 45 deg
 lifts its part 8.5 cm)."""
 
+MIN_ROLL_SAVED = math.radians(10.0)
+"""rad: a contact raised past half-way is offered only when it rolls the tool at least this much less: a hand
+tilted 35 deg reaches 0.694 m where 26 deg reaches 0.709 and 17.5 deg 0.731 (CrateM's rolled pull, IK from cold
+starts), while each member offered costs the search (SlabW's 15 deg member besides its 20 deg one: its `free-`
+goal 0, depth 6, ran out of its 40 CPU-s)."""
+
 LIFT_STEP = 0.005
-"""m: the contact is raised in these steps, up to half-way from the written contact to the body's top."""
+"""m: the contact is raised in these steps, up to half-way from the written contact to the body's top (higher where
+the body's friction shows that the pull does not tip it there: `highest_lift`)."""
+
+TIP_SHARE = 0.8
+"""A contact raised past half-way keeps its height over the table times the body's friction under this share of
+the body's half-depth along the push: a box pulled at height h with the force that slides it, friction times its
+weight, tips about its leading bottom edge when friction times h exceeds its half-depth."""
 
 
 def tool_parts(shape: Shape) -> list[np.ndarray]:
@@ -95,13 +107,17 @@ def over_members(
     body_points: np.ndarray,
     tools: list[tuple[str, Body, np.ndarray]],
     beside: float = 0.0,
+    friction: float | None = None,
 ) -> tuple[tuple[Affordance, ...], frozenset[tuple[str, str]]]:
     """The rolled members (module docstring) of the slides among `affordances` of a body lying flat, whose hull
     points (body frame) are `body_points`, for each tool effector in `tools` (its name, the tool's type, its frame
     in the tool's frame); with the (member, effector) pairs that may enact them. `beside`: the height (m above the
     table) of the tallest other body that a tool at this body could sweep and a roll could pass over
     (`clearing_height`): a slide or an arc's member is also rolled so that the tool's parts beside the contact
-    pass over it."""
+    pass over it. `friction`: the body's (`Body.friction`): where raising the contact past half-way to the top,
+    as high as the pull does not tip the body (`highest_lift`), lets a roll `MIN_ROLL_SAVED` smaller pass over
+    it, that member is offered too, after the half-way one (the less the hand tilts, the farther the arm
+    reaches); None: half-way only."""
     found: dict[str, Affordance] = {}
     pairs: set[tuple[str, str]] = set()
     for affordance in affordances:
@@ -124,9 +140,12 @@ def over_members(
                 pose = roll_over_beside(parts, body, beside, 0.0 if turn else float(into_contact[1, 3]))
             if pose is None:
                 continue
-            name = over_name(affordance.name, *pose)
-            found.setdefault(name, over_member(affordance, *pose).model_copy(update={"name": name}))
-            pairs.add((name, effector))
+            higher = roll_for(parts, body, float(into_contact[1, 3]), turn=turn, friction=friction)
+            for chosen in (pose, higher):  # half-way first: where it works, the plan is the same
+                if chosen is not None and (chosen is pose or abs(chosen[0]) <= abs(pose[0]) - MIN_ROLL_SAVED + 1e-9):
+                    name = over_name(affordance.name, *chosen)
+                    found.setdefault(name, over_member(affordance, *chosen).model_copy(update={"name": name}))
+                    pairs.add((name, effector))
     return tuple(found.values()), frozenset(pairs)
 
 
@@ -138,7 +157,13 @@ def is_arc_turn(affordance: Affordance) -> bool:
 
 
 def roll_for(
-    parts: list[np.ndarray], body: np.ndarray, centre: float, *, turn: bool = False, fixed: bool = False
+    parts: list[np.ndarray],
+    body: np.ndarray,
+    centre: float,
+    *,
+    turn: bool = False,
+    fixed: bool = False,
+    friction: float | None = None,
 ) -> tuple[float, float] | None:
     """(roll in rad, lift in m) of the least rolled tool that passes over the body (module docstring), or None:
     the tool lying flat stands in nothing, it has no flat face or no part beside it, or no roll clears the top.
@@ -149,6 +174,7 @@ def roll_for(
     itself (y = 0), not the centre line, and moving it along the face is no alternative (the offset makes the arc).
     `fixed`: the contact was moved along the face already (`vkgl.plan.problem.reach_members`: for the hand's reach),
     so moving it back aside is no alternative either; the face covers the centre line as for a slide.
+    `friction`: the body's, for the highest lift (`highest_lift`).
     """
     face = [p for p in parts if abs(float(p[:, 0].max())) <= FLAT]
     beside = [p for p in parts if float(p[:, 0].max()) > FLAT]
@@ -159,7 +185,7 @@ def roll_for(
     covered = 0.0 if turn else centre
     side = 1.0 if np.mean([p[:, 1].mean() for p in beside]) > centre else -1.0
     bottom, top = float(body[:, 2].min()), float(body[:, 2].max())
-    lifts = np.arange(0.0, max(0.0, top / 2) + 1e-9, LIFT_STEP)  # the contact at most half-way to the top
+    lifts = np.arange(0.0, highest_lift(body, friction) + 1e-9, LIFT_STEP)
     faces = [_face_grid(p) for p in face]
     for roll in side * ROLLS:
         for lift in lifts:
@@ -171,6 +197,22 @@ def roll_for(
             if _covers(np.vstack([_rolled(g, float(roll), float(lift)) for g in faces]), bottom, top, covered):
                 return float(roll), float(lift)
     return None
+
+
+def highest_lift(body: np.ndarray, friction: float | None) -> float:
+    """The most (m) a contact is raised from its written height: half-way to the body's top, or, where the body's
+    `friction` is known, as high as the pull does not tip it (`TIP_SHARE` of its half-depth along the push over
+    its friction, as height over the table), a lift step below its top. `body`: its hull points in the contact's
+    frame (x into the body, z up, the contact at 0). The 18 cm CrateM (friction 0.5, 20 cm deep) may be pulled
+    16 cm up, 7 cm over its mid-height, where a 20 deg roll passes the Hook's shaft over it (35 deg at half-way: a
+    hand tilted so far reaches 4 cm less far); the 6 cm SlabW 2.5 cm over its mid-height (15 deg, 2 cm up)."""
+    bottom, top = float(body[:, 2].min()), float(body[:, 2].max())
+    half_way = max(0.0, top / 2)
+    if friction is None or friction <= 0:
+        return half_way
+    half_depth = (float(body[:, 0].max()) - float(body[:, 0].min())) / 2
+    untipped = bottom + TIP_SHARE * half_depth / friction  # the highest contact, in the contact's frame
+    return max(half_way, min(top - LIFT_STEP, untipped))
 
 
 def roll_over_beside(

@@ -333,7 +333,7 @@ def _with_over_members(
     near = [b for b in bodies.values() if b is not body and b.on_table and b.type.name not in kinds]  # not tools
     others = [(b.rest, _hull_points(b.type)) for b in near]
     beside = clearing_height(body.rest, points, [tool for _, tool, _ in tools], others, table) if tools else 0.0
-    members, pairs = over_members(body.affordances, points, tools, beside)
+    members, pairs = over_members(body.affordances, points, tools, beside, body.type.friction)
     far, far_pairs = reach_members(body, bodies, effectors, points, arm, goal)
     members, pairs = members + far, pairs | far_pairs
     known = {a.name for a in body.affordances}

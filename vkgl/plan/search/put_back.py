@@ -15,20 +15,40 @@ at the start of the mode after the release, which inverse kinematics and the rea
 paths carry it there, lifted clear of the others, and lower it onto its place (`vkgl.plan.arm.paths`: a release
 whose tool lies away from where its last contact left it is a place, as a carried body's). The variant is kept
 only when the bodies' geometry passes then; the goal bodies end where they did (their motions are the same).
+
+Where the hand picked the tool up can be taken by then: the Hook pulls a 30 cm crate 46 cm from 1.0 m, onto the
+place the hook lay on (bench_wide_pulls' CrateM `free+` goal 0), and the fingertip is to turn the crate from
+there. A person sets the hook down beside its place. So when the bodies' geometry, with the tools back at their
+places, still names one of them, the same places moved on the table (`PLACE_RINGS` around it, `PLACE_BEARINGS`
+directions, nearest first; the tool's outline on the table and the hand at its grasp there inside the arm's usable
+reach) are tried, the first that passes kept. A clash that names none of the returned tools is no place's to
+solve, and ends the tries.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterator
 from dataclasses import replace
 
 import numpy as np
 
 from vkgl.plan.geometry.bodies import GeometryCheck
-from vkgl.plan.graphs.graph import motion_type
+from vkgl.plan.graphs.graph import Engagement, motion_type
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, rollout
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Rejection
 from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TaskSolution
+from vkgl.plan.task_space.reach.workspace import reach_violation
+
+PLACE_RINGS = (0.10, 0.20, 0.30)
+"""m: how far from where it was picked up a tool is set down when that place is taken (nearest first)."""
+
+PLACE_BEARINGS = 8
+"""The directions (evenly spaced on the table, from the world's +x) a tool's place is moved in, per ring."""
+
+TABLE_MARGIN = 0.01
+"""m: a tool set down away from its place keeps its outline this far inside the table's edge."""
 
 
 def returned_tools(problem: Problem, seq: Sequence, traces: list[ModeTrace], tools: frozenset[str]) -> Sequence | None:
@@ -56,17 +76,58 @@ def put_back(
     problem: Problem, seq: Sequence, solution: TaskSolution, clash: Rejection, geometry: GeometryCheck
 ) -> tuple[Sequence, TaskSolution] | None:
     """`seq` and `solution` with the tools `clash` finds in the way set down where they were picked up
-    (`returned_tools`), when the bodies' geometry then passes; None otherwise (no such tool, or still a clash)."""
+    (`returned_tools`), or, where a returned tool is still in the way there, beside that place (`moved_returns`),
+    when the bodies' geometry then passes; None otherwise (no such tool, or still a clash)."""
     tools = frozenset(b for b in clash.bodies if any(e.tool == b for e in problem.effectors))
     if not tools:
         return None
     variant = returned_tools(problem, seq, solution.traces, tools)
     if variant is None:
         return None
-    traces = rollout(problem, variant, solution.values, JOINT_SAMPLES)
-    if geometry.bodies(variant.graphs, traces) is not None:
-        return None
-    return variant, replace(solution, traces=traces, sequence=variant)
+    returned = {seq.actions[k - 1].engagement.body for k, _ in variant.returns}
+    for moved in moved_returns(problem, variant):
+        traces = rollout(problem, moved, solution.values, JOINT_SAMPLES)
+        found = geometry.bodies(moved.graphs, traces)
+        if found is None:
+            return moved, replace(solution, traces=traces, sequence=moved)
+        if not found.bodies & returned:
+            return None  # the tools' places are free: what clashes is no place's to solve
+    return None
 
 
-__all__ = ["put_back", "returned_tools"]
+def moved_returns(problem: Problem, seq: Sequence) -> Iterator[Sequence]:
+    """`seq` (its `returns` as they are), then `seq` with every returned tool's place moved by the same shift on
+    the table (`PLACE_RINGS` x `PLACE_BEARINGS`, nearest first), where each tool's outline stays on the table and
+    the hand at its grasp there inside the arm's usable reach."""
+    yield seq
+    for radius in PLACE_RINGS:
+        for i in range(PLACE_BEARINGS):
+            bearing = 2 * math.pi * i / PLACE_BEARINGS
+            shift = radius * np.array([math.cos(bearing), math.sin(bearing)])
+            returns = []
+            for mode, pose in seq.returns:
+                moved = pose.copy()
+                moved[:2, 3] += shift
+                if not _placeable(problem, seq.actions[mode - 1].engagement, moved):
+                    break
+                returns.append((mode, moved))
+            else:
+                yield replace(seq, returns=tuple(returns))
+
+
+def _placeable(problem: Problem, grasp: Engagement, pose: np.ndarray) -> bool:
+    """Whether the tool of the hand's `grasp` may be set down at `pose`: its outline `TABLE_MARGIN` inside the
+    table (a scene without a table: nowhere but its own place) and the hand at that grasp inside the reach."""
+    if problem.table_center is None or problem.table_size is None:
+        return False
+    body = problem.bodies[grasp.body]
+    corners = (body.outline @ pose[:3, :3].T + pose[:3, 3])[:, :2]
+    low = problem.table_center - problem.table_size / 2 + TABLE_MARGIN
+    high = problem.table_center + problem.table_size / 2 - TABLE_MARGIN
+    if not (np.all(corners >= low) and np.all(corners <= high)):
+        return False
+    hand = pose @ problem.action(grasp.body, grasp.affordance)
+    return reach_violation(problem, hand[:3, 3]) <= 0
+
+
+__all__ = ["moved_returns", "put_back", "returned_tools"]
