@@ -68,3 +68,13 @@ def test_gen3_000_pulls_past_a_cube_beside_the_way_with_the_hand_rolled(tmp_path
     hand = plan.problem.arm.fk(plan.steps[0].contact[0])
     pad_axis = hand[:3, 1]  # the pad lies along the effector frame's y: upright or leaned back, level
     assert abs(pad_axis[2]) > np.sin(np.radians(15.0))
+
+
+def test_a_contact_exactly_a_whole_number_of_spacings_long_gets_the_same_chain_on_any_cpu() -> None:
+    """15 cm is 15 spacings whether a CPU computes it as 0.15 or 0.15000000000000002 m (the drawer's golden plan
+    had 17 configurations on one machine, 16 on another); a millimetre more is one more spacing."""
+    from vkgl.plan.arm.contact_chains import CHAIN_SPACING, chain_count
+
+    assert chain_count(0.15) == chain_count(0.15 * (1 + 4e-16)) == chain_count(0.15 * (1 - 4e-16)) == 16
+    assert chain_count(0.151) == 17
+    assert chain_count(0.0) == 2 and chain_count(CHAIN_SPACING / 2) == 2
