@@ -38,6 +38,7 @@ from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import Affordance, Body, FixedC
 from vkgl.motion.moves import LIFT, STANDOFF, WayOut, way_out
 from vkgl.robot.grip import tool_width
+from vkgl.robot.pad import pad_front
 
 PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
@@ -79,6 +80,17 @@ class StepKinds:
             )
         pose = getattr(action, "pose", None)
         return np.eye(4) if pose is None else pose.matrix()
+
+    def _off_contact(self, step: PlanStepRecord, hand: np.ndarray, wanted: np.ndarray) -> float:
+        """How far (m) the planned hand `hand` is from where the contact puts the effector (`wanted`): for the
+        arm's own pad, its face (the frame's origin) or its front along the push (a hand turned about its axis
+        pushes with the pad's end: `vkgl.robot.pad.pad_front`), whichever is nearer; for a tool, its frame's
+        origin."""
+        owner, _, _ = step.effector.partition(".")
+        if owner != self.sim.robot_name:
+            return float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
+        front = pad_front(hand, wanted[:3, 0])
+        return float(min(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]), np.linalg.norm(front - wanted[:3, 3])))
 
     def _hand_from_pusher(self, step: PlanStepRecord, pusher_pose: np.ndarray, label: str) -> np.ndarray:
         """The effector pose that puts the pushing frame (fingertip or tool frame) at `pusher_pose`."""
@@ -130,7 +142,7 @@ class StepKinds:
         wanted = self._hand_from_pusher(step, pusher, label)
         # the hand as planned at the contact (the planner may lean it back from upright to clear a tall face)
         hand = self.sim.arm_model.fk(step.q_start)
-        off = float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
+        off = self._off_contact(step, hand, wanted)
         if off > PLAN_CONTACT_TOL:
             raise ArmStuck(
                 f"the plan is inconsistent: its arm configuration at the contact puts the effector "

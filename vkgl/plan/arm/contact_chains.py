@@ -32,7 +32,7 @@ from vkgl.motion.approach import CartesianFailure, follow_poses
 from vkgl.plan.arm.straight_moves import ArmState, Overlap, StraightMoves
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.pad import FINGERTIP_RADIUS
+from vkgl.robot.pad import FINGERTIP_RADIUS, turned_pad
 from vkgl.rotations import axis_matrix
 from vkgl.se3 import screw_motion
 
@@ -115,6 +115,8 @@ class ContactChains:
                 words = f"the hand rolled {np.degrees(roll):+.0f} deg{lean}: "
                 seeds = (step.q_start, arm.home)
                 yield from self._from_seeds(step, state, (hand, rolled), seeds, _Lean(), closest, words)
+        if len(pitches) > 1 and any(lean.hand_hit for lean in leans.values()):
+            yield from self._turned(step, state, (upright, motion, count), closest)
         if grasp:
             yield from self._grasp_chains(step, state, poses, closest)
         why = f"{label}: no arm configuration carries the whole motion (closest: {closest.words})"
@@ -163,6 +165,26 @@ class ContactChains:
                 lean.hand_hit |= rigid
                 continue
             yield chain.joints.copy()
+
+    def _turned(
+        self,
+        step: PlanStepRecord,
+        state: ArmState,
+        contact: tuple[np.ndarray, Any, int],
+        closest: _ClosestMiss,
+    ) -> Iterator[np.ndarray]:
+        """The chains with the hand turned about its axis (`TURNS`), the rounded end of the pad at the contact
+        (`vkgl.robot.pad.turned_pad`): tried when the hand at every lean and roll hit a body beside the one it pushes.
+        A person pushing a small body that lies close beside a bigger one turns the hand so that its 20 cm width
+        does not lie along the face (gen3_018 of the physical bench: a cube 1.8 cm before a crate's
+        face, pushed sideways; every lean and roll of the hand overlaps the crate by 3.1 cm)."""
+        upright, motion, count = contact
+        for angle in TURNS:
+            hand = upright @ turned_pad(angle)
+            poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
+            words = f"the hand turned {np.degrees(angle):+.0f} deg about its axis: "
+            seeds = (step.q_start, self.problem.arm.home)
+            yield from self._from_seeds(step, state, (hand, poses), seeds, _Lean(), closest, words)
 
     def _rigid_with_hand(self, clash: Overlap) -> bool:
         """Whether what overlaps in `clash` moves rigidly with the hand: a held tool, or a link beyond the arm's
@@ -263,6 +285,12 @@ def _rolled(angle: float) -> np.ndarray:
     about = np.eye(4)
     about[:3, :3] = axis_matrix(0, angle)
     return about
+
+
+TURNS = tuple(np.radians((90.0, -90.0, 60.0, -60.0, 120.0, -120.0, 30.0, -30.0, 150.0, -150.0)))
+"""rad: the turns of the hand about its axis tried at a contact where the hand, as written, leaned and rolled, hit a
+body beside the one it pushes (`ContactChains._turned`), the pad's rounded end at the contact
+(`vkgl.robot.pad.turned_pad`)."""
 
 
 def _pitched_back(angle: float) -> np.ndarray:
