@@ -44,6 +44,15 @@ PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the af
 SETTLE = 0.3  # s of stillness after a push, before observing
 
 
+def contact_offset(hand: np.ndarray, wanted: np.ndarray) -> float:
+    """How far (m) the arm's pad, its hand at `hand` (the effector frame, world), is from the contact `wanted` (the
+    frame the affordance puts the effector at, its x the push): from its face (the frame's origin) or from its front
+    along the push (a hand turned about its axis pushes with the pad's rounded end, `vkgl.robot.pad.pad_front`),
+    whichever is nearer."""
+    front = pad_front(hand, wanted[:3, 0])
+    return float(min(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]), np.linalg.norm(front - wanted[:3, 3])))
+
+
 class StepKinds:
     """Carries out plan steps one after another, remembering the contact and the grasp between them."""
 
@@ -80,17 +89,6 @@ class StepKinds:
             )
         pose = getattr(action, "pose", None)
         return np.eye(4) if pose is None else pose.matrix()
-
-    def _off_contact(self, step: PlanStepRecord, hand: np.ndarray, wanted: np.ndarray) -> float:
-        """How far (m) the planned hand `hand` is from where the contact puts the effector (`wanted`): for the
-        arm's own pad, its face (the frame's origin) or its front along the push (a hand turned about its axis
-        pushes with the pad's end: `vkgl.robot.pad.pad_front`), whichever is nearer; for a tool, its frame's
-        origin."""
-        owner, _, _ = step.effector.partition(".")
-        if owner != self.sim.robot_name:
-            return float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
-        front = pad_front(hand, wanted[:3, 0])
-        return float(min(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]), np.linalg.norm(front - wanted[:3, 3])))
 
     def _hand_from_pusher(self, step: PlanStepRecord, pusher_pose: np.ndarray, label: str) -> np.ndarray:
         """The effector pose that puts the pushing frame (fingertip or tool frame) at `pusher_pose`."""
@@ -142,7 +140,8 @@ class StepKinds:
         wanted = self._hand_from_pusher(step, pusher, label)
         # the hand as planned at the contact (the planner may lean it back from upright to clear a tall face)
         hand = self.sim.arm_model.fk(step.q_start)
-        off = self._off_contact(step, hand, wanted)
+        own_pad = step.effector.partition(".")[0] == self.sim.robot_name
+        off = contact_offset(hand, wanted) if own_pad else float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
         if off > PLAN_CONTACT_TOL:
             raise ArmStuck(
                 f"the plan is inconsistent: its arm configuration at the contact puts the effector "
@@ -301,4 +300,4 @@ def _way_in(sim: SceneWorld, step: PlanStepRecord) -> np.ndarray | None:
     return way / length if length > 1e-9 else None
 
 
-__all__ = ["StepKinds"]
+__all__ = ["StepKinds", "contact_offset"]
