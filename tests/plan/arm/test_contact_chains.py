@@ -55,21 +55,6 @@ def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path)
     assert isinstance(first, np.ndarray) and np.allclose(first, step.contact)
 
 
-def test_gen3_000_pulls_past_a_cube_beside_the_way_with_the_hand_rolled(tmp_path: Path) -> None:
-    # the fingertip pulls a CubeS 15 cm back past another CubeS 6 cm beside its way: upright, a finger meets the
-    # pulled cube; leaned back 30 deg, the 20 cm wide hand meets the one beside by 0.1 cm; rolled 20 deg about
-    # the pull's direction its side rises over it (before: a 5-graph plan clearing that cube first, 20 CPU-s)
-    spec = task_spec(3, 0)
-    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
-    plan = vkgl.solve(program, spec.name, max_depth=2, timeout=TEST_SOLVE_TIMEOUT_S)
-    assert plan.status == "solved", plan.reason
-    assert [s.affordance for s in plan.steps] == ["CubeS.push_center_nx"]
-    assert plan.problem is not None
-    hand = plan.problem.arm.fk(plan.steps[0].contact[0])
-    pad_axis = hand[:3, 1]  # the pad lies along the effector frame's y: upright or leaned back, level
-    assert abs(pad_axis[2]) > np.sin(np.radians(15.0))
-
-
 def test_gen3_018_pushes_the_cube_before_the_crate_aside_with_the_hand_turned(tmp_path: Path) -> None:
     # a CubeS 1.8 cm before the face of the CrateM to be pushed 34 cm, on its way, turned 60 deg to it: pushed aside
     # with the pad along its face, the 20 cm wide hand overlaps the crate by 3.1 cm at the contact, leaned or rolled
@@ -95,3 +80,18 @@ def test_gen3_018_pushes_the_cube_before_the_crate_aside_with_the_hand_turned(tm
     crate_action = plan.problem.action(last.body, last.affordance.partition(".")[2])
     crate_push = (last.poses_start[last.body] @ crate_action)[:3, 0]
     assert abs(float(crate[:3, 1] @ crate_push)) < 0.1  # where nothing stands beside, the pad lies along the face
+
+
+def test_gen3_000_pulls_past_a_cube_beside_the_way_with_the_hand_rolled(tmp_path: Path) -> None:
+    # the fingertip pulls a CubeS 15 cm back past another CubeS 6 cm beside its way: upright, a finger meets the
+    # pulled cube; leaned back 30 deg, the 20 cm wide hand meets the one beside by 0.1 cm; rolled 20 deg about
+    # the pull's direction its side rises over it (before: a 5-graph plan clearing that cube first, 20 CPU-s)
+    spec = task_spec(3, 0)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name, max_depth=2, timeout=TEST_SOLVE_TIMEOUT_S)
+    assert plan.status == "solved", plan.reason
+    assert [s.affordance for s in plan.steps] == ["CubeS.push_center_nx"]
+    assert plan.problem is not None
+    hand = plan.problem.arm.fk(plan.steps[0].contact[0])
+    pad_axis = hand[:3, 1]  # the pad lies along the effector frame's y: upright or leaned back, level
+    assert abs(pad_axis[2]) > np.sin(np.radians(15.0))
