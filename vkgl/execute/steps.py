@@ -38,9 +38,19 @@ from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import Affordance, Body, FixedC
 from vkgl.motion.moves import LIFT, STANDOFF, WayOut, way_out
 from vkgl.robot.grip import tool_width
+from vkgl.robot.pad import pad_front
 
 PLAN_CONTACT_TOL = 0.01  # m the plan's effector at a contact may be from the affordance's contact (a leaned hand)
 SETTLE = 0.3  # s of stillness after a push, before observing
+
+
+def contact_offset(hand: np.ndarray, wanted: np.ndarray) -> float:
+    """How far (m) the arm's pad, its hand at `hand` (the effector frame, world), is from the contact `wanted` (the
+    frame the affordance puts the effector at, its x the push): from its face (the frame's origin) or from its front
+    along the push (a hand turned about its axis pushes with the pad's rounded end, `vkgl.robot.pad.pad_front`),
+    whichever is nearer."""
+    front = pad_front(hand, wanted[:3, 0])
+    return float(min(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]), np.linalg.norm(front - wanted[:3, 3])))
 
 
 class StepKinds:
@@ -130,7 +140,8 @@ class StepKinds:
         wanted = self._hand_from_pusher(step, pusher, label)
         # the hand as planned at the contact (the planner may lean it back from upright to clear a tall face)
         hand = self.sim.arm_model.fk(step.q_start)
-        off = float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
+        own_pad = step.effector.partition(".")[0] == self.sim.robot_name
+        off = contact_offset(hand, wanted) if own_pad else float(np.linalg.norm(hand[:3, 3] - wanted[:3, 3]))
         if off > PLAN_CONTACT_TOL:
             raise ArmStuck(
                 f"the plan is inconsistent: its arm configuration at the contact puts the effector "
@@ -289,4 +300,4 @@ def _way_in(sim: SceneWorld, step: PlanStepRecord) -> np.ndarray | None:
     return way / length if length > 1e-9 else None
 
 
-__all__ = ["StepKinds"]
+__all__ = ["StepKinds", "contact_offset"]

@@ -31,4 +31,29 @@ def pad_pose() -> np.ndarray:
     return pose
 
 
-__all__ = ["FINGERTIP_RADIUS", "FINGER_PAD_WIDTH", "pad_pose"]
+def turned_pad(angle: float) -> np.ndarray:
+    """The effector frame turned by `angle` (rad, counter-clockwise) about its z axis and moved back so that the
+    pad's front along the push (its x before the turn: `pad_front`) lies where the pad's face was, the frame's
+    origin before the turn. A hand so turned pushes with the pad's rounded end, its narrow side more along the
+    face it pushes and its 20 cm width more along the push (`vkgl.plan.arm.contact_chains`: a small body close
+    beside a big one)."""
+    turn = np.eye(4)
+    turn[:3, :3] = axis_matrix(2, angle)
+    turn[:3, 3] = -pad_front(turn, np.array([1.0, 0.0, 0.0]))
+    return turn
+
+
+def pad_front(effector: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The point of the pad (world) of a hand whose effector frame is `effector` (4x4, world) farthest along the
+    unit push `direction`: where it touches a face it pushes. For a hand whose pad lies along the face (the pad's
+    axis, the frame's y, across the push) that is the frame's origin; for a turned hand, on the rounded end of
+    the pad's capsule."""
+    centre = (effector @ pad_pose())[:3, 3]
+    axis = effector[:3, 1]
+    along = float(axis @ direction)
+    if abs(along) > 1e-9:  # the end of the capsule's segment nearer the face; across the push, all of it: its middle
+        centre = centre + (FINGER_PAD_WIDTH / 2) * (axis if along > 0.0 else -axis)
+    return centre + FINGERTIP_RADIUS * direction
+
+
+__all__ = ["FINGERTIP_RADIUS", "FINGER_PAD_WIDTH", "pad_front", "pad_pose", "turned_pad"]

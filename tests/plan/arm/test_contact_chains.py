@@ -55,6 +55,33 @@ def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path)
     assert isinstance(first, np.ndarray) and np.allclose(first, step.contact)
 
 
+def test_gen3_018_pushes_the_cube_before_the_crate_aside_with_the_hand_turned(tmp_path: Path) -> None:
+    # a CubeS 1.8 cm before the face of the CrateM to be pushed 34 cm, on its way, turned 60 deg to it: pushed aside
+    # with the pad along its face, the 20 cm wide hand overlaps the crate by 3.1 cm at the contact, leaned or rolled
+    # as it may be (before: a timeout at 20 CPU-s); turned about its axis, the pad's end pushes and the hand's width
+    # lies along the push, clear of the crate
+    spec = task_spec(3, 18)
+    program = vkgl.compile(write_task(spec, tmp_path / spec.name, fixture_library()))
+    plan = vkgl.solve(program, spec.name, max_depth=4, timeout=TEST_SOLVE_TIMEOUT_S)
+    assert plan.status == "solved", plan.reason
+    # (the contacts may be raised on their faces, `/over+0deg+...`: the same pushes, the hand higher)
+    assert [(s.op, s.affordance.split("/")[0]) for s in plan.steps] == [
+        ("add", "CubeS.push_center_px"),
+        ("remove", "CubeS.push_center_px"),
+        ("add", "CrateM.push_center_px"),
+    ]
+    assert plan.problem is not None
+    first = plan.steps[0]
+    hand = plan.problem.arm.fk(first.contact[0])
+    push = (first.poses_start[first.body] @ plan.problem.action(first.body, first.affordance.partition(".")[2]))[:3, 0]
+    assert abs(float(hand[:3, 1] @ push)) > np.sin(np.radians(25.0))  # the pad's axis no longer across the push
+    last = plan.steps[2]
+    crate = plan.problem.arm.fk(last.contact[0])
+    crate_action = plan.problem.action(last.body, last.affordance.partition(".")[2])
+    crate_push = (last.poses_start[last.body] @ crate_action)[:3, 0]
+    assert abs(float(crate[:3, 1] @ crate_push)) < 0.1  # where nothing stands beside, the pad lies along the face
+
+
 def test_gen3_000_pulls_past_a_cube_beside_the_way_with_the_hand_rolled(tmp_path: Path) -> None:
     # the fingertip pulls a CubeS 15 cm back past another CubeS 6 cm beside its way: upright, a finger meets the
     # pulled cube; leaned back 30 deg, the 20 cm wide hand meets the one beside by 0.1 cm; rolled 20 deg about

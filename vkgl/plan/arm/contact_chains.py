@@ -33,7 +33,7 @@ from vkgl.motion.approach import CartesianFailure, follow_poses
 from vkgl.plan.arm.straight_moves import ArmState, Overlap, StraightMoves
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.pad import FINGERTIP_RADIUS
+from vkgl.robot.pad import FINGERTIP_RADIUS, turned_pad
 from vkgl.rotations import axis_matrix
 from vkgl.se3 import screw_motion
 
@@ -125,6 +125,8 @@ class ContactChains:
                 words = f"the hand rolled {np.degrees(roll):+.0f} deg{lean}: "
                 seeds = (step.q_start, arm.home)
                 yield from self._from_seeds(step, state, (hand, rolled), seeds, _Lean(), closest, words)
+        if len(pitches) > 1 and any(lean.hand_beside for lean in leans.values()):
+            yield from self._turned(step, state, (upright, motion, count), closest)
         if grasp:
             yield from self._grasp_chains(step, state, poses, closest)
         why = f"{label}: no arm configuration carries the whole motion (closest: {closest.words})"
@@ -171,8 +173,40 @@ class ContactChains:
                 rigid = self._rigid_with_hand(clash)
                 lean.worth_others |= not rigid
                 lean.hand_hit |= rigid
+                lean.hand_beside |= rigid and bool(clash.bodies - {step.body})
                 continue
             yield chain.joints.copy()
+
+    def _turned(
+        self,
+        step: PlanStepRecord,
+        state: ArmState,
+        contact: tuple[np.ndarray, Any, int],
+        closest: _ClosestMiss,
+    ) -> Iterator[np.ndarray]:
+        """The chains with the hand turned about its axis (`TURNS`), the rounded end of the pad at the contact
+        (`vkgl.robot.pad.turned_pad`): tried when no lean or roll carried the motion and the hand hit a body beside
+        the one it pushes at some lean (not when only the pushed body's tall face stands in its way: turned, the
+        hand's width lies over that body).
+        A person pushing a small body that lies close beside a bigger one turns the hand so that its 20 cm width
+        does not lie along the face (gen3_018 of the physical bench: a cube 1.8 cm before a crate's
+        face, pushed sideways; every lean and roll of the hand overlaps the crate by 3.1 cm)."""
+        upright, motion, count = contact
+        for angle in TURNS:
+            hand = upright @ turned_pad(angle)
+            words = f"the hand turned {np.degrees(angle):+.0f} deg about its axis: "
+            # the arm at the contact first, one IK solve and one collision query: a chain is followed and checked
+            # along the whole motion (tens of solves) only where the turned hand stands clear at its start
+            q0 = self.problem.arm.ik(hand, q0=step.q_start)
+            if q0 is None:
+                closest.note((0, 0.0), f"{words}no IK solution at the contact")
+                continue
+            clash = self._contact_clash(step, state, q0[None, :])
+            if clash is not None:
+                closest.note((2, -clash.depth), words + clash.words, clash.bodies)
+                continue
+            poses = [motion.at(s) @ hand for s in np.linspace(0.0, 1.0, count)]
+            yield from self._from_seeds(step, state, (hand, poses), (q0,), _Lean(), closest, words)
 
     def _rigid_with_hand(self, clash: Overlap) -> bool:
         """Whether what overlaps in `clash` moves rigidly with the hand: a held tool, or a link beyond the arm's
@@ -243,6 +277,7 @@ class _Lean:
     tried: list[np.ndarray] = field(default_factory=list)
     worth_others: bool = False
     hand_hit: bool = False  # the hand (or what it holds) hit a body beside: a roll may lift it over
+    hand_beside: bool = False  # what it hit is not the body it pushes: the hand turned may stand clear of it
 
 
 def _subtree(node: Any) -> Iterator[str]:
@@ -273,6 +308,12 @@ def _rolled(angle: float) -> np.ndarray:
     about = np.eye(4)
     about[:3, :3] = axis_matrix(0, angle)
     return about
+
+
+TURNS = tuple(np.radians((90.0, -90.0, 120.0, -120.0, 60.0, -60.0)))
+"""rad: the turns of the hand about its axis tried at a contact where the hand, as written, leaned and rolled, hit a
+body beside the one it pushes (`ContactChains._turned`), the pad's rounded end at the contact
+(`vkgl.robot.pad.turned_pad`)."""
 
 
 def _pitched_back(angle: float) -> np.ndarray:
