@@ -45,6 +45,7 @@ class SearchStats:
     watch: frozenset[str] = frozenset()  # bodies kept still (`search(still=)`): a rejection naming one meets it
     met: set[str] = field(default_factory=set)  # those of `watch` that some rejection named
     arm_hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
+    named: dict[frozenset[str], float] = field(default_factory=dict)  # bodies rejections named: least excess
 
     def work_done(self) -> float:
         """The work done so far, in units of about one task-space optimisation (`WORK_WEIGHTS`): what a search's
@@ -67,6 +68,9 @@ class SearchStats:
             self.examples[rejection.kind] = (rejection.excess, label, rejection.why)
             self.advice[rejection.kind] = rejection.advice
         self.met.update(rejection.bodies & self.watch)
+        if rejection.bodies:  # how deep the least a body was met with these (`clutter.tool_path`)
+            names = frozenset(rejection.bodies)  # (some checks pass a set)
+            self.named[names] = min(rejection.excess, self.named.get(names, math.inf))
 
 
 WORK_WEIGHTS = {

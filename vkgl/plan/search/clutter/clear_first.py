@@ -61,6 +61,7 @@ from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
+from vkgl.plan.search.clutter.tool_path import PathSide, path_blockers, path_sides
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
@@ -144,7 +145,9 @@ def clear_first(
     if not blocking or math.isinf(Bound(problem)(start)):
         return None
     proven = _proven(problem, before)
-    walk = _Walk(problem, deadline, progress, before.stats, budget)
+    paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path: cleared after the way's
+    blocking = blocking + [(blocking[0][0], name) for name in paths]
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths)
     found = _clear_then_solve(walk, blocking, start, proven)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
@@ -238,7 +241,7 @@ class _Waiting:
 
     def moved(self) -> str:
         """The blockers and the sides they were cleared to, in words."""
-        return ", then ".join(f"{name} {side.words} of the way" for name, side in self.cleared)
+        return ", then ".join(_side_words(name, side) for name, side in self.cleared)
 
     def search(self, walk: _Walk, budget: float) -> SearchResult:
         """The goals searched from the prefix with `budget` units: with its values pinned, and free again (moved
@@ -261,6 +264,11 @@ class _Waiting:
             f"no plan of at most {self.deeper.max_depth} graphs" if result.status == "infeasible" else walk.ran_out()
         )
         walk.log.append(f"{self.moved()} ({self.prefix.depth} graphs), then {ended}{_closest(result)}")
+
+
+def _side_words(blocker: str, side: Side) -> str:
+    """Where `blocker` was cleared to, in words: a side of the way, or out of a tool's path (`PathSide`)."""
+    return f"{blocker} {side.words}" if isinstance(side, PathSide) else f"{blocker} {side.words} of the way"
 
 
 _NOTHING = Cleared(None, "")
@@ -301,6 +309,7 @@ class _Walk:
     stats: SearchStats
     left: float
     log: list[str] = field(default_factory=list)
+    paths: dict[str, float] = field(default_factory=dict)  # bodies in a tool's or the hand's path: how deep met
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -331,7 +340,11 @@ class _Walk:
             yield root, pinned, []
             return
         (goal, blocker), rest = blocking[0], blocking[1:]
-        sides = way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
+        sides = (
+            path_sides(self.problem, goal, blocker, self.paths[blocker])
+            if blocker in self.paths
+            else way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
+        )
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
@@ -359,7 +372,7 @@ class _Walk:
             budget = max(CLEAR_SHARE, 1.0 / (len(again) - k + 1)) * self.left
             found = self._clear(goal, blocker, side, root, pinned, budget, rolled=rolled)
             if found.status == "timeout":
-                self.log.append(f"{blocker} {side.words} of the way: no plan within its budget{_closest(found)}")
+                self.log.append(f"{_side_words(blocker, side)}: no plan within its budget{_closest(found)}")
             elif found.status == "solved":
                 moved = True
                 yield from self._then(found, rest, blocker, side)
@@ -391,7 +404,7 @@ class _Walk:
             return found
         if found.status != "timeout":
             words = f"no plan of at most {sub.max_depth} graphs{_closest(found)}"
-            self.log.append(f"{blocker} {side.words} of the way: {words}")
+            self.log.append(f"{_side_words(blocker, side)}: {words}")
             return replace(found, status="infeasible", sequence=None)
         return found
 
