@@ -14,8 +14,9 @@ import vkgl
 from vkgl.plan.graphs.graph import g0
 from vkgl.plan.graphs.rollout import Sequence
 from vkgl.plan.problem.problem import Problem, build_problem
+from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.search.clutter import clear_first
-from vkgl.plan.search.clutter.tool_path import PATH_STEP, PathSide, path_blockers, path_sides
+from vkgl.plan.search.clutter.tool_path import PATH_STEP, PathSide, met_last, path_blockers, path_sides
 from vkgl.plan.search.search import SearchResult
 from vkgl.plan.search.stats import SearchStats
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, footprint
@@ -129,3 +130,17 @@ def test_the_walk_clears_the_ways_blocker_then_slides_the_path_blocker(
     assert tried[0] == ("block2", "left") and tried[1][0] == "behind"
     words = clear_first._Waiting(problem, first[0], first[2], 0).moved()
     assert words.startswith("block2 left of the way, then behind slid 2.5 cm along")
+
+
+def test_the_path_blockers_the_closest_miss_named_are_cleared_alone_first(tmp_path: Path) -> None:
+    """The sequence that got farthest (a collision, stage 2) failed on `behind` alone: `met_last` names it; a
+    body only a farther miss (out of reach, stage 0) named is not."""
+    problem = _problem(tmp_path)
+    stats = SearchStats()
+    stats.reject(Rejection(Kind.REACH, "out of reach", 0.001, bodies=frozenset({"block2"})), "a")
+    stats.reject(Rejection(Kind.COLLISION, "the hand in behind", 0.007, bodies=frozenset({"behind"})), "b")
+    paths = path_blockers(problem, stats)
+    assert paths == pytest.approx({"behind": 0.007})
+    assert met_last(paths, stats) == pytest.approx({"behind": 0.007})
+    stats.reject(Rejection(Kind.APPROACH, "no way in", 0.5, bodies=frozenset({"stick"})), "c")
+    assert met_last(paths, stats) == {}  # the closest miss is now the approach (stage 3), which named no path blocker

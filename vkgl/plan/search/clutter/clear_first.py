@@ -61,7 +61,7 @@ from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
-from vkgl.plan.search.clutter.tool_path import PathSide, path_blockers, path_sides
+from vkgl.plan.search.clutter.tool_path import PathSide, met_last, path_blockers, path_sides
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
@@ -145,10 +145,13 @@ def clear_first(
     if not blocking or math.isinf(Bound(problem)(start)):
         return None
     proven = _proven(problem, before)
-    paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path: cleared after the way's
-    blocking = blocking + [(blocking[0][0], name) for name in paths]
+    paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
     walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths)
-    found = _clear_then_solve(walk, blocking, start, proven)
+    found = None
+    if last := met_last(paths, before.stats):  # the closest miss failed on them: cleared alone first
+        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven)
+    if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them
+        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
     if found is not None:
@@ -357,7 +360,8 @@ class _Walk:
             found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
             if found.status == "timeout":
                 again.append((side, False))
-            elif found.status == "infeasible" and rolls(self.problem, blocker):
+            elif found.status == "infeasible" and blocker not in self.paths and rolls(self.problem, blocker):
+                # (not for a body in a tool's path: the search for the goals after it knows no rolled member of it)
                 # a rolled hook's pulls only where the flat tools are proven to fail (`clutter.rolled`): on a
                 # side that merely ran out, they widen its second search (gen1_001 lost its plan to them)
                 again.append((side, True))

@@ -15,10 +15,14 @@ least depth a rejection met it at. `path_sides` gives each one's sides for the c
 direction of its own slides, a half-plane that its footprint enters when it has slid that depth plus
 `PATH_STEP` along that direction (the smallest displacement that leaves the hand or the tool clear of it), the
 direction leading away from where the arm works first (the lines from its base to the goal body's start and
-goal: the hand and a held tool reach out along them). The walk (`clear_first`) clears these bodies after the
-corridor's blockers, each by a sub-problem like a corridor blocker's; the search for the goals from there has
-the whole plan's checks, and when the pinned slide is too short it is searched again with the prefix's values
-free (`clearing.cleared_values` then slides the body out of the tool's corridor as far as that needs).
+goal: the hand and a held tool reach out along them).
+
+The walk (`clear_first`) clears these bodies after the corridor's blockers, each by a sub-problem like a
+corridor blocker's; those the search's closest miss named (`met_last`: the sequence that got farthest failed
+on them) it first clears alone, searching the goals from there before it tries the corridor's blockers. The
+search for the goals after a clearing plan has the whole plan's checks, and when the pinned slide is too short
+it is searched again with the prefix's values free (`clearing.cleared_values` then slides the body out of the
+later corridors, the tool's included, as far as they need).
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.ordering import InTheWay
-from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.search.stats import SearchStats, closest_bodies
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, footprint
 
 PATH_STEP = 0.025
@@ -79,6 +83,13 @@ def path_blockers(problem: Problem, stats: SearchStats) -> dict[str, float]:
         return min((float(np.linalg.norm(at - s)) for s in starts), default=0.0), name
 
     return {name: found[name] if math.isfinite(found[name]) else 0.0 for name in sorted(found, key=nearest)}
+
+
+def met_last(paths: dict[str, float], stats: SearchStats) -> dict[str, float]:
+    """Those of `paths` that the closest miss of the search of `stats` named (`stats.closest_bodies`): the
+    sequence that got farthest failed on them (gen1_003: a plan of 6 graphs whose hand passes 7 mm into a crate)."""
+    named = closest_bodies(stats)
+    return {name: depth for name, depth in paths.items() if name in named}
 
 
 def path_sides(problem: Problem, goal: GoalSpec, blocker: str, depth: float) -> list[Side]:
@@ -136,4 +147,4 @@ def _nearest_on_segment(point: np.ndarray, start: np.ndarray, end: np.ndarray) -
     return start + t * along
 
 
-__all__ = ["PATH_STEP", "PathSide", "path_blockers", "path_sides"]
+__all__ = ["PATH_STEP", "PathSide", "met_last", "path_blockers", "path_sides"]
