@@ -132,15 +132,22 @@ def test_the_walk_clears_the_ways_blocker_then_slides_the_path_blocker(
     assert words.startswith("block2 left of the way, then behind slid 2.5 cm along")
 
 
-def test_the_path_blockers_the_closest_miss_named_are_cleared_alone_first(tmp_path: Path) -> None:
-    """The sequence that got farthest (a collision, stage 2) failed on `behind` alone: `met_last` names it; a
-    body only a farther miss (out of reach, stage 0) named is not."""
+def test_the_path_blockers_the_closest_miss_named_after_clearing_the_way_are_cleared_alone_first(
+    tmp_path: Path,
+) -> None:
+    """The sequence that got farthest (a collision, stage 2) moved block2 (in the way) and failed on `behind`
+    alone: `met_last` names it; not when that sequence had not moved block2 yet, nor when a closer miss (an
+    approach, stage 3) named no path blocker."""
     problem = _problem(tmp_path)
-    stats = SearchStats()
-    stats.reject(Rejection(Kind.REACH, "out of reach", 0.001, bodies=frozenset({"block2"})), "a")
-    stats.reject(Rejection(Kind.COLLISION, "the hand in behind", 0.007, bodies=frozenset({"behind"})), "b")
-    paths = path_blockers(problem, stats)
-    assert paths == pytest.approx({"behind": 0.007})
-    assert met_last(paths, stats) == pytest.approx({"behind": 0.007})
-    stats.reject(Rejection(Kind.APPROACH, "no way in", 0.5, bodies=frozenset({"stick"})), "c")
-    assert met_last(paths, stats) == {}  # the closest miss is now the approach (stage 3), which named no path blocker
+    cleared = (
+        "add Block.push_center_px on block2 with arm.fingertip -> add Block.push_center_px on block with arm.fingertip"
+    )
+    for label, named in ((cleared, {"behind": 0.007}), ("add Block.push_center_px on block with arm.fingertip", {})):
+        stats = SearchStats()
+        stats.reject(Rejection(Kind.REACH, "out of reach", 0.001, bodies=frozenset({"block2"})), "a")
+        stats.reject(Rejection(Kind.COLLISION, "the hand in behind", 0.007, bodies=frozenset({"behind"})), label)
+        paths = path_blockers(problem, stats)
+        assert paths == pytest.approx({"behind": 0.007})
+        assert met_last(problem, paths, stats) == pytest.approx(named)
+    stats.reject(Rejection(Kind.APPROACH, "no way in", 0.5, bodies=frozenset({"stick"})), cleared)
+    assert met_last(problem, path_blockers(problem, stats), stats) == {}

@@ -148,7 +148,7 @@ def clear_first(
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
     walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths)
     found = None
-    if last := met_last(paths, before.stats):  # the closest miss failed on them: cleared alone first
+    if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
         found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven)
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them
         found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven)

@@ -36,7 +36,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.ordering import InTheWay
-from vkgl.plan.search.stats import SearchStats, closest_bodies
+from vkgl.plan.search.stats import SearchStats, closest_bodies, closest_miss
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, footprint
 
 PATH_STEP = 0.025
@@ -85,9 +85,18 @@ def path_blockers(problem: Problem, stats: SearchStats) -> dict[str, float]:
     return {name: found[name] if math.isfinite(found[name]) else 0.0 for name in sorted(found, key=nearest)}
 
 
-def met_last(paths: dict[str, float], stats: SearchStats) -> dict[str, float]:
-    """Those of `paths` that the closest miss of the search of `stats` named (`stats.closest_bodies`): the
-    sequence that got farthest failed on them (gen1_003: a plan of 6 graphs whose hand passes 7 mm into a crate)."""
+def met_last(problem: Problem, paths: dict[str, float], stats: SearchStats) -> dict[str, float]:
+    """Those of `paths` that the closest miss of the search of `stats` named (`closest_bodies`), when that
+    sequence had moved every body in a goal body's way already (its actions engage each, `closest_miss`'s
+    label): it cleared the way and failed on them alone (gen1_003: a plan of 6 graphs, the cube in the slab's
+    way pushed aside by the hook, whose hand then passes 7 mm into a crate on the pull). A closest miss that met
+    them on the way to its blocker (gen1_001: the stick that would push a crate aside first stands in a cube)
+    says nothing of the plan after: none then."""
+    if not stats.examples:
+        return {}
+    label, _ = closest_miss(stats)
+    if not all(f" on {name} with " in label for name in InTheWay(problem).bodies):
+        return {}
     named = closest_bodies(stats)
     return {name: depth for name, depth in paths.items() if name in named}
 
