@@ -130,6 +130,14 @@ def test_the_walk_clears_the_ways_blocker_then_slides_the_path_blocker(
     assert tried[0] == ("block2", "left") and tried[1][0] == "behind"
     words = clear_first._Waiting(problem, first[0], first[2], 0).moved()
     assert words.startswith("block2 left of the way, then behind slid 2.5 cm along")
+    walk.optional = frozenset({"behind"})  # the second walk: the body in the path left where it lies first
+    moved = [
+        [name for name, _ in item[2]]
+        for item in walk.prefixes([(goal, "block2"), (goal, "behind")], Sequence())
+        if item
+    ]
+    assert moved[0] == ["block2"] and moved[1] == ["block2", "behind"]
+    assert all(names[0] == "block2" for names in moved)  # never the path alone (nothing cleared from the way)
 
 
 def test_the_path_blockers_the_closest_miss_named_after_clearing_the_way_are_cleared_alone_first(

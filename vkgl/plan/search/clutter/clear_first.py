@@ -150,7 +150,8 @@ def clear_first(
     found = None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
         found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven)
-    if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them
+    if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
+        walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
         found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
@@ -313,6 +314,7 @@ class _Walk:
     left: float
     log: list[str] = field(default_factory=list)
     paths: dict[str, float] = field(default_factory=dict)  # bodies in a tool's or the hand's path: how deep met
+    optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -351,6 +353,9 @@ class _Walk:
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
+        optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
+        if optional:
+            yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
         first = FIRST_TRY * self.left
         moved = False  # some side's plan moved it
         again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
@@ -380,7 +385,7 @@ class _Walk:
             elif found.status == "solved":
                 moved = True
                 yield from self._then(found, rest, blocker, side)
-        if not moved and not self.spent():  # no plan moves it: the others cleared, it is left where it lies
+        if not moved and not optional and not self.spent():  # no plan moves it: the others cleared, it is left
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
 
     def _clear(
