@@ -138,6 +138,10 @@ def test_the_walk_clears_the_ways_blocker_then_slides_the_path_blocker(
     ]
     assert moved[0] == ["block2"] and moved[1] == ["block2", "behind"]
     assert all(names[0] == "block2" for names in moved)  # never the path alone (nothing cleared from the way)
+    tried.clear()  # a root that moved the body in the path already: not cleared again (its sub-problem would
+    moved_root = Sequence(graphs=(g0(),) * 3, dependent=frozenset({"behind"}))  # lack the root's contact on it)
+    again = [item for item in walk.prefixes([(goal, "behind")], moved_root) if item]
+    assert tried == [] and [(item[0], item[2]) for item in again] == [(moved_root, [])]
 
 
 def test_the_path_blockers_the_closest_miss_named_after_clearing_the_way_are_cleared_alone_first(

@@ -345,6 +345,9 @@ class _Walk:
             yield root, pinned, []
             return
         (goal, blocker), rest = blocking[0], blocking[1:]
+        if blocker in self.paths and blocker in root.dependent:  # a body in a tool's path the plan moved already
+            yield from self.prefixes(rest, root, pinned)  # (its sub-problem keeps only the slides, not the root's)
+            return
         sides = (
             path_sides(self.problem, goal, blocker, self.paths[blocker])
             if blocker in self.paths
