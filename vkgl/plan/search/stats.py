@@ -43,9 +43,11 @@ class SearchStats:
     rejections: Counter = field(default_factory=Counter)
     examples: dict[str, tuple[float, str, str]] = field(default_factory=dict)  # kind: (excess, sequence, why)
     advice: dict[str, str] = field(default_factory=dict)  # kind: what to change, of its example (if it says)
+    example_bodies: dict[str, frozenset[str]] = field(default_factory=dict)  # kind: the bodies its example named
     watch: frozenset[str] = frozenset()  # bodies kept still (`search(still=)`): a rejection naming one meets it
     met: set[str] = field(default_factory=set)  # those of `watch` that some rejection named
     arm_hits: set[str] = field(default_factory=set)  # bodies the arm's checks found in its way (`arm_aside`)
+    named: dict[frozenset[str], float] = field(default_factory=dict)  # bodies rejections named: least excess
 
     def work_done(self) -> float:
         """The work done so far, in units of about one task-space optimisation (`WORK_WEIGHTS`): what a search's
@@ -69,7 +71,11 @@ class SearchStats:
             words = label() if callable(label) else label
             self.examples[rejection.kind] = (rejection.excess, words, rejection.why)
             self.advice[rejection.kind] = rejection.advice
+            self.example_bodies[rejection.kind] = frozenset(rejection.bodies)
         self.met.update(rejection.bodies & self.watch)
+        if rejection.bodies:  # how deep the least a body was met with these (`clutter.tool_path`)
+            names = frozenset(rejection.bodies)  # (some checks pass a set)
+            self.named[names] = min(rejection.excess, self.named.get(names, math.inf))
 
 
 WORK_WEIGHTS = {
@@ -228,6 +234,11 @@ def closest_miss(stats: SearchStats) -> tuple[str, str]:
         return "", ""
     _, label, why = stats.examples[_closest_kind(stats)]
     return label, why
+
+
+def closest_bodies(stats: SearchStats) -> frozenset[str]:
+    """The bodies `closest_miss`'s rejection found in the way (`Rejection.bodies`; none when no example)."""
+    return stats.example_bodies.get(_closest_kind(stats), frozenset()) if stats.examples else frozenset()
 
 
 def closest_advice(stats: SearchStats) -> str:

@@ -62,6 +62,7 @@ from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
+from vkgl.plan.search.clutter.tool_path import PathSide, met_last, path_blockers, path_sides
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
@@ -145,8 +146,14 @@ def clear_first(
     if not blocking or math.isinf(Bound(problem)(start)):
         return None
     proven = _proven(problem, before)
-    walk = _Walk(problem, deadline, progress, before.stats, budget)
-    found = _clear_then_solve(walk, blocking, start, proven)
+    paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths)
+    found = None
+    if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
+        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven)
+    if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
+        walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
+        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
     if found is not None:
@@ -239,7 +246,7 @@ class _Waiting:
 
     def moved(self) -> str:
         """The blockers and the sides they were cleared to, in words."""
-        return ", then ".join(f"{name} {side.words} of the way" for name, side in self.cleared)
+        return ", then ".join(_side_words(name, side) for name, side in self.cleared)
 
     def search(self, walk: _Walk, budget: float) -> SearchResult:
         """The goals searched from the prefix with `budget` units: with its values pinned, and free again (moved
@@ -262,6 +269,11 @@ class _Waiting:
             f"no plan of at most {self.deeper.max_depth} graphs" if result.status == "infeasible" else walk.ran_out()
         )
         walk.log.append(f"{self.moved()} ({self.prefix.depth} graphs), then {ended}{_closest(result)}")
+
+
+def _side_words(blocker: str, side: Side) -> str:
+    """Where `blocker` was cleared to, in words: a side of the way, or out of a tool's path (`PathSide`)."""
+    return f"{blocker} {side.words}" if isinstance(side, PathSide) else f"{blocker} {side.words} of the way"
 
 
 _NOTHING = Cleared(None, "")
@@ -302,6 +314,8 @@ class _Walk:
     stats: SearchStats
     left: float
     log: list[str] = field(default_factory=list)
+    paths: dict[str, float] = field(default_factory=dict)  # bodies in a tool's or the hand's path: how deep met
+    optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -332,12 +346,22 @@ class _Walk:
             yield root, pinned, []
             return
         (goal, blocker), rest = blocking[0], blocking[1:]
-        sides = way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
+        if blocker in self.paths and blocker in root.dependent:  # a body in a tool's path the plan moved already
+            yield from self.prefixes(rest, root, pinned)  # (its sub-problem keeps only the slides, not the root's)
+            return
+        sides = (
+            path_sides(self.problem, goal, blocker, self.paths[blocker])
+            if blocker in self.paths
+            else way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
+        )
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
         if _moves(root, blocker):  # moved by the plan before, still in the way: first left to the goal's values
             yield from self.prefixes(rest, root, ())
+        optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
+        if optional:
+            yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
         first = FIRST_TRY * self.left
         moved = False  # some side's plan moved it
         again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
@@ -347,7 +371,8 @@ class _Walk:
             found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
             if found.status == "timeout":
                 again.append((side, False))
-            elif found.status == "infeasible" and rolls(self.problem, blocker):
+            elif found.status == "infeasible" and blocker not in self.paths and rolls(self.problem, blocker):
+                # (not for a body in a tool's path: the search for the goals after it knows no rolled member of it)
                 # a rolled hook's pulls only where the flat tools are proven to fail (`clutter.rolled`): on a
                 # side that merely ran out, they widen its second search (gen1_001 lost its plan to them)
                 again.append((side, True))
@@ -362,11 +387,11 @@ class _Walk:
             budget = max(CLEAR_SHARE, 1.0 / (len(again) - k + 1)) * self.left
             found = self._clear(goal, blocker, side, root, pinned, budget, rolled=rolled)
             if found.status == "timeout":
-                self.log.append(f"{blocker} {side.words} of the way: no plan within its budget{_closest(found)}")
+                self.log.append(f"{_side_words(blocker, side)}: no plan within its budget{_closest(found)}")
             elif found.status == "solved":
                 moved = True
                 yield from self._then(found, rest, blocker, side)
-        if not moved and not self.spent():  # no plan moves it: the others cleared, it is left where it lies
+        if not moved and not optional and not self.spent():  # no plan moves it: the others cleared, it is left
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
 
     def _clear(
@@ -394,7 +419,7 @@ class _Walk:
             return found
         if found.status != "timeout":
             words = f"no plan of at most {sub.max_depth} graphs{_closest(found)}"
-            self.log.append(f"{blocker} {side.words} of the way: {words}")
+            self.log.append(f"{_side_words(blocker, side)}: {words}")
             return replace(found, status="infeasible", sequence=None)
         return found
 

@@ -12,6 +12,7 @@ import numpy as np
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
+from vkgl.plan.search.clutter.tool_path import PathSide
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side
 
 
@@ -63,7 +64,7 @@ def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> Goa
         math.pi,
         region=side.halfplane[np.newaxis, :],
         footprint=problem.footprint_points(blocker),
-        region_words=f"{side.words} of {goal.body}'s way",
+        region_words=side.words if isinstance(side, PathSide) else f"{side.words} of {goal.body}'s way",
     )
 
 
