@@ -266,3 +266,31 @@ def test_a_third_body_is_kept_still_in_the_clearing_not_stripped() -> None:
     sub, still = _only_moving(problem, goal, "block2", side)
     assert still == frozenset({"block3"})
     assert sub.bodies["block3"].affordances == problem.bodies["block3"].affordances
+
+
+def test_a_clearing_sub_problem_keeps_every_contact_the_plan_before_engages() -> None:
+    """The plan before turned the block (a turn the sub-problem otherwise leaves out of a goal body) and pushed
+    block2 by an affordance that does not reach the side: both stay in the sub-problem, which rolls that plan
+    out (leaving them out was a KeyError in its search)."""
+    from vkgl.plan.graphs.graph import Action, Engagement
+    from vkgl.plan.graphs.rollout import extend, start_sequence
+    from vkgl.plan.search.clutter.side_problem import only_moving as _only_moving
+
+    problem = _problem(0.0)
+    goal = problem.goals[0]
+    side = way_sides(problem, goal, "block2")[0]
+    turn = next(a.name for a in problem.bodies["block"].affordances if a.motion.type == "revolute")
+    other = next(a.name for a in problem.bodies["block2"].affordances if a.name not in side.movers)
+    root = start_sequence(problem)
+    for body, name in [("block", turn), ("block2", other)]:
+        e = Engagement("arm.fingertip", body, name)
+        root, _ = extend(problem, root, Action("add", e))
+        root, _ = extend(problem, root, Action("remove", e))
+    without, _ = _only_moving(problem, goal, "block2", side)
+    sub, _ = _only_moving(problem, goal, "block2", side, root)
+    assert turn not in {a.name for a in without.bodies["block"].affordances}
+    assert turn in {a.name for a in sub.bodies["block"].affordances}
+    assert other not in {a.name for a in without.bodies["block2"].affordances}
+    assert other in {a.name for a in sub.bodies["block2"].affordances}
+    for action in root.actions:  # every contact of the plan before is found in the sub-problem
+        sub.affordance(action.engagement.body, action.engagement.affordance)

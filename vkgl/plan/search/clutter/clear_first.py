@@ -407,7 +407,7 @@ class _Walk:
     ) -> SearchResult:
         """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work (`rolled`:
         its slides also by a rolled hook): solved (with its sequence), proven infeasible (logged) or "timeout"."""
-        moving, still = only_moving(self.problem, goal, blocker, side)
+        moving, still = only_moving(self.problem, goal, blocker, side, root)
         sub = replace(
             with_rolled_members(moving, blocker) if rolled else moving,
             goals=[side_goal(self.problem, goal, blocker, side)],

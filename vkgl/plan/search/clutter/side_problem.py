@@ -9,14 +9,19 @@ from dataclasses import replace
 
 import numpy as np
 
-from vkgl.plan.problem.problem import GoalSpec, Problem
+from vkgl.lang.ir.families import find_member
+from vkgl.lang.ir.nodes import Affordance
+from vkgl.plan.graphs.rollout import Sequence
+from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.tool_path import PathSide
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side
 
 
-def only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> tuple[Problem, frozenset[str]]:
+def only_moving(
+    problem: Problem, goal: GoalSpec, blocker: str, side: Side, root: Sequence | None = None
+) -> tuple[Problem, frozenset[str]]:
     """`problem` in which the goal bodies and the tools keep their affordances, and `blocker` those one motion of
     which takes it to `side` (all of them when none does), and the other free bodies, kept still (the second
     result, for `search(still=)`): the plan that clears a blocker moves it, with the hand or a tool, after moving
@@ -32,7 +37,11 @@ def only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> t
     its way aside), and its turns, each a branch of the search, would only leave it at a heading the move to its
     goal must undo (on the physical bench's gen9_041, a far goal, the same plan clearing the way in 1.3 s of CPU
     instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
-    to its goal (`far_move_tools`) keeps only its slides (no grasp either); its moves are kept least (`least`)."""
+    to its goal (`far_move_tools`) keeps only its slides (no grasp either); its moves are kept least (`least`).
+
+    Whatever is left out, a body keeps every affordance `root` (the plan the sub-problem's search extends) engages:
+    the search rolls `root` out in the sub-problem, and a contact it lacks was a KeyError (a blocker the plan
+    before nudged with the fingertip, cleared again to a side whose movers are other slides)."""
     keep = {g.body for g in problem.goals} | {e.tool for e in problem.effectors if e.tool is not None} | {blocker}
     still = frozenset(n for n, b in problem.bodies.items() if n not in keep and b.joint is None and b.affordances)
     bodies = {n: b if n in keep or n in still else replace(b, affordances=()) for n, b in problem.bodies.items()}
@@ -51,7 +60,26 @@ def only_moving(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> t
         right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
         if any(a.motion.type == "free" for a in right):
             bodies[tool] = replace(body, affordances=right)
+    for name, engaged in _engaged(root).items():
+        bodies[name] = replace(bodies[name], affordances=_keeping(problem.bodies[name], bodies[name], engaged))
     return replace(problem, bodies=bodies, least=frozenset(g.body for g in problem.goals)), still
+
+
+def _engaged(root: Sequence | None) -> dict[str, set[str]]:
+    """The affordances (or members) `root`'s actions engage, by body."""
+    out: dict[str, set[str]] = {}
+    for action in root.actions if root is not None else ():
+        out.setdefault(action.engagement.body, set()).add(action.engagement.affordance)
+    return out
+
+
+def _keeping(whole: PlanBody, restricted: PlanBody, engaged: set[str]) -> tuple[Affordance, ...]:
+    """`restricted`'s affordances, with those of `whole` that any of the `engaged` names (a member's too) is of."""
+    kept = restricted.affordances
+    extra = tuple(
+        a for a in whole.affordances if a not in kept and any(find_member((a,), n) is not None for n in engaged)
+    )
+    return kept + extra
 
 
 def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
