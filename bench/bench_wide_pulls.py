@@ -57,6 +57,9 @@ on main. With a rolled hook's contact raised where the crate does not tip (docs/
 raised where the body does not tip"), `--bodies CrateM`: 8 of 8, 8 clean (148 CPU-s): `free-` goal 1 at depth 3 (the
 hook rolled 20 deg, not 35, and pulling 16 cm up; 0.07 cm from the plan in DART), the other 7 plans the same; SlabW's
 and CrateT's members are unchanged by it: all kinds 19 of 24, 19 clean.
+Again at the end of that evening on main, every body re-run (a slower CPU, idle, `--bodies SlabW,CrateT` and
+`--bodies CrateM` side by side): 19 of 24 solved, 19 clean (311 CPU-s); the five left are SlabW arc 1, SlabW free+ 0,
+CrateT free+ 0, CrateT free+ 1 and CrateT free- 1 (docs/planning.md says why).
 
 | body | goals: arc / free+ / free- / kept | 11-26 | main 11-27 noon | now | depths | clean in DART | worst vs DART |
 |---|---|---|---|---|---|---|---|
