@@ -9,7 +9,7 @@ Each goal is solved (`vkgl.solve`, 20 s) and, when the plan is a hook pull along
 DART (`vkgl.execute`). Printed per goal: the member (its offset), the planned turn, and how far the body ended from
 the plan's final pose in DART (cm, deg); then the largest and median errors.
 
-    PYTHONPATH=$PWD /work/main/.venv/bin/python bench/bench_hook_arc_goals.py [--bodies Block,CubeM] [--no-execute]
+    PYTHONPATH=$PWD .venv/bin/python bench/bench_hook_arc_goals.py [--bodies Block,CubeM] [--no-execute]
 """
 
 from __future__ import annotations
