@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from vkgl.robot.pad import FINGER_PAD_WIDTH, FINGERTIP_RADIUS, pad_front, turned_pad
+from vkgl.robot.pad import FINGER_PAD_WIDTH, FINGERTIP_RADIUS, pad_front, pad_lies_along, turned_pad
 
 PUSH = np.array([1.0, 0.0, 0.0])
 
@@ -40,3 +40,18 @@ def test_the_front_follows_the_pad_wherever_the_hand_stands() -> None:
     hand[:3, :3] = turned_pad(np.radians(120.0))[:3, :3]
     moved = hand @ np.linalg.inv(turned_pad(np.radians(120.0)))  # the frame before the turn, at the same pad
     assert np.allclose(pad_front(hand, moved[:3, 0]), moved[:3, 3])
+
+
+@pytest.mark.parametrize("degrees", [0.0, 20.0, -20.0])
+def test_a_pad_leaned_back_or_rolled_still_lies_along_the_face(degrees: float) -> None:
+    """A lean turns the hand about the pad's axis, a roll about the push: the pad stays a 2 cm line on the face."""
+    angle = np.radians(degrees)
+    lean, roll = np.eye(4), np.eye(4)
+    lean[:3, :3] = [[np.cos(angle), 0.0, -np.sin(angle)], [0.0, 1.0, 0.0], [np.sin(angle), 0.0, np.cos(angle)]]
+    roll[:3, :3] = [[1.0, 0.0, 0.0], [0.0, np.cos(angle), -np.sin(angle)], [0.0, np.sin(angle), np.cos(angle)]]
+    assert pad_lies_along(lean, PUSH) and pad_lies_along(roll, PUSH)
+
+
+@pytest.mark.parametrize("degrees", [60.0, 90.0, 120.0, -60.0, -90.0, -120.0])
+def test_a_hand_turned_about_its_axis_pushes_with_a_point(degrees: float) -> None:
+    assert not pad_lies_along(turned_pad(np.radians(degrees)), PUSH)

@@ -56,4 +56,24 @@ def pad_front(effector: np.ndarray, direction: np.ndarray) -> np.ndarray:
     return centre + FINGERTIP_RADIUS * direction
 
 
-__all__ = ["FINGERTIP_RADIUS", "FINGER_PAD_WIDTH", "pad_front", "pad_pose", "turned_pad"]
+PAD_FLAT_SINE = 0.5
+"""The pad lies along a face while its axis leaves the face's plane by at most 30 deg (the sine): a lean or a roll
+keeps it in the plane, a hand turned about its axis (`turned_pad`, 60 deg or more) pushes with the rounded end."""
+
+
+def pad_lies_along(effector: np.ndarray, normal: np.ndarray) -> bool:
+    """Whether the pad of a hand whose effector frame is `effector` (4x4, world) lies along a face whose inward
+    normal (the push's direction) is the unit `normal`: a line contact 2 cm long, not the point of its rounded
+    end (`turned_pad`)."""
+    return abs(float(effector[:3, 1] @ normal)) <= PAD_FLAT_SINE
+
+
+__all__ = [
+    "FINGERTIP_RADIUS",
+    "FINGER_PAD_WIDTH",
+    "PAD_FLAT_SINE",
+    "pad_front",
+    "pad_lies_along",
+    "pad_pose",
+    "turned_pad",
+]

@@ -116,3 +116,42 @@ def test_a_transit_blocked_elsewhere_does_not_blame_a_start_it_can_leave(tmp_pat
     rejection = planner._transit(PendingTransit(0, 0, home, goal, poses, None, "step 1 (test)"), None)
     assert isinstance(rejection, Rejection) and rejection.kind == Kind.TRANSIT
     assert "at the goal of the transit" in rejection.why and "where the arm starts" not in rejection.why
+
+
+def test_a_hand_turned_about_its_axis_promises_an_arc_only_where_the_laws_error_keeps_the_goal() -> None:
+    """The pad along the face holds the arc; turned, the hand pushes it with a point, and the plan's final pose must
+    keep the goal with twice the law's error (`ArmPathPlanner._point_arc`; gen15_028 of the physical bench: CubeS
+    turned 22.8 deg past its 69 deg arc pushed so, 1.67 cm from its goal)."""
+    from types import SimpleNamespace
+
+    from vkgl.plan.graphs.graph import Action, Engagement
+    from vkgl.plan.graphs.rollout import extend, rollout, start_sequence
+    from vkgl.robot.pad import turned_pad
+    from vkgl.rotations import axis_matrix
+
+    program = vkgl.compile(EXAMPLES / "tasks" / "d_rotate_push.vkg")
+    problem = build_problem(program, program.task())
+    planner = ArmPathPlanner(problem, GeometryCheck(problem))
+    name = "push_center_px@+2.00cm"
+    seq, _ = extend(problem, start_sequence(problem), Action("add", Engagement("arm.fingertip", "block", name)))
+    goal = problem.goals[0]
+    at_goal = {"block": np.eye(4)}  # the final pose exactly at the goal: only the margin can miss it
+    at_goal["block"][:3, :3] = axis_matrix(2, goal.yaw)
+    at_goal["block"][:2, 3] = goal.position
+    outcomes = {}
+    for turn in (0.2, 1.0):  # the law's error over the turn: 0.7 and 3.7 deg at twice sigma; the goal keeps 3 deg
+        trace = rollout(problem, seq, np.array([turn]))[-1]
+        start, end = trace.start["block"], trace.end["block"]
+        step = SimpleNamespace(effector="arm.fingertip", affordance=f"Block.{name}", body="block",
+                               poses_start={"block": start}, poses_end={"block": end})  # fmt: skip
+        upright = start @ problem.action("block", name)
+        for hand, words in ((upright, "along"), (upright @ turned_pad(np.pi / 2), "turned")):
+            q = problem.arm.ik(hand, q0=problem.arm.home)
+            assert q is not None
+            outcomes[turn, words] = planner._point_arc(step, np.array([q]), at_goal, "step 1")
+    assert outcomes[0.2, "along"] is None and outcomes[1.0, "along"] is None  # the pad holds either arc
+    assert outcomes[0.2, "turned"] is None  # a short arc's error fits the goal
+    refused = outcomes[1.0, "turned"]
+    assert refused is not None and refused.kind == Kind.GOAL
+    assert "turned about its axis" in refused.why and "heading" in refused.why
+    assert planner._point_arc(step, np.array([q]), None, "step 1") is None  # no final poses: nothing to keep

@@ -19,7 +19,7 @@ from vkgl.plan.graphs.rollout import extend, rollout, start_sequence
 from vkgl.plan.problem.problem import build_problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.feasible import TaskSolution, goal_holds, task_space
-from vkgl.plan.task_space.law_error import arc_law, holds_arc, law_margins
+from vkgl.plan.task_space.law_error import POINT_SIGMAS, arc_law, holds_arc, law_margins, point_margins
 
 
 def _sequence(problem, *actions: Action):
@@ -114,3 +114,18 @@ def test_a_crate_pulled_at_its_far_faces_edge_is_no_promise_when_the_law_may_mis
     assert goal_holds(problem, traces[-1].end) and not goal_holds(
         problem, traces[-1].end, margins={"target": (margin, heading)}
     )
+
+
+def test_a_point_contacts_margin_is_twice_the_laws_error_about_the_contact_where_the_turn_ends(block):
+    """A turned hand pushes an arc with its pad's rounded end, a point: the body turns at its own rate, the law's,
+    within its error, and the hand's contact slides along the face as it departs (`point_margins`)."""
+    name = "push_center_px@+2.00cm"
+    arc, sigma, offset = arc_law(block, "block", name)
+    seq = _sequence(block, Action("add", Engagement("arm.fingertip", "block", name)))
+    trace = rollout(block, seq, np.array([0.4]))[-1]
+    motion = (trace.start["block"], trace.end["block"])
+    position, heading = point_margins(block, "block", name, motion, trace.end["block"])["block"]
+    assert heading == pytest.approx(POINT_SIGMAS * sigma * 0.4 * arc_lever_arm(arc, offset) / 0.10)
+    contact = (trace.end["block"] @ block.action("block", name))[:2, 3]
+    assert position == pytest.approx(heading * np.linalg.norm(trace.end["block"][:2, 3] - contact))
+    assert point_margins(block, "block", "push_center_px", motion, trace.end["block"]) == {}

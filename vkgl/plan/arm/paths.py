@@ -53,6 +53,9 @@ from vkgl.plan.geometry.bodies import TRANSIT_CLEARANCE, GeometryCheck
 from vkgl.plan.geometry.grip_load import held as held_tool
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
+from vkgl.plan.task_space.feasible import goal_holds
+from vkgl.plan.task_space.law_error import POINT_SIGMAS, point_margins, uncertain_rejection
+from vkgl.robot.pad import pad_lies_along
 
 StepT = TypeVar("StepT", bound=PlanStepRecord)
 
@@ -122,7 +125,7 @@ class ArmPathPlanner:
                 previous = steps[k - 2] if k > 1 else None
                 planned = self._planned_step(
                     k, step, state, last=following is None, following=following, places=_places(step, previous),
-                    then_places=_places(following, step),
+                    then_places=_places(following, step), final=steps[-1].poses_end,
                 )  # fmt: skip
                 if isinstance(planned, Rejection):
                     return planned
@@ -156,12 +159,15 @@ class ArmPathPlanner:
         following: PlanStepRecord | None = None,
         places: bool = False,
         then_places: bool = False,
+        final: Mapping[str, np.ndarray] | None = None,
     ) -> tuple[StepT, PendingTransit | None] | Rejection:
         """The step with its straight moves and the transit it needs; a contact tries each arm configuration
         that carries its motion in turn, until one can be approached (and, for the `last` step, left again).
         A release happens where the arm is (its `q_start`/`q_end` become those joints), unless it `places` a
         carried body or a tool (`_places`): then its path carries the body to its place first (`q_start`, as the
-        search solved it), and the contact before such a tool's release (`then_places`) retreats out of it."""
+        search solved it), and the contact before such a tool's release (`then_places`) retreats out of it.
+        A chain whose hand pushes an arc with a point (`_point_arc`) is passed over where the plan's `final` poses
+        would not keep the goal with the point's error."""
         if step.op != "add" or step.motion == "free":
             q_before = state.q
             # a tool the next step carries elsewhere backs out of its contact first (a retreat, as before a contact)
@@ -178,6 +184,10 @@ class ArmPathPlanner:
         for chain in self._contact_chain(step, state, label):
             if isinstance(chain, Rejection):
                 return first or chain
+            loose = self._point_arc(step, chain, final, label)
+            if loose is not None:
+                first = first or loose
+                continue
             attempt = state.copy()
             # the whole chain goes into the plan: execution follows this configuration, not one of its own
             moved = replace(step, q_start=chain[0], q_end=chain[-1], contact=chain)
@@ -192,6 +202,29 @@ class ArmPathPlanner:
             if found.kind != Kind.APPROACH:
                 return found
         return first or Rejection(Kind.IK, f"{label}: no arm configuration carries the whole motion", 1.0)
+
+    def _point_arc(
+        self, step: PlanStepRecord, chain: np.ndarray, final: Mapping[str, np.ndarray] | None, label: str
+    ) -> Rejection | None:
+        """Why the hand of `chain` cannot promise the arc member `step` pushes: turned about its axis, its pad does
+        not lie along the face, so it pushes with the rounded end, a point that does not hold the arc
+        (`law_error.point_margins`), and the plan's `final` poses miss a goal by that error; None otherwise."""
+        if final is None or step.effector != self.problem.robot_effector.name or step.body not in final:
+            return None
+        _, _, name = step.affordance.partition(".")
+        body = step.body
+        push = (step.poses_start[body] @ self.problem.action(body, name))[:3, 0]
+        if pad_lies_along(self.problem.arm.fk(chain[0]), push):
+            return None
+        motion = (step.poses_start[body], step.poses_end[body])
+        margins = point_margins(self.problem, body, name, motion, final[body])
+        ends = dict(final)
+        if not margins or goal_holds(self.problem, ends, margins=margins):
+            return None
+        cause = f"{POINT_SIGMAS:g} of its law's sigmas over the turn: the turned hand pushes with a point"
+        missed = uncertain_rejection(self.problem, ends, margins, cause)
+        why = f"{label}: the hand turned about its axis does not hold the arc: {missed.why}"
+        return Rejection(Kind.GOAL, why, missed.excess)
 
     def _contact_chain(self, step: PlanStepRecord, state: ArmState, label: str) -> Iterator[np.ndarray | Rejection]:
         """`_solved_contact_chain`, remembered by what it depends on (`remembered.step_key`): each chain is

@@ -37,7 +37,13 @@ from vkgl.plan.problem.over import FLAT, tool_parts
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.robot.pad import FINGER_PAD_WIDTH
-from vkgl.se3 import wrap_angle, yaw_of
+from vkgl.se3 import screw_motion, wrap_angle, yaw_of
+
+POINT_SIGMAS = 2.0
+"""How many of its law's sigmas an arc enacted by a point contact (the hand turned about its axis) is kept inside its
+goal by (`point_margins`). Not one: the hand follows the planned arc while the body turns at its own rate, so the
+contact slides along the face and the error feeds itself (gen15_028 of the physical bench: CubeS turned 22.8 deg
+past the law's 69, twice its sigma over the 28 cm of travel)."""
 
 
 def arc_law(problem: Problem, body: str, name: str) -> tuple[Arc, float, float] | None:
@@ -148,11 +154,35 @@ def law_margins(
     }
 
 
+def point_margins(
+    problem: Problem, body: str, name: str, motion: tuple[np.ndarray, np.ndarray], final: np.ndarray
+) -> dict[str, tuple[float, float]]:
+    """How far (m, rad) `body`'s `final` pose may lie from the plan's when the arc member `name` that moves it from
+    `motion[0]` to `motion[1]` (world poses) is pushed by a point, not a flat contact: `POINT_SIGMAS` of its law's
+    error over the member's turn (`arc_turn_error`), about the contact where the turn ends (the module's
+    docstring). Empty for anything but an arc member with a sigma.
+
+    The flat pad holds an arc (`holds_arc`); the pad's rounded end, which a hand turned about its axis pushes with
+    (`vkgl.robot.pad.turned_pad`), is exploration's point, whose arc is the law's with its error."""
+    law = arc_law(problem, body, name)
+    if law is None:
+        return {}
+    arc, sigma, offset = law
+    start, end = motion
+    turn = float(np.linalg.norm(screw_motion(start, end).rotvec))
+    error = POINT_SIGMAS * arc_turn_error(arc, sigma, offset, turn)
+    contact = end @ problem.action(body, name)[:, 3]
+    return {body: (error * float(np.linalg.norm(final[:2, 3] - contact[:2])), error)}
+
+
 def uncertain_rejection(
-    problem: Problem, final: dict[str, np.ndarray], margins: dict[str, tuple[float, float]]
+    problem: Problem,
+    final: dict[str, np.ndarray],
+    margins: dict[str, tuple[float, float]],
+    cause: str = "its law's sigma over the pull",
 ) -> Rejection:
     """Why a solution inside the goal's tolerance is no promise: its arcs' law errors (`law_margins`) reach past it
-    (the goal it misses most by, with the numbers)."""
+    (the goal it misses most by, with the numbers; `cause` words the margin)."""
     worst: tuple[float, str] = (-math.inf, "the arcs' law errors reach past the goal's tolerance")
     for goal in problem.goals:
         margin, turn_margin = margins.get(goal.body, (0.0, 0.0))
@@ -161,7 +191,7 @@ def uncertain_rejection(
             off = float(np.linalg.norm(pose[: len(goal.position), 3] - goal.position))
             why = (
                 f"{goal.body} would end {off * 100:.2f} cm from its goal, and its arc may end {margin * 100:.2f} cm "
-                f"farther (its law's sigma over the pull; tolerance {goal.tol_position * 100:.2f} cm)"
+                f"farther ({cause}; tolerance {goal.tol_position * 100:.2f} cm)"
             )
             worst = max(worst, (off + margin - goal.tol_position, why))
         if goal.yaw is not None and turn_margin > 0.0:
