@@ -38,7 +38,7 @@ from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import RESOLUTION, blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
 from vkgl.plan.task_space.law_error import law_margins, uncertain_rejection
-from vkgl.plan.task_space.reach.workspace import reach_violations, unreachable
+from vkgl.plan.task_space.reach.workspace import hand_down_points, reach_violations, unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -197,8 +197,8 @@ def constraint_values(
     `placed`: `body_constraints` already computed, by body and end pose (byte for byte: the same numbers),
     read and added to. The optimiser's finite differences move one value at a time, so most bodies end each
     mode where they ended at the point the step is taken from."""
-    hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
-    out = list(reach_violations(problem, np.array(hands))) if hands else []
+    hands = [pose for trace in traces for pose in trace.hand]
+    out = list(reach_violations(problem, hand_down_points(problem, np.array(hands)))) if hands else []
     for trace in traces:
         for name in sorted(trace.moved):  # a set of str: its order changes with the hash seed
             pose = trace.end[name]
