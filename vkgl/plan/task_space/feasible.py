@@ -196,21 +196,39 @@ def constraint_values(
 
     `placed`: `body_constraints` already computed, by body and end pose (byte for byte: the same numbers),
     read and added to. The optimiser's finite differences move one value at a time, so most bodies end each
-    mode where they ended at the point the step is taken from."""
-    hands = [pose[:3, 3] for trace in traces for pose in trace.hand]
-    out = list(reach_violations(problem, np.array(hands))) if hands else []
-    for trace in traces:
-        for name in sorted(trace.moved):  # a set of str: its order changes with the hash seed
-            pose = trace.end[name]
-            if placed is None:
-                out.extend(body_constraints(problem, name, pose))
-                continue
-            key = (name, pose.tobytes())
-            known = placed.get(key)
-            if known is None:
-                known = placed[key] = body_constraints(problem, name, pose)
-            out.extend(known)
-    return np.asarray(out if out else [-1.0], dtype=float)
+    mode where they ended at the point the step is taken from. What a mode gives is kept on its trace
+    (`_mode_parts`): a rollout reuses the traces of the modes its values did not change (`Rollouts`)."""
+    parts = [_mode_parts(problem, trace, placed) for trace in traces]
+    points = [hands for hands, _ in parts if hands is not None]
+    limits = [value for _, values in parts for value in values]
+    if not points:
+        return np.asarray(limits if limits else [-1.0], dtype=float)
+    reach = reach_violations(problem, points[0] if len(points) == 1 else np.concatenate(points))
+    return np.concatenate([reach, np.asarray(limits, dtype=float)]) if limits else reach
+
+
+def _mode_parts(
+    problem: Problem, trace: ModeTrace, placed: dict[tuple[str, bytes], list[float]] | None
+) -> tuple[np.ndarray | None, list[float]]:
+    """A mode's hand positions (n x 3, None without any) and its moved bodies' `body_constraints` (by name),
+    found once per trace (a trace's poses never change) and kept on it."""
+    kept = trace.__dict__.get("_parts")
+    if kept is not None and kept[0] is problem:
+        return kept[1], kept[2]
+    hands = np.array([pose[:3, 3] for pose in trace.hand]) if trace.hand else None
+    limits: list[float] = []
+    for name in sorted(trace.moved):  # a set of str: its order changes with the hash seed
+        pose = trace.end[name]
+        if placed is None:
+            limits.extend(body_constraints(problem, name, pose))
+            continue
+        key = (name, pose.tobytes())
+        known = placed.get(key)
+        if known is None:
+            known = placed[key] = body_constraints(problem, name, pose)
+        limits.extend(known)
+    trace.__dict__["_parts"] = (problem, hands, limits)
+    return hands, limits
 
 
 PLACED_REMEMBERED = 4096
