@@ -211,9 +211,9 @@ def _mode_parts(
     problem: Problem, trace: ModeTrace, placed: dict[tuple[str, bytes], list[float]] | None
 ) -> tuple[np.ndarray | None, list[float]]:
     """A mode's hand positions (n x 3, None without any) and its moved bodies' `body_constraints` (by name),
-    found once per trace (a trace's poses never change) and kept on it."""
+    with `placed` found once per trace (a trace's poses never change) and kept on it; without, afresh."""
     kept = trace.__dict__.get("_parts")
-    if kept is not None and kept[0] is problem:
+    if kept is not None and kept[0] is problem and placed is not None:
         return kept[1], kept[2]
     hands = np.array([pose[:3, 3] for pose in trace.hand]) if trace.hand else None
     limits: list[float] = []
@@ -227,7 +227,8 @@ def _mode_parts(
         if known is None:
             known = placed[key] = body_constraints(problem, name, pose)
         limits.extend(known)
-    trace.__dict__["_parts"] = (problem, hands, limits)
+    if placed is not None:
+        trace.__dict__["_parts"] = (problem, hands, limits)
     return hands, limits
 
 
