@@ -111,7 +111,7 @@ class _Evaluator:
             ok = self.evaluate(np.zeros_like(x))
             return np.full_like(ok[0], 1e6), np.full_like(ok[1], 1.0)
         if key not in self._memo:
-            if len(self._memo) > 64:
+            if len(self._memo) > MEMO_KEPT:
                 self._memo.clear()
             self._memo[key] = self._compute(x)
         return self._memo[key]
@@ -231,6 +231,12 @@ def _mode_parts(
         trace.__dict__["_parts"] = (problem, hands, limits)
     return hands, limits
 
+
+MEMO_KEPT = 1024
+"""Points an evaluator remembers (then forgets them all). With 64, the memo was cleared in the middle of a
+point's finite differences often enough that the constraints' gradient computed again, bit for bit, what the
+objective's had just computed (4 % of the evaluations of gen1_027); a point and its steps are tens of entries,
+of a few hundred bytes each."""
 
 PLACED_REMEMBERED = 4096
 """Bodies' `body_constraints` an evaluator keeps (its sequence's bodies at the poses the optimiser tried)."""
