@@ -25,6 +25,14 @@ from vkgl.lang.ir.nodes import PrismaticC, RevoluteC
 from vkgl.plan.graphs.carry import CARRY_VALUES, carriable, carried_pose, carry_bounds
 from vkgl.plan.graphs.graph import Action, Engagement, KGraph, g0, is_grasp, motion_type
 from vkgl.plan.graphs.members import action_at, arc_seed, contact_band, has_family
+from vkgl.plan.graphs.mode_shapes import (
+    CACHED_OFFSETS,
+    HAND_FREE,
+    HAND_HELD,
+    HAND_RETURNED,
+    ModeShape,
+    mode_shapes,
+)
 from vkgl.plan.graphs.motions import member_motions
 from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import Problem
@@ -382,20 +390,24 @@ def roll_mode(
 ) -> ModeTrace:
     """Mode k of a rollout: the transition into it, then its motions, from the bodies at `poses` after mode
     k - 1 with the family offsets `live` in force then (both advanced in place, to after mode k; the pose arrays
-    are replaced, never written to)."""
-    graph = seq.graphs[k]
-    if k > 0:
-        action = seq.actions[k - 1]
+    are replaced, never written to). What it reads of the sequence is found once (`mode_shapes`)."""
+    shape = mode_shapes(problem, seq)[k]
+    action = shape.action
+    if action is not None:  # the transition (`_transition`, with what it reads found once)
+        e = action.engagement
         if action.op == "add":
-            live[action.engagement] = given.offsets.get((k, action.engagement), 0.0)
-        _transition(problem, poses, action, live.get(action.engagement, 0.0))
-        if action.op == "remove":
-            live.pop(action.engagement, None)
-            for mode, pose in seq.returns:  # a tool set down where it was picked up
-                if mode == k:
-                    poses[action.engagement.body] = pose
+            live[e] = given.offsets.get((k, e), 0.0)
+            if shape.jump is not None:  # a tool jumps to its contact
+                tool, inverse = shape.jump
+                poses[tool] = poses[e.body] @ shape.contact(problem, e, live.get(e, 0.0)) @ inverse
+        else:
+            if shape.put_down is not None:
+                poses[e.body] = put_down(poses[e.body], shape.put_down)
+            live.pop(e, None)
+            if shape.returned is not None:  # a tool set down where it was picked up
+                poses[e.body] = shape.returned
     start = dict(poses)
-    moves = given.moves.get(k, [])
+    moves = given.moves.get(k, _NO_MOVES)
     paths = {}  # the body's motion at `samples` fractions of its value, for the hand path
     for e, v in moves:
         paths[e] = member_motions(problem, e, live.get(e, 0.0), _FRACTIONS[samples] * v)
@@ -403,16 +415,17 @@ def roll_mode(
     carried = given.carries.get(k, _NOTHING_CARRIED)
     for e, c in carried.items():
         poses[e.body] = carried_pose(start[e.body], c)
-    for e in graph.engaged:
-        tool = problem.effector(e.effector).tool
-        if tool is not None:
-            poses[tool] = tool_pose_on(problem, e, poses[e.body], live.get(e, 0.0))
+    for e, tool, inverse in shape.tools:
+        poses[tool] = poses[e.body] @ shape.contact(problem, e, live.get(e, 0.0)) @ inverse
     if carried:
         hand, yaw_free = _carry_hand_path(problem, carried, start, poses), False
     else:
-        hand, yaw_free = _hand_path(problem, seq, k, start, paths, live)
+        hand, yaw_free = _hand_path(problem, shape, start, paths, live)
     return ModeTrace(start, dict(poses), hand, yaw_free, {e: v for e, v in moves}, carried)
 
+
+_NO_MOVES: list[tuple[Engagement, float]] = []
+"""The `moves` of a mode that moves nothing (shared: never written to)."""
 
 _NOTHING_CARRIED: dict[Engagement, np.ndarray] = {}
 """The `carried` of a mode that carries nothing (shared: never written to)."""
@@ -428,37 +441,31 @@ def _carry_hand_path(
     return [start[e.body] @ grasp, end[e.body] @ grasp]
 
 
-def acting_engagement(problem: Problem, graph: KGraph) -> Engagement | None:
-    """The engagement through which the hand touches a body it moves: its own push, or its tool's; else None."""
-    holding = graph.using(problem.robot_effector.name)
-    if holding is None or motion_type(problem, holding) != "free":
-        return holding
-    return next((e for e in graph.engaged if problem.effector(e.effector).tool == holding.body), None)
-
-
 def _hand_path(
     problem: Problem,
-    seq: Sequence,
-    k: int,
+    shape: ModeShape,
     start: dict[str, np.ndarray],
     paths: dict[Engagement, np.ndarray],
     live: dict[Engagement, float],
 ) -> tuple[list[np.ndarray], bool]:
-    """The hand's poses during mode k: along the motion of what it pushes, at a grasp, or none (free)."""
-    graph = seq.graphs[k]
-    holding = graph.using(problem.robot_effector.name)
-    if holding is None:
-        returned = next((seq.actions[k - 1].engagement for mode, _ in seq.returns if mode == k), None)
-        if returned is None:
-            return [], True
-        # the hand lets go of the tool where it set it down: there at the start of the mode (`put_back`)
-        return [start[returned.body] @ problem.action(returned.body, returned.affordance)], False
-    acting = acting_engagement(problem, graph)
-    if acting is None:  # a tool free in the hand: only a grasp made at this transition pins the hand
-        just_grasped = k > 0 and seq.actions[k - 1].op == "add" and seq.actions[k - 1].engagement == holding
-        grasp = problem.action(holding.body, holding.affordance)
-        return ([start[holding.body] @ grasp] if just_grasped else []), False
-    chain, yaw_free = hand_chain(problem, graph, acting, live.get(acting, 0.0))  # type: ignore[misc]
-    if acting not in paths:
-        return [start[acting.body] @ chain], yaw_free
-    return list(start[acting.body] @ paths[acting] @ chain), yaw_free
+    """The hand's poses during a mode: along the motion of what it pushes, at a grasp, or none (free)."""
+    if shape.hand == HAND_FREE:
+        return [], True
+    e = shape.hand_engagement
+    assert e is not None
+    if shape.hand == HAND_RETURNED:  # the hand lets go of the tool where it set it down (`put_back`)
+        return [start[e.body] @ shape.hand_action], False
+    if shape.hand == HAND_HELD:  # a tool free in the hand: only a grasp made at this transition pins the hand
+        return ([start[e.body] @ shape.hand_action] if shape.just_grasped else []), False
+    offset = live.get(e, 0.0)
+    found = shape.chains.get(offset)
+    if found is None:
+        if len(shape.chains) >= CACHED_OFFSETS:
+            shape.chains.clear()
+        chained = hand_chain(problem, shape.graph, e, offset)
+        assert chained is not None  # a tool frame acts only while its tool is held (`acting_engagement`)
+        found = shape.chains[offset] = chained
+    chain, yaw_free = found
+    if e not in paths:
+        return [start[e.body] @ chain], yaw_free
+    return list(start[e.body] @ paths[e] @ chain), yaw_free

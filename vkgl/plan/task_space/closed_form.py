@@ -29,8 +29,9 @@ import numpy as np
 from vkgl.lang.ir.families import offset_bounds
 from vkgl.plan.graphs.graph import Engagement, motion_type
 from vkgl.plan.graphs.members import arc_seed, pivot_travel
+from vkgl.plan.graphs.mode_shapes import acting_engagement
 from vkgl.plan.graphs.motions import unit_axis_and_center
-from vkgl.plan.graphs.rollout import Sequence, acting_engagement, hand_chain
+from vkgl.plan.graphs.rollout import Sequence, hand_chain
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading

@@ -33,12 +33,13 @@ from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
-from vkgl.plan.task_space.body_limits import _stay_constraints, body_constraints, limit_words
+from vkgl.plan.task_space.body_limits import _stay_constraints, limit_words
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import RESOLUTION, blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
+from vkgl.plan.task_space.constraint_values import constraint_values
 from vkgl.plan.task_space.law_error import law_margins, uncertain_rejection
-from vkgl.plan.task_space.reach.workspace import hand_down_points, reach_violations, unreachable
+from vkgl.plan.task_space.reach.workspace import unreachable
 from vkgl.robot.optimise import slsqp
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -111,7 +112,7 @@ class _Evaluator:
             ok = self.evaluate(np.zeros_like(x))
             return np.full_like(ok[0], 1e6), np.full_like(ok[1], 1.0)
         if key not in self._memo:
-            if len(self._memo) > 64:
+            if len(self._memo) > MEMO_KEPT:
                 self._memo.clear()
             self._memo[key] = self._compute(x)
         return self._memo[key]
@@ -189,29 +190,11 @@ def goal_holds(
     return True
 
 
-def constraint_values(
-    problem: Problem, traces: list[ModeTrace], placed: dict[tuple[str, bytes], list[float]] | None = None
-) -> np.ndarray:
-    """Inequality constraints (<= 0 when satisfied, metres): reach of every hand sample, table, joint limits.
-
-    `placed`: `body_constraints` already computed, by body and end pose (byte for byte: the same numbers),
-    read and added to. The optimiser's finite differences move one value at a time, so most bodies end each
-    mode where they ended at the point the step is taken from."""
-    hands = [pose for trace in traces for pose in trace.hand]
-    out = list(reach_violations(problem, hand_down_points(problem, np.array(hands)))) if hands else []
-    for trace in traces:
-        for name in sorted(trace.moved):  # a set of str: its order changes with the hash seed
-            pose = trace.end[name]
-            if placed is None:
-                out.extend(body_constraints(problem, name, pose))
-                continue
-            key = (name, pose.tobytes())
-            known = placed.get(key)
-            if known is None:
-                known = placed[key] = body_constraints(problem, name, pose)
-            out.extend(known)
-    return np.asarray(out if out else [-1.0], dtype=float)
-
+MEMO_KEPT = 1024
+"""Points an evaluator remembers (then forgets them all). With 64, the memo was cleared in the middle of a
+point's finite differences often enough that the constraints' gradient computed again, bit for bit, what the
+objective's had just computed (4 % of the evaluations of gen1_027); a point and its steps are tens of entries,
+of a few hundred bytes each."""
 
 PLACED_REMEMBERED = 4096
 """Bodies' `body_constraints` an evaluator keeps (its sequence's bodies at the poses the optimiser tried)."""

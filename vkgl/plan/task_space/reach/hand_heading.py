@@ -20,8 +20,9 @@ import numpy as np
 
 from vkgl.plan.graphs.graph import Engagement
 from vkgl.plan.graphs.members import pivot_shift, pivot_travel
+from vkgl.plan.graphs.mode_shapes import acting_engagement
 from vkgl.plan.graphs.motions import unit_axis_and_center
-from vkgl.plan.graphs.rollout import Sequence, acting_engagement, bounds
+from vkgl.plan.graphs.rollout import Sequence, bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.reach.hand_reach import ACCEPTED_VIOLATION, LEVEL, hand_ring, offset_grid, reach_interval

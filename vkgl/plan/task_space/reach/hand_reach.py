@@ -18,8 +18,9 @@ import numpy as np
 
 from vkgl.plan.graphs.graph import Engagement, KGraph, motion_type
 from vkgl.plan.graphs.members import family_vectors
+from vkgl.plan.graphs.mode_shapes import acting_engagement
 from vkgl.plan.graphs.motions import unit_axis_and_center
-from vkgl.plan.graphs.rollout import Sequence, acting_engagement, bounds, hand_chain, value_bounds
+from vkgl.plan.graphs.rollout import Sequence, bounds, hand_chain, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, UPRIGHT
