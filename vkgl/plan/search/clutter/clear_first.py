@@ -56,16 +56,20 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from vkgl.plan.graphs.graph import Action
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
-from vkgl.plan.search.clutter.tool_path import PathSide, met_last, path_blockers, path_sides
+from vkgl.plan.search.clutter.tool_path import met_last, path_blockers, path_sides
+from vkgl.plan.search.clutter.words import closest as _closest
+from vkgl.plan.search.clutter.words import plan_words as _words
+from vkgl.plan.search.clutter.words import side_words as _side_words
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
+from vkgl.plan.search.stats import SearchStats, add_stats
 from vkgl.plan.task_space.clearing import Side, way_sides
 
 CLEAR_DEPTH = 5
@@ -91,6 +95,14 @@ THEN_FIRST = 0.1
 """The part of the work left that the search for the goals after each plan clearing the way gets first (the
 goal body's own plan, once the way is clear, is found with 10 to 60 units on the physical bench's near blocked
 tasks); those that spend it are searched again with `THEN_SHARE` once every side had its first try."""
+
+NARROW_SHARE = 1 / 3
+"""The part of the work left that the narrow try at clearing a blocker to one side may spend, before any other
+(`side_problem.only_moving`'s `along`: the goal bodies slide only along their own ways, every body is slid, not
+turned, and moved at most once): a plan found there leaves each goal body on its line, where the plan after it
+needs no move back. On the physical bench's gen3_033 it finds the Stick's clearing (clutter2 5.7 cm aside, then
+clutter1) with 303 units, where the whole space took 1,146 and found a plan that pushed the crate aside first;
+the narrow sides no plan reaches are proven so with about 100 units."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -147,13 +159,17 @@ def clear_first(
         return None
     proven = _proven(problem, before)
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
-    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths)
-    found = None
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True)
+    held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
+    found = _clear_then_solve(walk, blocking, start, proven, held)  # first the narrow walk (`NARROW_SHARE`)
+    if found is not None and found is not _NOTHING:
+        return found
+    walk.narrow, found = False, None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
-        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven)
+        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
         walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
-        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven)
+        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
     if found is not None:
@@ -170,7 +186,11 @@ def clear_first(
 
 
 def _clear_then_solve(
-    walk: _Walk, blocking: list[tuple[GoalSpec, str]], start: Sequence, proven: int
+    walk: _Walk,
+    blocking: list[tuple[GoalSpec, str]],
+    start: Sequence,
+    proven: int,
+    held: list[_Waiting] | None = None,
 ) -> Cleared | None:
     """The plans that clear the blockers (`_Walk.prefixes`), each followed by the search for the goals: the
     combined plan (`Cleared` with a result), or `_NOTHING` when every body in the way lies clear of the straight
@@ -182,8 +202,12 @@ def _clear_then_solve(
     work goes to the clearing plan that leaves the goal body where it lies before one that moved it away, not to
     whichever side was tried first. A clearing plan found in the second round of sides gets `THEN_SHARE` at once
     (gen9_043: the Hook's plan found there, its search cut at 26 units and again at 67 after the last side's
-    second try, where it needs a few hundred)."""
-    waiting: list[_Waiting] = []
+    second try, where it needs a few hundred).
+
+    `held`: the searches that wait from a walk before (the narrow walk's), taken over; the narrow walk
+    (`_Walk.narrow`) leaves its own there for the walk after it instead of searching them again."""
+    held = [] if held is None else held
+    waiting, held[:] = held[:], []
     first = True  # the first round of sides: a search for the goals gets a first try and waits
     for item in walk.prefixes(blocking, start):
         if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn, but those
@@ -196,6 +220,10 @@ def _clear_then_solve(
         prefix, values, cleared = item
         if not cleared:
             return _NOTHING
+        key = (prefix.actions, tuple((name, side.words) for name, side in cleared))
+        if key in walk.seen:  # the narrow walk's plan, found again by the whole space's search: searched once
+            continue
+        walk.seen.add(key)
         deeper = replace(
             walk.problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + walk.problem.max_depth), pinned=values
         )
@@ -209,6 +237,9 @@ def _clear_then_solve(
             then.log(walk, result)
         if walk.spent():
             break
+    if walk.narrow and not walk.spent():
+        held[:] = waiting  # their second search comes with the wide walk's, the likeliest first
+        return None
     return _then_again(walk, waiting, proven)
 
 
@@ -271,11 +302,6 @@ class _Waiting:
         walk.log.append(f"{self.moved()} ({self.prefix.depth} graphs), then {ended}{_closest(result)}")
 
 
-def _side_words(blocker: str, side: Side) -> str:
-    """Where `blocker` was cleared to, in words: a side of the way, or out of a tool's path (`PathSide`)."""
-    return f"{blocker} {side.words}" if isinstance(side, PathSide) else f"{blocker} {side.words} of the way"
-
-
 _NOTHING = Cleared(None, "")
 """What `_clear_then_solve` returns when nothing lies in the way."""
 
@@ -316,6 +342,8 @@ class _Walk:
     log: list[str] = field(default_factory=list)
     paths: dict[str, float] = field(default_factory=dict)  # bodies in a tool's or the hand's path: how deep met
     optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
+    narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
+    seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -351,7 +379,7 @@ class _Walk:
             return
         sides = (
             path_sides(self.problem, goal, blocker, self.paths[blocker])
-            if blocker in self.paths
+            if blocker in self.paths and not self.narrow
             else way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
         )
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
@@ -362,10 +390,17 @@ class _Walk:
         optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
         if optional:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
-        first = FIRST_TRY * self.left
         moved = False  # some side's plan moved it
+        for side in sides if self.narrow else ():  # the narrow walk: each side once, with `NARROW_SHARE`
+            if self.spent():
+                return
+            found = self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
+            if found.status == "solved":
+                moved = True
+                yield from self._then(found, rest, blocker, side)
+        first = FIRST_TRY * self.left
         again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
-        for side in sides:  # first round: every side with a small budget
+        for side in sides if not self.narrow else ():  # first round: every side with a small budget
             if self.spent():
                 return
             found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
@@ -404,10 +439,12 @@ class _Walk:
         budget: float,
         *,
         rolled: bool,
+        along: bool = False,
     ) -> SearchResult:
         """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work (`rolled`:
-        its slides also by a rolled hook): solved (with its sequence), proven infeasible (logged) or "timeout"."""
-        moving, still = only_moving(self.problem, goal, blocker, side, root)
+        its slides also by a rolled hook; `along`: the narrow try, `only_moving`'s): solved (with its sequence),
+        proven infeasible (logged) or "timeout"."""
+        moving, still = only_moving(self.problem, goal, blocker, side, root, along=along)
         sub = replace(
             with_rolled_members(moving, blocker) if rolled else moving,
             goals=[side_goal(self.problem, goal, blocker, side)],
@@ -419,7 +456,8 @@ class _Walk:
             return found
         if found.status != "timeout":
             words = f"no plan of at most {sub.max_depth} graphs{_closest(found)}"
-            self.log.append(f"{_side_words(blocker, side)}: {words}")
+            narrow = " (the goal body on its line, each body slid once)" if along else ""
+            self.log.append(f"{_side_words(blocker, side)}{narrow}: {words}")
             return replace(found, status="infeasible", sequence=None)
         return found
 
@@ -445,27 +483,6 @@ def _moves(root: Sequence, blocker: str) -> bool:
     moves it as far as the goal body's motions need (`clearing.cleared_values`), with no plan of its own: the
     plan is then two graphs shorter than one that clears it again."""
     return root.depth > 1 and any(e.body == blocker for _, e in root.variables)
-
-
-def _closest(found: SearchResult) -> str:
-    """The closest miss of a search for a plan that clears a blocker, in words (" (closest: ...)"), or "": what
-    a user needs to see why the blocker could not be moved there (the hand a few millimetres beyond the arm's
-    reach, the blocker through the goal body)."""
-    _, why = closest_miss(found.stats)
-    return f" (closest: {why})" if why else ""
-
-
-def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
-    """How the plan was found, and whether it is proven shortest."""
-    shortest = (
-        f"a shortest plan (no plan of at most {proven} graphs exists)"
-        if depth <= proven + 1
-        else f"not proven shortest (no plan of at most {proven} graphs exists; this one has {depth})"
-    )
-    return (
-        f"cleared the way first: {moved} (a plan of {prefix.depth} graphs), then the goal from there, {depth} "
-        f"graphs in all: {shortest}"
-    )
 
 
 __all__ = [
