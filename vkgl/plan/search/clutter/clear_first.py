@@ -21,6 +21,10 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
+**Narrow first.** The walk first goes over the way's blockers with a narrow sub-problem per side (`NARROW_SHARE`):
+each goal body slides only along its own way, every body is slid, not turned, and moved at most once
+(`only_moving(along=True)`): its plans leave the goal body on its line, where the plan after needs no move back.
+
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
 until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
@@ -97,12 +101,10 @@ goal body's own plan, once the way is clear, is found with 10 to 60 units on the
 tasks); those that spend it are searched again with `THEN_SHARE` once every side had its first try."""
 
 NARROW_SHARE = 1 / 3
-"""The part of the work left that the narrow try at clearing a blocker to one side may spend, before any other
-(`side_problem.only_moving`'s `along`: the goal bodies slide only along their own ways, every body is slid, not
-turned, and moved at most once): a plan found there leaves each goal body on its line, where the plan after it
-needs no move back. On the physical bench's gen3_033 it finds the Stick's clearing (clutter2 5.7 cm aside, then
-clutter1) with 303 units, where the whole space took 1,146 and found a plan that pushed the crate aside first;
-the narrow sides no plan reaches are proven so with about 100 units."""
+"""The part of the work left that the narrow try at clearing a blocker to one side may spend (module docstring):
+on the physical bench's gen3_033 it finds the Stick's clearing that leaves the crate on its line with 206 units
+(the whole space: 1,146, after one that pushed the crate aside with 307); narrow sides no plan reaches are
+proven so with about 100."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
