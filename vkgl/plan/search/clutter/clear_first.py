@@ -392,14 +392,15 @@ class _Walk:
         optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
         if optional:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
-        moved = False  # some side's plan moved it
-        for side in sides if self.narrow else ():  # the narrow walk: each side once, with `NARROW_SHARE`
+        moved = False  # some side's plan moved it; the narrow walk: with `NARROW_SHARE`, up to the first plan
+        for side in sides if self.narrow else ():
             if self.spent():
                 return
             found = self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
-            if found.status == "solved":
+            if found.status == "solved":  # (the other sides' plans are the wide walk's: each costs a search after)
                 moved = True
                 yield from self._then(found, rest, blocker, side)
+                break
         first = FIRST_TRY * self.left
         again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
         for side in sides if not self.narrow else ():  # first round: every side with a small budget
@@ -443,9 +444,8 @@ class _Walk:
         rolled: bool,
         along: bool = False,
     ) -> SearchResult:
-        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work (`rolled`:
-        its slides also by a rolled hook; `along`: the narrow try, `only_moving`'s): solved (with its sequence),
-        proven infeasible (logged) or "timeout"."""
+        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units (`rolled`: also by a
+        rolled hook; `along`: the narrow try): solved (with its sequence), proven infeasible (logged) or "timeout"."""
         moving, still = only_moving(self.problem, goal, blocker, side, root, along=along)
         sub = replace(
             with_rolled_members(moving, blocker) if rolled else moving,
