@@ -66,6 +66,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
+from vkgl.plan.search.clutter.side_problem import moved_before as _moves
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
 from vkgl.plan.search.clutter.tool_path import met_last, path_blockers, path_sides
 from vkgl.plan.search.clutter.words import closest as _closest
@@ -346,6 +347,7 @@ class _Walk:
     optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
     narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
     seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
+    narrowed: set[tuple[str, str, tuple[Action, ...]]] = field(default_factory=set)  # blocker, side, root: planned
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -399,6 +401,7 @@ class _Walk:
             found = self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
             if found.status == "solved":  # (the other sides' plans are the wide walk's: each costs a search after)
                 moved = True
+                self.narrowed.add((blocker, side.words, root.actions))
                 yield from self._then(found, rest, blocker, side)
                 break
         first = FIRST_TRY * self.left
@@ -406,6 +409,9 @@ class _Walk:
         for side in sides if not self.narrow else ():  # first round: every side with a small budget
             if self.spent():
                 return
+            if (blocker, side.words, root.actions) in self.narrowed:  # its narrow plan is being searched after:
+                again.append((side, False))  # the whole space's (its first try would find it again) comes second
+                continue
             found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
             if found.status == "timeout":
                 again.append((side, False))
@@ -476,15 +482,6 @@ class _Walk:
                 continue
             prefix, kept, cleared = item
             yield prefix, kept, [(blocker, side), *cleared]
-
-
-def _moves(root: Sequence, blocker: str) -> bool:
-    """Whether a motion value of `root` (the plan that cleared the blockers before) moves `blocker`: a body that
-    plan nudged out of its tool's way (gen3_023 of the physical bench: the fingertip pushes a cube 0.9 cm so that
-    the Hook, pushing the other cube aside, passes it). The search for the goals after `root`, its values free,
-    moves it as far as the goal body's motions need (`clearing.cleared_values`), with no plan of its own: the
-    plan is then two graphs shorter than one that clears it again."""
-    return root.depth > 1 and any(e.body == blocker for _, e in root.variables)
 
 
 __all__ = [
