@@ -72,8 +72,8 @@ def test_the_narrow_walk_tries_every_side_before_the_wide_one_and_searches_a_pla
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """The narrow walk tries the sides (with `NARROW_SHARE` of the work left each) before any wide try, up to the
-    first that has a plan (the left: the right is left to the wide walk); the wide walk tries the left only in its
-    second round, where it finds the same plan again: the search for the goals after it runs once."""
+    first that has a plan (the left: the right is left to the wide walk); in the wide walk that plan stands for the
+    left's first try (not searched again), and the search for the goals after it runs once."""
     monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT, RIGHT])
     monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
     monkeypatch.setattr(clear_first, "rolls", lambda *args: False)
@@ -105,5 +105,5 @@ def test_the_narrow_walk_tries_every_side_before_the_wide_one_and_searches_a_pla
     assert calls[0][2] == pytest.approx(clear_first.NARROW_SHARE * 900.0)
     walk.narrow = False
     assert clear_first._clear_then_solve(walk, [(goal, "block2")], Sequence(), 6) is None
-    assert [(words, along) for words, along, _ in calls[1:]] == [("right", False), ("left", False)]
+    assert [(words, along) for words, along, _ in calls[1:]] == [("right", False)]
     assert then == [4]  # the search for the goals after the plan: once, not again after the wide try found it

@@ -347,7 +347,7 @@ class _Walk:
     optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
     narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
     seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
-    narrowed: set[tuple[str, str, tuple[Action, ...]]] = field(default_factory=set)  # blocker, side, root: planned
+    narrowed: dict[tuple[str, str, tuple[Action, ...]], SearchResult] = field(default_factory=dict)  # its plans
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -401,7 +401,7 @@ class _Walk:
             found = self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
             if found.status == "solved":  # (the other sides' plans are the wide walk's: each costs a search after)
                 moved = True
-                self.narrowed.add((blocker, side.words, root.actions))
+                self.narrowed[(blocker, side.words, root.actions)] = found
                 yield from self._then(found, rest, blocker, side)
                 break
         first = FIRST_TRY * self.left
@@ -409,10 +409,8 @@ class _Walk:
         for side in sides if not self.narrow else ():  # first round: every side with a small budget
             if self.spent():
                 return
-            if (blocker, side.words, root.actions) in self.narrowed:  # its narrow plan is being searched after:
-                again.append((side, False))  # the whole space's (its first try would find it again) comes second
-                continue
-            found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
+            narrow = self.narrowed.get((blocker, side.words, root.actions))  # its narrow plan stands for its first
+            found = narrow or self._clear(goal, blocker, side, root, pinned, first, rolled=False)  # try's (same plan)
             if found.status == "timeout":
                 again.append((side, False))
             elif found.status == "infeasible" and blocker not in self.paths and rolls(self.problem, blocker):
