@@ -168,6 +168,8 @@ def _expand(
         if withholds(action, withheld) or (only is not None and not withholds(action, only)):
             continue
         child, hand = extend(problem, seq, action)
+        if problem.moves_once is not None and _moved_again(child, problem.moves_once):
+            continue
         stats.sequences += 1
         if hand is not None and (rejection := unreachable(problem, hand)) is not None:
             stats.pruned += 1
@@ -178,6 +180,17 @@ def _expand(
             stats.reject(rejection, functools.partial(_label, problem, child))
             continue
         _push(problem, frontier, child, path + (index,), order, stats)
+
+
+def _moved_again(child: Sequence, after: int) -> bool:
+    """Whether `child`'s last action makes a contact that moves a body which a mode of `child` from graph `after`
+    on moved before (`Problem.moves_once`)."""
+    action, mode = child.actions[-1], child.depth - 1
+    if action.op != "add":
+        return False
+    body = action.engagement.body
+    moving = any(m == mode and e.body == body for m, e in child.variables)
+    return moving and any(after <= m < mode and e.body == body for m, e in child.variables)
 
 
 def _label(problem: Problem, seq: Sequence) -> str:

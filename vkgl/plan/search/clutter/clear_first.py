@@ -21,6 +21,10 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
+**Narrow first.** The walk first goes over the way's blockers with a narrow sub-problem per side (`NARROW_SHARE`):
+each goal body slides only along its own way, every body is slid, not turned, and moved at most once
+(`only_moving(along=True)`): its plans leave the goal body on its line, where the plan after needs no move back.
+
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
 until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
@@ -56,16 +60,21 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from vkgl.plan.graphs.graph import Action
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
+from vkgl.plan.search.clutter.side_problem import moved_before as _moves
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
-from vkgl.plan.search.clutter.tool_path import PathSide, met_last, path_blockers, path_sides
+from vkgl.plan.search.clutter.tool_path import met_last, path_blockers, path_sides
+from vkgl.plan.search.clutter.words import closest as _closest
+from vkgl.plan.search.clutter.words import plan_words as _words
+from vkgl.plan.search.clutter.words import side_words as _side_words
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult, search
-from vkgl.plan.search.stats import SearchStats, add_stats, closest_miss
+from vkgl.plan.search.stats import SearchStats, add_stats
 from vkgl.plan.task_space.clearing import Side, way_sides
 
 CLEAR_DEPTH = 5
@@ -91,6 +100,12 @@ THEN_FIRST = 0.1
 """The part of the work left that the search for the goals after each plan clearing the way gets first (the
 goal body's own plan, once the way is clear, is found with 10 to 60 units on the physical bench's near blocked
 tasks); those that spend it are searched again with `THEN_SHARE` once every side had its first try."""
+
+NARROW_SHARE = 1 / 3
+"""The part of the work left that the narrow try at clearing a blocker to one side may spend (module docstring):
+on the physical bench's gen3_033 it finds the Stick's clearing that leaves the crate on its line with 206 units
+(the whole space: 1,146, after one that pushed the crate aside with 307); narrow sides no plan reaches are
+proven so with about 100."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
@@ -147,13 +162,17 @@ def clear_first(
         return None
     proven = _proven(problem, before)
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
-    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths)
-    found = None
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True)
+    held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
+    found = _clear_then_solve(walk, blocking, start, proven, held)  # first the narrow walk (`NARROW_SHARE`)
+    if found is not None and found is not _NOTHING:
+        return found
+    walk.narrow, found = False, None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
-        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven)
+        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
         walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
-        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven)
+        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
     if found is not None:
@@ -170,7 +189,11 @@ def clear_first(
 
 
 def _clear_then_solve(
-    walk: _Walk, blocking: list[tuple[GoalSpec, str]], start: Sequence, proven: int
+    walk: _Walk,
+    blocking: list[tuple[GoalSpec, str]],
+    start: Sequence,
+    proven: int,
+    held: list[_Waiting] | None = None,
 ) -> Cleared | None:
     """The plans that clear the blockers (`_Walk.prefixes`), each followed by the search for the goals: the
     combined plan (`Cleared` with a result), or `_NOTHING` when every body in the way lies clear of the straight
@@ -182,8 +205,12 @@ def _clear_then_solve(
     work goes to the clearing plan that leaves the goal body where it lies before one that moved it away, not to
     whichever side was tried first. A clearing plan found in the second round of sides gets `THEN_SHARE` at once
     (gen9_043: the Hook's plan found there, its search cut at 26 units and again at 67 after the last side's
-    second try, where it needs a few hundred)."""
-    waiting: list[_Waiting] = []
+    second try, where it needs a few hundred).
+
+    `held`: the searches that wait from a walk before (the narrow walk's), taken over; the narrow walk
+    (`_Walk.narrow`) leaves its own there for the walk after it instead of searching them again."""
+    held = [] if held is None else held
+    waiting, held[:] = held[:], []
     first = True  # the first round of sides: a search for the goals gets a first try and waits
     for item in walk.prefixes(blocking, start):
         if item is None:  # the first round of a blocker's sides is over: the waiting searches' turn, but those
@@ -196,6 +223,10 @@ def _clear_then_solve(
         prefix, values, cleared = item
         if not cleared:
             return _NOTHING
+        key = (prefix.actions, tuple((name, side.words) for name, side in cleared))
+        if key in walk.seen:  # the narrow walk's plan, found again by the whole space's search: searched once
+            continue
+        walk.seen.add(key)
         deeper = replace(
             walk.problem, max_depth=min(MAX_DEPTH, prefix.depth - 1 + walk.problem.max_depth), pinned=values
         )
@@ -209,6 +240,9 @@ def _clear_then_solve(
             then.log(walk, result)
         if walk.spent():
             break
+    if walk.narrow and not walk.spent():
+        held[:] = waiting  # their second search comes with the wide walk's, the likeliest first
+        return None
     return _then_again(walk, waiting, proven)
 
 
@@ -271,11 +305,6 @@ class _Waiting:
         walk.log.append(f"{self.moved()} ({self.prefix.depth} graphs), then {ended}{_closest(result)}")
 
 
-def _side_words(blocker: str, side: Side) -> str:
-    """Where `blocker` was cleared to, in words: a side of the way, or out of a tool's path (`PathSide`)."""
-    return f"{blocker} {side.words}" if isinstance(side, PathSide) else f"{blocker} {side.words} of the way"
-
-
 _NOTHING = Cleared(None, "")
 """What `_clear_then_solve` returns when nothing lies in the way."""
 
@@ -316,6 +345,9 @@ class _Walk:
     log: list[str] = field(default_factory=list)
     paths: dict[str, float] = field(default_factory=dict)  # bodies in a tool's or the hand's path: how deep met
     optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
+    narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
+    seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
+    narrowed: dict[tuple[str, str, tuple[Action, ...]], SearchResult] = field(default_factory=dict)  # its plans
 
     def search(
         self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
@@ -351,7 +383,7 @@ class _Walk:
             return
         sides = (
             path_sides(self.problem, goal, blocker, self.paths[blocker])
-            if blocker in self.paths
+            if blocker in self.paths and not self.narrow
             else way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
         )
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
@@ -362,13 +394,23 @@ class _Walk:
         optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
         if optional:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
-        first = FIRST_TRY * self.left
-        moved = False  # some side's plan moved it
-        again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
-        for side in sides:  # first round: every side with a small budget
+        moved = False  # some side's plan moved it; the narrow walk: with `NARROW_SHARE`, up to the first plan
+        for side in sides if self.narrow else ():
             if self.spent():
                 return
-            found = self._clear(goal, blocker, side, root, pinned, first, rolled=False)
+            found = self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
+            if found.status == "solved":  # (the other sides' plans are the wide walk's: each costs a search after)
+                moved = True
+                self.narrowed[(blocker, side.words, root.actions)] = found
+                yield from self._then(found, rest, blocker, side)
+                break
+        first = FIRST_TRY * self.left
+        again: list[tuple[Side, bool]] = []  # the sides that spent their first budget, and whether rolled next
+        for side in sides if not self.narrow else ():  # first round: every side with a small budget
+            if self.spent():
+                return
+            narrow = self.narrowed.get((blocker, side.words, root.actions))  # its narrow plan stands for its first
+            found = narrow or self._clear(goal, blocker, side, root, pinned, first, rolled=False)  # try's (same plan)
             if found.status == "timeout":
                 again.append((side, False))
             elif found.status == "infeasible" and blocker not in self.paths and rolls(self.problem, blocker):
@@ -404,10 +446,11 @@ class _Walk:
         budget: float,
         *,
         rolled: bool,
+        along: bool = False,
     ) -> SearchResult:
-        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units of work (`rolled`:
-        its slides also by a rolled hook): solved (with its sequence), proven infeasible (logged) or "timeout"."""
-        moving, still = only_moving(self.problem, goal, blocker, side, root)
+        """The search for a plan that clears `blocker` to `side` from `root` with `budget` units (`rolled`: also by a
+        rolled hook; `along`: the narrow try): solved (with its sequence), proven infeasible (logged) or "timeout"."""
+        moving, still = only_moving(self.problem, goal, blocker, side, root, along=along)
         sub = replace(
             with_rolled_members(moving, blocker) if rolled else moving,
             goals=[side_goal(self.problem, goal, blocker, side)],
@@ -419,7 +462,8 @@ class _Walk:
             return found
         if found.status != "timeout":
             words = f"no plan of at most {sub.max_depth} graphs{_closest(found)}"
-            self.log.append(f"{_side_words(blocker, side)}: {words}")
+            narrow = " (the goal body on its line, each body slid once)" if along else ""
+            self.log.append(f"{_side_words(blocker, side)}{narrow}: {words}")
             return replace(found, status="infeasible", sequence=None)
         return found
 
@@ -436,36 +480,6 @@ class _Walk:
                 continue
             prefix, kept, cleared = item
             yield prefix, kept, [(blocker, side), *cleared]
-
-
-def _moves(root: Sequence, blocker: str) -> bool:
-    """Whether a motion value of `root` (the plan that cleared the blockers before) moves `blocker`: a body that
-    plan nudged out of its tool's way (gen3_023 of the physical bench: the fingertip pushes a cube 0.9 cm so that
-    the Hook, pushing the other cube aside, passes it). The search for the goals after `root`, its values free,
-    moves it as far as the goal body's motions need (`clearing.cleared_values`), with no plan of its own: the
-    plan is then two graphs shorter than one that clears it again."""
-    return root.depth > 1 and any(e.body == blocker for _, e in root.variables)
-
-
-def _closest(found: SearchResult) -> str:
-    """The closest miss of a search for a plan that clears a blocker, in words (" (closest: ...)"), or "": what
-    a user needs to see why the blocker could not be moved there (the hand a few millimetres beyond the arm's
-    reach, the blocker through the goal body)."""
-    _, why = closest_miss(found.stats)
-    return f" (closest: {why})" if why else ""
-
-
-def _words(moved: str, prefix: Sequence, depth: int, proven: int) -> str:
-    """How the plan was found, and whether it is proven shortest."""
-    shortest = (
-        f"a shortest plan (no plan of at most {proven} graphs exists)"
-        if depth <= proven + 1
-        else f"not proven shortest (no plan of at most {proven} graphs exists; this one has {depth})"
-    )
-    return (
-        f"cleared the way first: {moved} (a plan of {prefix.depth} graphs), then the goal from there, {depth} "
-        f"graphs in all: {shortest}"
-    )
 
 
 __all__ = [

@@ -11,6 +11,7 @@ import numpy as np
 
 from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import Affordance
+from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.bounds.bound import Bound
@@ -18,9 +19,20 @@ from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.tool_path import PathSide
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side
 
+ALONG = math.cos(math.radians(30.0))
+"""The least |cosine| between a goal body's slide (its axis where the body rests) and its straight way for the
+slide to count as along the way (`along_way`): a crate explored on four faces slides along its four face normals,
+so on a way up to 30 deg off one of them one pair counts, and on one between two pairs (45 deg off each) none."""
+
 
 def only_moving(
-    problem: Problem, goal: GoalSpec, blocker: str, side: Side, root: Sequence | None = None
+    problem: Problem,
+    goal: GoalSpec,
+    blocker: str,
+    side: Side,
+    root: Sequence | None = None,
+    *,
+    along: bool = False,
 ) -> tuple[Problem, frozenset[str]]:
     """`problem` in which the goal bodies and the tools keep their affordances, and `blocker` those one motion of
     which takes it to `side` (all of them when none does), and the other free bodies, kept still (the second
@@ -39,6 +51,10 @@ def only_moving(
     instead of 3.9 s; a crate explored on four faces has 16 turns and 4 slides). One that only a tool can carry
     to its goal (`far_move_tools`) keeps only its slides (no grasp either); its moves are kept least (`least`).
 
+    With `along`, every goal body keeps only the slides along its own straight way (`along_way`: towards its goal
+    or back from it, never aside; none when it has none): the clearing plan then leaves the goal body on its line,
+    where the plan after it needs no move back (`clear_first` tries this sub-problem first).
+
     Whatever is left out, a body keeps every affordance `root` (the plan the sub-problem's search extends) engages:
     the search rolls `root` out in the sub-problem, and a contact it lacks was a KeyError (a blocker the plan
     before nudged with the fingertip, cleared again to a side whose movers are other slides)."""
@@ -54,6 +70,12 @@ def only_moving(
     own = problem.bodies[blocker]
     movers = tuple(a for a in own.affordances if a.name in side.movers) or own.affordances
     bodies[blocker] = replace(own, affordances=movers)
+    if along:
+        for own_goal in problem.goals:
+            body = bodies[own_goal.body]
+            bodies[own_goal.body] = replace(body, affordances=along_way(problem, own_goal, body.affordances))
+        for name in still | {blocker}:
+            bodies[name] = replace(bodies[name], affordances=_slides_first(bodies[name].affordances))
     wrong = frozenset().union(*(need.wrong_grasps for need in Bound(problem).needs))
     for tool in {e.tool for e in problem.effectors if e.tool is not None}:
         body = bodies[tool]
@@ -62,7 +84,35 @@ def only_moving(
             bodies[tool] = replace(body, affordances=right)
     for name, engaged in _engaged(root).items():
         bodies[name] = replace(bodies[name], affordances=_keeping(problem.bodies[name], bodies[name], engaged))
-    return replace(problem, bodies=bodies, least=frozenset(g.body for g in problem.goals)), still
+    once = (root.depth if root is not None else 1) if along else None
+    return replace(problem, bodies=bodies, least=frozenset(g.body for g in problem.goals), moves_once=once), still
+
+
+def along_way(problem: Problem, goal: GoalSpec, affordances: tuple[Affordance, ...]) -> tuple[Affordance, ...]:
+    """The slides of `affordances` (of `goal`'s body) whose axis, where the body rests, lies within `ALONG` of its
+    straight way to its goal, either way: a push along them leaves the body on its line (towards the goal, or
+    back from it to make room). None when the goal has no position (nothing to be along)."""
+    if goal.position is None:
+        return ()
+    rest = problem.bodies[goal.body].rest
+    way = np.asarray(goal.position[:2], dtype=float) - rest[:2, 3]
+    if float(np.linalg.norm(way)) < 1e-9:
+        return ()
+    way = way / float(np.linalg.norm(way))
+    kept = []
+    for affordance in affordances:
+        if affordance.motion.type != "prismatic":
+            continue
+        axis = (rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]
+        norm = float(np.linalg.norm(axis))
+        if norm > 1e-9 and abs(float(axis @ way)) / norm >= ALONG:
+            kept.append(affordance)
+    return tuple(kept)
+
+
+def _slides_first(affordances: tuple[Affordance, ...]) -> tuple[Affordance, ...]:
+    """The slides of `affordances` when it has some, else all of them."""
+    return tuple(a for a in affordances if a.motion.type == "prismatic") or affordances
 
 
 def _engaged(root: Sequence | None) -> dict[str, set[str]]:
@@ -82,6 +132,15 @@ def _keeping(whole: PlanBody, restricted: PlanBody, engaged: set[str]) -> tuple[
     return kept + extra
 
 
+def moved_before(root: Sequence, blocker: str) -> bool:
+    """Whether a motion value of `root` (the plan that cleared the blockers before) moves `blocker`: a body that
+    plan nudged out of its tool's way (gen3_023 of the physical bench: the fingertip pushes a cube 0.9 cm so that
+    the Hook, pushing the other cube aside, passes it). The search for the goals after `root`, its values free,
+    moves it as far as the goal body's motions need (`clearing.cleared_values`), with no plan of its own: the
+    plan is then two graphs shorter than one that clears it again."""
+    return root.depth > 1 and any(e.body == blocker for _, e in root.variables)
+
+
 def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> GoalSpec:
     """The region goal that puts `blocker`'s footprint beyond `side` of `goal`'s straight way, any heading."""
     return GoalSpec(
@@ -96,4 +155,4 @@ def side_goal(problem: Problem, goal: GoalSpec, blocker: str, side: Side) -> Goa
     )
 
 
-__all__ = ["only_moving", "side_goal"]
+__all__ = ["ALONG", "along_way", "moved_before", "only_moving", "side_goal"]

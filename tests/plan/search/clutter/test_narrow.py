@@ -1,0 +1,109 @@
+"""The narrow walk of clear-first (`vkgl.plan.search.clutter.clear_first`, `side_problem.only_moving(along=True)`):
+a clearing sub-problem in which the goal body slides only along its own way, every body is slid, not turned, and
+moved at most once (`Problem.moves_once`), searched for every side before the whole space (gen3_033 of the
+physical bench: a clearing that leaves the crate on its line, where the whole space found one that pushed it
+aside first)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+from test_clear_first import _problem as _aside_problem
+from test_then_order import LEFT, RIGHT, _prefix, _problem
+
+from vkgl.plan.graphs.graph import Action, Engagement
+from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.rollout import Sequence, extend, start_sequence
+from vkgl.plan.search.clutter import clear_first
+from vkgl.plan.search.clutter.side_problem import ALONG, along_way, only_moving
+from vkgl.plan.search.search import SearchResult, _moved_again
+from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.task_space.clearing import way_sides
+from vkgl.plan.task_space.feasible import TaskSolution
+
+
+def _world_axis(problem: object, body: str, affordance: object) -> np.ndarray:
+    rest = problem.bodies[body].rest  # type: ignore[attr-defined]
+    axis = (rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]  # type: ignore[attr-defined]
+    return axis / np.linalg.norm(axis)
+
+
+def test_the_narrow_sub_problem_keeps_the_goal_bodys_slides_along_its_way_only() -> None:
+    """The block's way runs along +x, along both its slides: the narrow sub-problem keeps them, and no turn;
+    block2 keeps only its slides; the moves are counted from the root's end. Its way turned 90 or 45 deg, the
+    same slides lie across it (or 45 deg off): dropped, the block is not moved at all."""
+    problem = _aside_problem(0.0)
+    goal = problem.goals[0]
+    side = way_sides(problem, goal, "block2")[0]
+    wide, _ = only_moving(problem, goal, "block2", side)
+    narrow, _ = only_moving(problem, goal, "block2", side, along=True)
+    slides = {a.name for a in wide.bodies["block"].affordances if a.motion.type == "prismatic"}
+    assert slides and {a.name for a in narrow.bodies["block"].affordances} == slides
+    assert all(abs(_world_axis(problem, "block", a)[0]) >= ALONG for a in narrow.bodies["block"].affordances)
+    assert {a.motion.type for a in narrow.bodies["block2"].affordances} == {"prismatic"}
+    assert wide.moves_once is None and narrow.moves_once == 1
+    for offset in ((0.0, 0.3), (0.2, 0.2)):
+        position = np.array(goal.position, dtype=float)
+        position[:2] = problem.bodies["block"].rest[:2, 3] + np.array(offset)
+        assert along_way(problem, replace(goal, position=position), problem.bodies["block"].affordances) == ()
+
+
+def test_a_contact_that_would_move_a_body_a_second_time_is_cut_past_the_root() -> None:
+    """`Problem.moves_once`: block2 pushed, let go of, and pushed again is cut; pushed once after a root that
+    pushed it already is not (the root's moves do not count)."""
+    problem = _aside_problem(0.0)
+    push = next(a.name for a in problem.bodies["block2"].affordances if a.motion.type == "prismatic")
+    e = Engagement("arm.fingertip", "block2", push)
+    seq = start_sequence(problem)
+    seq, _ = extend(problem, seq, Action("add", e))
+    assert not _moved_again(seq, 1)
+    seq, _ = extend(problem, seq, Action("remove", e))
+    assert not _moved_again(seq, 1)
+    again, _ = extend(problem, seq, Action("add", e))
+    assert _moved_again(again, 1)
+    assert not _moved_again(again, seq.depth)  # the first push belongs to the root
+
+
+def test_the_narrow_walk_tries_every_side_before_the_wide_one_and_searches_a_plan_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The narrow walk tries the sides (with `NARROW_SHARE` of the work left each) before any wide try, up to the
+    first that has a plan (the left: the right is left to the wide walk); in the wide walk that plan stands for the
+    left's first try (not searched again), and the search for the goals after it runs once."""
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT, RIGHT])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    monkeypatch.setattr(clear_first, "rolls", lambda *args: False)
+    calls: list[tuple[str, bool, float]] = []
+    plan = _prefix(4, frozenset({"block2"}))
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float,
+              *, rolled: bool = False, along: bool = False) -> SearchResult:  # fmt: skip
+        calls.append((side.words, along, budget))  # type: ignore[attr-defined]
+        if side is LEFT:
+            return SearchResult("solved", "", SearchStats(), sequence=plan, task=TaskSolution(np.zeros(0), []))
+        return SearchResult("infeasible", "", SearchStats())
+
+    then: list[int] = []
+
+    def search(problem: object, *, deadline: float, progress: bool, root: Sequence, budget: float, **kw: object):
+        then.append(root.depth)
+        stats = SearchStats()
+        stats.graphs_expanded = 20
+        return SearchResult("infeasible", "", stats)
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    monkeypatch.setattr(clear_first, "search", search)
+    problem = _problem(tmp_path)
+    walk = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, narrow=True)
+    goal = problem.goals[0]
+    assert clear_first._clear_then_solve(walk, [(goal, "block2")], Sequence(), 6) is None
+    assert [(words, along) for words, along, _ in calls] == [("left", True)]
+    assert calls[0][2] == pytest.approx(clear_first.NARROW_SHARE * 900.0)
+    walk.narrow = False
+    assert clear_first._clear_then_solve(walk, [(goal, "block2")], Sequence(), 6) is None
+    assert [(words, along) for words, along, _ in calls[1:]] == [("right", False)]
+    assert then == [4]  # the search for the goals after the plan: once, not again after the wide try found it
