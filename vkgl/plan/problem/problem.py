@@ -198,9 +198,7 @@ class Problem:
     least: frozenset[str] = frozenset()
     """Bodies moved only to make room (`clear_first`'s goal bodies): their motions kept least (`least_room`)."""
     moves_once: int | None = None
-    """When set, the modes after the first `moves_once` graphs move each body at most once: the search makes no
-    contact that would move a body again (`clear_first`'s first, narrow try at clearing a blocker); None: no
-    such limit."""
+    """Modes after the first `moves_once` graphs move each body at most once (`clear_first`'s narrow try)."""
     _footprints: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
     _affordances: dict[tuple[str, str], Affordance] = field(default_factory=dict, repr=False)
     _effectors: dict[str, EffectorSpec] = field(default_factory=dict, repr=False)
