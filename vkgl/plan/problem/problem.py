@@ -188,8 +188,7 @@ class Problem:
     max_depth: int
     timeout: float
     avoid: Avoid | None = None  # what a re-solve must not repeat (`vkgl.plan.problem.avoid`); None: nothing
-    arm_start: np.ndarray | None = None
-    """The arm's joints before the first step (None: its home configuration)."""
+    arm_start: np.ndarray | None = None  # the arm's joints before the first step (None: its home configuration)
     keep_out: tuple[KeepOutSpec, ...] = ()
     """The task's keep-out regions: no body they apply to may enter one, along any motion."""
     pinned: tuple[float, ...] = ()
