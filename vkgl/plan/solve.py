@@ -137,7 +137,7 @@ def _hopeless(problem: Problem) -> str | None:
     A goal past the body's joint limits (a joint goal's opening, or where a
     position goal puts a slide), a goal off the table, or nothing to move the body.
     """
-    from vkgl.plan.task_space.body_limits import goal_joint_state, limit_words
+    from vkgl.plan.task_space.constraints.body_limits import goal_joint_state, limit_words
 
     for goal in problem.goals:
         body = problem.bodies[goal.body]

@@ -105,7 +105,7 @@ def test_a_closed_range_stays_a_bound_where_the_open_one_does_not(tmp_path):
 
 
 def test_a_moved_body_stays_on_the_table_with_its_whole_outline(tmp_path):
-    from vkgl.plan.task_space.body_limits import _stay_constraints
+    from vkgl.plan.task_space.constraints.body_limits import _stay_constraints
 
     plan = solve(slide_task(tmp_path, " range 0 to 10 cm open", 2))
     problem = plan.problem

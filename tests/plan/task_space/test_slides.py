@@ -164,7 +164,7 @@ def test_the_reach_of_many_points_is_each_points_reach(problem, xy, height, plan
 
 
 def test_remembered_body_constraints_give_the_numbers_computed_afresh(problem) -> None:
-    from vkgl.plan.task_space.constraint_values import constraint_values
+    from vkgl.plan.task_space.constraints.values import constraint_values
 
     placed: dict[tuple[str, bytes], list[float]] = {}
     rng = np.random.default_rng(5)

@@ -28,7 +28,7 @@ from vkgl.plan.graphs.graph import motion_type
 from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.constraint_values import constraint_values
+from vkgl.plan.task_space.constraints.values import constraint_values
 from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TASK_SAMPLES, TaskSolution, goal_holds
 
 SLIDE_STEPS = (0.02, 0.05, 0.08, 0.12, 0.16)

@@ -33,11 +33,11 @@ from vkgl.plan.graphs.tool_faces import slide_band
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.arc_offsets import cap_arc_turns, named_offsets, seeds_only
-from vkgl.plan.task_space.body_limits import _stay_constraints, limit_words
 from vkgl.plan.task_space.carry_start import carry_start
 from vkgl.plan.task_space.clearing import RESOLUTION, blockers, cleared_values
 from vkgl.plan.task_space.closed_form import remembered_closed_form
-from vkgl.plan.task_space.constraint_values import constraint_values
+from vkgl.plan.task_space.constraints.body_limits import _stay_constraints, limit_words
+from vkgl.plan.task_space.constraints.values import constraint_values
 from vkgl.plan.task_space.law_error import law_margins, uncertain_rejection
 from vkgl.plan.task_space.reach.workspace import unreachable
 from vkgl.robot.optimise import slsqp

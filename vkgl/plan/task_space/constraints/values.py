@@ -8,7 +8,7 @@ import numpy as np
 
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem
-from vkgl.plan.task_space.body_limits import body_constraints
+from vkgl.plan.task_space.constraints.body_limits import body_constraints
 from vkgl.plan.task_space.reach.workspace import hand_down_points, reach_violations
 
 
