@@ -86,6 +86,12 @@ def _motion_matrices(constraint: object, values: np.ndarray, shift: np.ndarray |
 _AXES: dict[int, tuple[object, np.ndarray, np.ndarray | None]] = {}
 
 
+def rest_axis(rest: np.ndarray, constraint: object) -> np.ndarray:
+    """The world x, y of `constraint`'s axis (`unit_axis_and_center`) where its body rests at `rest` (4x4): the
+    direction on the table a slide moves the body, not normalised (a vertical axis gives about zero)."""
+    return (rest[:3, :3] @ unit_axis_and_center(constraint)[0])[:2]
+
+
 def unit_axis_and_center(constraint: object) -> tuple[np.ndarray, np.ndarray | None]:
     """(unit axis, centre) of a revolute constraint, (unit axis, None) of a prismatic one, zero axis otherwise."""
     cached = _AXES.get(id(constraint))

@@ -38,7 +38,7 @@ from vkgl.lang.ir.families import tool_only
 from vkgl.lang.ir.regions import convex_hull
 from vkgl.lang.ir.regions import footprint as region_footprint
 from vkgl.plan.graphs.graph import Engagement
-from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
+from vkgl.plan.graphs.motions import motion_matrices, rest_axis
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, rollout, tool_pose_on, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.rotations import yaw_matrix
@@ -321,7 +321,7 @@ def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[str,
     for affordance in plan_body.affordances:
         if affordance.motion.type != "prismatic":
             continue
-        axis = (rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]
+        axis = rest_axis(rest, affordance.motion)
         if float(np.linalg.norm(axis)) < 1e-9 or float(axis @ u) / float(np.linalg.norm(axis)) < TOWARDS:
             continue
         for effector in problem.effectors:

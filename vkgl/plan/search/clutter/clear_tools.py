@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from vkgl.lang.ir.nodes import Affordance
-from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.motions import rest_axis
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
 from vkgl.plan.search.bounds.goal_reach import ends_beyond_the_hand
@@ -46,7 +46,7 @@ def towards_slides(problem: Problem, goal: GoalSpec) -> list[Affordance]:
     for affordance in body.affordances:
         if affordance.motion.type != "prismatic" or body.joint not in (None, "prismatic"):
             continue
-        axis = (body.rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]
+        axis = rest_axis(body.rest, affordance.motion)
         norm = float(np.linalg.norm(axis))
         if norm > 1e-9 and float(axis @ u) / norm >= TOWARDS:
             out.append(affordance)

@@ -11,7 +11,7 @@ import numpy as np
 
 from vkgl.lang.ir.families import find_member
 from vkgl.lang.ir.nodes import Affordance
-from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.motions import rest_axis
 from vkgl.plan.graphs.rollout import Sequence
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
 from vkgl.plan.search.bounds.bound import Bound
@@ -103,7 +103,7 @@ def along_way(problem: Problem, goal: GoalSpec, affordances: tuple[Affordance, .
     for affordance in affordances:
         if affordance.motion.type != "prismatic":
             continue
-        axis = (rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]
+        axis = rest_axis(rest, affordance.motion)
         norm = float(np.linalg.norm(axis))
         if norm > 1e-9 and abs(float(axis @ way)) / norm >= ALONG:
             kept.append(affordance)

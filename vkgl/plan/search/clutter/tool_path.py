@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from vkgl.plan.graphs.motions import unit_axis_and_center
+from vkgl.plan.graphs.motions import rest_axis
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.ordering import InTheWay
@@ -113,7 +113,7 @@ def path_sides(problem: Problem, goal: GoalSpec, blocker: str, depth: float) -> 
     for affordance in body.affordances:
         if affordance.motion.type != "prismatic" or value_bounds(affordance.motion)[1] < step:
             continue
-        axis = (body.rest[:3, :3] @ unit_axis_and_center(affordance.motion)[0])[:2]
+        axis = rest_axis(body.rest, affordance.motion)
         norm = float(np.linalg.norm(axis))
         if norm < 1e-9:
             continue
