@@ -114,13 +114,26 @@ def test_the_walk_sees_an_import_inside_a_function(tmp_path: Path) -> None:
     assert (2, "vkgl.plan.solve") in all_imports(module)
 
 
-def test_no_folder_holds_more_than_a_dozen_modules() -> None:
-    crowded = {
-        str(folder.relative_to(REPO)): n
-        for folder in sorted({p.parent for p in PACKAGE.rglob("*.py")})
+def crowded_folders(root: Path) -> dict[str, int]:
+    """The folders under `root` holding more than a dozen modules (`__init__.py` not counted)."""
+    return {
+        str(folder.relative_to(root.parent)): n
+        for folder in sorted({p.parent for p in root.rglob("*.py")})
         if (n := len([p for p in folder.glob("*.py") if p.name != "__init__.py"])) > 12
     }
+
+
+@pytest.mark.parametrize("root", ["vkgl", "bench"])
+def test_no_folder_holds_more_than_a_dozen_modules(root: str) -> None:
+    crowded = crowded_folders(REPO / root)
     assert not crowded, f"give these folders rooms: {crowded}"
+
+
+def test_the_crowding_check_sees_a_crowded_folder(tmp_path: Path) -> None:
+    for i in range(13):
+        (tmp_path / "pkg" / f"m{i}.py").parent.mkdir(exist_ok=True)
+        (tmp_path / "pkg" / f"m{i}.py").write_text("")
+    assert crowded_folders(tmp_path / "pkg") == {"pkg": 13}
 
 
 # Folders of tests that are not a package's mirror: shared helpers, golden cases, the benches' own tests.

@@ -1,6 +1,7 @@
 """Plans for generated tasks pass the independent geometry check (issue 12: every plan it solves is collision-free).
 
-A seeded selection of the physical benchmark's tasks (`tests/support/generated_tasks.py`, bench/bench_physical.py)
+A seeded selection of the physical benchmark's tasks (`tests/support/generated_tasks.py`,
+bench/physical/bench_physical.py)
 that the planner solves in well under a second each, covering what the examples do not: generated body types
 (slabs, cubes, a crate 25 cm tall), 1 to 4 clutter bodies on the table, a motion repeated past its explored range,
 a turn before a push, the stick and the hook. Each plan is checked by `tests/support/plan_geometry.py`, which builds

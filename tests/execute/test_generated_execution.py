@@ -1,4 +1,4 @@
-"""Generated tasks whose first plans failed in physics, carried out in DART (bench/bench_physical.py's tasks).
+"""Generated tasks whose first plans failed in physics, carried out in DART (bench/physical/bench_physical.py's tasks).
 
 The generated bodies' affordances are the fixtures of tests/bench/learned (`tests/bench/test_generated_plans.py`).
 """

@@ -1,4 +1,4 @@
-"""Inference on synthetic trials with known ground truth (a fast subset of bench/bench_infer.py)."""
+"""Inference on synthetic trials with known ground truth (a fast subset of bench/infer/bench_infer.py)."""
 
 from __future__ import annotations
 

@@ -32,7 +32,7 @@ def test_ik_round_trips_random_reachable_targets_within_the_limits(arm: Arm) -> 
 
 
 def test_ik_solves_hand_down_pushes_all_over_the_table(arm: Arm) -> None:
-    # (how fast: bench/bench_robot.py)
+    # (how fast: bench/robot/bench_robot.py)
     rng = np.random.default_rng(3)
     for _ in range(40):
         radius, azimuth, yaw = rng.uniform(0.3, 0.75), rng.uniform(-1.5, 1.5), rng.uniform(-math.pi, math.pi)

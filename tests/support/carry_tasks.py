@@ -38,7 +38,7 @@ class CarrySpec:
         return f"carry{self.seed}_{self.index:03d}"
 
     def metadata(self) -> dict[str, object]:
-        """What bench/bench_physical.py groups its tables by."""
+        """What bench/physical/bench_physical.py groups its tables by."""
         width = min(self.size[:2])
         return {
             "name": self.name,

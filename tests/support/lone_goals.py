@@ -1,5 +1,6 @@
 """One body alone on the tabletop at (0.45, 0) m and goals around it: the task text and the solves, shared by the
-benches that measure how goals that turn a body are reached (bench/bench_heading.py, bench/bench_arc_offsets.py).
+benches that measure how goals that turn a body are reached (bench/physical/bench_heading.py,
+bench/physical/bench_arc_offsets.py).
 
 Every body is the stdlib Block and each generated type (generated_tasks.GENERATED_TYPES, their learned fixtures in
 tests/bench/learned/).

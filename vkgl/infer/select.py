@@ -140,7 +140,7 @@ def end_offset(data: EdgeData, t: np.ndarray) -> tuple[float, float] | None:
     `END_WINDOW` from the start, and the angle (rad; nan when no orientation was observed there) of the mean
     orientation over that window (its plausible samples) from the start. The start is the at-rest model's own
     pose (the median of the first plausible samples). None for fewer than 2 samples or times that do not match
-    them: the statistic `moved_off_start` tests (bench/bench_moved.py prints it).
+    them: the statistic `moved_off_start` tests (bench/infer/bench_moved.py prints it).
 
     A position (orientation) of the window, not the median of the samples' distances (angles): the start's own
     error is shared by every sample of the window, so a median of their distances does not average it out, and

@@ -7,7 +7,7 @@ root joint, and its collision shape nodes form one FCL group. A query sets the
 joint positions (DART updates the links' transforms) and collides that group
 with the scene's cached group of the bodies in question: one call into C++,
 FCL's broad phase included. That makes it usable as the state-validity check
-of transit planning (bench/bench_collision.py: tens of microseconds per
+of transit planning (bench/robot/bench_collision.py: tens of microseconds per
 configuration with 10 bodies and the table).
 
 Self-collision of the arm is not checked here.

@@ -13,7 +13,7 @@ the fingertip's face, a body resting on the table) is allowed; that is what
 the tolerance is for, and it is also the accuracy asked of the geometry.
 
 Why DART's FCL and not coal or python-fcl: docs/collision.md has the numbers
-(bench/bench_collision.py). In short, the same answers, no new dependency, and
+(bench/robot/bench_collision.py). In short, the same answers, no new dependency, and
 the per-query work stays in C++ (one `collide` of a group against a group,
 FCL's own broad phase) where the other libraries need a Python loop over pairs.
 

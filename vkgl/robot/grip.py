@@ -6,7 +6,7 @@ planner estimates the load of each push with a held tool before it plans one
 
 Why a model and not the fingers' own contacts: in DART 6.20, with the
 execution world's friction-cone solver (NSGS, Coulomb law), two fingers pressed
-on a 40 cm stick by their joints' force did not hold it (bench/bench_grip.py:
+on a 40 cm stick by their joints' force did not hold it (bench/robot/bench_grip.py:
 the stick turned 16 deg and slid 5.6 mm in the grip while lifted and carried;
 the fingers sank 3.3 mm into it per side at the 1 ms time step and jittered by
 3.4 mm; a 0.25 ms step removed the sinking but not the turning, at 60 times the

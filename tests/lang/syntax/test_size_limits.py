@@ -2,7 +2,7 @@
 
 A 9 MB one-line file took 80 s and 7 GB, 100,000 bodies in 4.9 MB 36 s and
 1.8 GB, a mesh of 1.3 million faces 22 s and 2.2 GB: each is now refused before
-it is parsed or loaded (bench/bench_limits.py measures both sides).
+it is parsed or loaded (bench/lang/bench_limits.py measures both sides).
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The grip estimate counts the held tool's weight alone as well as the doubled push, with the margin measured in
-DART (`vkgl.plan.geometry.grip_load`, bench/bench_grip_margin.py)."""
+DART (`vkgl.plan.geometry.grip_load`, bench/physical/bench_grip_margin.py)."""
 
 from __future__ import annotations
 

@@ -4,7 +4,7 @@ Task j says its goal relative to the block's start (`moved by ... in block`,
 `turned by`); the planner sees the pose goal it stands for. Task k asks for
 the block anywhere in a region: one contact stops it at the region's near
 edge, where the pose goal at the region's centre needs more
-(bench/bench_region_goals.py measures more cases). Task l keeps every body
+(bench/plan/bench_region_goals.py measures more cases). Task l keeps every body
 out of a region beside the block. Task m opens a drawer placed `at cabinet.slot`
 in a cabinet turned 20 deg.
 """

@@ -18,7 +18,7 @@ import struct
 from typing import Any
 
 MAX_MESH_FACES = 500_000
-"""The most triangles a mesh may have (about 0.2 GB and 10 s to check at the limit; bench/bench_limits.py)."""
+"""The most triangles a mesh may have (about 0.2 GB and 10 s to check at the limit; bench/lang/bench_limits.py)."""
 MAX_MESH_BYTES = 128 * 1024 * 1024
 """The largest mesh file read: an ASCII STL of MAX_MESH_FACES triangles is about 130 MB."""
 

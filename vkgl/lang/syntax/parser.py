@@ -94,7 +94,7 @@ def _parse_cached(text: str, path: str) -> _Parsed:
 
 MAX_TOKENS = 200_000
 """The most tokens a source file may hold (E510). Compiling costs about 1 KB of memory per token at its peak;
-a 10,000-body scene is about 140,000 tokens (bench/bench_limits.py measures both sides of the limit)."""
+a 10,000-body scene is about 140,000 tokens (bench/lang/bench_limits.py measures both sides of the limit)."""
 
 # What counts as a token: a name, a number (with its exponent), a string, any other mark; a comment is skipped.
 _TOKEN = re.compile(r'#[^\n]*|"[^"\n]*"?|\w+(?:\.\w+)*(?:[eE][-+]?\d+)?|\S')

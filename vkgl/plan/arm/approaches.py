@@ -28,7 +28,7 @@ push after coming in near it, else back out the way it came); the planner
 checks that move (`StraightMoves.leave`, `StraightMoves.retreat`) and
 execution makes it (`vkgl.execute.steps`).
 
-The cost, measured with `bench/bench_approaches.py` (the Hook behind the
+The cost, measured with `bench/plan/bench_approaches.py` (the Hook behind the
 Drawer's bar; 2 cores shared, load 12): one way costs one chained IK of 7 to
 13 poses and their collision checks, 2 to 6 ms; the contact a ledge leaves
 only the side open is reached at the 20th way in 40 ms; one none of the

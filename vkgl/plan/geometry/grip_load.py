@@ -47,7 +47,8 @@ PEAK_RATIO = 1.68
 
 GRIP_MARGIN = 1.1 * PEAK_RATIO
 """The estimate (the larger of the tool's weight alone and the push counted `PUSH_FACTOR` times) times this must
-stay within the grip. Measured with `bench/bench_grip_margin.py` (18 pushes and pulls with the Stick and the Hook
+stay within the grip. Measured with `bench/physical/bench_grip_margin.py` (18 pushes and pulls with the Stick and
+the Hook
 held by `wield` at 70 N or by a 20 N top grasp, bodies resisting with 1.3 to 5.7 N, moved 12 to 28 cm, carried
 out in DART): the executor's peak load over the step came to 1.00 to 1.68 times the estimate (median 1.20; the
 largest, the Hook wielded pulling a 0.5 kg cube at mu 0.8, `PEAK_RATIO`); the margin is that plus 10 % (1.85):

@@ -18,7 +18,7 @@ from vkgl.plan.task_space.feasible import Counters
 
 @dataclass
 class SearchStats:
-    """Counters of one search (reported in the plan and by bench/bench_solve.py)."""
+    """Counters of one search (reported in the plan and by bench/plan/bench_solve.py)."""
 
     graphs_expanded: int = 0
     sequences: int = 0
@@ -88,7 +88,7 @@ WORK_WEIGHTS = {
 }
 """The weight of each counted step in `SearchStats.work_done`, in task-space optimisations (NLopt runs, about 10 ms
 of CPU each): fitted by least squares (non-negative) to the CPU seconds of 56 searches of the physical bench's
-blocked tasks (`bench/bench_blocked.py`) and rounded: a graph expanded (its successors made, their reach checked)
+blocked tasks (`bench/plan/bench_blocked.py`) and rounded: a graph expanded (its successors made, their reach checked)
 costs about 0.5 ms, a task-space check's own work (closed form, before any optimisation) 0.2 ms, an IK call
 1.5 ms, a sequence's straight arm moves (contact chains) about 100 ms and an OMPL transit about 60 ms. A budget is
 a count; the timeout guards the clock."""

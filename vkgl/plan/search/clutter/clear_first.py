@@ -128,7 +128,8 @@ the tasks with a body in the way that the search solves take at most a third of 
 
 WORK_PER_SECOND = 80.0
 """Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout
-buys for a blocked task's clearing (`work_budget`): on the physical bench's blocked tasks (`bench/bench_blocked.py`)
+buys for a blocked task's clearing (`work_budget`): on the physical bench's blocked tasks
+(`bench/plan/bench_blocked.py`)
 one core does 65 to 150 units a second, about 100 on most, so that the clearing's half of a 20 s timeout (800
 units) is spent before the deadline ends anything on most tasks."""
 
