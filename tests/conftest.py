@@ -44,37 +44,37 @@ STDLIB = REPO / "stdlib"
 SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers busy)
     "tests/execute/test_closed_loop.py",  # 50
     "tests/infer/test_learn.py",  # 47: learns the whole stdlib, in 2 processes
-    "tests/execute/test_generated_execution.py",  # 30
-    "tests/execute/test_tall_bodies.py",  # 29
+    "tests/scenarios/tools/test_generated_execution.py",  # 30
+    "tests/scenarios/goals/test_tall_bodies.py",  # 29
     "tests/test_tooling.py",  # 21: mypy of a fresh clone (Ray not followed)
-    "tests/execute/test_wide_pulls.py",  # 21
+    "tests/scenarios/tools/test_wide_pulls.py",  # 21
     "tests/plan/geometry/test_geometry_check.py",  # 19
-    "tests/execute/test_contact_chain.py",  # 18
+    "tests/scenarios/tools/test_contact_chain.py",  # 18
     "tests/test_docs_api.py",  # 17
     "tests/lang/test_robustness.py",  # 15
     "tests/lang/syntax/test_printer.py",  # 12
-    "tests/execute/test_goal_forms_in_dart.py",  # 11
+    "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 11
     "tests/sim/test_explore.py",  # 10
     "tests/sim/test_furniture.py",  # 9
     "tests/cli/test_startup_imports.py",  # 9: 15 fresh Python processes
     "tests/lang/checks/test_checks_rays.py",  # 9
     "tests/sim/test_interrupt.py",  # 9
-    "tests/execute/test_stick_clears_blocker.py",  # 9
-    "tests/execute/test_execute_cli.py",  # 9
+    "tests/scenarios/tools/test_stick_clears_blocker.py",  # 9
+    "tests/cli/test_execute_cli.py",  # 9
     "tests/execute/test_resolving.py",  # 9
-    "tests/execute/test_arc_push.py",  # 9
+    "tests/scenarios/goals/test_arc_push.py",  # 9
     "tests/execute/test_disturbed.py",  # 8
-    "tests/execute/test_open_slides.py",  # 7
+    "tests/scenarios/goals/test_open_slides.py",  # 7
     "tests/lang/checks/test_checks_scene.py",  # 7
     "tests/infer/test_ending.py",  # 7
     "tests/execute/test_animate.py",  # 6; 1 when test_closed_loop.py ran in its worker (a_push_recorded)
     "tests/sim/test_explore_errors.py",  # 6
-    "tests/execute/test_hook_drawer.py",  # 6
+    "tests/scenarios/tools/test_hook_drawer.py",  # 6
     "tests/test_docs_samples.py",  # 5
-    "tests/execute/test_drawer_and_door.py",  # 5
+    "tests/scenarios/goals/test_drawer_and_door.py",  # 5
     "tests/cli/test_execution_progress.py",  # 5
-    "tests/execute/test_long_stick.py",  # 5
-    "tests/execute/test_handle_grasps_in_dart.py",  # 5
+    "tests/scenarios/tools/test_long_stick.py",  # 5
+    "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 5
     "tests/plan/result/test_picture.py",  # 4
     "tests/sim/test_ray_runner.py",  # 4
     "tests/bench/test_generated_plans.py",  # 4

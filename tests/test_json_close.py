@@ -1,13 +1,14 @@
-"""tests/support/json_close.py: floats within a tolerance, everything else exactly, each difference by its path."""
+"""tests/support/checkers/json_close.py: floats within a tolerance, everything else exactly, each difference by
+its path."""
 
 from __future__ import annotations
 
 import math
 from typing import Any
 
+from checkers.json_close import ABS, REL, assert_json_close, floats_close, json_differences
 from hypothesis import given
 from hypothesis import strategies as st
-from json_close import ABS, REL, assert_json_close, floats_close, json_differences
 
 finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
 leaves = st.one_of(finite, st.integers(-5, 5), st.text(max_size=4), st.booleans(), st.none())

@@ -123,7 +123,7 @@ def crowded_folders(root: Path) -> dict[str, int]:
     }
 
 
-@pytest.mark.parametrize("root", ["vkgl", "bench"])
+@pytest.mark.parametrize("root", ["vkgl", "bench", "tests"])
 def test_no_folder_holds_more_than_a_dozen_modules(root: str) -> None:
     crowded = crowded_folders(REPO / root)
     assert not crowded, f"give these folders rooms: {crowded}"
@@ -136,8 +136,9 @@ def test_the_crowding_check_sees_a_crowded_folder(tmp_path: Path) -> None:
     assert crowded_folders(tmp_path / "pkg") == {"pkg": 13}
 
 
-# Folders of tests that are not a package's mirror: shared helpers, golden cases, the benches' own tests.
-NOT_MIRRORS = {"support", "golden", "lib", "bench", "learned", "__pycache__"}
+# Folders of tests that are not a package's mirror: shared helpers, golden cases, the benches' own tests, and whole
+# tasks solved and carried out in DART (scenarios: the pipeline end to end, no one package's).
+NOT_MIRRORS = {"support", "golden", "lib", "bench", "learned", "scenarios", "__pycache__"}
 
 
 def mirror_folders_without_package(tests: Path, package: Path) -> list[str]:

@@ -2,7 +2,7 @@
 
 `vkgc learn` fits, per face, the arc law of off-centre pushes (`family ... arc lever L bias B ahead A`,
 vkgl/infer/faces/arc.py) on the grid's own pushes. This checks it where it was not fitted: each body (the
-stdlib Block and generated types, tests/support/generated_tasks.py) is explored and inferred as `vkgc learn`
+stdlib Block and generated types, tests/support/task_makers/generated_tasks.py) is explored and inferred as `vkgc learn`
 does, then pushed in DART on its -x face with exploration's own fingertip (bench/infer/bench_arc_push.py's `push`:
 force along the face's inward normal, 1 N beyond the table's friction) at HELD offsets, none of them a grid
 point, for 15 cm. The pose predicted by the family's member at that offset (`vkgl.lang.ir.families.at_offset`:
@@ -143,7 +143,7 @@ def best_member(slide: Affordance, dx: float, dyaw: float) -> tuple[float, float
 
 def reachable() -> int:
     """Print, per body and goal of bench_heading.py, whether one arc member reaches it; the count reached."""
-    import generated_tasks
+    from task_makers import generated_tasks
 
     library = generated_tasks.fixture_library()
     modules = {"Block": Path(__file__).resolve().parents[2] / "stdlib" / "affordances" / "block.vkg", **library}

@@ -4,7 +4,8 @@ Quasi-static pushing says a push whose line passes at offset d from a body's cen
 rotation on the other side, at r ~ c^2 / d (c a length of the body's support), so small offsets make wide arcs that
 slide and turn at once. This measures it with exploration's own pusher (`vkgl.sim.explore.run_trial`: the
 fingertip aimed along the face's inward normal every control period, force-limited to the declared 1 N beyond the
-table's friction): the -x face of the stdlib Block and of generated types (tests/support/generated_tasks.py, a cube
+table's friction): the -x face of the stdlib Block and of generated types
+(tests/support/task_makers/generated_tasks.py, a cube
 among them) pushed 15 cm at offsets 0.3 to 2 cm along the face.
 
 Printed, per body:
@@ -38,7 +39,7 @@ import numpy as np
 
 sys.path[:0] = [str(Path(__file__).resolve().parents[2] / "tests" / "support")]
 
-import generated_tasks  # noqa: E402
+from task_makers import generated_tasks  # noqa: E402
 
 import vkgl  # noqa: E402
 from vkgl.lang.ir.nodes import Body  # noqa: E402

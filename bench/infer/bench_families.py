@@ -1,7 +1,7 @@
 """Contact families on held-out contacts: predicted motion against DART's over a 10 cm push.
 
 For the stdlib Block and three generated bodies (CubeM, SlabW, CrateM of
-tests/support/generated_tasks.py), the body's own exploration is run in DART
+tests/support/task_makers/generated_tasks.py), the body's own exploration is run in DART
 and inferred (`vkgl.api.explore`, `vkgl.infer.library.infer_library`); for
 every affordance with a `family`, contacts that were NOT explored are chosen
 inside its band (half way between explored contacts, or the band's middle), the
@@ -34,7 +34,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import generated_tasks  # noqa: E402
+from task_makers import generated_tasks  # noqa: E402
 
 import vkgl  # noqa: E402
 from vkgl.infer.library import infer_library  # noqa: E402

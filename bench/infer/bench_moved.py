@@ -3,7 +3,7 @@
     python bench/infer/bench_moved.py [--generated SlabW CrateM CrateT] [--body-file F.vkg ...] [--jobs N] [--seed S]
 
 Explores each body's `explore` blocks in DART (`vkgl.sim.explore`; the
-generated types of the physical bench, `tests/support/generated_tasks.py`,
+generated types of the physical bench, `tests/support/task_makers/generated_tasks.py`,
 with their short push grid only, as `bench_physical.py --short-pushes`
 explores them; or any body file) and prints, per trial: the MAP motion, how
 far its pose ended from its start (`vkgl.infer.select.end_offset`: medians
@@ -27,7 +27,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import generated_tasks  # noqa: E402
+from task_makers import generated_tasks  # noqa: E402
 
 from vkgl.formats.trials import Trials  # noqa: E402
 from vkgl.infer.data import SkipTrial, trial_edges  # noqa: E402

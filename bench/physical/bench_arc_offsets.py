@@ -1,6 +1,6 @@
 """Goals that turn a body farther than any of its written turns: an arc member whose offset the task space chooses.
 
-For the stdlib Block and every generated type (tests/support/generated_tasks.py, their learned fixtures
+For the stdlib Block and every generated type (tests/support/task_makers/generated_tasks.py, their learned fixtures
 `tests/bench/learned/`), alone on the tabletop at (0.45, 0) m, four goals that turn it 35 to 50 deg while
 moving it 10 to 20 cm, some of them aside (`GOALS`). A written turn of these bodies makes 18 to 31 deg in one
 contact, so without an arc such a goal takes two turns and a push (depth 6); an arc member turns it as far as
@@ -27,7 +27,7 @@ from pathlib import Path
 REPO = Path(os.environ.get("VKG_REPO", Path(__file__).resolve().parents[2]))
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-from lone_goals import each_body_solved  # noqa: E402
+from task_makers.lone_goals import each_body_solved  # noqa: E402
 
 import vkgl  # noqa: E402
 from vkgl.lang.ir.nodes import PrismaticC  # noqa: E402

@@ -2,7 +2,7 @@
 
     python bench/physical/bench_grip_margin.py [--jobs 2] [--only 0,3,7-9] [--json out.json] [--from-json out.json]
 
-Each case is a task of its own: one body of a generated type (`tests/support/generated_bodies.py`) with a
+Each case is a task of its own: one body of a generated type (`tests/support/task_makers/generated_bodies.py`) with a
 chosen mass and friction, on the table's axis, and one stdlib tool (the Stick or the Hook) offered with one of
 its learned grasps only (its other affordances left out of the task's module); the goal lies beyond the
 fingertip's reach (a push away from the arm) or the body does (a hook pull towards it), so the plan holds the
@@ -35,8 +35,10 @@ from typing import Any
 REPO = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import generated_bodies  # noqa: E402
-import generated_tasks  # noqa: E402
+from task_makers import (  # noqa: E402
+    generated_bodies,
+    generated_tasks,
+)
 
 TOOL_PLACES = {"Stick": (0.3, -0.4), "Hook": (0.3, 0.4)}
 GRASPS = {

@@ -1,6 +1,6 @@
 """Goals that change a body's heading by 10 to 20 deg while sliding it 10 to 15 cm: depth, and clean in DART.
 
-For the stdlib Block and every generated type (tests/support/generated_tasks.py, their learned fixtures
+For the stdlib Block and every generated type (tests/support/task_makers/generated_tasks.py, their learned fixtures
 `tests/bench/learned/`), alone on the tabletop at (0.45, 0) m, four goals: slid 10 or 15 cm along +x and turned
 by -10, +15 or -20 deg (a seeded choice). Each is solved (`vkgl.solve`, 20 s) and, when solved, carried out open
 loop in DART (`vkgl.execute`). Prints per body the goals solved, the depths, how many reached their goal in DART,
@@ -23,7 +23,7 @@ from pathlib import Path
 REPO = Path(os.environ.get("VKG_REPO", Path(__file__).resolve().parents[2]))
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-from lone_goals import each_body_solved  # noqa: E402
+from task_makers.lone_goals import each_body_solved  # noqa: E402
 
 import vkgl  # noqa: E402
 

@@ -26,7 +26,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import generated_tasks as g  # noqa: E402
+from task_makers import generated_tasks as g  # noqa: E402
 
 import vkgl  # noqa: E402
 

@@ -4,7 +4,7 @@
                                    [--carry] [--json results.json] [--max-depth N] [--only 1,3,16-18]
                                    [--cpu-clock] [--two-faces]
 
-Generates `--count` tasks with `tests/support/generated_tasks.py` (bodies,
+Generates `--count` tasks with `tests/support/task_makers/generated_tasks.py` (bodies,
 scenes and goals nobody tuned the planner for; the generated bodies'
 affordances are learned once with `vkgl.learn` and cached by body source
 hash under `bench/.cache/physical/`; `--short-pushes` explores them with their
@@ -14,7 +14,7 @@ pushed sideways, since 2026-11-27; `--two-faces` explores them on +x and -x
 only, as before),
 then for each task, in a process pool of
 `--jobs` workers: solve it (`vkgl.solve`, `--timeout` s), check a solved plan's
-geometry independently (`tests/support/plan_geometry.py`: bodies pushed
+geometry independently (`tests/support/checkers/plan_geometry.py`: bodies pushed
 through bodies or the table), carry it out open loop in DART and classify it:
 
 - `solved`: the planner returned a plan;
@@ -30,7 +30,7 @@ through bodies or the table), carry it out open loop in DART and classify it:
   skips these re-solves, for speed; a re-solve that times out counts as
   unsettled, listed under the tables).
 
-`--carry` runs the carry family instead (`tests/support/carry_tasks.py`): a
+`--carry` runs the carry family instead (`tests/support/task_makers/carry_tasks.py`): a
 body 4 to 8 cm wide that the hand can grasp, 1 to 3 Blocks lying across its
 way to a goal 22 to 40 cm off; its size classes are the body's width in cm.
 
@@ -64,9 +64,11 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import carry_tasks  # noqa: E402
-import generated_tasks  # noqa: E402
-import plan_geometry  # noqa: E402
+from checkers import plan_geometry  # noqa: E402
+from task_makers import (  # noqa: E402
+    carry_tasks,
+    generated_tasks,
+)
 
 DISTURBED_M = 0.01
 COLUMNS = ("solved", "reached", "clean", "disturbed", "colliding", "no plan", "timeout", "missed", "error")

@@ -5,7 +5,8 @@ inside the body: the hook pulls such a body off its far face's centre, on the si
 pull turns the body about a pivot (DART's friction cone); or, to keep the heading, straight at the centre, moved 2 cm
 toward the shaft's side (CrateT: `NAME@+2.00cm/straight`) or rolled over the top (SlabW, CrateM:
 `NAME/over+20deg+1.00cm`, `vkgl.plan.problem.over`). The bodies are the generated SlabW (16 x 30 x 6 cm),
-CrateM (20 x 30 x 18 cm) and CrateT (16 x 24 x 25 cm) of tests/support/generated_tasks.py, explored with long
+CrateM (20 x 30 x 18 cm) and CrateT (16 x 24 x 25 cm) of tests/support/task_makers/generated_tasks.py, explored
+with long
 pushes at 5 points of each face (`slide_steps` 5: their learned fixtures are in tests/bench/learned/), each
 alone with the stdlib Stick and Hook on the tabletop of the generated tasks.
 
@@ -86,7 +87,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path[:0] = [str(REPO), str(REPO / "tests" / "support")]
 
-import generated_tasks as g  # noqa: E402
+from task_makers import generated_tasks as g  # noqa: E402
 
 import vkgl  # noqa: E402
 

@@ -35,7 +35,7 @@ def task_files(
 ) -> list[tuple[str, str, str | None]]:
     """(key, task file, task name) of every example and of `count` generated tasks of `seed` (`only`: those
     generated tasks alone, no example)."""
-    import generated_tasks
+    from task_makers import generated_tasks
 
     jobs: list[tuple[str, str, str | None]] = [
         (f"example:{f.stem}", str(f), None) for f in sorted((REPO / "examples" / "tasks").glob("*.vkg"))

@@ -3,7 +3,7 @@
     PYTHONPATH=. python bench/plan/bench_approaches.py [--repeat 5]
 
 Three contacts of the stdlib Hook pulling the stdlib Drawer at its bar's
-overhang (`Drawer.pull_px_left`, the scene of `tests/execute/test_side_approach.py`):
+overhang (`Drawer.pull_px_left`, the scene of `tests/scenarios/tools/test_side_approach.py`):
 
 - `no ledge`: the first rule works (along the push is blocked, from above works: 2 ways);
 - `ledge`: a ledge over the hook's shaft blocks the rules and the cone; the 20th way (from the side along
@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 REPO = Path(__file__).resolve().parents[2]
-sys.path[:0] = [str(REPO), str(REPO / "tests" / "execute"), str(REPO / "tests" / "support")]
+sys.path[:0] = [str(REPO), str(REPO / "tests" / "scenarios" / "tools"), str(REPO / "tests" / "support")]
 
 CASES = (
     ("no ledge", {"width": 1.0, "y": 0.5}),  # far away on the table's side: in nobody's way

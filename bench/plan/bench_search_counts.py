@@ -26,7 +26,7 @@ def tasks(seed: int | None, indices: list[int], scratch: Path) -> list[tuple[str
     """(name, task file) of the examples, or of the generated tasks `indices` of `seed`."""
     if seed is None:
         return [(f.stem, f) for f in sorted((REPO / "examples" / "tasks").glob("*.vkg"))]
-    import generated_tasks
+    from task_makers import generated_tasks
 
     library = generated_tasks.fixture_library()
     out = []

@@ -2,7 +2,7 @@
 
     python bench/plan/bench_task_space.py [--seed 6] [--tasks 1,4,5] [--timeout 20]
 
-Each task (`tests/support/generated_tasks.py`, the bodies' learned affordances from the tests' fixtures) is
+Each task (`tests/support/task_makers/generated_tasks.py`, the bodies' learned affordances from the tests' fixtures) is
 solved in this process with its deadline counted in CPU seconds of the process (`time.process_time`), not in
 wall-clock seconds: on a shared machine a 20 s timeout then means the same work whatever the load, and a task
 that times out here times out idle too. Prints a Markdown table per task: the outcome, CPU seconds, and the
@@ -34,7 +34,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tasks", default=DEFAULT_TASKS, help=f"task indices (default {DEFAULT_TASKS})")
     parser.add_argument("--timeout", type=float, default=20.0, help="per task, CPU s (default 20)")
     args = parser.parse_args(argv)
-    import generated_tasks
+    from task_makers import generated_tasks
 
     import vkgl
 

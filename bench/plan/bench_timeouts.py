@@ -80,7 +80,7 @@ HEAD = "| task | status | depth | sequences | task-space checks | optimisations 
 
 def write_tasks(names: list[str], out: Path) -> list[tuple[str, Path]]:
     """(name, task file) of each generated task `genS_III`, written as the physical bench writes it."""
-    import generated_tasks
+    from task_makers import generated_tasks
 
     cache = REPO / "bench" / ".cache" / "physical"
     specs = [generated_tasks.task_spec(int(n[3:].split("_")[0]), int(n.split("_")[1])) for n in names]

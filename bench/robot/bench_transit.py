@@ -30,7 +30,7 @@ REPO = Path(__file__).resolve().parents[2]
 
 def _scenes(arm, pairs: int, seed: int):
     """`pairs` (world, start, goal) triples: boxes, and two valid hand-down configurations."""
-    from box_world import BoxWorld
+    from task_makers.box_world import BoxWorld
 
     rng = np.random.default_rng(seed)
     made = []

@@ -1,12 +1,14 @@
 """Plans for generated tasks pass the independent geometry check (issue 12: every plan it solves is collision-free).
 
-A seeded selection of the physical benchmark's tasks (`tests/support/generated_tasks.py`,
+A seeded selection of the physical benchmark's tasks (`tests/support/task_makers/generated_tasks.py`,
 bench/physical/bench_physical.py)
 that the planner solves in well under a second each, covering what the examples do not: generated body types
 (slabs, cubes, a crate 25 cm tall), 1 to 4 clutter bodies on the table, a motion repeated past its explored range,
-a turn before a push, the stick and the hook. Each plan is checked by `tests/support/plan_geometry.py`, which builds
+a turn before a push, the stick and the hook. Each plan is checked by `tests/support/checkers/plan_geometry.py`,
+which builds
 its own DART world from the IR and samples every motion 20 times; it shares no code with the planner's collision
-checks. Its contact chains are checked by `tests/support/contact_chain_check.py` (the hand moves rigidly with the
+checks. Its contact chains are checked by `tests/support/checkers/contact_chain_check.py` (the hand moves rigidly
+with the
 body).
 
 The generated bodies' affordances are fixtures: `learned/` holds what `vkgl.learn` wrote for each generated type,
@@ -21,13 +23,13 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from contact_chain_check import check_contact_chains
-from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
-from plan_geometry import check_plan
+from checkers.contact_chain_check import check_contact_chains
+from checkers.plan_geometry import check_plan
+from task_makers.generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
 
-SUPPORT = Path(__file__).resolve().parents[1] / "support"
+SUPPORT = Path(__file__).resolve().parents[1] / "support" / "checkers"
 
 SELECTION = [
     (1, 20),  # the Block pushed once, a cube behind it

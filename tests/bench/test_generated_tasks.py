@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 import pytest
-from generated_tasks import generate_tasks, overlaps, task_spec
-from plan_geometry import check_plan, check_start, screw_interpolate
+from checkers.plan_geometry import check_plan, check_start, screw_interpolate
+from task_makers.generated_tasks import generate_tasks, overlaps, task_spec
 
 import vkgl
 

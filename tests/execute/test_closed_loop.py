@@ -226,7 +226,7 @@ def test_a_long_stick_push_keeps_one_arm_configuration():
 
 
 # The planner's own plan of task (a), carried out closed loop with the planner as the resolver: `vkgc solve
-# a_push.vkg --replan` (tests/execute/test_execute_cli.py::test_solve_execute_replan_writes_the_report).
+# a_push.vkg --replan` (tests/cli/test_execute_cli.py::test_solve_execute_replan_writes_the_report).
 
 
 def test_the_planner_re_solves_from_the_observed_scene(stray_replanned):

@@ -1,5 +1,5 @@
 """`vkg-plan/8` (vkgl.formats.plan): round trips, the example plans' JSON against golden files (as numbers,
-see tests/support/plan_close.py), and every bad field named by its JSON path."""
+see tests/support/checkers/plan_close.py), and every bad field named by its JSON path."""
 
 from __future__ import annotations
 
@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+from checkers.plan_close import assert_plans_close, plan_differences
 from conftest import EXAMPLES, REPO, example_tasks
-from plan_close import assert_plans_close, plan_differences
 from plan_script import EXAMPLE_SCRIPTS, scripted_plan
 
 from vkgl.errors import InputError, PlanFormatError
@@ -62,7 +62,7 @@ def scripted() -> dict[str, Any]:
 @pytest.mark.parametrize("name", [p.stem for p in example_tasks()])
 def test_the_json_of_each_example_plan_is_unchanged(solved, name):
     """The plan is the golden one as a result: task-space numbers within 1e-7, each arm configuration by the
-    effector pose it gives, everything else equal (tests/support/plan_close.py says why, with the numbers
+    effector pose it gives, everything else equal (tests/support/checkers/plan_close.py says why, with the numbers
     measured between two CPUs). Not byte for byte: another CPU's IK lands elsewhere within its tolerance."""
     text = dumps(solved[name].document())
     assert text == json.dumps(solved[name].to_json(), indent=1) + "\n"

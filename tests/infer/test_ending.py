@@ -76,7 +76,8 @@ def test_a_block_still_sliding_when_its_push_ended_gives_an_open_range_and_its_t
 
 
 def test_a_heavy_slab_pushed_at_its_centre_for_three_seconds_gives_an_open_slide(tmp_path) -> None:
-    # a generated body of the physical bench (tests/support/generated_tasks.py, SlabW) and its short push grid:
+    # a generated body of the physical bench (tests/support/task_makers/generated_tasks.py, SlabW) and its short
+    # push grid:
     # the centre push slides it 3.6 cm in 3 s, still sliding; inference once called that trial `fixed`
     source = (
         "body SlabW {\n    shape box (16, 30, 6) cm\n    mass 1.44 kg\n    friction 0.5\n"

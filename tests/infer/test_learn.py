@@ -132,7 +132,7 @@ def test_committed_stdlib_is_what_learn_makes(learned) -> None:
     Explored ranges are floored and ceiled after snapping to 1e-9 of their unit, so a range that ends at a
     joint's limit (300.0000000000012 tenths of a cm) prints the same whichever side of the limit its last
     bits fall. Measured: the modules are identical on this machine and the one that wrote them, whose
-    plans differ from this one's in the 8th digit (tests/support/plan_close.py); of the 188 printed
+    plans differ from this one's in the 8th digit (tests/support/checkers/plan_close.py); of the 188 printed
     numbers the closest to a rounding boundary is 8.5e-4 of its last digit away (a revolute centre at
     -0.534991 cm: 8.5e-8 m, 1.6e-5 of the value), where closed-form results differ between the two CPUs
     by nothing at all and IK's iterates by about 1e-7. Should another CPU ever print a digit differently,

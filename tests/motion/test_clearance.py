@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from collision_shapes import box, pose
+from checkers.collision_shapes import box, pose
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from plan_programs import compiled  # noqa: F401 (fixture)

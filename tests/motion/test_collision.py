@@ -8,7 +8,7 @@ import os
 import numpy as np
 import pytest
 import trimesh
-from collision_shapes import box, cylinder, hook, pose
+from checkers.collision_shapes import box, cylinder, hook, pose
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation

@@ -15,9 +15,9 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
-from box_world import BoxWorld
 from conftest import REPO
 from panda_fixtures import panda_robot
+from task_makers.box_world import BoxWorld
 
 from vkgl.motion.density import DEFAULT_RESOLUTION, densify, edge_resolution, link_reach, segment_is_valid
 from vkgl.motion.transit import TransitFailure, TransitPath, plan_transit

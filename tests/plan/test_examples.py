@@ -6,7 +6,7 @@ their joint goals met in the plan.
 The replay (replay_check.py) recomputes every pose from the affordances and
 the arm's forward kinematics from the URDF with DART, from the JSON alone;
 along every contact chain the hand must move rigidly with the body it moves
-(tests/support/contact_chain_check.py).
+(tests/support/checkers/contact_chain_check.py).
 """
 
 from __future__ import annotations
@@ -16,9 +16,9 @@ import math
 
 import numpy as np
 import pytest
-from contact_chain_check import check_contact_chains
+from checkers.contact_chain_check import check_contact_chains
+from checkers.replay_check import check_plan
 from plan_programs import compiled  # noqa: F401 (fixture)
-from replay_check import check_plan
 
 from vkgl.api import solve
 

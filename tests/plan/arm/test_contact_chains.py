@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
+from task_makers.generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
 from vkgl.plan.arm.contact_chains import ContactChains

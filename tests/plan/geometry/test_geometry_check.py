@@ -1,6 +1,6 @@
 """Plans respect geometry: a push through another body is never a plan; every plan passes an independent check.
 
-The independent check (`tests/support/plan_geometry.py`) builds its own DART
+The independent check (`tests/support/checkers/plan_geometry.py`) builds its own DART
 world from the IR and samples every step's motion 20 times; it shares no code
 with the planner's collision checks (`vkgl.plan.geometry.bodies`).
 """
@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from checkers.plan_geometry import check_plan
 from conftest import EXAMPLES
-from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
-from plan_geometry import check_plan
+from task_makers.generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
 import vkgl.plan.geometry.grip_load as grip_load

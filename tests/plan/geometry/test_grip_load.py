@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from generated_tasks import fixture_library, task_spec, write_task
 from scipy.spatial.transform import Rotation
+from task_makers.generated_tasks import fixture_library, task_spec, write_task
 
 import vkgl
 import vkgl.plan.geometry.grip_load as grip_load

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from collision_shapes import box, hook, pose
+from checkers.collision_shapes import box, hook, pose
 from plan_programs import compiled  # noqa: F401 (fixture)
 
 from vkgl.lang.ir.nodes import PrismaticC, RevoluteC, Vector

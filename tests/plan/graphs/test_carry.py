@@ -193,7 +193,7 @@ def test_a_re_solve_excludes_the_same_carry_but_not_one_from_where_the_cube_real
 def test_a_place_the_wrist_reaches_only_with_the_hand_turned_half_a_turn_is_planned_so(tmp_path):
     # bench_physical --carry task 1 of seed 1: a 7.9 cm carton turned 45 deg between pick-up and place; held as
     # its grasp says, the last wrist joint would have to jump on the way down onto the place
-    from carry_tasks import carry_spec, write_carry_task
+    from task_makers.carry_tasks import carry_spec, write_carry_task
 
     spec = carry_spec(1, 1)
     program = compile_file(str(write_carry_task(spec, tmp_path)))

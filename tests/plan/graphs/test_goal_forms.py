@@ -15,9 +15,9 @@ import math
 
 import numpy as np
 import pytest
+from checkers.replay_check import check_plan
 from plan_programs import EXAMPLE_TASKS as EXAMPLES
 from plan_programs import compiled  # noqa: F401 (fixture)
-from replay_check import check_plan
 
 from vkgl.api import solve
 from vkgl.lang.compiler import compile_source

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 from conftest import EXAMPLES
-from grasped_door import grasped_door
+from task_makers.grasped_door import grasped_door
 
 import vkgl
 from vkgl.plan.graphs.graph import is_grasp

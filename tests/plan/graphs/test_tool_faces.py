@@ -3,8 +3,8 @@ cross-piece covering the body's centre line, its shaft clear of the body; nothin
 
 from __future__ import annotations
 
-import generated_tasks
 import pytest
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.lang.ir.families import find_member

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import time
 
-import generated_tasks
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.lang.ir.families import find_member, over_pose

@@ -7,9 +7,9 @@ from __future__ import annotations
 import math
 import time
 
-import generated_tasks
 import numpy as np
 import pytest
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.lang.ir.families import find_member, over_member, over_pose, slide_member, tool_only

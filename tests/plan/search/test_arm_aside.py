@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
+from task_makers.generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
 from vkgl.plan.problem.problem import build_problem

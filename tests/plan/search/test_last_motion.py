@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from block_problems import IN_THE_WAY, block_to, labelled_sequence
+from task_makers.block_problems import IN_THE_WAY, block_to, labelled_sequence
 
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.search.last_motion import LastMotion, last_motion_key

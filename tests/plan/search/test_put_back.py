@@ -8,7 +8,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-from block_problems import block_to, labelled_sequence
+from task_makers.block_problems import block_to, labelled_sequence
 
 from vkgl.plan.arm.paths import _places
 from vkgl.plan.geometry.bodies import GeometryCheck

@@ -11,9 +11,9 @@ import heapq
 import time
 
 import pytest
-from block_problems import ASIDE, IN_THE_WAY, block_to, labels
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from task_makers.block_problems import ASIDE, IN_THE_WAY, block_to, labels
 
 import vkgl.plan.search.search as search_module
 from vkgl.plan.graphs.graph import successors

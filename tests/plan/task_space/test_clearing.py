@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from pushed_cube import CUBE_SOURCE
+from task_makers.pushed_cube import CUBE_SOURCE
 
 import vkgl
 from vkgl.lang.ir.regions import convex_hull

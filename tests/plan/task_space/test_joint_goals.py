@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from replay_check import check_plan, joint_goal_problems
+from checkers.replay_check import check_plan, joint_goal_problems
 
 import vkgl
 from vkgl.cli import main

@@ -6,10 +6,10 @@ from __future__ import annotations
 import math
 import time
 
-import generated_tasks
 import numpy as np
 import pytest
 from plan_programs import compiled  # noqa: F401 (fixture)
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.lang.ir.arcs import arc_lever_arm

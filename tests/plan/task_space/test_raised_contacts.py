@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import generated_tasks
 import numpy as np
 import pytest
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.plan.graphs.graph import Action, Engagement

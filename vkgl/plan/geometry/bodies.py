@@ -50,7 +50,7 @@ transit leads to (the tool works close to it: the hook's stand-off 1 cm from the
 that body is grown by `TARGET_CLEARANCE`),
 so that, less the 1 mm tolerance of a touch, the tool and the links keep 2 mm from every other body; no more: a
 tool's stand-off may be tight beside another body (the hook from the side of a Drawer's bar, 3 mm below a ledge:
-tests/execute/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
+tests/scenarios/tools/test_side_approach.py). Such transits are checked every `HELD_TOLERANCE` of travel
 (`vkgl.motion.transit_segment`), so the line between two samples 2 mm clear stays clear, and execution fails a
 transit on any touch. With the exact geometry (and its tolerance) gen3_027's hook ended its transit 1 mm into the
 corner of a Block beside its next contact. The arm's paths try a held tool's transit with the body it goes to grown

@@ -12,9 +12,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from block_problems import DEPTH, FAMILY, GRASP, PROGRAM, block_problem
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from task_makers.block_problems import DEPTH, FAMILY, GRASP, PROGRAM, block_problem
 
 import vkgl
 from vkgl.lang.compiler import compile_file

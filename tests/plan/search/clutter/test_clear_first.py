@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from plan_geometry import check_plan
+from checkers.plan_geometry import check_plan
 
 import vkgl
 from vkgl.plan.problem.problem import Problem

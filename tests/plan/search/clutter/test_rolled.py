@@ -7,8 +7,8 @@ import math
 import time
 from dataclasses import replace
 
-import generated_tasks
 import pytest
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.lang.ir.families import over_pose

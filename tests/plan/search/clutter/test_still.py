@@ -7,7 +7,7 @@ import time
 from collections.abc import Callable
 
 import pytest
-from block_problems import ASIDE, IN_THE_WAY, block_to, labels
+from task_makers.block_problems import ASIDE, IN_THE_WAY, block_to, labels
 
 import vkgl.plan.search.search as search_module
 from vkgl.plan.graphs.rollout import Sequence

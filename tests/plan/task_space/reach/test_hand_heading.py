@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from far_block import block_moving_sequences, far_block_problem
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from task_makers.far_block import block_moving_sequences, far_block_problem
 
 from vkgl.lang.compiler import compile_file
 from vkgl.plan.graphs.graph import motion_type, successors

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from far_block import block_moving_sequences, far_block_problem
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from task_makers.far_block import block_moving_sequences, far_block_problem
 
 from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem

@@ -13,9 +13,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from contact_chain_check import check_contact_chains
-from plan_geometry import check_plan
-from pushed_cube import CUBE_SOURCE
+from checkers.contact_chain_check import check_contact_chains
+from checkers.plan_geometry import check_plan
+from task_makers.pushed_cube import CUBE_SOURCE
 
 import vkgl
 

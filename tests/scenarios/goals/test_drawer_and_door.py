@@ -14,7 +14,7 @@ import math
 
 import pytest
 from conftest import EXAMPLES
-from joint_tasks import started_open
+from task_makers.joint_tasks import started_open
 
 import vkgl
 from vkgl.cli import main

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import math
 
-import generated_tasks
 import numpy as np
+from task_makers import generated_tasks
 
 import vkgl
 

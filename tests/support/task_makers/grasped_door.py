@@ -8,7 +8,7 @@ from pathlib import Path
 
 import vkgl
 
-EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[3] / "examples"
 
 SOURCE = """use "{kitchen}"
 

@@ -30,8 +30,8 @@ from functools import cache
 from typing import Any
 
 import numpy as np
-from json_close import REL, floats_close, json_differences
 
+from checkers.json_close import REL, floats_close, json_differences
 from vkgl.robot.arm import Arm
 from vkgl.robot.pose_error import ANGLE_TOL, POSITION_TOL
 

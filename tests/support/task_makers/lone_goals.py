@@ -14,9 +14,8 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-import generated_tasks
-
 import vkgl
+from task_makers import generated_tasks
 
 START = (0.45, 0.0)
 """Where the body rests, in m, heading 0."""

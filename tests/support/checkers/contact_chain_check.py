@@ -30,7 +30,7 @@ from vkgl.lang.ir.program import Program
 CHAIN_POSITION_TOL = 0.002
 """m: the hand stays this close to where it held the body at the start of the contact, in the body's frame (the
 replay's `HAND_TOL` at q_start and q_end). The planner's chains keep it within 0.14 mm: the nine example tasks,
-the generated tasks of tests/bench, the crates of tests/execute/test_tall_bodies.py and the long stick."""
+the generated tasks of tests/bench, the crates of tests/scenarios/goals/test_tall_bodies.py and the long stick."""
 CHAIN_ANGLE_TOL = float(np.radians(1.0))
 """rad: and turned this little against it (the replay's `AXIS_TOL`; the planner's chains: under 0.9 mrad)."""
 CHAIN_JOINT_STEP = 0.2

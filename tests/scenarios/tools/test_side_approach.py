@@ -18,8 +18,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import generated_tasks
 import numpy as np
+from task_makers import generated_tasks
 
 import vkgl
 from vkgl.execute.steps import StepKinds

@@ -11,7 +11,7 @@ import math
 
 import pytest
 from conftest import EXAMPLES
-from grasped_door import grasped_door
+from task_makers.grasped_door import grasped_door
 
 import vkgl
 from vkgl.execute.closed_loop import execute

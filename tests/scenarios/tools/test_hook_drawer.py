@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 from conftest import EXAMPLES
-from joint_tasks import started_open
+from task_makers.joint_tasks import started_open
 
 import vkgl
 from vkgl.lang.ir.program import Program

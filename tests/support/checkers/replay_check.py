@@ -14,9 +14,9 @@ import json
 from typing import Any
 
 import numpy as np
-from contact_chain_check import DartFK, check_contact_chains, motion
 from scipy.spatial.transform import Rotation
 
+from checkers.contact_chain_check import DartFK, check_contact_chains, motion
 from vkgl.lang.ir.geometry import scene_body_anchor, scene_body_pose
 from vkgl.lang.ir.nodes import FixedC
 from vkgl.lang.ir.program import Program

@@ -16,7 +16,7 @@ picks matrix kernels by the CPU it runs on, and each sums and rounds in its own 
 
 Values that come out of an iterative solver stopped at a tolerance (IK, optimisers) differ between CPUs
 by up to that tolerance, not by rounding: give them a comparison of their own with `by_path` (the plan's
-joint values do: tests/support/plan_close.py).
+joint values do: tests/support/checkers/plan_close.py).
 
 Everything that is not a float is compared exactly: strings, integers (counts are not floats), booleans,
 null, the keys of objects in their order (the order is part of the file), the length of lists. An integer

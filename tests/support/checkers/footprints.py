@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from generated_bodies import BodyType
 from scipy.spatial import ConvexHull
+from task_makers.generated_bodies import BodyType
 
 TABLE_MIN = np.array([-0.3, -0.6])
 TABLE_MAX = np.array([1.3, 0.6])

@@ -1,0 +1,2 @@
+"""Checks that judge the planner's outputs independently of it: plan geometry, contact chains, replays, JSON
+closeness."""
