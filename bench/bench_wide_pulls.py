@@ -66,6 +66,9 @@ solved, 21 clean (395 CPU-s): SlabW's `arc` 1 and `free+` 0 at depth 5 (the hook
 leaning toward the base: in reach), SlabW's `free-` 0 at depth 3 (was 6); CrateT's `free+` 0, `free+` 1 and
 `free-` 1 are left (the arcs that reach their goals promise too little for their law's sigma, or the flat hook's
 hand lies beyond the reach; docs/physical_bench.md, "wide_pulls: a tilted hand's reach").
+Reverted with the tilted reach (the Hook's tip took a Drawer's side grasp past a ledge), then back with a tool never
+enacting a grasp and the grip checked on bodies on joints (2026-11-27, night, load average 5 to 8): main 19 of 24, 19
+clean (365 CPU-s); with it 21 of 24, 21 clean (373 CPU-s), the same plans as above (docs/physical_bench.md).
 
 | body | goals: arc, free+, free-, kept | 11-26 | 11-27 noon | 11-27 eve | tilted reach | depths | clean | vs DART |
 |---|---|---|---|---|---|---|---|---|
