@@ -91,6 +91,7 @@ class Arm:
         self.home = _READY_POSES[self._model_key].copy()
         self._ik = InverseKinematics(self._chain, self.home)
         self._solved: dict[tuple[Any, ...], np.ndarray | None] = {}  # `ik` and `ik_near` answers by their inputs
+        self._wrist_lever: float | None = None
 
     @classmethod
     def load(cls, robot: Robot, effector: str, base: np.ndarray) -> Arm:
@@ -229,6 +230,16 @@ class Arm:
         height above the base (to the mm) for the process.
         """
         return reach_module.reach_at(self._ik, self._model_key, float(self.base[2, 3]), float(height))
+
+    @property
+    def wrist_lever(self) -> float:
+        """m: how far above the effector, along its z axis, the wrist lies (the origin of the link the chain's last
+        joint moves, at `home`; 0 when the wrist is not above it). A hand tilted by t about a horizontal axis moves
+        its wrist L sin t sideways: the reach of a tilted hand is about the hand-down reach of the point below its
+        wrist (`vkgl.plan.task_space.reach.workspace.hand_down_point`)."""
+        if self._wrist_lever is None:
+            self._wrist_lever = max(0.0, float(self._chain.wrist_in_effector(self.home)[2]))
+        return self._wrist_lever
 
     def reachable(self, point: Sequence[float] | np.ndarray) -> bool:
         """Whether the effector can be hand-down at `point` (world, 3-d): its radius lies in `reach(point z)`."""

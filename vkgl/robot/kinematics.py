@@ -50,6 +50,7 @@ class Chain:
         self._jacobian_columns = self._columns_of_chain()
         self._point = self.link_offset[:3, 3].copy()
         self._probe = link_probe(self.link)
+        self._wrist_node = joints[-1].getChildBodyNode()
 
     def _columns_of_chain(self) -> np.ndarray | None:
         """Which columns of the link's DART Jacobian belong to `joint_names`, in their order (None: all, in order)."""
@@ -67,6 +68,14 @@ class Chain:
         """The effector link's pose (4x4) in the root frame at joint angles `q` (without the effector offset)."""
         self._set(q)
         return self._probe.getTransform().matrix()
+
+    def wrist_in_effector(self, q: np.ndarray) -> np.ndarray:
+        """Where the origin of the link the chain's last joint moves (the wrist: for the Panda, panda_link7 on the
+        hand's axis, 21 cm above the fingertip) lies in the effector frame at joint angles `q` (3-vector)."""
+        self._set(q)
+        effector = self._probe.getTransform().matrix() @ self.link_offset
+        wrist = self._wrist_node.getTransform().matrix()[:3, 3]
+        return np.linalg.inv(effector)[:3, :3] @ (wrist - effector[:3, 3])
 
     def pose_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The effector frame in the root frame and its 6 x n Jacobian (angular rows first, root frame)."""

@@ -126,3 +126,33 @@ def test_the_hand_opens_as_far_as_its_urdf_fingers_travel(tmp_path: Path) -> Non
     bare = tmp_path / "bare.urdf"
     bare.write_text('<robot name="bare"><link name="base"/></robot>')
     assert grip_load.hand_opening(str(bare)) == HAND_OPENING
+
+
+def test_a_body_on_a_joint_resists_with_its_joints_friction_and_damping_at_the_push_speed() -> None:
+    """The stdlib Drawer's slide (1.5 N, 4 N s/m) at the executor's 5 cm/s: 1.7 N wherever it is pushed; the
+    Door's hinge (0.2 N m, 0.3 N m s/rad) over the contact's distance from the hinge's line."""
+    from vkgl.execute.effector_path import PUSH_SPEED
+
+    assert grip_load.JOINT_PUSH_SPEED == PUSH_SPEED
+    drawer = vkgl.compile(EXAMPLES / "i_hook_drawer.vkg")
+    problem = build_problem(drawer, drawer.task())
+    assert grip_load.resistance(problem, "drawer", problem.bodies["drawer"].rest[:3, 3]) == pytest.approx(1.7)
+    door = vkgl.compile(EXAMPLES / "h_close_door.vkg")
+    problem = build_problem(door, door.task())
+    hinge = (problem.bodies["door"].rest @ np.array([0.0, -0.2, 0.0, 1.0]))[:3]
+    for lever in (0.4, 0.1):
+        at = hinge + np.array([lever, 0.0, 0.05])
+        expected = (0.2 + 0.3 * PUSH_SPEED / lever) / lever
+        assert grip_load.resistance(problem, "door", at) == pytest.approx(expected)
+
+
+def test_a_slide_that_resists_more_than_the_grip_carries_is_not_pulled_with_the_hook(monkeypatch):
+    """The drawer's slide at 30 m/s: its damping resists with 121.5 N, beyond the Hook's grip; the pull that
+    opens it in example i is refused for the grip, and the reason says how the slide resists."""
+    monkeypatch.setattr(grip_load, "JOINT_PUSH_SPEED", 30.0)
+    plan = vkgl.solve(vkgl.compile(EXAMPLES / "i_hook_drawer.vkg"), max_depth=3)
+    assert plan.status == "infeasible"
+    assert "hook would slip in the hand: hook.tip pushing drawer (121.5 N: its slide's friction 1.5 N and damping " in (
+        plan.reason
+    )
+    assert "a drawer whose joint resists less" in plan.reason

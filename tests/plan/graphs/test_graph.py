@@ -130,3 +130,16 @@ def test_closed_form_rejects_a_turn_the_wrong_way_and_pins_the_right_one(problem
     assert pinned and math.isclose(values[0], math.radians(20), abs_tol=1e-3)  # the goal's yaw
     goal = np.array([0.582, -0.043])  # task d's goal, within 1 cm
     assert np.linalg.norm(_turn_then_slide(problem, values[0], values[1]) - goal) < 0.01
+
+
+def test_a_held_tool_enacts_a_handles_pulls_but_never_its_grasps(compiled):
+    # a correspondence lets the hook's tip push where the fingertip would; a grasp is the fingers closing
+    program = compiled("i_hook_drawer")
+    drawer_hook = build_problem(program, program.task())
+    wield = add("arm.fingertip", "hook", "wield")
+    found = labels(successors(drawer_hook, g0().apply(wield), wield))
+    affordances = drawer_hook.bodies["drawer"].affordances
+    grasps = {a.name for a in affordances if a.action.type == "grasp"}
+    assert grasps and "add drawer.pull_px_left hook.tip" in found
+    assert found == [f"add drawer.{a.name} hook.tip" for a in affordances if a.name not in grasps]
+    assert any(f"add drawer.{g} arm.fingertip" in labels(successors(drawer_hook, g0(), None)) for g in grasps)

@@ -11,9 +11,13 @@ Stick held at its middle by a 20 N grasp): the executor saw 7.2 N and
 the estimate here (the crate's weight times its friction, 7.9 N, at the Stick's
 tip) is on the safe side of it. The estimate is quasi-static: a slide resists
 with the body's whole friction on the table, a turn about a pivot with less,
-so turns are judged as slides (on the safe side too). Bodies on joints are
-left out: a joint resists with its own damping and friction, which the
-exploration measured as motion, not as force.
+so turns are judged as slides (on the safe side too). A body on a joint
+resists with its joint's Coulomb friction and damping at the executor's push
+speed (and its weight along a slide that is not level), at the contact's
+distance from a hinge (`resistance`): a hook pulling the stdlib drawer (1.5 N,
+4 N s/m) uses a few per cent of the grip, a stiff slide of 100 N is never
+pushed with a held tool. A tool never holds a body by a grasp
+(`graphs.graph.tool_enacts`), so every load a held tool meets is a push's.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ import numpy as np
 from vkgl.errors import InputError
 from vkgl.lang.ir.geometry import body_mesh
 from vkgl.lang.ir.grasps import HAND_OPENING
+from vkgl.lang.ir.values import Vector
 from vkgl.motion.arm_collision import Held
 from vkgl.plan.geometry.grip_words import Slip, Strain, slip_advice, slip_why
 from vkgl.plan.graphs.graph import Engagement, KGraph
@@ -31,7 +36,7 @@ from vkgl.plan.problem.hulls import kept_width
 from vkgl.plan.problem.over import tool_parts
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.robot.grip import DEFAULT_FRICTION, TOUCH_GAP, grip_for, push_load, resisting_force, tool_width
+from vkgl.robot.grip import DEFAULT_FRICTION, GRAVITY, TOUCH_GAP, grip_for, push_load, resisting_force, tool_width
 from vkgl.robot.gripper import gripper
 
 PUSH_FACTOR = 2.0
@@ -58,6 +63,14 @@ step sees none): a Stick held by its 20 N grasp at the handle carries its own we
 every such push broke the grip, whatever the push's own moment took off the weight's (gen9_026)."""
 
 
+JOINT_PUSH_SPEED = 0.05
+"""m/s a contact moves at in execution (the executor's `effector_path.PUSH_SPEED`; a test holds them equal): a
+damped joint resists in proportion to it."""
+
+HINGE_LEVER = 0.01
+"""m: the least lever a hinge's resistance is divided by (a contact on the hinge's line cannot turn it at all)."""
+
+
 def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndarray, tool: str) -> Rejection | None:
     """Why the grip on `tool` (held by the hand at joints `q` at the start of the mode) would give way under a
     push the mode makes with it, or None. The rejection says which load decides (the push, or the tool's weight
@@ -71,7 +84,7 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
         return too_wide
     for e in graph.engaged:
         spec = problem.effector(e.effector)
-        if spec.tool != tool or trace.values.get(e, 0.0) <= 0.0 or problem.bodies[e.body].joint is not None:
+        if spec.tool != tool or trace.values.get(e, 0.0) <= 0.0:
             continue
         move = (holding.affordance, e, trace.start[tool], trace.end[tool], q)
         pushed, weight = _strain(problem, *move, PUSH_FACTOR), _strain(problem, *move, 0.0)
@@ -79,7 +92,8 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
             continue
         worst = pushed if pushed.usage >= weight.usage else weight
         if worst.usage * GRIP_MARGIN > 1.0:
-            slip = _slip(problem, holding.affordance, e, worst, weight.usage)
+            at = (trace.start[tool] @ spec.frame)[:3, 3]
+            slip = _slip(problem, holding.affordance, e, worst, weight.usage, at)
             return Rejection(
                 Kind.GRIP,
                 slip_why(slip, f"(DART's loads came to up to {PEAK_RATIO:.2f} times the estimate)"),
@@ -134,8 +148,8 @@ def push_usage(
     strain = _strain(problem, grasp, engagement, tool_start, tool_end, q, factor)
     if strain is None:
         return None
-    body = problem.bodies[engagement.body].type
-    return strain.usage, resisting_force(float(body.mass.value), body.friction)
+    at = (tool_start @ problem.effector(engagement.effector).frame)[:3, 3]
+    return strain.usage, resistance(problem, engagement.body, at)
 
 
 def _strain(
@@ -157,7 +171,7 @@ def _strain(
     if float(np.linalg.norm(direction)) < 1e-6:
         return None
     grip = grip_for(problem.affordance(tool, grasp).action, problem.bodies[tool].type.friction)
-    force = factor * resisting_force(float(body.type.mass.value), body.type.friction)
+    force = factor * resistance(problem, body.name, start)
     tool_mass = float(problem.bodies[tool].type.mass.value)
     effector = problem.arm.fk(q)
     centre = tool_start[:3, 3]
@@ -175,8 +189,58 @@ def _strain(
     )
 
 
-def _slip(problem: Problem, grasp: str, engagement: Engagement, strain: Strain, weight_usage: float) -> Slip:
-    """The facts `grip_words` tells of a grip that would give way under `strain`."""
+def resistance(problem: Problem, body: str, at: np.ndarray) -> float:
+    """N `body` resists a push at world point `at` with: on the table its weight times its friction
+    (`resisting_force`); on a slide its joint's Coulomb friction, its damping at `JOINT_PUSH_SPEED` and its weight
+    along the slide; on a hinge the same torques (and its weight's about a hinge that is not upright) over the
+    contact's distance from the hinge's line, at least `HINGE_LEVER`."""
+    placed = problem.bodies[body]
+    mass = float(placed.type.mass.value)
+    joint = placed.type.joint
+    if placed.joint is None or joint is None or placed.joint_axis is None:
+        return resisting_force(mass, placed.type.friction)
+    friction = 0.0 if joint.friction is None else float(joint.friction.value)
+    damping = 0.0 if joint.damping is None else float(joint.damping.value)
+    zero = placed.rest if placed.joint_zero is None else placed.joint_zero
+    axis = zero[:3, :3] @ placed.joint_axis
+    if placed.joint == "prismatic":
+        return friction + damping * JOINT_PUSH_SPEED + mass * GRAVITY * abs(float(axis[2]))
+    lever = max(_hinge_lever(zero, axis, joint.through, at), HINGE_LEVER)
+    weight = mass * GRAVITY * float(np.linalg.norm(axis[:2])) * _hinge_lever(zero, axis, joint.through, zero[:3, 3])
+    return (friction + damping * JOINT_PUSH_SPEED / lever + weight) / lever
+
+
+def _hinge_lever(zero: np.ndarray, axis: np.ndarray, through: Vector | None, point: np.ndarray) -> float:
+    """m from world `point` to the hinge's line (`axis`, world, through body point `through` at pose `zero`)."""
+    on_line = zero[:3, :3] @ (np.zeros(3) if through is None else through.array()) + zero[:3, 3]
+    off = np.asarray(point, dtype=float) - on_line
+    return float(np.linalg.norm(off - float(off @ axis) * axis))
+
+
+def _joint_words(problem: Problem, body: str, at: np.ndarray) -> str:
+    """How a body on a joint resists, for `grip_words` ("" on the table)."""
+    placed = problem.bodies[body]
+    joint = placed.type.joint
+    if placed.joint is None or joint is None or placed.joint_axis is None:
+        return ""
+    friction = 0.0 if joint.friction is None else float(joint.friction.value)
+    damping = 0.0 if joint.damping is None else float(joint.damping.value)
+    speed = f"{JOINT_PUSH_SPEED * 100:g} cm/s"
+    if placed.joint == "prismatic":
+        return f"its slide's friction {friction:g} N and damping {damping:g} N s/m at {speed}"
+    zero = placed.rest if placed.joint_zero is None else placed.joint_zero
+    lever = _hinge_lever(zero, zero[:3, :3] @ placed.joint_axis, joint.through, at)
+    return (
+        f"its hinge's friction {friction:g} N m and damping {damping:g} N m s/rad at {speed}, "
+        f"{lever * 100:.1f} cm from the hinge"
+    )
+
+
+def _slip(
+    problem: Problem, grasp: str, engagement: Engagement, strain: Strain, weight_usage: float, at: np.ndarray
+) -> Slip:
+    """The facts `grip_words` tells of a grip that would give way under `strain` (`at`: where the tool's
+    contact starts)."""
     tool = problem.effector(engagement.effector).tool
     assert tool is not None
     tool_type = problem.bodies[tool].type
@@ -195,7 +259,8 @@ def _slip(problem: Problem, grasp: str, engagement: Engagement, strain: Strain, 
         body=engagement.body,
         body_mass=float(body_type.mass.value),
         body_friction=DEFAULT_FRICTION if body_type.friction is None else body_type.friction,
-        resists=resisting_force(float(body_type.mass.value), body_type.friction),
+        resists=resistance(problem, engagement.body, at),
+        joint=_joint_words(problem, engagement.body, at),
         factor=PUSH_FACTOR,
         strain=strain,
         weight_usage=weight_usage,
@@ -236,4 +301,15 @@ def _opening(problem: Problem, tool: str, grasp: str, in_hand: np.ndarray) -> fl
     return _OPENINGS[key]
 
 
-__all__ = ["GRIP_MARGIN", "PEAK_RATIO", "PUSH_FACTOR", "grip_rejection", "held", "push_usage", "width_rejection"]
+__all__ = [
+    "GRIP_MARGIN",
+    "HINGE_LEVER",
+    "JOINT_PUSH_SPEED",
+    "PEAK_RATIO",
+    "PUSH_FACTOR",
+    "grip_rejection",
+    "held",
+    "push_usage",
+    "resistance",
+    "width_rejection",
+]

@@ -44,11 +44,12 @@ class Slip:
     body: str  # the body it pushes
     body_mass: float  # kg
     body_friction: float
-    resists: float  # N the body resists with (its weight times its friction)
+    resists: float  # N the body resists with (its weight times its friction, or its joint's resistance)
     factor: float  # times the push is counted
     strain: Strain  # the load that decides: the larger of the push's and the weight's alone
     weight_usage: float  # of the grip the tool's weight alone takes, held as it is at this push's start
     allowed: float  # the fraction of the grip a plan may use
+    joint: str = ""  # how its joint resists (`grip_load._joint_words`), "" for a body on the table
 
 
 def slip_why(slip: Slip, note: str = "") -> str:
@@ -62,8 +63,9 @@ def slip_why(slip: Slip, note: str = "") -> str:
         )
     else:
         load = f"loads the grip with {s.in_plane:.1f} N in the pads' plane, where they hold {g.max_force:.1f} N"
+    how = slip.joint or "its weight times its friction"
     push = (
-        f"{slip.effector} pushing {slip.body} ({slip.resists:.1f} N: its weight times its friction, the push "
+        f"{slip.effector} pushing {slip.body} ({slip.resists:.1f} N: {how}, the push "
         f"counted {_times(slip.factor)} for what the estimate leaves out"
     )
     if not s.pushed:
@@ -93,9 +95,7 @@ def slip_advice(slip: Slip) -> str:
         if twisted:
             changes.append(f"a hold nearer its centre of mass (`{slip.grasp}` holds it {s.lever * 100:.1f} cm away)")
     else:
-        changes.append(
-            f"a lighter or more slippery {slip.body} (`mass` {slip.body_mass:g} kg, `friction` {slip.body_friction:g})"
-        )
+        changes.append(_lighter_body(slip))
         if twisted:
             changes.append(f"a hold nearer {slip.effector} ({s.lever * 100:.1f} cm from the fingers now)")
     if slip.tool_friction < PAD_FRICTION:
@@ -108,6 +108,15 @@ def slip_advice(slip: Slip) -> str:
     if len(changes) > 1:
         changes[-1] = f"or {changes[-1]}"
     return f"for the grip to hold {slip.tool}: " + ", ".join(changes)
+
+
+def _lighter_body(slip: Slip) -> str:
+    """The change to the pushed body that lightens the push: its mass and friction, or its joint's."""
+    if not slip.joint:
+        return (
+            f"a lighter or more slippery {slip.body} (`mass` {slip.body_mass:g} kg, `friction` {slip.body_friction:g})"
+        )
+    return f"a {slip.body} whose joint resists less ({slip.joint}: its `damping` and `friction`)"
 
 
 def _times(factor: float) -> str:

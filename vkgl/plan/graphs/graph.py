@@ -22,7 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from vkgl.lang.ir.families import tool_only
-from vkgl.lang.ir.nodes import Constraint
+from vkgl.lang.ir.nodes import Affordance, Constraint
 from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.problem import Problem
 
@@ -91,6 +91,16 @@ def is_grasp(problem: Problem, body: str, affordance: str) -> bool:
     return aff.action.type == "grasp" or aff.motion.type == "free"
 
 
+def tool_enacts(affordance: Affordance) -> bool:
+    """Whether a tool frame may enact `affordance`: any but an `action grasp`. A correspondence
+    (`Hook.tip ~ fingertip`) lets the tool's frame stand where the fingertip would push; a grasp is the hand's two
+    fingers closing on the body, which no tool frame does. Enacted by a tip, a grasp's rigid hold is a promise
+    nothing keeps: the Hook's tip at the Drawer's side grasp (its x across the bar, the drawer pulled along its
+    own) was planned past a ledge and, in DART, jammed on the handle and slipped 8 mm in the hand (55 N, 19 N m:
+    39 times the grip)."""
+    return affordance.action.type != "grasp"
+
+
 def is_held(problem: Problem, graph: KGraph, tool: str) -> bool:
     """Whether `tool` is in the robot's hand: engaged by the robot's effector with a free motion."""
     e = graph.engaging(tool)
@@ -119,7 +129,8 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
     - the effector enacts nothing else (one contact per effector) and the body
       is engaged by nothing else (at most one motion edge per body);
     - a tool effector only while the tool is held, only for motions other than
-      `free` (grasping needs the hand) and never on the tool itself;
+      `free` and actions other than `grasp` (grasping needs the hand: `tool_enacts`)
+      and never on the tool itself;
     - a body with a physical joint only by an affordance of the joint's type;
     - not the very engagement `last` removed (ADD x, REMOVE x, ADD x moves
       nothing that ADD x alone cannot: the two motions compose), unless x's
@@ -144,6 +155,8 @@ def successors(problem: Problem, graph: KGraph, last: Action | None) -> list[Act
                 action = Action("add", Engagement(effector.name, name, aff.name))
                 if tool_only(aff.name) and (aff.name, effector.name) not in body.tool_members:
                     continue  # a tool rolled over the body, or its flat face off the centre: that tool's alone
+                if effector.tool is not None and not tool_enacts(aff):
+                    continue
                 if _may_add(problem, effector.tool, body.joint, aff.motion, action, last):
                     out.append(action)
     for e in graph.engaged:

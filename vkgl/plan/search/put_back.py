@@ -39,7 +39,7 @@ from vkgl.plan.graphs.rollout import ModeTrace, Sequence, rollout
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Rejection
 from vkgl.plan.task_space.feasible import JOINT_SAMPLES, TaskSolution
-from vkgl.plan.task_space.reach.workspace import reach_violation
+from vkgl.plan.task_space.reach.workspace import hand_reach_violation
 
 PLACE_RINGS = (0.10, 0.20, 0.30)
 """m: how far from where it was picked up a tool is set down when that place is taken (nearest first)."""
@@ -127,7 +127,7 @@ def _placeable(problem: Problem, grasp: Engagement, pose: np.ndarray) -> bool:
     if not (np.all(corners >= low) and np.all(corners <= high)):
         return False
     hand = pose @ problem.action(grasp.body, grasp.affordance)
-    return reach_violation(problem, hand[:3, 3]) <= 0
+    return hand_reach_violation(problem, hand) <= 0
 
 
 __all__ = ["moved_returns", "put_back", "returned_tools"]

@@ -37,7 +37,7 @@ import numpy as np
 from vkgl.lang.ir.families import tool_only
 from vkgl.lang.ir.regions import convex_hull
 from vkgl.lang.ir.regions import footprint as region_footprint
-from vkgl.plan.graphs.graph import Engagement
+from vkgl.plan.graphs.graph import Engagement, tool_enacts
 from vkgl.plan.graphs.motions import motion_matrices, rest_axis
 from vkgl.plan.graphs.rollout import ModeTrace, Sequence, rollout, tool_pose_on, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
@@ -325,7 +325,7 @@ def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[str,
         if float(np.linalg.norm(axis)) < 1e-9 or float(axis @ u) / float(np.linalg.norm(axis)) < TOWARDS:
             continue
         for effector in problem.effectors:
-            if effector.tool is None or effector.tool == body:
+            if effector.tool is None or effector.tool == body or not tool_enacts(affordance):
                 continue
             if tool_only(affordance.name) and (affordance.name, effector.name) not in plan_body.tool_members:
                 continue

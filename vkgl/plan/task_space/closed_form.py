@@ -36,7 +36,7 @@ from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.reach.hand_heading import hand_out_of_reach_at_free_heading
 from vkgl.plan.task_space.reach.hand_reach import hand_out_of_reach_on_the_way
-from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, reach_violation, unreachable
+from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, UPRIGHT, hand_reach_violation, unreachable
 from vkgl.plan.task_space.slides import affine_positions, best_row, closest, position_out_of_reach, value_limits
 from vkgl.se3 import wrap_angle, yaw_of
 
@@ -434,7 +434,7 @@ def _hand_beyond_reach_at_goal(problem: Problem, seq: Sequence) -> Rejection | N
     pose[:3, 3] = (*goal.position[:2], goal.position[2] if len(goal.position) > 2 else rest[2, 3])
     hand = pose @ chain[0]
     slack = goal.tol_position + math.hypot(chain[0][0, 3], chain[0][1, 3]) * goal.tol_yaw
-    if reach_violation(problem, hand[:3, 3]) <= slack:
+    if hand_reach_violation(problem, hand) <= slack:
         return None
     found = unreachable(problem, hand)
     why = found.why if found is not None else "the hand would be out of reach"
@@ -456,6 +456,8 @@ def _hand_beyond_reach_any_heading(
     assert goal.position is not None
     drift = max(abs(v) for v in offset_bounds(problem.affordance(acting.body, acting.affordance)))
     rho = math.hypot(chain[0, 3], chain[1, 3]) + drift
+    if chain[2, 2] < 1.0 - UPRIGHT:  # a tilted hand is counted up to this much nearer or farther (`hand_down_point`)
+        rho += problem.arm.wrist_lever * math.hypot(chain[0, 2], chain[1, 2])
     height = (goal.position[2] if len(goal.position) > 2 else rest[2, 3]) + chain[2, 3]
     r_min, r_max = problem.arm.reach(float(height))
     base = problem.arm.base[:2, 3]

@@ -18,6 +18,7 @@ from vkgl.plan.graphs.rollout import Sequence, bounds, rollout
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.task_space.reach.hand_reach import hand_bounds, hand_out_of_reach_on_the_way
+from vkgl.plan.task_space.reach.workspace import hand_down_point
 
 
 @pytest.fixture(scope="module")
@@ -59,8 +60,10 @@ def test_the_hand_lies_within_its_bounds_wherever_the_goal_holds(problem, bounde
         end = traces[-1].end["block"][:2, 3]
         goal = end + 0.01 * miss[0] * np.array([math.cos(miss[1]), math.sin(miss[1])])
         for bound in hand_bounds(problem, seq, _goal_at(problem, goal).goals[0]):
-            hand = traces[bound.mode].hand[-1 if bound.at_end else 0][:3, 3]
-            radius = math.hypot(hand[0], hand[1])
+            pose = traces[bound.mode].hand[-1 if bound.at_end else 0]
+            hand = pose[:3, 3]
+            counted = hand_down_point(problem, pose)  # what task space judges (a tilted hand: its wrist's point)
+            radius = math.hypot(counted[0], counted[1])
             assert bound.nearest - 1e-9 <= radius <= bound.farthest + 1e-9, (seq.actions, x, bound)
             assert abs(hand[2] - bound.height) < 1e-9
             seen += 1

@@ -37,7 +37,7 @@ from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.members import contact_band, contact_direction
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.task_space.reach.workspace import REACH_MARGIN
+from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, UPRIGHT
 from vkgl.se3 import yaw_of
 
 SLACK = 1e-3
@@ -132,6 +132,9 @@ def _contact_beyond(
     step_offset = (upper - lower) / (len(offsets) - 1) if len(offsets) > 1 else 0.0
     missed = float(np.max(np.linalg.norm(offset_xy, axis=1))) * step_heading / 2 + step_offset / 2
     slack = missed + goal.tol_position + SLACK
+    hand = pose if chain is None else pose @ chain
+    if hand[2, 2] < 1.0 - UPRIGHT:  # a tilted hand is counted up to this much nearer or farther (`hand_down_point`)
+        slack += problem.arm.wrist_lever * math.hypot(hand[0, 2], hand[1, 2])
     usable = (
         f"from the arm's base at height {height:.3f} m (usable reach there: {r_min + REACH_MARGIN:.3f} to "
         f"{r_max - REACH_MARGIN:.3f} m)"

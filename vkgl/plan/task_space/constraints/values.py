@@ -1,5 +1,5 @@
 """The task-space problem's inequality constraints at one rollout (`constraint_values`): the hand's reach at
-every hand pose and each moved body's
+every hand pose (a tilted hand judged where its wrist stands above, `hand_down_points`) and each moved body's
 limits (`body_constraints`), each mode's part found once and kept on its trace."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 from vkgl.plan.graphs.rollout import ModeTrace
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.task_space.constraints.body_limits import body_constraints
-from vkgl.plan.task_space.reach.workspace import reach_violations
+from vkgl.plan.task_space.reach.workspace import hand_down_points, reach_violations
 
 
 def constraint_values(
@@ -33,13 +33,13 @@ def constraint_values(
 def _mode_parts(
     problem: Problem, trace: ModeTrace, placed: dict[tuple[str, bytes], list[float]] | None
 ) -> tuple[np.ndarray | None, list[float]]:
-    """A mode's hand points (n x 3, None without any) and its moved bodies'
+    """A mode's hand points (n x 3, `hand_down_points`, None without any) and its moved bodies'
     `body_constraints` (by name), with `placed` found once per trace (a trace's poses never change) and kept
     on it; without, afresh."""
     kept = trace.__dict__.get("_parts")
     if kept is not None and kept[0] is problem and placed is not None:
         return kept[1], kept[2]
-    hands = np.array([pose[:3, 3] for pose in trace.hand]) if trace.hand else None
+    hands = hand_down_points(problem, np.array(trace.hand)) if trace.hand else None  # row by row: as all at once
     limits: list[float] = []
     for name in sorted(trace.moved):  # a set of str: its order changes with the hash seed
         pose = trace.end[name]

@@ -74,7 +74,8 @@ def hand_out_of_reach_at_free_heading(
     ring = hand_ring(problem, seq, seq.graphs[mode], acting, limits)
     if ring is None:
         return None
-    points, slack, height = ring
+    points, slack, height, lean = ring
+    slack += lean  # a tilted hand is counted up to that much nearer or farther (`workspace.hand_down_point`)
     setup = scan_setup(problem, seq, goal, turns, slides)
     if setup is None:
         return None

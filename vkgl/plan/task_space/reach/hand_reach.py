@@ -23,7 +23,7 @@ from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, bounds, hand_chain, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
-from vkgl.plan.task_space.reach.workspace import REACH_MARGIN
+from vkgl.plan.task_space.reach.workspace import REACH_MARGIN, UPRIGHT
 
 ACCEPTED_VIOLATION = 1e-6
 """m: the constraint violation task space still accepts as a solution (`feasible.task_space`): the proof must
@@ -100,15 +100,16 @@ def hand_bounds(problem: Problem, seq: Sequence, goal: GoalSpec) -> list[HandBou
         ring = hand_ring(problem, seq, graph, acting, limits)
         if ring is None:
             continue
-        points, slack, height = ring
+        points, slack, height, lean = ring
         own = [move.engagement for move in moves if move.mode == k]
         at_end = own == [acting]  # the rollout samples the hand where the acting motion ends
         later = sum(move.largest for move in moves if move.mode > k or (move.mode == k and not at_end))
         turned = [move.headings for move in moves if move.mode < k or (move.mode == k and at_end)]
         low = heading + sum(t[0] for t in turned)
         high = heading + sum(t[1] for t in turned)  # (a slide adds (0, 0))
-        nearest = min(_nearest(target, p, low, high) for p in points) - slack - goal.tol_position - later
+        nearest = min(_nearest(target, p, low, high) for p in points) - slack - lean - goal.tol_position - later
         farthest = float(np.linalg.norm(target)) + max(math.hypot(*p) for p in points) + goal.tol_position + later
+        farthest += lean
         out.append(HandBound(k, at_end, max(0.0, nearest), farthest, float(rest[2, 3]) + height, later))
     return out
 
@@ -209,10 +210,12 @@ OFFSET_GRID = 9
 
 def hand_ring(
     problem: Problem, seq: Sequence, graph: KGraph, acting: Engagement, limits: tuple[np.ndarray, np.ndarray]
-) -> tuple[list[np.ndarray], float, float] | None:
+) -> tuple[list[np.ndarray], float, float, float] | None:
     """(the hand's horizontal position in the body's frame at `OFFSET_GRID` offsets over the acting contact's
-    band, how far any offset's lies from the nearest of them, the hand's height above the body's origin);
-    None when the hand is not attached or its height changes with the offset.
+    band, how far any offset's lies from the nearest of them, the hand's height above the body's origin, how far
+    a tilted hand's reach is counted from its position: `Arm.wrist_lever` times its z axis's horizontal part,
+    `workspace.hand_down_point`, 0 upright); None when the hand is not attached or its height changes with the
+    offset.
 
     The chain is affine in the offset (`members.action_at`), so an offset within h / 2 of a grid offset puts
     the hand within |a| h / 2 of that one's (a: the chain's change per metre of offset)."""
@@ -229,7 +232,9 @@ def hand_ring(
     if hi > lo:
         step = (hi - lo) / (OFFSET_GRID - 1)
         slack = float(np.linalg.norm((points[-1] - points[0])[:2])) / (hi - lo) * step / 2
-    return [p[:2] for p in points], slack, heights[0]
+    up = chains[0][0][:3, 2] if chains[0] is not None else np.array([0.0, 0.0, 1.0])  # (the body lies level)
+    lean = problem.arm.wrist_lever * math.hypot(up[0], up[1]) if up[2] < 1.0 - UPRIGHT else 0.0
+    return [p[:2] for p in points], slack, heights[0], lean
 
 
 def offset_grid(seq: Sequence, acting: Engagement, limits: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
