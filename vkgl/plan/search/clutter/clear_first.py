@@ -155,14 +155,17 @@ def clear_first(
         return None
     proven = _proven(problem, before)
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
-    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True, bound=bound)
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, bound=bound)
     held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
-    found = _clear_then_solve(walk, blocking, start, proven, held)  # first the narrow walk (`NARROW_SHARE`)
-    if found is not None and found is not _NOTHING:
-        return found
-    walk.narrow, found = False, None
+    found = None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
         found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
+    if found is None or found is _NOTHING:
+        walk.narrow = True
+        found = _clear_then_solve(walk, blocking, start, proven, held)  # the narrow walk (`NARROW_SHARE`)
+        walk.narrow = False
+    if found is not None and found is not _NOTHING:
+        return found
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
         walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
         found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
@@ -233,9 +236,9 @@ def _clear_then_solve(
             then.log(walk, result)
         if walk.spent():
             break
-    if walk.narrow and not walk.spent():
-        held[:] = waiting  # their second search comes with the wide walk's, the likeliest first
-        return None
+    if walk.narrow and not walk.spent():  # those after a plan that left every goal body where it lies go on at
+        held[:] = [w for w in waiting if w.rank()[0]]  # once; the others' second search comes with the wide walk's
+        return _then_again(walk, [w for w in waiting if not w.rank()[0]], proven)
     return _then_again(walk, waiting, proven)
 
 
@@ -359,6 +362,8 @@ class _Walk:
             return
         if _moves(root, blocker):  # moved by the plan before, still in the way: first left to the goal's values
             yield from self.prefixes(rest, root, ())
+            if self.narrow:  # the narrow walk moves every body once: clearing it again is the wide walk's
+                return
         optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
         if optional:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
