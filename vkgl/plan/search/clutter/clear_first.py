@@ -21,15 +21,21 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
-**Narrow first.** The walk first goes over the way's blockers with a narrow sub-problem per side (`NARROW_SHARE`):
-each goal body slides only along its own way, every body is slid, not turned, and moved at most once
-(`only_moving(along=True)`): its plans leave the goal body on its line, where the plan after needs no move back.
+**Order.** When the closest miss of the search before had cleared the way itself and failed on bodies in a tool's
+or the hand's path alone (`met_last`), those are cleared first. Then the narrow walk goes over the way's blockers
+with a narrow sub-problem per side (`NARROW_SHARE`): each goal body slides only along its own way, every body is
+slid, not turned, and moved at most once (`only_moving(along=True)`; a blocker its plan before moved already is
+left to the goal's values, not cleared again): its plans leave the goal body on its line, where the plan after
+needs no move back, and the searches for the goals after those that left every goal body where it lies go on at
+once; then the wide walk.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
 until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
 the goal body where it lies first (`_Waiting.rank`): the work goes to the likeliest prefix, not to whichever side
-was tried first.
+was tried first. A search tried again (a goals' search, a side's) goes on where its first budget stopped it
+(`search(paused=)`), its budget counting both runs: the same search as one started anew, without its first
+try's work done twice.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
 is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
