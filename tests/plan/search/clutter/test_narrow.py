@@ -176,11 +176,11 @@ def test_the_narrow_walks_search_after_a_plan_that_left_the_goal_body_still_goes
         assert budgets[1:] == [pytest.approx(clear_first.THEN_SHARE * 899.0)] and held == []
 
 
-def test_the_bodies_the_closest_miss_failed_on_alone_are_cleared_before_the_narrow_walk(
+def test_the_narrow_walk_goes_first_then_the_bodies_the_closest_miss_failed_on_alone_then_the_wide_walk(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """`met_last` names a body in a tool's path: it is cleared alone first (wide), then the narrow walk over the
-    way's blockers, then the wide walk over them and the bodies in a path."""
+    """`met_last` names a body in a tool's path: the narrow walk over the way's blockers first, then that body
+    cleared alone (wide), then the wide walk over the way's blockers and the bodies in a path."""
     walks: list[tuple[bool, list[str]]] = []
 
     def walked(walk: clear_first._Walk, blocking: list[tuple[object, str]], *args: object) -> None:
@@ -192,4 +192,4 @@ def test_the_bodies_the_closest_miss_failed_on_alone_are_cleared_before_the_narr
     problem = _problem(tmp_path)
     before = SearchResult("infeasible", "", SearchStats())
     assert clear_first.clear_first(problem, before, deadline=math.inf, budget=900.0) is None
-    assert walks == [(False, ["crate"]), (True, ["block2"]), (False, ["block2", "crate"])]
+    assert walks == [(True, ["block2"]), (False, ["crate"]), (False, ["block2", "crate"])]

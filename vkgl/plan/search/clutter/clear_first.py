@@ -21,13 +21,12 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    chosen again for the whole sequence (the blocker moved as far as the goal body's real corridor needs,
    `clearing.cleared_values`), and it passes every check; the plan format does not change.
 
-**Order.** When the closest miss of the search before had cleared the way itself and failed on bodies in a tool's
-or the hand's path alone (`met_last`), those are cleared first. Then the narrow walk goes over the way's blockers
-with a narrow sub-problem per side (`NARROW_SHARE`): each goal body slides only along its own way, every body is
-slid, not turned, and moved at most once (`only_moving(along=True)`; a blocker its plan before moved already is
-left to the goal's values, not cleared again): its plans leave the goal body on its line, where the plan after
-needs no move back, and the searches for the goals after those that left every goal body where it lies go on at
-once; then the wide walk.
+**Narrow first.** The walk first goes over the way's blockers with a narrow sub-problem per side (`NARROW_SHARE`):
+each goal body slides only along its own way, every body is slid, not turned, and moved at most once
+(`only_moving(along=True)`; a blocker its plan before moved already is left to the goal's values, not cleared
+again): its plans leave the goal body on its line, where the plan after needs no move back, and the searches for
+the goals after those that left every goal body where it lies go on at once. Then the bodies the closest miss of
+the search before failed on alone, in a tool's or the hand's path (`met_last`), then the wide walk.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
@@ -161,17 +160,14 @@ def clear_first(
         return None
     proven = _proven(problem, before)
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
-    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, bound=bound)
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True, bound=bound)
     held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
-    found = None
-    if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
-        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
-    if found is None or found is _NOTHING:
-        walk.narrow = True
-        found = _clear_then_solve(walk, blocking, start, proven, held)  # the narrow walk (`NARROW_SHARE`)
-        walk.narrow = False
+    found = _clear_then_solve(walk, blocking, start, proven, held)  # first the narrow walk (`NARROW_SHARE`)
     if found is not None and found is not _NOTHING:
         return found
+    walk.narrow, found = False, None
+    if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
+        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
         walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
         found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
