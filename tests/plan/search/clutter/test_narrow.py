@@ -193,3 +193,39 @@ def test_the_narrow_walk_goes_first_then_the_bodies_the_closest_miss_failed_on_a
     before = SearchResult("infeasible", "", SearchStats())
     assert clear_first.clear_first(problem, before, deadline=math.inf, budget=900.0) is None
     assert walks == [(True, ["block2"]), (False, ["crate"]), (False, ["block2", "crate"])]
+
+
+def test_the_first_plan_clearing_the_bodies_the_closest_miss_failed_on_goes_on_at_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`_Walk.eager` (the walk over `met_last`'s bodies): the search for the goals after its first clearing plan
+    that left the block where it lies goes on at once with `THEN_SHARE` after its first try, once; the second
+    plan's search waits as ever."""
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT, RIGHT])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    monkeypatch.setattr(clear_first, "rolls", lambda *args: False)
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float,
+              *, rolled: bool = False, along: bool = False) -> SearchResult:  # fmt: skip
+        plan = _prefix(3 if side is LEFT else 4, frozenset({"block2"}))
+        return SearchResult("solved", "", SearchStats(), sequence=plan, task=TaskSolution(np.zeros(0), []))
+
+    calls: list[tuple[int, float]] = []
+
+    def search(problem: object, *, deadline: float, progress: bool, root: Sequence, budget: float, **kw: object):
+        calls.append((root.depth, budget))
+        stats = SearchStats()
+        stats.graphs_expanded = 20  # 1 unit
+        return SearchResult("timeout", "", stats)
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    monkeypatch.setattr(clear_first, "search", search)
+    problem = _problem(tmp_path)
+    walk = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, eager=True)
+    assert clear_first._clear_then_solve(walk, [(problem.goals[0], "block2")], Sequence(), 6) is None
+    assert calls[:3] == [
+        (3, pytest.approx(clear_first.THEN_FIRST * 900.0)),
+        (3, pytest.approx(clear_first.THEN_SHARE * 899.0)),
+        (4, pytest.approx(clear_first.THEN_FIRST * 898.0)),
+    ]
+    assert not walk.eager and [depth for depth, _ in calls[3:]] == [4]  # the second round: the second plan only

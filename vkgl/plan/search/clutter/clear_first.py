@@ -26,7 +26,9 @@ each goal body slides only along its own way, every body is slid, not turned, an
 (`only_moving(along=True)`; a blocker its plan before moved already is left to the goal's values, not cleared
 again): its plans leave the goal body on its line, where the plan after needs no move back, and the searches for
 the goals after those that left every goal body where it lies go on at once. Then the bodies the closest miss of
-the search before failed on alone, in a tool's or the hand's path (`met_last`), then the wide walk.
+the search before failed on alone, in a tool's or the hand's path (`met_last`; the search for the goals after the
+first plan that clears them and leaves the goal bodies where they lie goes on at once, `_Walk.eager`), then the
+wide walk.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
@@ -167,7 +169,9 @@ def clear_first(
         return found
     walk.narrow, found = False, None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
+        walk.eager = True
         found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
+        walk.eager = False
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
         walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
         found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
@@ -230,9 +234,13 @@ def _clear_then_solve(
         )
         then = _Waiting(deeper, prefix, cleared, len(waiting))
         result = then.search(walk, (THEN_FIRST if first else THEN_SHARE) * walk.left)
+        again = first and walk.eager and result.status == "timeout" and not then.rank()[0]
+        if again:  # (`_Walk.eager`: once)
+            walk.eager = False
+            result = then.search(walk, THEN_SHARE * walk.left)
         if result.status == "solved":
             return then.solved(walk, result, proven)
-        if first and result.status == "timeout":
+        if first and result.status == "timeout" and not again:
             waiting.append(then)
         else:
             then.log(walk, result)
@@ -302,6 +310,7 @@ class _Walk:
     narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
     seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
     narrowed: dict[tuple[str, str, tuple[Action, ...]], SearchResult] = field(default_factory=dict)  # its plans
+    eager: bool = False  # the walk over met_last's bodies: its first plan that left the goal bodies still goes on
     bound: Bound | None = None  # `problem`'s, made once (`far_move_tools` and `only_moving` ask for it per side)
     way: dict[tuple[str, int], tuple[GoalSpec, list[Side]]] = field(default_factory=dict)  # `_way_sides`' memo
     subs: dict[tuple[object, ...], tuple[Problem, frozenset[str], Paused]] = field(default_factory=dict)  # `_clear`'s
