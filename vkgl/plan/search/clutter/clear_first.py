@@ -247,8 +247,9 @@ def _clear_then_solve(
         if walk.spent():
             break
     if walk.narrow and not walk.spent():  # those after a plan that left every goal body where it lies go on at
-        held[:] = [w for w in waiting if w.rank()[0]]  # once; the others' second search comes with the wide walk's
-        return _then_again(walk, [w for w in waiting if not w.rank()[0]], proven)
+        go = [not w.rank()[0] and not walk.paths for w in waiting]  # once, unless bodies in a path wait for the
+        held[:] = [w for w, now in zip(waiting, go, strict=True) if not now]  # wide walk (their plans may need them
+        return _then_again(walk, [w for w, now in zip(waiting, go, strict=True) if now], proven)  # moved: gen1_041)
     return _then_again(walk, waiting, proven)
 
 
