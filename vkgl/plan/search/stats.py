@@ -276,16 +276,19 @@ class Progress:
             sys.stderr.flush()
 
 
-def add_stats(total: SearchStats, part: SearchStats) -> None:
+def add_stats(total: SearchStats, part: SearchStats, since: SearchStats | None = None) -> None:
     """Add the counters of another search (`part`) to `total`: sequences, checks, rejections, times (what
-    describes where one search ended, its level and cut sequences, stays `total`'s)."""
+    describes where one search ended, its level and cut sequences, stays `total`'s). `since`: `part`'s counters
+    as they stood when `total` last had them added (a search gone on from where its budget stopped it,
+    `search(paused=)`): only what it counted since is added."""
     kept = {"level", "depth_reached", "shortest_cut", "cut_at_start", "examples"}
     for f in fields(SearchStats):
         if f.name in kept:
             continue
         mine, theirs = getattr(total, f.name), getattr(part, f.name)
         if isinstance(mine, (int, float)):
-            setattr(total, f.name, mine + theirs)
+            setattr(total, f.name, mine + theirs - (getattr(since, f.name) if since is not None else 0))
     for f in fields(total.work):
-        setattr(total.work, f.name, getattr(total.work, f.name) + getattr(part.work, f.name))
-    total.rejections.update(part.rejections)
+        before = getattr(since.work, f.name) if since is not None else 0
+        setattr(total.work, f.name, getattr(total.work, f.name) + getattr(part.work, f.name) - before)
+    total.rejections.update(part.rejections - since.rejections if since is not None else part.rejections)

@@ -75,34 +75,32 @@ def polygon_distance(a: np.ndarray, b: np.ndarray) -> float:
     """The distance between two convex polygons (0 when they overlap or touch)."""
     if _overlap(a, b):
         return 0.0
-    return min(
-        min(_point_segment(p, q0, q1) for p in a for q0, q1 in _edges(b)),
-        min(_point_segment(p, q0, q1) for p in b for q0, q1 in _edges(a)),
-    )
+    return min(_to_edges(a, b), _to_edges(b, a))
 
 
-def _edges(polygon: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    return [(polygon[i], polygon[(i + 1) % len(polygon)]) for i in range(len(polygon))]
+def _to_edges(points: np.ndarray, polygon: np.ndarray) -> float:
+    """The least distance from any of `points` to any edge of `polygon`: each point's nearest point on each edge
+    (clamped to its ends), all at once (the clearing's bisections ask thousands of times)."""
+    start = polygon
+    edge = np.roll(polygon, -1, axis=0) - polygon
+    length = edge[:, 0] * edge[:, 0] + edge[:, 1] * edge[:, 1]
+    rel = points[:, np.newaxis, :] - start[np.newaxis, :, :]
+    along = rel[..., 0] * edge[:, 0] + rel[..., 1] * edge[:, 1]
+    t = np.where(length == 0.0, 0.0, np.clip(along / np.where(length == 0.0, 1.0, length), 0.0, 1.0))
+    off = rel - t[..., np.newaxis] * edge[np.newaxis, :, :]
+    return float(np.sqrt(off[..., 0] * off[..., 0] + off[..., 1] * off[..., 1]).min())
 
 
 def _overlap(a: np.ndarray, b: np.ndarray) -> bool:
-    """Separating-axis test of two convex polygons."""
+    """Separating-axis test of two convex polygons: no edge normal of either separates their projections."""
     for polygon in (a, b):
-        for p, q in _edges(polygon):
-            normal = np.array([q[1] - p[1], p[0] - q[0]])
-            if not normal.any():
-                continue
-            pa, pb = a @ normal, b @ normal
-            if pa.max() < pb.min() or pb.max() < pa.min():
-                return False
+        edge = np.roll(polygon, -1, axis=0) - polygon
+        normals = np.stack([edge[:, 1], -edge[:, 0]], axis=1)
+        normals = normals[normals.any(axis=1)]
+        pa, pb = a @ normals.T, b @ normals.T
+        if np.any((pa.max(axis=0) < pb.min(axis=0)) | (pb.max(axis=0) < pa.min(axis=0))):
+            return False
     return True
-
-
-def _point_segment(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
-    ab = b - a
-    length = float(ab @ ab)
-    t = 0.0 if length == 0 else min(1.0, max(0.0, float((p - a) @ ab) / length))
-    return float(np.linalg.norm(p - (a + t * ab)))
 
 
 def corridors(problem: Problem, seq: Sequence, traces: list[ModeTrace], after: int, skip: str) -> list[np.ndarray]:

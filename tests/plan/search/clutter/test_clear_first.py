@@ -155,7 +155,7 @@ def test_the_sub_goal_is_a_region_goal_on_the_blocker_with_any_heading() -> None
 
 def test_a_plan_longer_than_one_past_the_proof_is_not_called_shortest() -> None:
     from vkgl.plan.graphs.rollout import Sequence
-    from vkgl.plan.search.clutter.clear_first import _words
+    from vkgl.plan.search.clutter.words import plan_words as _words
 
     prefix = Sequence()
     assert "a shortest plan (no plan of at most 6 graphs exists)" in _words("b left of the way", prefix, 7, 6)

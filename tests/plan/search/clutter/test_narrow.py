@@ -107,3 +107,128 @@ def test_the_narrow_walk_tries_every_side_before_the_wide_one_and_searches_a_pla
     assert clear_first._clear_then_solve(walk, [(goal, "block2")], Sequence(), 6) is None
     assert [(words, along) for words, along, _ in calls[1:]] == [("right", False)]
     assert then == [4]  # the search for the goals after the plan: once, not again after the wide try found it
+
+
+def test_the_narrow_walk_leaves_a_blocker_its_root_moved_to_the_goals_values(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """block2 pushed by the plan before (the root): the narrow walk yields the root with its values free (block2
+    moved as far as the goal's search needs) and clears it no more (every body moved once); the wide walk still
+    tries its sides."""
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    monkeypatch.setattr(clear_first, "rolls", lambda *args: False)
+    tried: list[bool] = []
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float,
+              *, rolled: bool = False, along: bool = False) -> SearchResult:  # fmt: skip
+        tried.append(along)
+        return SearchResult("infeasible", "", SearchStats())
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    problem = _aside_problem(0.0)
+    push = next(a.name for a in problem.bodies["block2"].affordances if a.motion.type == "prismatic")
+    e = Engagement("arm.fingertip", "block2", push)
+    root, _ = extend(problem, start_sequence(problem), Action("add", e))
+    root, _ = extend(problem, root, Action("remove", e))
+    goal = problem.goals[0]
+    narrow = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, narrow=True)
+    assert [item[:2] for item in narrow.prefixes([(goal, "block2")], root, (0.1,)) if item] == [(root, ())]
+    assert tried == []
+    wide = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0)
+    list(wide.prefixes([(goal, "block2")], root, (0.1,)))
+    assert tried == [False]
+
+
+@pytest.mark.parametrize(
+    ("moved", "paths"),
+    [(frozenset({"block2"}), {}), (frozenset({"block", "block2"}), {}), (frozenset({"block2"}), {"crate": 0.01})],
+)
+def test_the_narrow_walks_search_after_a_plan_that_left_the_goal_body_still_goes_on_at_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, moved: frozenset[str], paths: dict[str, float]
+) -> None:
+    """The narrow plan's search for the goals spends its first try: when the plan left the block where it lies it
+    goes on at once with `THEN_SHARE` (the likeliest prefix); when it pushed the block back, or a body in a tool's
+    path waits for the wide walk, it waits for the wide walk too (held)."""
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    plan = _prefix(4, moved)
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float,
+              *, rolled: bool = False, along: bool = False) -> SearchResult:  # fmt: skip
+        return SearchResult("solved", "", SearchStats(), sequence=plan, task=TaskSolution(np.zeros(0), []))
+
+    budgets: list[float] = []
+
+    def search(problem: object, *, deadline: float, progress: bool, root: Sequence, budget: float, **kw: object):
+        budgets.append(budget)
+        stats = SearchStats()
+        stats.graphs_expanded = 20  # 1 unit
+        return SearchResult("timeout", "", stats)
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    monkeypatch.setattr(clear_first, "search", search)
+    problem = _problem(tmp_path)
+    walk = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, narrow=True, paths=paths)
+    held: list[object] = []
+    assert clear_first._clear_then_solve(walk, [(problem.goals[0], "block2")], Sequence(), 6, held) is None  # type: ignore[arg-type]
+    assert budgets[0] == pytest.approx(clear_first.THEN_FIRST * 900.0)
+    if "block" in moved or paths:
+        assert len(budgets) == 1 and len(held) == 1
+    else:
+        assert budgets[1:] == [pytest.approx(clear_first.THEN_SHARE * 899.0)] and held == []
+
+
+def test_the_narrow_walk_goes_first_then_the_bodies_the_closest_miss_failed_on_alone_then_the_wide_walk(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`met_last` names a body in a tool's path: the narrow walk over the way's blockers first, then that body
+    cleared alone (wide), then the wide walk over the way's blockers and the bodies in a path."""
+    walks: list[tuple[bool, list[str]]] = []
+
+    def walked(walk: clear_first._Walk, blocking: list[tuple[object, str]], *args: object) -> None:
+        walks.append((walk.narrow, [name for _, name in blocking]))
+
+    monkeypatch.setattr(clear_first, "path_blockers", lambda *args: {"crate": 0.01})
+    monkeypatch.setattr(clear_first, "met_last", lambda *args: {"crate": 0.01})
+    monkeypatch.setattr(clear_first, "_clear_then_solve", walked)
+    problem = _problem(tmp_path)
+    before = SearchResult("infeasible", "", SearchStats())
+    assert clear_first.clear_first(problem, before, deadline=math.inf, budget=900.0) is None
+    assert walks == [(True, ["block2"]), (False, ["crate"]), (False, ["block2", "crate"])]
+
+
+def test_the_first_plan_clearing_the_bodies_the_closest_miss_failed_on_goes_on_at_once(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`_Walk.eager` (the walk over `met_last`'s bodies): the search for the goals after its first clearing plan
+    that left the block where it lies goes on at once with `THEN_SHARE` after its first try, once; the second
+    plan's search waits as ever."""
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT, RIGHT])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    monkeypatch.setattr(clear_first, "rolls", lambda *args: False)
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float,
+              *, rolled: bool = False, along: bool = False) -> SearchResult:  # fmt: skip
+        plan = _prefix(3 if side is LEFT else 4, frozenset({"block2"}))
+        return SearchResult("solved", "", SearchStats(), sequence=plan, task=TaskSolution(np.zeros(0), []))
+
+    calls: list[tuple[int, float]] = []
+
+    def search(problem: object, *, deadline: float, progress: bool, root: Sequence, budget: float, **kw: object):
+        calls.append((root.depth, budget))
+        stats = SearchStats()
+        stats.graphs_expanded = 20  # 1 unit
+        return SearchResult("timeout", "", stats)
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    monkeypatch.setattr(clear_first, "search", search)
+    problem = _problem(tmp_path)
+    walk = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, eager=True)
+    assert clear_first._clear_then_solve(walk, [(problem.goals[0], "block2")], Sequence(), 6) is None
+    assert calls[:3] == [
+        (3, pytest.approx(clear_first.THEN_FIRST * 900.0)),
+        (3, pytest.approx(clear_first.THEN_SHARE * 899.0)),
+        (4, pytest.approx(clear_first.THEN_FIRST * 898.0)),
+    ]
+    assert not walk.eager and [depth for depth, _ in calls[3:]] == [4]  # the second round: the second plan only

@@ -55,6 +55,7 @@ class _Recorder:
         root: Sequence,
         budget: float,
         still: frozenset[str] = frozenset(),
+        paused: object = None,
     ) -> object:
         self.calls.append((root.depth, budget))
         stats = SearchStats()

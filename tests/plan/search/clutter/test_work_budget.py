@@ -15,8 +15,8 @@ import pytest
 import vkgl
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.search.clutter.clear_first import clear_first, work_budget
-from vkgl.plan.search.search import search
-from vkgl.plan.search.stats import SearchStats
+from vkgl.plan.search.search import Paused, search
+from vkgl.plan.search.stats import SearchStats, add_stats
 
 _HERE = Path(__file__).resolve().parent
 
@@ -87,3 +87,25 @@ def test_the_blocker_is_cleared_with_the_fingertip_within_a_work_budget_the_same
     first, second = (c.result for c in found if c is not None and c.result is not None)
     assert _counts(first.stats) == _counts(second.stats)
     assert [a.label(problem) for a in first.sequence.actions] == [a.label(problem) for a in second.sequence.actions]
+
+
+def test_a_search_its_budget_stopped_goes_on_to_the_same_end_as_one_started_with_the_larger_budget() -> None:
+    """`search(paused=)`: stopped by a budget of 1 unit, then gone on from there with 6, the search ends where one
+    started anew with 6 ends, with the same counts (its work done once, not twice); the walk adds up only the
+    work of the second run (`add_stats(since=)`)."""
+    problem = _problem()
+    far = time.perf_counter() + 1e6
+    anew = search(problem, deadline=far, budget=6.0)
+    paused = Paused()
+    first = search(problem, deadline=far, budget=1.0, paused=paused)
+    assert first.status == "timeout"
+    total = SearchStats()
+    add_stats(total, first.stats)  # (the run's counters go on counting: added before it goes on, as the walk does)
+    since = paused.stats(problem, None)
+    assert since is not None and _counts(since) == _counts(first.stats) < _counts(anew.stats)
+    went_on = search(problem, deadline=far, budget=6.0, paused=paused)
+    assert went_on.status == anew.status and went_on.reason == anew.reason
+    assert _counts(went_on.stats) == _counts(anew.stats)
+    add_stats(total, went_on.stats, since)
+    assert _counts(total) == _counts(anew.stats)
+    assert paused.stats(replace(problem), None) is None  # another problem starts anew

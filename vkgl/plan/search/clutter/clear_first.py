@@ -23,13 +23,20 @@ more, one past the default `max_depth`, and the search cannot afford the level o
 
 **Narrow first.** The walk first goes over the way's blockers with a narrow sub-problem per side (`NARROW_SHARE`):
 each goal body slides only along its own way, every body is slid, not turned, and moved at most once
-(`only_moving(along=True)`): its plans leave the goal body on its line, where the plan after needs no move back.
+(`only_moving(along=True)`; a blocker its plan before moved already is left to the goal's values, not cleared
+again): its plans leave the goal body on its line, where the plan after needs no move back, and the searches for
+the goals after those that left every goal body where it lies go on at once. Then the bodies the closest miss of
+the search before failed on alone, in a tool's or the hand's path (`met_last`; the search for the goals after the
+first plan that clears them and leaves the goal bodies where they lie goes on at once, `_Walk.eager`), then the
+wide walk.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
 until every side of the blocker had its first try and then go again with `THEN_SHARE`, the clearing plan that left
 the goal body where it lies first (`_Waiting.rank`): the work goes to the likeliest prefix, not to whichever side
-was tried first.
+was tried first. A search tried again (a goals' search, a side's) goes on where its first budget stopped it
+(`search(paused=)`), its budget counting both runs: the same search as one started anew, without its first
+try's work done twice.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
 is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
@@ -69,11 +76,12 @@ from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import moved_before as _moves
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
 from vkgl.plan.search.clutter.tool_path import met_last, path_blockers, path_sides
+from vkgl.plan.search.clutter.waiting import Cleared
+from vkgl.plan.search.clutter.waiting import Waiting as _Waiting
 from vkgl.plan.search.clutter.words import closest as _closest
-from vkgl.plan.search.clutter.words import plan_words as _words
 from vkgl.plan.search.clutter.words import side_words as _side_words
 from vkgl.plan.search.ordering import InTheWay
-from vkgl.plan.search.search import SearchResult, search
+from vkgl.plan.search.search import Paused, SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats
 from vkgl.plan.task_space.clearing import Side, way_sides
 
@@ -109,15 +117,6 @@ proven so with about 100."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
-
-
-@dataclass(frozen=True)
-class Cleared:
-    """What `clear_first` did: the combined plan's search result (None: no plan found) and, in words, how it was
-    found and whether it is shortest, or what was tried."""
-
-    result: SearchResult | None
-    words: str
 
 
 SEARCH_SHARE = 0.5
@@ -159,18 +158,21 @@ def clear_first(
     search tried here are added to its."""
     start = start_sequence(problem)
     blocking = _blocking(problem)
-    if not blocking or math.isinf(Bound(problem)(start)):
+    bound = Bound(problem)
+    if not blocking or math.isinf(bound(start)):
         return None
     proven = _proven(problem, before)
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
-    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True)
+    walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True, bound=bound)
     held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
     found = _clear_then_solve(walk, blocking, start, proven, held)  # first the narrow walk (`NARROW_SHARE`)
     if found is not None and found is not _NOTHING:
         return found
     walk.narrow, found = False, None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
+        walk.eager = True
         found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
+        walk.eager = False
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
         walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
         found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
@@ -233,17 +235,22 @@ def _clear_then_solve(
         )
         then = _Waiting(deeper, prefix, cleared, len(waiting))
         result = then.search(walk, (THEN_FIRST if first else THEN_SHARE) * walk.left)
+        again = first and walk.eager and result.status == "timeout" and not then.rank()[0]
+        if again:  # (`_Walk.eager`: once)
+            walk.eager = False
+            result = then.search(walk, THEN_SHARE * walk.left)
         if result.status == "solved":
             return then.solved(walk, result, proven)
-        if first and result.status == "timeout":
+        if first and result.status == "timeout" and not again:
             waiting.append(then)
         else:
             then.log(walk, result)
         if walk.spent():
             break
-    if walk.narrow and not walk.spent():
-        held[:] = waiting  # their second search comes with the wide walk's, the likeliest first
-        return None
+    if walk.narrow and not walk.spent():  # those after a plan that left every goal body where it lies go on at
+        go = [not w.rank()[0] and not walk.paths for w in waiting]  # once, unless bodies in a path wait for the
+        held[:] = [w for w, now in zip(waiting, go, strict=True) if not now]  # wide walk (their plans may need them
+        return _then_again(walk, [w for w, now in zip(waiting, go, strict=True) if now], proven)  # moved: gen1_041)
     return _then_again(walk, waiting, proven)
 
 
@@ -260,50 +267,6 @@ def _then_again(walk: _Walk, waiting: list[_Waiting], proven: int) -> Cleared | 
         then.log(walk, result)
     waiting.clear()
     return None
-
-
-@dataclass
-class _Waiting:
-    """A plan that clears the way (`prefix`, the blockers and their sides `cleared`) and the problem of the goals
-    after it (`deeper`: its values pinned, or free again once proven to have no plan); `order`: when found."""
-
-    deeper: Problem
-    prefix: Sequence
-    cleared: list[tuple[str, Side]]
-    order: int
-
-    def rank(self) -> tuple[bool, int, int]:
-        """The order the waiting searches go in: a prefix that leaves every goal body where it lies first (one
-        that pushed the goal body back to make room leaves it farther from its goal, with more to undo), then
-        the shorter prefix, then the one found first."""
-        moved = any(goal.body in self.prefix.dependent for goal in self.deeper.goals)
-        return moved, self.prefix.depth, self.order
-
-    def moved(self) -> str:
-        """The blockers and the sides they were cleared to, in words."""
-        return ", then ".join(_side_words(name, side) for name, side in self.cleared)
-
-    def search(self, walk: _Walk, budget: float) -> SearchResult:
-        """The goals searched from the prefix with `budget` units: with its values pinned, and free again (moved
-        farther aside where need be) when no plan keeps them."""
-        result = walk.search(self.deeper, self.prefix, budget)
-        if result.status == "infeasible" and self.deeper.pinned:
-            self.deeper = replace(self.deeper, pinned=())
-            result = walk.search(self.deeper, self.prefix, budget)
-        return result
-
-    def solved(self, walk: _Walk, result: SearchResult, proven: int) -> Cleared:
-        """The combined plan, with its words."""
-        assert result.sequence is not None
-        words = _words(self.moved(), self.prefix, result.sequence.depth, proven)
-        return Cleared(replace(result, stats=walk.stats), words)
-
-    def log(self, walk: _Walk, result: SearchResult) -> None:
-        """How the search for the goals after the prefix ended, in `walk.log`."""
-        ended = (
-            f"no plan of at most {self.deeper.max_depth} graphs" if result.status == "infeasible" else walk.ran_out()
-        )
-        walk.log.append(f"{self.moved()} ({self.prefix.depth} graphs), then {ended}{_closest(result)}")
 
 
 _NOTHING = Cleared(None, "")
@@ -349,15 +312,35 @@ class _Walk:
     narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
     seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
     narrowed: dict[tuple[str, str, tuple[Action, ...]], SearchResult] = field(default_factory=dict)  # its plans
+    eager: bool = False  # the walk over met_last's bodies: its first plan that left the goal bodies still goes on
+    bound: Bound | None = None  # `problem`'s, made once (`far_move_tools` and `only_moving` ask for it per side)
+    way: dict[tuple[str, int], tuple[GoalSpec, list[Side]]] = field(default_factory=dict)  # `_way_sides`' memo
+    subs: dict[tuple[object, ...], tuple[Problem, frozenset[str], Paused]] = field(default_factory=dict)  # `_clear`'s
 
     def search(
-        self, problem: Problem, root: Sequence, budget: float, still: frozenset[str] = frozenset()
+        self,
+        problem: Problem,
+        root: Sequence,
+        budget: float,
+        still: frozenset[str] = frozenset(),
+        paused: Paused | None = None,
     ) -> SearchResult:
         """`problem` searched from `root` with at most `budget` units of the work left (the bodies `still` kept
-        still until a rejection names one, `search(still=)`); its work is taken off."""
-        result = search(problem, deadline=self.deadline, progress=self.progress, root=root, budget=budget, still=still)
-        add_stats(self.stats, result.stats)
-        self.left -= result.stats.work_done()
+        still until a rejection names one, `search(still=)`); its work is taken off. With `paused`, a search of
+        the same problem and root that an earlier budget stopped goes on from there (`search(paused=)`): its
+        budget counts both runs, and only the work since is taken off."""
+        since = paused.stats(problem, root) if paused is not None else None
+        result = search(
+            problem,
+            deadline=self.deadline,
+            progress=self.progress,
+            root=root,
+            budget=budget,
+            still=still,
+            paused=paused,
+        )
+        add_stats(self.stats, result.stats, since)
+        self.left -= result.stats.work_done() - (since.work_done() if since is not None else 0.0)
         return result
 
     def spent(self) -> bool:
@@ -385,13 +368,15 @@ class _Walk:
         sides = (
             path_sides(self.problem, goal, blocker, self.paths[blocker])
             if blocker in self.paths and not self.narrow
-            else way_sides(self.problem, goal, blocker, tools=far_move_tools(self.problem, goal))
+            else self._way_sides(goal, blocker)
         )
         if len(sides) == 1 and sides[0].distance == 0.0:  # clear of the straight way already
             yield from self.prefixes(rest, root, pinned)
             return
         if _moves(root, blocker):  # moved by the plan before, still in the way: first left to the goal's values
             yield from self.prefixes(rest, root, ())
+            if self.narrow:  # the narrow walk moves every body once: clearing it again is the wide walk's
+                return
         optional = blocker in self.optional  # a body in a tool's path, first left where it lies (as before)
         if optional:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
@@ -437,6 +422,16 @@ class _Walk:
         if not moved and not optional and not self.spent():  # no plan moves it: the others cleared, it is left
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
 
+    def _way_sides(self, goal: GoalSpec, blocker: str) -> list[Side]:
+        """`way_sides` of `blocker` in `goal`'s way, widened for the tools that carry the goal body: made once per
+        walk (they depend on neither the root nor the walk's round; each costs a few hundred ms of trying the
+        blocker's motions)."""
+        key = (blocker, id(goal))  # (the goal kept with its sides: its id names no other while they are kept)
+        if key not in self.way:
+            tools = far_move_tools(self.problem, goal, self.bound)
+            self.way[key] = (goal, way_sides(self.problem, goal, blocker, tools=tools))
+        return self.way[key][1]
+
     def _clear(
         self,
         goal: GoalSpec,
@@ -451,14 +446,18 @@ class _Walk:
     ) -> SearchResult:
         """The search for a plan that clears `blocker` to `side` from `root` with `budget` units (`rolled`: also by a
         rolled hook; `along`: the narrow try): solved (with its sequence), proven infeasible (logged) or "timeout"."""
-        moving, still = only_moving(self.problem, goal, blocker, side, root, along=along)
-        sub = replace(
-            with_rolled_members(moving, blocker) if rolled else moving,
-            goals=[side_goal(self.problem, goal, blocker, side)],
-            max_depth=root.depth - 1 + CLEAR_DEPTH,
-            pinned=pinned,
-        )
-        found = self.search(sub, root, budget, still=still)
+        key = (blocker, side.words, root.actions, pinned, rolled, along)
+        if key not in self.subs:  # a side tried again (its second round) goes on where its first try stopped
+            moving, still = only_moving(self.problem, goal, blocker, side, root, along=along, bound=self.bound)
+            sub = replace(
+                with_rolled_members(moving, blocker) if rolled else moving,
+                goals=[side_goal(self.problem, goal, blocker, side)],
+                max_depth=root.depth - 1 + CLEAR_DEPTH,
+                pinned=pinned,
+            )
+            self.subs[key] = (sub, still, Paused())
+        sub, still, paused = self.subs[key]
+        found = self.search(sub, root, budget, still=still, paused=paused)
         if found.status == "solved" and found.sequence is not None:
             return found
         if found.status != "timeout":

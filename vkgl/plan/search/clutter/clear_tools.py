@@ -75,13 +75,14 @@ def far_move_grasps(problem: Problem, goal: GoalSpec) -> frozenset[tuple[str, st
     return frozenset(out)
 
 
-def far_move_tools(problem: Problem, goal: GoalSpec) -> frozenset[str] | None:
+def far_move_tools(problem: Problem, goal: GoalSpec, bound: Bound | None = None) -> frozenset[str] | None:
     """The tools that can carry `goal`'s body along its way when only a tool can (the hand can neither start it,
     `far_move_grasps`, nor end it at its goal, `Bound`'s `ends_by_tool`): those that can start it, of those the
     ones with a grasp that can also end it (not all of `Bound`'s wrong grasps for it). None when the hand itself
-    may carry it, or when no tool is left (nothing is then known of which tool moves it)."""
+    may carry it, or when no tool is left (nothing is then known of which tool moves it). `bound`: `problem`'s
+    `Bound` when made already (a clearing walk asks for every side it tries; making it costs tens of ms)."""
     tools = frozenset(e.tool for e in problem.effectors if e.tool is not None)
-    needs = [need for need in Bound(problem).needs if need.body == goal.body]
+    needs = [need for need in (bound or Bound(problem)).needs if need.body == goal.body]
     starting = far_move_grasps(problem, goal)
     if starting:
         tools = frozenset(tool for tool, _ in starting)

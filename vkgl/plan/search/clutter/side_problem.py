@@ -33,6 +33,7 @@ def only_moving(
     root: Sequence | None = None,
     *,
     along: bool = False,
+    bound: Bound | None = None,
 ) -> tuple[Problem, frozenset[str]]:
     """`problem` in which the goal bodies and the tools keep their affordances, and `blocker` those one motion of
     which takes it to `side` (all of them when none does), and the other free bodies, kept still (the second
@@ -55,6 +56,8 @@ def only_moving(
     or back from it, never aside; none when it has none): the clearing plan then leaves the goal body on its line,
     where the plan after it needs no move back (`clear_first` tries this sub-problem first).
 
+    `bound`: `problem`'s `Bound` when made already (the walk tries many sides of one problem).
+
     Whatever is left out, a body keeps every affordance `root` (the plan the sub-problem's search extends) engages:
     the search rolls `root` out in the sub-problem, and a contact it lacks was a KeyError (a blocker the plan
     before nudged with the fingertip, cleared again to a side whose movers are other slides)."""
@@ -62,7 +65,8 @@ def only_moving(
     still = frozenset(n for n, b in problem.bodies.items() if n not in keep and b.joint is None and b.affordances)
     bodies = {n: b if n in keep or n in still else replace(b, affordances=()) for n, b in problem.bodies.items()}
     mover = bodies[goal.body]
-    far = far_move_tools(problem, goal) is not None
+    bound = Bound(problem) if bound is None else bound
+    far = far_move_tools(problem, goal, bound) is not None
     kept = tuple(a for a in mover.affordances if a.motion.type == ("prismatic" if far else a.motion.type))
     kept = tuple(a for a in kept if a.motion.type != "revolute")
     if any(a.motion.type == "prismatic" for a in kept):
@@ -76,7 +80,7 @@ def only_moving(
             bodies[own_goal.body] = replace(body, affordances=along_way(problem, own_goal, body.affordances))
         for name in still | {blocker}:
             bodies[name] = replace(bodies[name], affordances=_slides_first(bodies[name].affordances))
-    wrong = frozenset().union(*(need.wrong_grasps for need in Bound(problem).needs))
+    wrong = frozenset().union(*(need.wrong_grasps for need in bound.needs))
     for tool in {e.tool for e in problem.effectors if e.tool is not None}:
         body = bodies[tool]
         right = tuple(a for a in body.affordances if a.motion.type != "free" or (tool, a.name) not in wrong)
