@@ -3,13 +3,20 @@
 from __future__ import annotations
 
 import os
+import pickle
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 from hypothesis import settings
+
+try:
+    import fcntl
+except ImportError:  # Windows
+    fcntl = None  # type: ignore[assignment]
 
 _MEMORY = Path("/dev/shm")
 
@@ -143,9 +150,28 @@ def a_push_scripted() -> tuple[Any, Any]:
 @pytest.fixture(scope="session")
 def a_push_recorded(a_push_scripted: tuple[Any, Any]) -> Any:
     """That plan carried out once in DART, open loop, with frames recorded: tests/execute/test_closed_loop.py
-    and tests/execute/test_animate.py both read it (4 to 5 CPU-s of physics saved when pytest-xdist gives both
-    files to one worker)."""
+    and tests/execute/test_animate.py both read it (4 to 6 CPU-s of physics). pytest-xdist gives the two files to
+    either worker, so the first worker to need it carries it out and leaves the report in the run's cache folder;
+    the other reads it there (the lock makes it wait while the first is still running it)."""
     from vkgl.execute.closed_loop import execute
 
     program, plan = a_push_scripted
-    return execute(program, "a_push", plan, record=True)
+    return _made_once("a_push_recorded", lambda: execute(program, "a_push", plan, record=True))
+
+
+def _made_once(name: str, make: Callable[[], Any]) -> Any:
+    """`make()`, called once in this pytest-xdist run whichever worker asks first; the others read its pickled
+    result from a folder of this run alone (named by xdist's id of the run: nothing is read from another run)."""
+    run = os.environ.get("PYTEST_XDIST_TESTRUNUID")
+    if run is None or fcntl is None:  # one process (or no flock, Windows): nothing to share
+        return make()
+    folder = Path(os.environ["VKGL_CACHE_DIR"]) / f"test-results-{run}"
+    folder.mkdir(exist_ok=True)
+    path = folder / f"{name}.pickle"
+    with open(folder / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if path.is_file():
+            return pickle.loads(path.read_bytes())
+        result = make()
+        path.write_bytes(pickle.dumps(result))
+        return result
