@@ -3,13 +3,20 @@
 from __future__ import annotations
 
 import os
+import pickle
 import shutil
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 from hypothesis import settings
+
+try:
+    import fcntl
+except ImportError:  # Windows
+    fcntl = None  # type: ignore[assignment]
 
 _MEMORY = Path("/dev/shm")
 
@@ -41,50 +48,58 @@ REPO = Path(__file__).resolve().parent.parent
 EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
-SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers busy)
-    "tests/execute/test_closed_loop.py",  # 50
-    "tests/infer/test_learn.py",  # 47: learns the whole stdlib, in 2 processes
-    "tests/scenarios/tools/test_generated_execution.py",  # 30
-    "tests/scenarios/goals/test_tall_bodies.py",  # 29
-    "tests/test_tooling.py",  # 21: mypy of a fresh clone (Ray not followed)
-    "tests/scenarios/tools/test_wide_pulls.py",  # 21
-    "tests/plan/geometry/test_geometry_check.py",  # 19
-    "tests/scenarios/tools/test_contact_chain.py",  # 18
-    "tests/test_docs_api.py",  # 17
-    "tests/lang/test_robustness.py",  # 15
-    "tests/lang/syntax/test_printer.py",  # 12
-    "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 11
-    "tests/sim/test_explore.py",  # 10
-    "tests/sim/test_furniture.py",  # 9
-    "tests/cli/test_startup_imports.py",  # 9: 15 fresh Python processes
+SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers, load 6 to 8)
+    "tests/infer/test_learn.py",  # 84: learns the whole stdlib, in 2 processes
+    "tests/execute/test_closed_loop.py",  # 66; 58 when test_animate.py carried out a_push_recorded
+    "tests/scenarios/tools/test_generated_execution.py",  # 44
+    "tests/scenarios/goals/test_tall_bodies.py",  # 42
+    "tests/plan/geometry/test_geometry_check.py",  # 41
+    "tests/test_tooling.py",  # 36: mypy of a fresh clone (Ray not followed)
+    "tests/scenarios/tools/test_wide_pulls.py",  # 36
+    "tests/lang/test_robustness.py",  # 30
+    "tests/scenarios/tools/test_contact_chain.py",  # 27
+    "tests/test_docs_api.py",  # 25
+    "tests/sim/test_ray_runner.py",  # 7 in this process, and Ray's own processes (not its children): 59 s wall
+    "tests/sim/test_explore.py",  # 18
+    "tests/sim/test_furniture.py",  # 18
+    "tests/cli/test_startup_imports.py",  # 17: 15 fresh Python processes
+    "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 16
+    "tests/sim/test_interrupt.py",  # 16
+    "tests/lang/syntax/test_printer.py",  # 15
+    "tests/scenarios/tools/test_stick_clears_blocker.py",  # 14
+    "tests/execute/test_resolving.py",  # 13
+    "tests/scenarios/goals/test_arc_push.py",  # 12
+    "tests/scenarios/goals/test_open_slides.py",  # 12
+    "tests/execute/test_disturbed.py",  # 11
+    "tests/bench/test_generated_plans.py",  # 11
+    "tests/infer/test_ending.py",  # 11
+    "tests/execute/test_animate.py",  # 3; 10 when it carries out a_push_recorded (the first of the two files asks)
+    "tests/cli/test_execute_cli.py",  # 10
+    "tests/scenarios/goals/test_drawer_and_door.py",  # 10
+    "tests/scenarios/tools/test_side_approach.py",  # 10
+    "tests/scenarios/tools/test_long_stick.py",  # 10
+    "tests/formats/test_plan_format.py",  # 9
     "tests/lang/checks/test_checks_rays.py",  # 9
-    "tests/sim/test_interrupt.py",  # 9
-    "tests/scenarios/tools/test_stick_clears_blocker.py",  # 9
-    "tests/cli/test_execute_cli.py",  # 9
-    "tests/execute/test_resolving.py",  # 9
-    "tests/scenarios/goals/test_arc_push.py",  # 9
-    "tests/execute/test_disturbed.py",  # 8
-    "tests/scenarios/goals/test_open_slides.py",  # 7
-    "tests/lang/checks/test_checks_scene.py",  # 7
-    "tests/infer/test_ending.py",  # 7
-    "tests/execute/test_animate.py",  # 6; 1 when test_closed_loop.py ran in its worker (a_push_recorded)
-    "tests/sim/test_explore_errors.py",  # 6
-    "tests/scenarios/tools/test_hook_drawer.py",  # 6
-    "tests/test_docs_samples.py",  # 5
-    "tests/scenarios/goals/test_drawer_and_door.py",  # 5
+    "tests/cli/test_hash_seed.py",  # 8
+    "tests/plan/result/test_picture.py",  # 8
+    "tests/scenarios/tools/test_hook_drawer.py",  # 8
+    "tests/plan/search/bounds/test_bound.py",  # 8
+    "tests/sim/test_explore_errors.py",  # 7
+    "tests/test_docs_samples.py",  # 7
+    "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 7
+    "tests/plan/arm/test_contact_chains.py",  # 7
+    "tests/lang/checks/test_checks_solids.py",  # 6
+    "tests/execute/grip/test_grip.py",  # 6
     "tests/cli/test_execution_progress.py",  # 5
-    "tests/scenarios/tools/test_long_stick.py",  # 5
-    "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 5
-    "tests/plan/result/test_picture.py",  # 4
-    "tests/sim/test_ray_runner.py",  # 4
-    "tests/bench/test_generated_plans.py",  # 4
+    "tests/plan/task_space/test_slides.py",  # 5
 ]
-"""The test files that take longest, slowest first: every file of 4 CPU-seconds or more (the others take 0 to 3).
+"""The test files that take longest, slowest first: every file of 5 CPU-seconds or more on a loaded machine (the
+others take 0 to 4).
 
 They run first, in this order, and the many quick files after them, as collected: xdist hands each worker a
 whole file at a time (`--dist loadfile`, `--no-loadscope-reorder` in pyproject.toml), so a long file started
 last would keep one worker busy while the other has nothing left to do. Its own default order (files with more
-tests first) put the one-test physics files and mypy at the very end. A new file of 4 CPU-seconds or more goes
+tests first) put the one-test physics files and mypy at the very end. A new file of 5 CPU-seconds or more goes
 into its place here; how to measure: docs/internals.md, "The test run's time"."""
 
 
@@ -143,9 +158,28 @@ def a_push_scripted() -> tuple[Any, Any]:
 @pytest.fixture(scope="session")
 def a_push_recorded(a_push_scripted: tuple[Any, Any]) -> Any:
     """That plan carried out once in DART, open loop, with frames recorded: tests/execute/test_closed_loop.py
-    and tests/execute/test_animate.py both read it (4 to 5 CPU-s of physics saved when pytest-xdist gives both
-    files to one worker)."""
+    and tests/execute/test_animate.py both read it (4 to 6 CPU-s of physics). pytest-xdist gives the two files to
+    either worker, so the first worker to need it carries it out and leaves the report in the run's cache folder;
+    the other reads it there (the lock makes it wait while the first is still running it)."""
     from vkgl.execute.closed_loop import execute
 
     program, plan = a_push_scripted
-    return execute(program, "a_push", plan, record=True)
+    return _made_once("a_push_recorded", lambda: execute(program, "a_push", plan, record=True))
+
+
+def _made_once(name: str, make: Callable[[], Any]) -> Any:
+    """`make()`, called once in this pytest-xdist run whichever worker asks first; the others read its pickled
+    result from a folder of this run alone (named by xdist's id of the run: nothing is read from another run)."""
+    run = os.environ.get("PYTEST_XDIST_TESTRUNUID")
+    if run is None or fcntl is None:  # one process (or no flock, Windows): nothing to share
+        return make()
+    folder = Path(os.environ["VKGL_CACHE_DIR"]) / f"test-results-{run}"
+    folder.mkdir(exist_ok=True)
+    path = folder / f"{name}.pickle"
+    with open(folder / f"{name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if path.is_file():
+            return pickle.loads(path.read_bytes())
+        result = make()
+        path.write_bytes(pickle.dumps(result))
+        return result

@@ -166,16 +166,28 @@ def pose_matrix(pose: ir.Pose) -> Rigid | None:
 # ---------------------------------------------------------------- overlaps
 
 
-def _axes(a: Piece, b: Piece) -> list[Vec3]:
-    """The separating axes of two convex pieces: their face normals and the unit cross products of their edges."""
-    axes = [*a.normals, *b.normals]
-    for ux, uy, uz in a.edges:
-        for vx, vy, vz in b.edges:
+@lru_cache(maxsize=256)
+def _axes(
+    normals_a: tuple[Vec3, ...], edges_a: tuple[Vec3, ...], normals_b: tuple[Vec3, ...], edges_b: tuple[Vec3, ...]
+) -> tuple[Vec3, ...]:
+    """The separating axes of two convex pieces: their face normals and the unit cross products of their edges,
+    each direction once, in the order first found.
+
+    An axis equal to one before it, or to its exact negation, is left out: its shadows give the same overlap to
+    the last bit (negating every term of a sum negates the rounded sum), and `depth` only takes an overlap lower
+    than the lowest so far, so its result is the same. Two upright 64-sided prisms (cylinders) have 1122 axes
+    in 37 directions: every two of their 32 horizontal rims cross into the vertical. Cached by the pieces'
+    directions, which `Piece.shifted` keeps: E420's clearing move measures one moved piece hundreds of times."""
+    axes: dict[Vec3, None] = dict.fromkeys((*normals_a, *normals_b))
+    for ux, uy, uz in edges_a:
+        for vx, vy, vz in edges_b:
             cx, cy, cz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
             length = math.sqrt(cx * cx + cy * cy + cz * cz)
             if length > 1e-9:
-                axes.append((cx / length, cy / length, cz / length))
-    return axes
+                axis = (cx / length, cy / length, cz / length)
+                if axis not in axes and (-axis[0], -axis[1], -axis[2]) not in axes:
+                    axes[axis] = None
+    return tuple(axes)
 
 
 def depth(a: Piece, b: Piece, floor: float = -math.inf) -> float:
@@ -184,7 +196,7 @@ def depth(a: Piece, b: Piece, floor: float = -math.inf) -> float:
     Exact when deeper than `floor`; otherwise some value at most `floor` (the axes stop being tried once one
     shows the pieces overlap no more than that)."""
     best = math.inf
-    for ux, uy, uz in _axes(a, b):
+    for ux, uy, uz in _axes(a.normals, a.edges, b.normals, b.edges):
         pa = [ux * x + uy * y + uz * z for x, y, z in a.vertices]
         pb = [ux * x + uy * y + uz * z for x, y, z in b.vertices]
         overlap = min(max(pa), max(pb)) - max(min(pa), min(pb))
