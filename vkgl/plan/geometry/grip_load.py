@@ -196,18 +196,28 @@ def resistance(problem: Problem, body: str, at: np.ndarray) -> float:
     contact's distance from the hinge's line, at least `HINGE_LEVER`."""
     placed = problem.bodies[body]
     mass = float(placed.type.mass.value)
+    terms = _joint_terms(problem, body)
+    if terms is None:
+        return resisting_force(mass, placed.type.friction)
+    friction, damping, zero, axis, through = terms
+    if placed.joint == "prismatic":
+        return friction + damping * JOINT_PUSH_SPEED + mass * GRAVITY * abs(float(axis[2]))
+    lever = max(_hinge_lever(zero, axis, through, at), HINGE_LEVER)
+    weight = mass * GRAVITY * float(np.linalg.norm(axis[:2])) * _hinge_lever(zero, axis, through, zero[:3, 3])
+    return (friction + damping * JOINT_PUSH_SPEED / lever + weight) / lever
+
+
+def _joint_terms(problem: Problem, body: str) -> tuple[float, float, np.ndarray, np.ndarray, Vector | None] | None:
+    """A body on a joint's Coulomb friction, damping, joint-zero pose, world axis and hinge point (body frame);
+    None for a body on the table."""
+    placed = problem.bodies[body]
     joint = placed.type.joint
     if placed.joint is None or joint is None or placed.joint_axis is None:
-        return resisting_force(mass, placed.type.friction)
+        return None
     friction = 0.0 if joint.friction is None else float(joint.friction.value)
     damping = 0.0 if joint.damping is None else float(joint.damping.value)
     zero = placed.rest if placed.joint_zero is None else placed.joint_zero
-    axis = zero[:3, :3] @ placed.joint_axis
-    if placed.joint == "prismatic":
-        return friction + damping * JOINT_PUSH_SPEED + mass * GRAVITY * abs(float(axis[2]))
-    lever = max(_hinge_lever(zero, axis, joint.through, at), HINGE_LEVER)
-    weight = mass * GRAVITY * float(np.linalg.norm(axis[:2])) * _hinge_lever(zero, axis, joint.through, zero[:3, 3])
-    return (friction + damping * JOINT_PUSH_SPEED / lever + weight) / lever
+    return friction, damping, zero, zero[:3, :3] @ placed.joint_axis, joint.through
 
 
 def _hinge_lever(zero: np.ndarray, axis: np.ndarray, through: Vector | None, point: np.ndarray) -> float:
@@ -219,17 +229,14 @@ def _hinge_lever(zero: np.ndarray, axis: np.ndarray, through: Vector | None, poi
 
 def _joint_words(problem: Problem, body: str, at: np.ndarray) -> str:
     """How a body on a joint resists, for `grip_words` ("" on the table)."""
-    placed = problem.bodies[body]
-    joint = placed.type.joint
-    if placed.joint is None or joint is None or placed.joint_axis is None:
+    terms = _joint_terms(problem, body)
+    if terms is None:
         return ""
-    friction = 0.0 if joint.friction is None else float(joint.friction.value)
-    damping = 0.0 if joint.damping is None else float(joint.damping.value)
+    friction, damping, zero, axis, through = terms
     speed = f"{JOINT_PUSH_SPEED * 100:g} cm/s"
-    if placed.joint == "prismatic":
+    if problem.bodies[body].joint == "prismatic":
         return f"its slide's friction {friction:g} N and damping {damping:g} N s/m at {speed}"
-    zero = placed.rest if placed.joint_zero is None else placed.joint_zero
-    lever = _hinge_lever(zero, zero[:3, :3] @ placed.joint_axis, joint.through, at)
+    lever = _hinge_lever(zero, axis, through, at)
     return (
         f"its hinge's friction {friction:g} N m and damping {damping:g} N m s/rad at {speed}, "
         f"{lever * 100:.1f} cm from the hinge"
