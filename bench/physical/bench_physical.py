@@ -49,6 +49,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import multiprocessing
+import os
+import signal
 import statistics
 import sys
 import tempfile
@@ -323,6 +326,22 @@ def _indices(text: str) -> set[int]:
     return out
 
 
+def _end_workers_on_sigterm() -> None:
+    """A SIGTERM (`timeout`, a killed shell) ends the solving workers too, not only this process."""
+
+    def end(signum: int, frame: Any) -> None:
+        children = multiprocessing.active_children()
+        for child in children:
+            child.terminate()
+        for child in children:
+            child.join(1.0)
+            if child.is_alive():
+                child.kill()
+        os._exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, end)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Generate, run, print."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -361,6 +380,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", type=Path, help="also write every task's result here")
     parser.add_argument("--from-json", type=Path, help="print the tables of a --json file again; run nothing")
     args = parser.parse_args(argv)
+    _end_workers_on_sigterm()
     if args.from_json:
         print(report_text(json.loads(args.from_json.read_text())))
         return 0

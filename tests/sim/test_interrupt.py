@@ -1,4 +1,4 @@
-"""Ctrl-C during `vkgc explore` and `vkgc learn`: exit 130 within 2 s, no process left, no partial file.
+"""Ctrl-C or SIGTERM in `vkgc explore` and `vkgc learn`: exit 130 (143) within 2 s, no process left, no partial file.
 
 Twenty interrupts at random (seeded) moments of the exploration, sent as a
 terminal does: SIGINT to the whole process group.
@@ -59,4 +59,29 @@ def test_ctrl_c_ends_everything_at_once(k: int, tmp_path: Path) -> None:
         time.sleep(0.05)
     assert not _group_alive(process.pid), "a worker process outlived the interrupt"
     assert not partial.exists()
+    assert [p.name for p in tmp_path.rglob("*") if p.is_file()] == []
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_sigterm_to_the_main_process_ends_everything(k: int, tmp_path: Path) -> None:
+    """SIGTERM (`timeout`, a scheduler) often reaches the main process only: its workers must end with it."""
+    out = tmp_path / "affordances"
+    argv = [*VKGC, "learn", str(STDLIB / "bodies" / "block.vkg"), "-o", str(out)]
+    process = subprocess.Popen(
+        argv, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True
+    )
+    time.sleep(1.0 + 0.4 * k)  # while the workers simulate
+    process.send_signal(signal.SIGTERM)
+    try:
+        _, err = process.communicate(timeout=2.0)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        pytest.fail(f"SIGTERM {k}: still running 2 s after it")
+    assert process.returncode == 143, err
+    assert "Traceback" not in err
+    assert err.strip().endswith("vkgc: terminated")
+    deadline = time.monotonic() + 1.0
+    while _group_alive(process.pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not _group_alive(process.pid), "a worker process outlived SIGTERM"
     assert [p.name for p in tmp_path.rglob("*") if p.is_file()] == []

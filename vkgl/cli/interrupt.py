@@ -1,9 +1,12 @@
-"""Ctrl-C in `vkgc`: stop at once, cleanly.
+"""Ctrl-C or SIGTERM in `vkgc`: stop at once, cleanly.
 
-The console script installs `on_interrupt` as the SIGINT handler. It ends
+The console script installs `on_interrupt` as the SIGINT and SIGTERM handler
+(SIGTERM is what `timeout`, a job scheduler or a container's stop sends,
+often to the main process only). It ends
 the worker processes (exploration runs trials in a process pool), removes the
 temporary files of writes under way (outputs are written atomically, so no
-output is ever half written), says so on stderr and exits 130 — without
+output is ever half written), says so on stderr and exits 130 (Ctrl-C) or
+143 (SIGTERM, 128 + 15, as a shell reports) — without
 unwinding through the interpreter's exit handlers, which would wait for the
 threads of the pool just torn down, and without letting the interrupt land
 inside a C extension's import (which would turn it into an ImportError).
@@ -16,18 +19,19 @@ import signal
 import sys
 from types import FrameType
 
-from vkgl.cli.exit_codes import EXIT_INTERRUPTED
+from vkgl.cli.exit_codes import EXIT_INTERRUPTED, EXIT_TERMINATED
 
 _GRACE = 0.5  # s a worker is given to end after SIGTERM before it is killed
 
 
 def install() -> None:
-    """Make Ctrl-C end `vkgc` at once (call once, in the main thread of the console script)."""
+    """Make Ctrl-C and SIGTERM end `vkgc` at once (call once, in the main thread of the console script)."""
     signal.signal(signal.SIGINT, on_interrupt)
+    signal.signal(signal.SIGTERM, on_interrupt)
 
 
 def on_interrupt(signum: int, frame: FrameType | None) -> None:
-    """End the workers, drop half-written files, exit 130."""
+    """End the workers, drop half-written files, exit 130 (SIGINT) or 143 (SIGTERM)."""
     from vkgl.atomic import discard_temporaries
 
     # No worker without multiprocessing imported; importing it at the top would cost every `vkgc` start 4 ms.
@@ -46,7 +50,7 @@ def on_interrupt(signum: int, frame: FrameType | None) -> None:
         sys.stdout.flush()
         if sys.stderr.isatty():  # a live bar (exploring, executing) hides the cursor: clear its line, show it
             sys.stderr.write("\r\x1b[2K\x1b[?25h")
-        sys.stderr.write("vkgc: interrupted\n")
+        sys.stderr.write("vkgc: terminated\n" if signum == signal.SIGTERM else "vkgc: interrupted\n")
         sys.stderr.flush()
     finally:
-        os._exit(EXIT_INTERRUPTED)
+        os._exit(EXIT_TERMINATED if signum == signal.SIGTERM else EXIT_INTERRUPTED)
