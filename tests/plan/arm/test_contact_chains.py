@@ -4,13 +4,14 @@ the plan's and home's cannot carry the motion, so that no plan needs a step that
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 from task_makers.generated_tasks import TEST_SOLVE_TIMEOUT_S, fixture_library, task_spec, write_task
 
 import vkgl
-from vkgl.plan.arm.contact_chains import ContactChains
-from vkgl.plan.arm.straight_moves import Overlap, StraightMoves
+from vkgl.plan.arm.contact_chains import CLASH_PARTS, ContactChains, between
+from vkgl.plan.arm.straight_moves import ArmState, Overlap, StraightMoves
 from vkgl.plan.geometry.bodies import GeometryCheck
 from vkgl.plan.problem.problem import build_problem
 
@@ -49,8 +50,6 @@ def test_the_plans_and_homes_configurations_come_first_as_before(tmp_path: Path)
     step = plan.steps[0]
     problem = plan.problem
     chains = ContactChains(problem, StraightMoves(problem, GeometryCheck(problem)))
-    from vkgl.plan.arm.straight_moves import ArmState
-
     first = next(chains.solve(step, ArmState(problem.arm.home.copy()), "step 1"))
     assert isinstance(first, np.ndarray) and np.allclose(first, step.contact)
 
@@ -105,3 +104,45 @@ def test_a_contact_exactly_a_whole_number_of_spacings_long_gets_the_same_chain_o
     assert chain_count(0.15) == chain_count(0.15 * (1 + 4e-16)) == chain_count(0.15 * (1 - 4e-16)) == 16
     assert chain_count(0.151) == 17
     assert chain_count(0.0) == 2 and chain_count(CHAIN_SPACING / 2) == 2
+
+
+class _RecordingMoves:
+    """Straight moves whose overlap check records every configuration asked and clashes at one of them."""
+
+    def __init__(self, clash_at: np.ndarray | None = None) -> None:
+        self.asked: list[np.ndarray] = []
+        self.clash_at = clash_at
+
+    def grasps(self, step: object) -> bool:
+        return False
+
+    def first_overlap(self, joints: np.ndarray, *args: object) -> Overlap | None:
+        self.asked.append(joints[0].copy())
+        if self.clash_at is not None and np.allclose(joints[0], self.clash_at):
+            return Overlap("the arm's panda_hand would overlap clutter by 0.1 cm", 0.001, frozenset({"clutter"}))
+        return None
+
+
+def _still_step() -> SimpleNamespace:
+    pose = np.eye(4)
+    return SimpleNamespace(body="block", poses_start={"block": pose}, poses_end={"block": pose})
+
+
+def test_the_arm_is_checked_between_a_chains_configurations_too() -> None:
+    # a hand clear at two configurations 1 cm apart may pass through a body between them (gen15_028: 0.8 mm deep)
+    chain = np.array([[0.0] * 7, [0.4] * 7, [1.2] * 7])
+    joints, fractions = between(chain)
+    assert len(joints) == 2 * (CLASH_PARTS - 1)
+    assert np.all((fractions > 0) & (fractions < 1)) and not np.isin(fractions, [0.0, 0.5, 1.0]).any()
+    assert np.allclose(joints[:, 0], np.interp(fractions, [0.0, 0.5, 1.0], chain[:, 0]))  # as the executor follows
+    program = vkgl.compile(EXAMPLES / "tasks" / "a_push.vkg")
+    problem = build_problem(program, program.task("a_push"))
+    clear = _RecordingMoves()
+    state = ArmState(problem.arm.home.copy())
+    assert ContactChains(problem, clear)._contact_clash(_still_step(), state, chain) is None  # type: ignore[arg-type]
+    assert len(clear.asked) == len(chain) + len(joints)  # the chain's own first, then those between
+    clipping = _RecordingMoves(clash_at=joints[-1])
+    clash = ContactChains(problem, clipping)._contact_clash(_still_step(), state, chain)  # type: ignore[arg-type]
+    assert clash is not None and clash.words.startswith(f"{fractions[-1]:.0%} along the contact's motion")
+    one = ContactChains(problem, _RecordingMoves())._contact_clash(_still_step(), state, chain[:1])  # type: ignore[arg-type]
+    assert one is None  # a single configuration (the turned hand's first check) has nothing between
