@@ -1,6 +1,6 @@
 """Benchmark: the paper's six tasks solved in fresh processes, as `vkgc solve` meets them.
 
-    python bench/plan/bench_first_solve.py [--runs 5] [--alone]
+    python bench/plan/bench_first_solve.py [--runs 5] [--alone] [--calls]
 
 Each run is a new Python process that imports vkgl, compiles the six example
 tasks and solves each once, in the paper's order (a to f), with the collision
@@ -21,6 +21,14 @@ Prints Markdown tables of the medians over `--runs` runs: wall time
 phase. On a shared machine wall time grows with the load and CPU time much
 less: both are printed, with the load average before and after.
 
+`--calls` counts instead of timing: one cached and one cold process solve the
+six tasks each under `cProfile` (hash seed 0), and the Python function calls
+of each first solve are printed. The counts do not depend on the machine or
+its load (the same code and libraries give the same counts), so two commits
+are compared by them where CPU seconds, which vary by 15 % and more from run
+to run on a shared machine, cannot tell a small change from noise; a callback
+from native code (NLopt's objective, say) is a Python call and is counted.
+
 Targets (issue 12): the six first solves together at most 0.5 s; the
 transits, planned after the search (`vkgl.plan.arm.paths`: the search's
 candidate, the search going on when one fails), are reported separately
@@ -30,8 +38,10 @@ candidate, the search going on when one fails), are reported separately
 from __future__ import annotations
 
 import argparse
+import cProfile
 import json
 import os
+import pstats
 import statistics
 import subprocess
 import sys
@@ -53,7 +63,14 @@ def _since(start: tuple[float, float]) -> list[float]:
     return [wall - start[0], cpu - start[1]]
 
 
-def child(tasks: list[str]) -> dict[str, object]:
+def _solve_counted(solve: Any, program: Any) -> tuple[Any, int]:
+    """`solve(program)` under `cProfile`: the plan and how many Python function calls it made."""
+    profile = cProfile.Profile()
+    plan = profile.runcall(solve, program)
+    return plan, int(pstats.Stats(profile).total_calls)  # type: ignore[attr-defined]
+
+
+def child(tasks: list[str], counted: bool = False) -> dict[str, object]:
     """Run in a fresh process: import, compile, first solves; every phase as [wall, cpu] seconds."""
     started = _clock()
     sys.path.insert(0, str(REPO))
@@ -65,10 +82,13 @@ def child(tasks: list[str]) -> dict[str, object]:
     started = _clock()
     programs = {name: compile_file(str(REPO / "examples" / "tasks" / f"{name}.vkg")) for name in tasks}
     out["compile"] = _since(started)
-    first, arm_paths, transits = {}, {}, {}
+    first, arm_paths, transits, calls = {}, {}, {}, {}
     for name in tasks:
         started = _clock()
-        plan = solve(programs[name])
+        if counted:
+            plan, calls[name] = _solve_counted(solve, programs[name])
+        else:
+            plan = solve(programs[name])
         first[name] = _since(started)
         arm_paths[name] = float(plan.details.get("arm_path_time_s", 0.0))
         transits[name] = float(plan.details.get("transit_time_s", 0.0))
@@ -77,19 +97,23 @@ def child(tasks: list[str]) -> dict[str, object]:
     out["first"] = first
     out["arm_paths"] = arm_paths
     out["transits"] = transits
+    out["calls"] = calls
     return out
 
 
-def _run(tasks: list[str], cache: str | None = None) -> dict[str, object]:
-    """One fresh process solving `tasks` with the reach cache folder `cache` (None: an empty one); its phases."""
+def _run(tasks: list[str], cache: str | None = None, counted: bool = False) -> dict[str, object]:
+    """One fresh process solving `tasks` with the reach cache folder `cache` (None: an empty one); its phases
+    (`counted`: under `cProfile`, with hash seed 0, each solve's Python function calls too)."""
+    flag = "--child-counted" if counted else "--child"
+    seed = {"PYTHONHASHSEED": "0"} if counted else {}
     with tempfile.TemporaryDirectory(prefix="vkgl-bench-cache-") as empty:
         result = subprocess.run(
-            [sys.executable, __file__, "--child", *tasks],
+            [sys.executable, __file__, flag, *tasks],
             capture_output=True,
             text=True,
             check=True,
             cwd=REPO,
-            env={**os.environ, "VKGL_CACHE_DIR": cache or empty},
+            env={**os.environ, "VKGL_CACHE_DIR": cache or empty, **seed},
         )
     return json.loads(result.stdout.strip().splitlines()[-1])  # type: ignore[no-any-return]
 
@@ -103,10 +127,15 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5, help="fresh processes per measurement (medians reported)")
     parser.add_argument("--alone", action="store_true", help="also solve each task in a process of its own")
+    parser.add_argument("--calls", action="store_true", help="count each first solve's Python calls (no timing)")
     parser.add_argument("--child", nargs="+", help=argparse.SUPPRESS)
+    parser.add_argument("--child-counted", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    if args.child:
-        print(json.dumps(child(args.child)))
+    if args.child or args.child_counted:
+        print(json.dumps(child(args.child or args.child_counted, counted=bool(args.child_counted))))
+        return 0
+    if args.calls:
+        _print_calls()
         return 0
     load_before = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="vkgl-bench-cache-") as shared:
@@ -131,6 +160,19 @@ def main(argv: list[str] | None = None) -> int:
             f"(`details['transit_time_s']`)."
         )
     return 0
+
+
+def _print_calls() -> None:
+    """One cached and one cold process under `cProfile`: each first solve's Python function calls."""
+    with tempfile.TemporaryDirectory(prefix="vkgl-bench-cache-") as shared:
+        _run(TASKS, shared)  # fills the cache, uncounted
+        cached = _run(TASKS, shared, counted=True)["calls"]
+    cold = _run(TASKS, counted=True)["calls"]
+    print("| first solve | cached: Python calls | cold: Python calls |\n|---|---:|---:|")
+    for name in TASKS:
+        print(f"| {name} | {cached[name]:,} | {cold[name]:,} |")  # type: ignore[index]
+    totals = [sum(calls[n] for n in TASKS) for calls in (cached, cold)]  # type: ignore[index]
+    print(f"| **six first solves** | **{totals[0]:,}** | **{totals[1]:,}** |")
 
 
 def _phase_table(cached: list[dict[str, object]], cold: list[dict[str, object]], alone: dict[str, Any]) -> None:
