@@ -141,15 +141,25 @@ def test_the_narrow_walk_leaves_a_blocker_its_root_moved_to_the_goals_values(
 
 
 @pytest.mark.parametrize(
-    ("moved", "paths"),
-    [(frozenset({"block2"}), {}), (frozenset({"block", "block2"}), {}), (frozenset({"block2"}), {"crate": 0.01})],
+    ("moved", "paths", "bodies"),
+    [
+        (frozenset({"block2"}), {}, ("block2", "block3")),
+        (frozenset({"block", "block2"}), {}, ("block2", "block3")),
+        (frozenset({"block2"}), {"crate": 0.01}, ("block2", "block3")),
+        (frozenset({"block2"}), {}, ("block2",)),
+    ],
 )
 def test_the_narrow_walks_search_after_a_plan_that_left_the_goal_body_still_goes_on_at_once(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, moved: frozenset[str], paths: dict[str, float]
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
+    moved: frozenset[str],
+    paths: dict[str, float],
+    bodies: tuple[str, ...],
 ) -> None:
-    """The narrow plan's search for the goals spends its first try: when the plan left the block where it lies it
-    goes on at once with `THEN_SHARE` (the likeliest prefix); when it pushed the block back, or a body in a tool's
-    path waits for the wide walk, it waits for the wide walk too (held)."""
+    """The narrow plan (each body in the way cleared in turn) has its search for the goals spend its first try:
+    when the plan left the block where it lies it goes on at once with `THEN_SHARE` (the likeliest prefix); when
+    it pushed the block back, or a body in a tool's path waits for the wide walk, or one body alone lies in the
+    way (the wide walk's first round: a small try of its other sides), it waits for the wide walk too (held)."""
     monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [LEFT])
     monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
     plan = _prefix(4, moved)
@@ -171,9 +181,10 @@ def test_the_narrow_walks_search_after_a_plan_that_left_the_goal_body_still_goes
     problem = _problem(tmp_path)
     walk = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, narrow=True, paths=paths)
     held: list[object] = []
-    assert clear_first._clear_then_solve(walk, [(problem.goals[0], "block2")], Sequence(), 6, held) is None  # type: ignore[arg-type]
+    blocking = [(problem.goals[0], name) for name in bodies]
+    assert clear_first._clear_then_solve(walk, blocking, Sequence(), 6, held) is None  # type: ignore[arg-type]
     assert budgets[0] == pytest.approx(clear_first.THEN_FIRST * 900.0)
-    if "block" in moved or paths:
+    if "block" in moved or paths or len(bodies) == 1:
         assert len(budgets) == 1 and len(held) == 1
     else:
         assert budgets[1:] == [pytest.approx(clear_first.THEN_SHARE * 899.0)] and held == []

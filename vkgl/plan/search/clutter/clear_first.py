@@ -25,10 +25,10 @@ more, one past the default `max_depth`, and the search cannot afford the level o
 each goal body slides only along its own way, every body is slid, not turned, and moved at most once
 (`only_moving(along=True)`; a blocker its plan before moved already is left to the goal's values, not cleared
 again): its plans leave the goal body on its line, where the plan after needs no move back, and the searches for
-the goals after those that left every goal body where it lies go on at once. Then the bodies the closest miss of
-the search before failed on alone, in a tool's or the hand's path (`met_last`; the search for the goals after the
-first plan that clears them and leaves the goal bodies where they lie goes on at once, `_Walk.eager`), then the
-wide walk.
+the goals after those that left every goal body where it lies go on at once, unless one body alone is in the way
+or bodies in a path wait (`_wide_first`). Then the bodies the closest miss of the search before failed on alone, in
+a tool's or the hand's path (`met_last`; the goals' search after the first plan that clears them and leaves the
+goal bodies where they lie goes on at once, `_Walk.eager`), then the wide walk.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
@@ -248,10 +248,16 @@ def _clear_then_solve(
         if walk.spent():
             break
     if walk.narrow and not walk.spent():  # those after a plan that left every goal body where it lies go on at
-        go = [not w.rank()[0] and not walk.paths for w in waiting]  # once, unless bodies in a path wait for the
-        held[:] = [w for w, now in zip(waiting, go, strict=True) if not now]  # wide walk (their plans may need them
-        return _then_again(walk, [w for w, now in zip(waiting, go, strict=True) if now], proven)  # moved: gen1_041)
+        go = [not w.rank()[0] and not _wide_first(walk, blocking) for w in waiting]  # once (`_wide_first`)
+        held[:] = [w for w, now in zip(waiting, go, strict=True) if not now]
+        return _then_again(walk, [w for w, now in zip(waiting, go, strict=True) if now], proven)
     return _then_again(walk, waiting, proven)
+
+
+def _wide_first(walk: _Walk, blocking: list[tuple[GoalSpec, str]]) -> bool:
+    """Whether the narrow walk's searches for the goals after a plan that left the goal bodies still wait for the
+    wide walk's first round: with bodies in a path (gen1_041), or one body alone in the way (docs/planning.md)."""
+    return bool(walk.paths) or len(blocking) < 2
 
 
 def _then_again(walk: _Walk, waiting: list[_Waiting], proven: int) -> Cleared | None:
