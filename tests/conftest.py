@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import io
 import os
 import pickle
 import shutil
 import tempfile
 from collections.abc import Callable
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 from typing import Any
 
@@ -165,6 +167,27 @@ def a_push_recorded(a_push_scripted: tuple[Any, Any]) -> Any:
 
     program, plan = a_push_scripted
     return _made_once("a_push_recorded", lambda: execute(program, "a_push", plan, record=True))
+
+
+@pytest.fixture(scope="session")
+def a_push_executed() -> tuple[int, str, str]:
+    """`vkgc solve examples/tasks/a_push.vkg --execute` from the repository root, its stderr taken for a terminal:
+    the exit code, stdout and stderr. The planner's plan of task (a) carried out in DART, open loop (4 to 6 CPU-s
+    of physics), once per run (`_made_once`): tests/cli/test_execution_progress.py reads the live bar on stderr,
+    tests/test_docs_samples.py the report on stdout (docs/execution.md's sample; stdout is the same on a pipe)."""
+    return _made_once("a_push_executed", _execute_a_push_on_a_terminal)
+
+
+def _execute_a_push_on_a_terminal() -> tuple[int, str, str]:
+    from vkgl.cli import commands, main
+
+    out, err = io.StringIO(), io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, redirect_stdout(out), redirect_stderr(err):
+        patch.setattr(commands, "_is_terminal", lambda stream: True)
+        patch.chdir(REPO)
+        patch.delenv("VKG_PATH", raising=False)  # the stdlib of this checkout
+        code = main(["solve", "examples/tasks/a_push.vkg", "--execute"])
+    return code, out.getvalue(), err.getvalue()
 
 
 def _made_once(name: str, make: Callable[[], Any]) -> Any:
