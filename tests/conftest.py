@@ -190,6 +190,25 @@ def _execute_a_push_on_a_terminal() -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
+@pytest.fixture(scope="session")
+def block_pushes() -> Any:
+    """The stdlib Block pushed toward +x at the 9 points of its -x face, 2 s each (its `pushes` exploration, that
+    face alone), in DART on 2 processes: the `vkg-trials/1` dataset. tests/sim/test_explore.py checks the trials,
+    tests/infer/test_ending.py what inference makes of how they ended: 8 CPU-s of physics, once per run."""
+    return _made_once("block_pushes", _push_the_blocks_minus_x_face)
+
+
+def _push_the_blocks_minus_x_face() -> Any:
+    from vkgl.lang.compiler import compile_file
+    from vkgl.sim.explore import explore
+
+    block = compile_file(str(STDLIB / "bodies" / "block.vkg")).bodies["Block"]
+    pushes = block.explores[0]
+    assert pushes.name == "pushes" and pushes.contacts is not None
+    one_face = pushes.model_copy(update={"contacts": pushes.contacts.model_copy(update={"faces": ["-x"]})})
+    return explore(block.model_copy(update={"explores": [one_face]}), jobs=2)
+
+
 def _made_once(name: str, make: Callable[[], Any]) -> Any:
     """`make()`, called once in this pytest-xdist run whichever worker asks first; the others read its pickled
     result from a folder of this run alone (named by xdist's id of the run: nothing is read from another run)."""

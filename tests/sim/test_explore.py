@@ -28,10 +28,8 @@ def fixed_point(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     return np.linalg.solve(np.eye(2) - motion[:2, :2], motion[:2, 3])
 
 
-@pytest.fixture(scope="module")
-def block_pushes() -> Trials:
-    """The Block pushed at 9 points of its -x face (its grid, one face), 2 s each."""
-    return explore(with_policy(stdlib_body("Block"), faces=["-x"]), jobs=2)
+# `block_pushes` (tests/conftest.py): the Block pushed at the 9 points of its -x face (its grid, one face), 2 s
+# each, explored once for this file and tests/infer/test_ending.py
 
 
 def test_every_block_trial_ran_and_was_sampled_at_50_hz(block_pushes: Trials) -> None:
