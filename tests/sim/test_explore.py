@@ -111,9 +111,9 @@ def test_door_is_pushed_shut_and_pulled_open_about_its_hinge() -> None:
     assert np.ptp(hooked, axis=0).max() < 0.005  # the fingertip stays behind the bar, between its posts
 
 
-def test_held_stick_moves_freely_over_the_direction_grid() -> None:
+def test_held_stick_moves_freely_over_the_direction_grid(stick_trials: Trials) -> None:
     stick = stdlib_body("Stick")
-    trials = explore(stick, jobs=2)
+    trials = stick_trials  # `explore(stick, jobs=2)`, once per run (tests/conftest.py)
     assert len(trials) == 26 and trials.ok.all()
     handle = stick.frame("handle").pose.matrix()
     moves = []
