@@ -63,7 +63,6 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/test_docs_api.py",  # 16 (2026-11-28); 25 to 30 while its moved-start example waited out a 30 s timeout
     "tests/sim/test_ray_runner.py",  # 7 in this process, and Ray's own processes (not its children): 59 s wall
     "tests/sim/test_explore.py",  # 16 with block_pushes (the first file to ask), 18 with stick_trials too; else 8
-    "tests/sim/test_furniture.py",  # 18
     "tests/cli/test_startup_imports.py",  # 17: 15 fresh Python processes
     "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 16
     "tests/sim/test_interrupt.py",  # 16
@@ -87,6 +86,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/scenarios/tools/test_hook_drawer.py",  # 8
     "tests/plan/search/bounds/test_bound.py",  # 8
     "tests/sim/test_explore_errors.py",  # 7
+    "tests/sim/test_furniture.py",  # 7 (18 while it asked DART for two names per contact and step)
     "tests/test_docs_samples.py",  # 7 when it makes a_push_executed (the first of two files to ask); else 2
     "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 7
     "tests/plan/arm/test_contact_chains.py",  # 7
