@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import io
 import os
 import pickle
 import shutil
 import tempfile
 from collections.abc import Callable
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 from typing import Any
 
@@ -49,7 +51,7 @@ EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
 SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers, load 6 to 8)
-    "tests/infer/test_learn.py",  # 84: learns the whole stdlib, in 2 processes
+    "tests/infer/test_learn.py",  # 80: learns the whole stdlib, in 2 processes
     "tests/execute/test_closed_loop.py",  # 66; 58 when test_animate.py carried out a_push_recorded
     "tests/scenarios/tools/test_generated_execution.py",  # 44
     "tests/scenarios/goals/test_tall_bodies.py",  # 42
@@ -58,10 +60,9 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/scenarios/tools/test_wide_pulls.py",  # 36
     "tests/lang/test_robustness.py",  # 30
     "tests/scenarios/tools/test_contact_chain.py",  # 27
-    "tests/test_docs_api.py",  # 25
+    "tests/test_docs_api.py",  # 16 (2026-11-28); 25 to 30 while its moved-start example waited out a 30 s timeout
     "tests/sim/test_ray_runner.py",  # 7 in this process, and Ray's own processes (not its children): 59 s wall
-    "tests/sim/test_explore.py",  # 18
-    "tests/sim/test_furniture.py",  # 18
+    "tests/sim/test_explore.py",  # 16 with block_pushes (the first file to ask), 18 with stick_trials too; else 8
     "tests/cli/test_startup_imports.py",  # 17: 15 fresh Python processes
     "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 16
     "tests/sim/test_interrupt.py",  # 16
@@ -72,7 +73,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/scenarios/goals/test_open_slides.py",  # 12
     "tests/execute/test_disturbed.py",  # 11
     "tests/bench/test_generated_plans.py",  # 11
-    "tests/infer/test_ending.py",  # 11
+    "tests/infer/test_ending.py",  # 4; 11 when it makes block_pushes (tests/sim/test_explore.py asks first)
     "tests/execute/test_animate.py",  # 3; 10 when it carries out a_push_recorded (the first of the two files asks)
     "tests/cli/test_execute_cli.py",  # 10
     "tests/scenarios/goals/test_drawer_and_door.py",  # 10
@@ -85,12 +86,13 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/scenarios/tools/test_hook_drawer.py",  # 8
     "tests/plan/search/bounds/test_bound.py",  # 8
     "tests/sim/test_explore_errors.py",  # 7
-    "tests/test_docs_samples.py",  # 7
+    "tests/sim/test_furniture.py",  # 7 (18 while it asked DART for two names per contact and step)
+    "tests/test_docs_samples.py",  # 7 when it makes a_push_executed (the first of two files to ask); else 2
     "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 7
     "tests/plan/arm/test_contact_chains.py",  # 7
     "tests/lang/checks/test_checks_solids.py",  # 6
     "tests/execute/grip/test_grip.py",  # 6
-    "tests/cli/test_execution_progress.py",  # 5
+    "tests/cli/test_execution_progress.py",  # 0; 5 when it makes a_push_executed
     "tests/plan/task_space/test_slides.py",  # 5
 ]
 """The test files that take longest, slowest first: every file of 5 CPU-seconds or more on a loaded machine (the
@@ -165,6 +167,61 @@ def a_push_recorded(a_push_scripted: tuple[Any, Any]) -> Any:
 
     program, plan = a_push_scripted
     return _made_once("a_push_recorded", lambda: execute(program, "a_push", plan, record=True))
+
+
+@pytest.fixture(scope="session")
+def a_push_executed() -> tuple[int, str, str]:
+    """`vkgc solve examples/tasks/a_push.vkg --execute` from the repository root, its stderr taken for a terminal:
+    the exit code, stdout and stderr. The planner's plan of task (a) carried out in DART, open loop (4 to 6 CPU-s
+    of physics), once per run (`_made_once`): tests/cli/test_execution_progress.py reads the live bar on stderr,
+    tests/test_docs_samples.py the report on stdout (docs/execution.md's sample; stdout is the same on a pipe)."""
+    return _made_once("a_push_executed", _execute_a_push_on_a_terminal)
+
+
+def _execute_a_push_on_a_terminal() -> tuple[int, str, str]:
+    from vkgl.cli import commands, main
+
+    out, err = io.StringIO(), io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, redirect_stdout(out), redirect_stderr(err):
+        patch.setattr(commands, "_is_terminal", lambda stream: True)
+        patch.chdir(REPO)
+        patch.delenv("VKG_PATH", raising=False)  # the stdlib of this checkout
+        code = main(["solve", "examples/tasks/a_push.vkg", "--execute"])
+    return code, out.getvalue(), err.getvalue()
+
+
+@pytest.fixture(scope="session")
+def block_pushes() -> Any:
+    """The stdlib Block pushed toward +x at the 9 points of its -x face, 2 s each (its `pushes` exploration, that
+    face alone), in DART on 2 processes: the `vkg-trials/1` dataset. tests/sim/test_explore.py checks the trials,
+    tests/infer/test_ending.py what inference makes of how they ended: 8 CPU-s of physics, once per run."""
+    return _made_once("block_pushes", _push_the_blocks_minus_x_face)
+
+
+def _push_the_blocks_minus_x_face() -> Any:
+    from vkgl.lang.compiler import compile_file
+    from vkgl.sim.explore import explore
+
+    block = compile_file(str(STDLIB / "bodies" / "block.vkg")).bodies["Block"]
+    pushes = block.explores[0]
+    assert pushes.name == "pushes" and pushes.contacts is not None
+    one_face = pushes.model_copy(update={"contacts": pushes.contacts.model_copy(update={"faces": ["-x"]})})
+    return explore(block.model_copy(update={"explores": [one_face]}), jobs=2)
+
+
+@pytest.fixture(scope="session")
+def stick_trials() -> Any:
+    """The stdlib Stick explored as `vkgl.explore(stick, jobs=2)` does (its whole `wield` grid, 26 trials of 1 s,
+    seed 0): tests/sim/test_explore.py checks the trials, and tests/test_docs_api.py's page, which learns and
+    explores this body with these arguments, is given them. 2 to 3 CPU-s of physics, once per run."""
+    return _made_once("stick_trials", _explore_the_stick)
+
+
+def _explore_the_stick() -> Any:
+    from vkgl.api import explore
+    from vkgl.lang.compiler import compile_file
+
+    return explore(compile_file(str(STDLIB / "bodies" / "stick.vkg")).bodies["Stick"], jobs=2)
 
 
 def _made_once(name: str, make: Callable[[], Any]) -> Any:

@@ -2,7 +2,8 @@
 
 Both ways: `ExecutionProgress` on a string stream as a pipe (`live=False`)
 and as a forced terminal (`live=True`); then the command itself, its stderr
-a terminal or not, carrying out task (a) in DART.
+a terminal, carrying out task (a) in DART (`a_push_executed` in tests/conftest.py: run once, read here
+and by tests/test_docs_samples.py; piped, `tests/cli/test_execute_cli.py`).
 """
 
 from __future__ import annotations
@@ -10,9 +11,6 @@ from __future__ import annotations
 import io
 import re
 
-from conftest import EXAMPLES
-
-from vkgl.cli import main
 from vkgl.cli.progress import ExecutionProgress
 from vkgl.execute.progress import Progress
 from vkgl.formats.execution_report import ExcludedStep, Resolve, StepReport
@@ -60,13 +58,10 @@ def test_on_a_terminal_a_live_bar_under_the_same_lines():
         assert line in text
 
 
-def test_solve_execute_on_a_terminal_shows_the_bar_and_keeps_stdout_plain(monkeypatch, capsys):
-    from vkgl.cli import commands
-
-    monkeypatch.setattr(commands, "_is_terminal", lambda stream: True)
-    assert main(["solve", str(EXAMPLES / "tasks" / "a_push.vkg"), "--execute"]) == 0
-    captured = capsys.readouterr()
-    assert ESCAPE.search(captured.err) and "executing: step 1 done at t = " in captured.err
-    assert "step 1/1" in captured.err and "motion" in captured.err  # the push lasts seconds: the bar draws it
-    assert not ESCAPE.search(captured.out) and "executing" not in captured.out
-    assert captured.out.splitlines()[-1].startswith("reached:")
+def test_solve_execute_on_a_terminal_shows_the_bar_and_keeps_stdout_plain(a_push_executed):
+    code, out, err = a_push_executed  # `vkgc solve examples/tasks/a_push.vkg --execute`, stderr a terminal
+    assert code == 0
+    assert ESCAPE.search(err) and "executing: step 1 done at t = " in err
+    assert "step 1/1" in err and "motion" in err  # the push lasts seconds: the bar draws it
+    assert not ESCAPE.search(out) and "executing" not in out
+    assert out.splitlines()[-1].startswith("reached:")

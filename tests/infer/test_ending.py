@@ -48,7 +48,11 @@ def _learned(body_name: str, keep) -> dict:
     body = compile_file(str(BODIES / f"{body_name.lower()}.vkg")).bodies[body_name]
     specs = [s for s in plan_trials(body) if keep(s)]
     trials = assemble(body.name, specs, [run_trial(s, 0) for s in specs])
-    result = infer_library(trials, body_use=f"stdlib.bodies.{body_name.lower()}", header="test")
+    return _by_name(infer_library(trials, body_use=f"stdlib.bodies.{body_name.lower()}", header="test"))
+
+
+def _by_name(result) -> dict:
+    """An inference's groups and affordances by the affordance's name."""
     return {g.name: (g, a) for g, a in zip(result.groups, result.module.decls[0].affordances)}  # type: ignore[union-attr]
 
 
@@ -63,9 +67,10 @@ def test_a_drawer_pulled_to_its_stop_gives_a_bounded_range() -> None:
     assert not group.still_moving
 
 
-def test_a_block_still_sliding_when_its_push_ended_gives_an_open_range_and_its_turns_stay_closed() -> None:
-    # the 2 s pushes of the +x face only: the centre ones slide it 5.7 cm, still sliding; the end ones turn it
-    found = _learned("Block", lambda s: s.policy == "pushes" and s.direction[0] > 0)
+def test_a_block_still_sliding_when_its_push_ended_gives_an_open_range_and_its_turns_stay_closed(block_pushes) -> None:
+    # the 2 s pushes toward +x only (its -x face; `block_pushes`, tests/conftest.py, shared with
+    # tests/sim/test_explore.py): the centre ones slide it 5.7 cm, still sliding; the end ones turn it
+    found = _by_name(infer_library(block_pushes, body_use="stdlib.bodies.block", header="test"))
     group, affordance = found["push_center_px"]
     assert isinstance(affordance.motion, PrismaticC) and affordance.motion.range.open
     assert affordance.motion.range.upper.value == pytest.approx(0.057, abs=0.002)

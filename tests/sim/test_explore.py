@@ -28,10 +28,8 @@ def fixed_point(start: np.ndarray, end: np.ndarray) -> np.ndarray:
     return np.linalg.solve(np.eye(2) - motion[:2, :2], motion[:2, 3])
 
 
-@pytest.fixture(scope="module")
-def block_pushes() -> Trials:
-    """The Block pushed at 9 points of its -x face (its grid, one face), 2 s each."""
-    return explore(with_policy(stdlib_body("Block"), faces=["-x"]), jobs=2)
+# `block_pushes` (tests/conftest.py): the Block pushed at the 9 points of its -x face (its grid, one face), 2 s
+# each, explored once for this file and tests/infer/test_ending.py
 
 
 def test_every_block_trial_ran_and_was_sampled_at_50_hz(block_pushes: Trials) -> None:
@@ -113,9 +111,9 @@ def test_door_is_pushed_shut_and_pulled_open_about_its_hinge() -> None:
     assert np.ptp(hooked, axis=0).max() < 0.005  # the fingertip stays behind the bar, between its posts
 
 
-def test_held_stick_moves_freely_over_the_direction_grid() -> None:
+def test_held_stick_moves_freely_over_the_direction_grid(stick_trials: Trials) -> None:
     stick = stdlib_body("Stick")
-    trials = explore(stick, jobs=2)
+    trials = stick_trials  # `explore(stick, jobs=2)`, once per run (tests/conftest.py)
     assert len(trials) == 26 and trials.ok.all()
     handle = stick.frame("handle").pose.matrix()
     moves = []

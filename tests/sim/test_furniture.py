@@ -91,18 +91,31 @@ def _run(program: Program, name: str, cabinet: str, affordance: str, seconds: fl
     pusher = Pusher(world, effector, push_force_limit(body, PUSH, action[:3, 3]))  # beyond the joint's friction
     cabinet_start = cabinet_node.getWorldTransform().matrix().copy()
     touched = set()
-    for step in range(round(seconds / sim_world.TIME_STEP)):
-        if step % CONTROL == 0:
-            pusher.aim(node.getWorldTransform().matrix()[:3, :3] @ action[:3, 0])
-        pusher.drive()
-        world.step(False)
-        result = world.getLastCollisionResult()
-        for i in range(result.getNumContacts()):
-            contact = result.getContact(i)
-            pair = (contact.collisionObject1, contact.collisionObject2)
-            touched.add(frozenset(o.getShapeFrame().getName().split("_ShapeNode")[0] for o in pair))
+    # each shape's body, by its name: asked of DART once per shape, not twice per contact and step (building the
+    # name strings was three quarters of this test's time); DART hands back the same object for a shape while one
+    # is held, and they are let go of while the world is still there
+    names: dict[Any, str] = {}
+    try:
+        for step in range(round(seconds / sim_world.TIME_STEP)):
+            if step % CONTROL == 0:
+                pusher.aim(node.getWorldTransform().matrix()[:3, :3] @ action[:3, 0])
+            pusher.drive()
+            world.step(False)
+            for contact in world.getLastCollisionResult().getContacts():
+                pair = (contact.collisionObject1, contact.collisionObject2)
+                touched.add(frozenset(_body_of(o.getShapeFrame(), names) for o in pair))
+    finally:
+        names.clear()
     moved = cabinet_node.getWorldTransform().matrix()[:3, 3] - cabinet_start[:3, 3]
     return {"start": start, "end": float(skeleton.getPosition(0)), "opens": opens, "touched": touched, "moved": moved}
+
+
+def _body_of(frame: Any, names: dict[Any, str]) -> str:
+    """The name of the body (skeleton) a shape of a contact belongs to."""
+    name = names.get(frame)
+    if name is None:
+        name = names[frame] = frame.getName().split("_ShapeNode")[0]
+    return name
 
 
 def _opens(body: Any, affordance: Any) -> bool:
