@@ -74,6 +74,7 @@ class SceneWorld:
         self.fingers = Fingers(self.arm)  # the hand's finger joints, if its URDF has them
         self.meshes = {name: body_mesh(body) for name, body in self.types.items()}
         self.skeleton_names = {skeleton.getName(): name for name, (skeleton, _) in self.nodes.items()}
+        self._owners: dict[int, str] = {}  # shape id -> the name of the skeleton it is on (`_owner`)
         self.guarded = False  # True while moving through free space: touching a body there is a failure
         self.planned = self.poses()  # the ghost: where the current plan wants every body now
         self.frames = Frames(list(self.nodes)) if record else None
@@ -140,11 +141,10 @@ class SceneWorld:
         robot = {self.arm.skeleton.getName()}
         if self.arm.held is not None:
             robot.add(self.arm.held.skeleton.getName())
-        result = self.world.getLastCollisionResult()
-        for i in range(result.getNumContacts()):
-            contact = result.getContact(i)  # pairs kept apart (the switched-off pad, a held tool) are not reported
-            a = _skeleton_name(contact.collisionObject1)
-            b = _skeleton_name(contact.collisionObject2)
+        for contact in self.world.getLastCollisionResult().getContacts():
+            # pairs kept apart (the switched-off pad, a held tool) are not reported
+            a = self._owner(contact.collisionObject1)
+            b = self._owner(contact.collisionObject2)
             for mine, other in ((a, b), (b, a)):
                 if mine in robot and other in self.skeleton_names and other not in robot:  # not arm vs. held tool
                     what = "the fingertip" if mine == self.arm.skeleton.getName() else f"the held {self.holding()}"
@@ -152,6 +152,15 @@ class SceneWorld:
                         f"{what} touched {self.skeleton_names[other]} on its planned way through free space "
                         "(the planner found it clear: is the body where the plan expects it?)"
                     )
+
+    def _owner(self, collision_object: Any) -> str:
+        """The name of the skeleton a contact's collision object is on, looked up once per shape: by its shape's
+        id (unique among the shapes alive, never reused), three calls where the skeleton's name took five."""
+        key = int(collision_object.getShape().getID())
+        name = self._owners.get(key)
+        if name is None:
+            name = self._owners[key] = _skeleton_name(collision_object)
+        return name
 
     def record(self) -> None:
         """Keep a frame of the world now (nothing unless recording)."""

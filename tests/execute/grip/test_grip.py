@@ -196,3 +196,28 @@ def test_a_handle_loads_the_grip_with_what_its_joint_needs():
     watch.after_period(0.002)
     assert watch.report is not None and watch.report.peak_load == pytest.approx(1.9, abs=0.05)  # of 2 x 0.5 x 1 N
     assert watch.arm.broke and "a load of 1.9 N, 0.00 N m" in watch.report.broke
+
+
+def test_the_watch_finds_a_bodys_contacts_by_its_shapes_ids(program):
+    """Two blocks of one type resting on the table: each block's shape ids pick out exactly the contacts whose
+    shape node is one of its own (as their names did), never its twin's."""
+    from vkgl.execute.grip.watch import shape_ids
+    from vkgl.sim import world as sim_world
+
+    world = sim_world.new_world()
+    sim_world.add_table(world)
+    nodes = {}
+    for name, x in (("one", 0.0), ("two", 0.3)):
+        pose = np.eye(4)
+        pose[:3, 3] = [x, 0.0, 0.024]  # 1 mm into the table: touching from the first step
+        nodes[name] = sim_world.add_body(world, name, program.bodies["Block"], pose)[1]
+    world.step(False)
+    contacts = world.getLastCollisionResult().getContacts()
+    ids = {name: shape_ids(node) for name, node in nodes.items()}
+    assert ids["one"] and not ids["one"] & ids["two"]
+    for name, node in nodes.items():
+        names = {node.getShapeNode(i).getName() for i in range(node.getNumShapeNodes())}
+        sides = [obj for c in contacts for obj in (c.collisionObject1, c.collisionObject2)]
+        by_id = [obj.getShape().getID() in ids[name] for obj in sides]
+        assert by_id == [obj.getShapeFrame().getName() in names for obj in sides]
+        assert any(by_id)  # the block touches the table
