@@ -45,6 +45,7 @@ def on_interrupt(signum: int, frame: FrameType | None) -> None:
         child.join(_GRACE)
         if child.is_alive():
             child.kill()
+            child.join(_GRACE)  # reaped: a killed child left unreaped lingers as a zombie in its process group
     discard_temporaries()
     try:
         sys.stdout.flush()

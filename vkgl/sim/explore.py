@@ -134,7 +134,7 @@ def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: ProgressMod
         # and no worker can take a Ctrl-C before it has set itself to ignore it. Before the progress bar
         # starts its thread, too.
         with _sigint_blocked():
-            pool = ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_ignore_sigint)
+            pool = ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_worker_signals)
             futures = [pool.submit(run_trial, spec, seed) for spec in specs]
         try:
             advance = (
@@ -160,9 +160,12 @@ def _run_all(specs: list[TrialSpec], seed: int, jobs: int, progress: ProgressMod
     return [r for r in results if r is not None]
 
 
-def _ignore_sigint() -> None:
-    """In a worker: Ctrl-C is the parent's to handle (it ends the workers)."""
+def _worker_signals() -> None:
+    """In a worker: Ctrl-C is the parent's to handle (it ends the workers), and SIGTERM, with which the parent ends
+    them, ends a worker at once: a forked worker inherits the parent's handlers (`vkgc` handles SIGTERM as it
+    handles Ctrl-C, for the whole process tree), and a Python handler runs only between two simulation steps."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
@@ -198,11 +201,12 @@ def _stop_now(pool: ProcessPoolExecutor) -> None:
         process.join(timeout=1.0)
         if process.is_alive():
             process.kill()
+            process.join(timeout=1.0)  # reaped, not left a zombie
 
 
 def _run_isolated(spec: TrialSpec, seed: int, context: Any) -> TrialResult:
     with _sigint_blocked():
-        pool = ProcessPoolExecutor(max_workers=1, mp_context=context, initializer=_ignore_sigint)
+        pool = ProcessPoolExecutor(max_workers=1, mp_context=context, initializer=_worker_signals)
         future = pool.submit(run_trial, spec, seed)
     try:
         result = _result(future)
