@@ -15,8 +15,8 @@ checkouts with `--against <other checkout>`: each task is searched with both cod
 the table says whether they did the same work and what it cost each; with `--checks N` every search stops after
 its N-th task-space check instead, the same work on both when the checks give the same answers (the counts must
 agree), so the CPU seconds compare the checks' cost alone. The default tasks are those that timed out at 20 s on
-the idle physical bench of seeds 1, 6 and 7 (docs/physical_bench_final_seed{1,6,7}.json), then of seeds 1 and 9
-(docs/physical_bench_1127_seed{1,9}.json).
+the idle physical bench of seeds 1, 6 and 7 (docs/bench/physical_bench_final_seed{1,6,7}.json), then of seeds 1 and 9
+(docs/bench/physical_bench_1127_seed{1,9}.json).
 
     python bench/plan/bench_timeouts.py --checks 500 --against /path/to/main --jobs 2
 """
@@ -71,7 +71,7 @@ TIMED_OUT = [
     "gen9_046",
 ]
 """The tasks that timed out at 20 s on the idle physical bench (seeds 1, 6, 7, default max depth 6; then those of
-seeds 1 and 9 on 2026-11-27 not already named, docs/physical_bench_1127_seed{1,9}.json)."""
+seeds 1 and 9 on 2026-11-27 not already named, docs/bench/physical_bench_1127_seed{1,9}.json)."""
 
 COMPARED = "| task | status | same work | sequences | task-space checks | CPU s | CPU change |"
 
