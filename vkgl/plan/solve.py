@@ -57,7 +57,10 @@ def solve(
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
     way = blocked(problem)  # a body in a goal body's way: part of the time is kept for clearing it first
     result, searched = search_moving_less(  # bodies in no goal body's way kept still until a sequence meets one
-        problem, deadline=started + SEARCH_SHARE * problem.timeout if way else deadline, progress=progress
+        problem,
+        deadline=started + SEARCH_SHARE * problem.timeout if way else deadline,
+        progress=progress,
+        budget=SEARCH_SHARE * work_budget(problem) if way else None,  # (the count ends it the same everywhere)
     )
     if (
         way

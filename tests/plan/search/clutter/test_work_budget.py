@@ -15,7 +15,7 @@ import pytest
 import vkgl
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.search.clutter.clear_first import clear_first, work_budget
-from vkgl.plan.search.search import Paused, search
+from vkgl.plan.search.search import Paused, SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats
 
 _HERE = Path(__file__).resolve().parent
@@ -109,3 +109,33 @@ def test_a_search_its_budget_stopped_goes_on_to_the_same_end_as_one_started_with
     add_stats(total, went_on.stats, since)
     assert _counts(total) == _counts(anew.stats)
     assert paused.stats(replace(problem), None) is None  # another problem starts anew
+
+
+def test_the_search_before_clearing_gets_half_the_work_budget_and_half_the_clock(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """`vkgl.solve` with a body in the way: the search before the clearing ends at half the task's work budget
+    or at half its timeout, whichever comes first (the count ends it the same on any machine fast enough); with
+    none in the way it has the whole timeout and no budget."""
+    import vkgl.plan.solve as solve_module
+    from vkgl.plan.search.clutter.clear_first import SEARCH_SHARE
+
+    calls: list[tuple[float, float | None]] = []
+    original = solve_module.search_moving_less
+
+    def recording(
+        problem: Problem, *, deadline: float, progress: bool = False, budget: float | None = None
+    ) -> tuple[SearchResult, Problem]:
+        calls.append((deadline - time.perf_counter(), budget))
+        return original(problem, deadline=deadline, progress=progress, budget=budget)
+
+    monkeypatch.setattr(solve_module, "search_moving_less", recording)
+    program = vkgl.compile_source(BLOCKED, "budget.vkg", base_dir=_HERE)
+    vkgl.solve(program, "through", timeout=10.0)
+    clear = BLOCKED.replace("block2 : Block on table at (0.62, 0) m", "block2 : Block on table at (0.45, 0.3) m")
+    vkgl.solve(vkgl.compile_source(clear, "clear.vkg", base_dir=_HERE), "through", timeout=10.0)
+    (blocked_left, blocked_budget), (clear_left, clear_budget) = calls
+    timed = build_problem(program, program.tasks["through"], timeout=10.0)
+    assert blocked_budget == pytest.approx(SEARCH_SHARE * work_budget(timed))
+    assert SEARCH_SHARE * 10.0 - 1.0 < blocked_left <= SEARCH_SHARE * 10.0
+    assert clear_budget is None and 10.0 - 1.0 < clear_left <= 10.0

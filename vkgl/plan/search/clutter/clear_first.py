@@ -38,16 +38,15 @@ was tried first. A search tried again (a goals' search, a side's) goes on where 
 (`search(paused=)`), its budget counting both runs: the same search as one started anew, without its first
 try's work done twice.
 
-**Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout, on the clock as ever; what
-is tried here gets the rest of the task's work budget (`work_budget`: its timeout's worth, in units of
-`SearchStats.work_done`), shared by counted work, not by the time left: the same clearing then ends the same way
-on any machine and under any load, and the deadline stays the wall-clock guard. Each side of a blocker is first
-searched with a small budget (`FIRST_TRY`: a push that clears it is found with a few units), and only the sides
-that spent it are searched again with a share of what is left (`CLEAR_SHARE`); the search for the goals after a
-clearing plan gets most of what is left (`THEN_SHARE`). The search before is not budgeted so: a unit's CPU time
-varies twofold from task to task (an optimisation takes 5 to 15 ms), and a budget that never cuts a proof the
-clock allowed (gen1_001 of the physical bench: no plan of 6 graphs proved with 9,845 graphs expanded and 709
-optimisations in 5.7 s) would leave the clearing too little before the deadline.
+**Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout and of the work budget,
+whichever it spends first (on a machine fast enough the count ends it, the same everywhere; under heavy load the
+clock, and the clearing keeps its time); what is tried here gets the rest of the task's work budget
+(`work_budget`: its timeout's worth, in units of `SearchStats.work_done`), shared by counted work, not by the
+time left: the same clearing then ends the same way on any machine and under any load, and the deadline stays
+the wall-clock guard. Each side of a blocker is first searched with a small budget (`FIRST_TRY`: a push that
+clears it is found with a few units), and only the sides that spent it are searched again with a share of what
+is left (`CLEAR_SHARE`); the search for the goals after a clearing plan gets most of what is left (`THEN_SHARE`)
+(docs/planning.md, "Clear first, then solve", says why the search before keeps the clock's cut too).
 
 **Shortest or not.** The search before proved that no plan of at most `proven` graphs exists (every sequence
 of `max_depth` graphs when it ended without a plan, those of fewer than its level when the time ran out). A plan
@@ -120,10 +119,10 @@ MAX_DEPTH = 12
 
 
 SEARCH_SHARE = 0.5
-"""The part of the timeout the search itself gets when a body lies in a goal body's way (`blocked`): the rest of
-the work budget (`work_budget`) is left for clearing it first when the search times out. On the physical bench
-the tasks with a body in the way that the search solves take at most a third of the 20 s timeout
-(docs/physical_bench.md)."""
+"""The part of the timeout and of the work budget (`work_budget`) the search itself gets when a body lies in a
+goal body's way (`blocked`), whichever it spends first: the rest of the work budget is left for clearing it first
+when the search times out. On the physical bench the tasks with a body in the way that the search solves take
+at most a third of the 20 s timeout and 645 units (docs/physical_bench.md)."""
 
 WORK_PER_SECOND = 80.0
 """Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout

@@ -58,11 +58,14 @@ def kept_still(problem: Problem, names: frozenset[str]) -> Problem:
     return replace(problem, bodies=bodies)
 
 
-def search_moving_less(problem: Problem, *, deadline: float, progress: bool = False) -> tuple[SearchResult, Problem]:
+def search_moving_less(
+    problem: Problem, *, deadline: float, progress: bool = False, budget: float | None = None
+) -> tuple[SearchResult, Problem]:
     """The search of `problem` with the bodies in no goal body's way kept still until a rejected sequence meets
-    them (see the module's docstring), and the problem it searched with those it never met kept still for good."""
+    them (see the module's docstring), and the problem it searched with those it never met kept still for good.
+    `budget`: the work it may do (`search`'s), none by default."""
     still = still_bodies(problem)
-    result = search(problem, deadline=deadline, progress=progress, still=still)
+    result = search(problem, deadline=deadline, progress=progress, still=still, budget=budget)
     left = still - result.stats.met
     if result.status == "infeasible" and left and not result.stats.cut_at_start:  # (the bound cut G0: none matters)
         result = replace(result, reason=f"{result.reason}\n{still_words(left)}")
