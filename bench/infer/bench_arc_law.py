@@ -18,6 +18,10 @@ for the stdlib Block and every generated type's learned fixture (tests/bench/lea
 chose the offset of an arc contact could do at depth 2.
 
     PYTHONPATH=$PWD .venv/bin/python bench/infer/bench_arc_law.py [--bodies Block,CubeM,SlabN,CrateM] [--held 0.3,1.5]
+        [--slide-steps 5] [--face nx]
+
+`--slide-steps 5` explores a generated type as the wide fixtures are (long pushes off the centre too), `--face nx`
+checks its +x face (the one the hook pulls) instead of its -x face.
     PYTHONPATH=$PWD:tests/support .venv/bin/python bench/infer/bench_arc_law.py --goals
 
 Trials are cached in bench/.cache/arc_law (git-ignored); seeded, single process for the held-out pushes.
@@ -46,9 +50,9 @@ CHECK = 0.10  # m of the centre's travel where the prediction is compared
 CACHE = Path(__file__).resolve().parents[1] / ".cache" / "arc_law"
 
 
-def trials_of(body: Body, seed: int) -> Trials:
-    """The body's exploration (cached by name and seed)."""
-    path = CACHE / f"{body.name}_{seed}.npz"
+def trials_of(body: Body, seed: int, steps: int = 1) -> Trials:
+    """The body's exploration (cached by name, long-push points per face and seed)."""
+    path = CACHE / (f"{body.name}_{seed}.npz" if steps == 1 else f"{body.name}_s{steps}_{seed}.npz")
     if path.is_file():
         return Trials.load(path)
     trials = vkgl.api.explore(body, seed=seed, jobs=2)
@@ -57,10 +61,11 @@ def trials_of(body: Body, seed: int) -> Trials:
     return trials
 
 
-def px_slide(affordances: list[Affordance]) -> Affordance | None:
-    """The slide pushed along +x at the -x face's centre, with its family (None when it has no arc)."""
+def px_slide(affordances: list[Affordance], face: str = "px") -> Affordance | None:
+    """The slide pushed along +x at the -x face's centre (`face` nx: along -x at the +x face's), with its family
+    (None when it has no arc)."""
     for a in affordances:
-        if a.name == "push_center_px" and a.family is not None and a.family.arc is not None:
+        if a.name == f"push_center_{face}" and a.family is not None and a.family.arc is not None:
             return a
     return None
 
@@ -76,12 +81,15 @@ def predicted(member: Affordance, distance: float) -> np.ndarray:
     return arc_end(centre, sense * 2.0 * math.asin(min(1.0, distance / (2.0 * radius))))
 
 
-def measure(name: str, held: list[float], seed: int) -> tuple[int, int, list[tuple[float, float]]]:
-    """Print one body's law and held-out checks; (within 1 cm and 2 deg, checked, the errors (cm, deg))."""
-    body = body_of(name)
-    result = vkgl.api.infer(trials_of(body, seed), body_use="stdlib.bodies.block")
-    slide = px_slide([a for d in result.module.decls if isinstance(d, AffordanceSet) for a in d.affordances])
-    print(f"\n{name} ({body.mass.value:.2f} kg)")
+def measure(
+    name: str, held: list[float], seed: int, steps: int = 1, face: str = "px"
+) -> tuple[int, int, list[tuple[float, float]]]:
+    """Print one body's law and held-out checks; (within 1 cm and 2 deg, checked, the errors (cm, deg)). `steps`:
+    the long pushes' points per face the body is explored with; `face`: px (its -x face) or nx (its +x face)."""
+    body = body_of(name, steps)
+    result = vkgl.api.infer(trials_of(body, seed, steps), body_use="stdlib.bodies.block")
+    slide = px_slide([a for d in result.module.decls if isinstance(d, AffordanceSet) for a in d.affordances], face)
+    print(f"\n{name} ({body.mass.value:.2f} kg, {face} face)")
     if slide is None:
         print("  no arc learned on the -x face")
         return 0, 0, []
@@ -98,7 +106,8 @@ def measure(name: str, held: list[float], seed: int) -> tuple[int, int, list[tup
     kept, errors = 0, []
     for offset in held:
         member = at_offset(slide, offset)
-        seen = at_travel(push(body, offset, seed), CHECK)
+        along = float(family.along.values[1])  # the family's offsets run along +y (px) or -y (nx)
+        seen = at_travel(push(body, along * offset, seed, face=1.0 if face == "nx" else -1.0), CHECK)
         guess = predicted(member, float(np.linalg.norm(seen[:2])))
         miss = (100 * float(np.linalg.norm(guess[:2] - seen[:2])), abs(math.degrees(guess[2] - seen[2])))
         errors.append(miss)
@@ -185,6 +194,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--bodies", default="Block,CubeM,SlabN,CrateM", help="comma-separated body types")
     parser.add_argument("--held", default=",".join(f"{100 * h:g}" for h in HELD), help="held-out offsets (cm)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--slide-steps", type=int, default=1, help="long pushes per face (5: the wide fixtures')")
+    parser.add_argument("--face", default="px", choices=("px", "nx"), help="the -x face (px) or the +x face (nx)")
     parser.add_argument("--goals", action="store_true", help="which heading goals one arc member reaches (no DART)")
     args = parser.parse_args(argv)
     if args.goals:
@@ -194,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
     kept = checked = 0
     worst = (0.0, 0.0)
     for name in args.bodies.split(","):
-        k, c, errors = measure(name, held, args.seed)
+        k, c, errors = measure(name, held, args.seed, args.slide_steps, args.face)
         kept, checked = kept + k, checked + c
         worst = (max([worst[0], *(e[0] for e in errors)]), max([worst[1], *(e[1] for e in errors)]))
     print(

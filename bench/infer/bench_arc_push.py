@@ -33,6 +33,7 @@ import math
 import statistics
 import sys
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -57,16 +58,20 @@ ANGLE_LIMIT = 12.0  # deg from the face's normal a member may push: well inside 
 PUSH = 1.0  # N beyond the table's friction, as the bodies' `explore` blocks push
 
 
-def body_of(name: str) -> Body:
-    """The compiled body type `name` (the stdlib Block or a generated type)."""
-    kind = generated_tasks.TYPES[name]
+def body_of(name: str, slide_steps: int = 1) -> Body:
+    """The compiled body type `name` (the stdlib Block or a generated type, its long pushes at `slide_steps` points
+    per face)."""
+    kind = replace(generated_tasks.TYPES[name], slide_steps=slide_steps)
     program = vkgl.compile("stdlib/bodies/block.vkg") if kind.stdlib else vkgl.compile_source(kind.source())
     return next(b for b in program.bodies.values() if b.name == name)
 
 
-def push(body: Body, offset: float, seed: int, angle: float = 0.0, duration: float | None = None) -> np.ndarray:
-    """(n, 3) planar poses (x, y, yaw) of `body` pushed on its -x face at `offset` along y until TRAVEL (or for
-    `duration` s), the push `angle` (rad) from the face's inward normal towards +y (0: exploration's `force normal`)."""
+def push(
+    body: Body, offset: float, seed: int, angle: float = 0.0, duration: float | None = None, face: float = -1.0
+) -> np.ndarray:
+    """(n, 3) planar poses (x, y, yaw) of `body` pushed on its -x face (`face` 1: its +x face) at `offset` along y
+    until TRAVEL (or for `duration` s), the push `angle` (rad) from the face's inward normal towards +y (0:
+    exploration's `force normal`)."""
     half = float(body.shape.size.array()[0]) / 2.0  # type: ignore[union-attr]
     limit = PUSH + 0.5 * body.mass.value * G  # friction 0.5, the generated bodies' and the Block's
     if duration is None:
@@ -76,8 +81,8 @@ def push(body: Body, offset: float, seed: int, angle: float = 0.0, duration: flo
         body,
         "arc",
         "push",
-        np.array([-half, offset, 0.0]),
-        np.array([math.cos(angle), math.sin(angle), 0]),
+        np.array([face * half, offset, 0.0]),
+        np.array([-face * math.cos(angle), math.sin(angle), 0]),
         PUSH,
         duration,
         np.array([0, 1.0, 0]),

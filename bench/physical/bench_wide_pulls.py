@@ -70,6 +70,10 @@ hand lies beyond the reach; docs/physical_bench.md, "wide_pulls: a tilted hand's
 Reverted with the tilted reach (the Hook's tip took a Drawer's side grasp past a ledge), then back with a tool never
 enacting a grasp and the grip checked on bodies on joints (2026-11-27, night, load average 5 to 8): main 19 of 24, 19
 clean (365 CPU-s); with it 21 of 24, 21 clean (373 CPU-s), the same plans as above (docs/physical_bench.md).
+With CrateT's arc law's sigma counted right (2026-11-28: its edge pushes' turns past 180 deg had read as turns the
+wrong way, 23.5 deg; now 0.34 deg; docs/physical_bench.md, "CrateT's arc law"): CrateT's `free-` 0 is one rolled
+arc at depth 3 (was 6), reached 0.16 cm from the plan; the same three CrateT goals are left, now on the Hook's grip
+and the reach, not on the law.
 
 | body | goals: arc, free+, free-, kept | 11-26 | 11-27 noon | 11-27 eve | tilted reach | depths | clean | vs DART |
 |---|---|---|---|---|---|---|---|---|

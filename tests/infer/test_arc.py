@@ -101,6 +101,36 @@ def test_one_offset_gives_the_textbook_law_and_its_error_from_the_others() -> No
     assert fit.lever == pytest.approx(0.05)
 
 
+def test_a_long_push_that_turned_the_body_past_half_a_turn_is_read_along_its_track() -> None:
+    # CrateT's 17 s pushes at its faces' edges turned it 182 to 206 deg: from its start and end poses alone a
+    # 206 deg turn reads -154 deg, a turn the wrong way, whose leave-one-out error was 57 deg over 10 cm
+    lever, bias, ahead = 0.048, 0.086, 0.073
+    offsets = (0.0, 0.0222, -0.0222, 0.0444, -0.0889)
+    contacts = [CONTACT + d * LEFT for d in offsets]
+    trials, results = _dataset([_law_push(lever, bias, ahead, d) for d in offsets], contacts)
+    r = lever * lever / 0.0889 + bias
+    pivot = CONTACT + np.array([ahead, r, 0.0])
+    track = [_turned(pivot, a) for a in np.radians(np.linspace(0.0, 206.0, 40))]
+    samples = len(track)
+    T_ow = np.repeat(np.eye(4)[None, None], len(offsets), axis=0).repeat(samples, axis=1)
+    T_ow[:, -1] = trials.T_ow[:, 1]
+    T_ow[-1] = track
+    long = Trials(
+        body="Block",
+        t=np.tile(np.linspace(0.0, 17.0, samples), (len(offsets), 1)),
+        T_ro=np.full((len(offsets), samples, 4, 4), np.nan),
+        T_ow=T_ow,
+        contact=trials.contact,
+        force=trials.force,
+        ok=trials.ok,
+        reason=trials.reason,
+    )
+    fit = fit_arc(long, results, results[0], LEFT)
+    assert fit is not None and fit.pushes == 5
+    assert (fit.lever, fit.bias, fit.ahead) == pytest.approx((lever, bias, ahead), abs=1e-9)
+    assert fit.sigma == pytest.approx(0.0, abs=1e-6)
+
+
 def test_a_face_that_only_slides_has_no_arc_and_other_faces_do_not_count() -> None:
     straight = np.eye(4)
     straight[0, 3] = TRAVEL

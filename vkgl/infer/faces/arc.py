@@ -13,7 +13,9 @@ off-centre pushes that turned (the trials behind the face's `turn_*`
 affordances), from the body's pose at the start and at the end of each trial:
 
 - each push that turned by 1 deg or more gives a pivot (the point the start
-  and the end pose share); `r = lever**2 / |d| + bias` is fitted by least
+  and the end pose share), its turn counted along the trial's track (a long
+  push may turn a body past half a turn: from its ends alone, 206 deg reads
+  -154 deg); `r = lever**2 / |d| + bias` is fitted by least
   squares on those pivots (with pushes at only one |d|, `bias` is 0: the
   textbook `c**2 / d`), `ahead` is their mean;
 - the uncertainty is leave-one-out: each off-centre push (the slides among
@@ -121,16 +123,17 @@ def _measured(
     offset = r.contact - origin
     if abs(float(offset @ normal)) > _SAME_FACE or abs(float(offset @ up)) > _SAME_FACE:
         return None
-    ends = _start_and_end(trials, r.index)
-    if ends is None:
+    poses = _ordered_poses(trials, r.index)
+    if poses is None:
         return None
-    relative = np.linalg.inv(ends[0]) @ ends[1]  # the end pose in the body's frame at the start
+    relative = np.linalg.inv(poses[0]) @ poses[-1]  # the end pose in the body's frame at the start
     rotvec = _rotation_vector(relative[:3, :3])
     if np.linalg.norm(rotvec) > 0 and abs(float(rotvec @ up)) < _UPRIGHT * float(np.linalg.norm(rotvec)):
         return None  # the body tilted, not turned
     d = float(offset @ along)
     side = 1.0 if d >= 0 else -1.0
-    turn = -side * float(rotvec @ up)  # a push at +d turns the body about -up (away from the contact's side)
+    # a push at +d turns the body about -up (away from the contact's side)
+    turn = -side * _unwrapped(float(rotvec @ up), poses, normal, along)
     chord = float(np.linalg.norm(relative[:3, :3] @ origin + relative[:3, 3] - origin))
     travel = chord * _arc_over_chord(turn)
     if abs(turn) < _TURNED:
@@ -139,15 +142,24 @@ def _measured(
     return _Push(d, travel, turn, -side * float((pivot - origin) @ along), float((pivot - origin) @ normal))
 
 
-def _start_and_end(trials: Trials, i: int) -> tuple[np.ndarray, np.ndarray] | None:
-    """The body's first and last observed poses of trial `i` (in time order)."""
+def _ordered_poses(trials: Trials, i: int) -> np.ndarray | None:
+    """The body's observed poses of trial `i` in time order; None with fewer than two."""
     t, poses = trials.t[i], trials.T_ow[i]
     seen = np.isfinite(t) & np.isfinite(poses.reshape(len(poses), -1)).all(axis=1)
     if seen.sum() < 2:
         return None
     order = np.argsort(t[seen], kind="stable")
-    ordered = poses[seen][order]
-    return ordered[0], ordered[-1]
+    return np.asarray(poses[seen][order])
+
+
+def _unwrapped(turn: float, poses: np.ndarray, normal: np.ndarray, along: np.ndarray) -> float:
+    """`turn` (rad about up = normal x along, from the start and end poses alone: within +-pi) plus the whole turns
+    the body made on the way, counted along the track `poses`: a long push that turned a body 206 deg reads -154 deg
+    from its ends, and would fit, and check the law against, a turn the wrong way (CrateT's 17 s edge pushes)."""
+    start = poses[0][:3, :3].T
+    faced = np.einsum("ij,njk,k->ni", start, poses[:, :3, :3], normal)  # the start's normal, carried by the body
+    track = np.unwrap(np.arctan2(faced @ along, faced @ normal))
+    return turn + 2.0 * math.pi * round((float(track[-1]) - turn) / (2.0 * math.pi))
 
 
 def _rotation_vector(rotation: np.ndarray) -> np.ndarray:
