@@ -191,37 +191,70 @@ def _execute_a_push_on_a_terminal() -> tuple[int, str, str]:
 
 
 @pytest.fixture(scope="session")
-def block_pushes() -> Any:
-    """The stdlib Block pushed toward +x at the 9 points of its -x face, 2 s each (its `pushes` exploration, that
-    face alone), in DART on 2 processes: the `vkg-trials/1` dataset. tests/sim/test_explore.py checks the trials,
-    tests/infer/test_ending.py what inference makes of how they ended: 8 CPU-s of physics, once per run."""
-    return _made_once("block_pushes", _push_the_blocks_minus_x_face)
+def stdlib_explored() -> Callable[[str], Any]:
+    """`stdlib_explored(stem)`: the body of stdlib/bodies/<stem>.vkg explored as `vkgc learn` explores it (every
+    `explore` block, seed 0; on 2 processes, which gives the same bytes as any other number), once per run
+    (`explored_stdlib_body`). tests/infer/test_learn.py learns the whole stdlib from these (the Block alone is 27
+    CPU-s of physics); `block_pushes`, `stick_trials` and tests/infer/test_ending.py take trials of them."""
+    return explored_stdlib_body
 
 
-def _push_the_blocks_minus_x_face() -> Any:
+_EXPLORED: dict[str, Any] = {}
+
+
+def explored_stdlib_body(stem: str) -> Any:
+    """stdlib/bodies/<stem>.vkg's body explored as `vkgc learn` explores it, the `vkg-trials/1` dataset: made once in
+    this pytest-xdist run (`_made_once`) and kept in this process."""
+    if stem not in _EXPLORED:
+        _EXPLORED[stem] = _made_once(f"explored-{stem}", lambda: _explore_stdlib_body(stem))
+    return _EXPLORED[stem]
+
+
+def stdlib_body_of(stem: str) -> Any:
+    """The body of stdlib/bodies/<stem>.vkg, compiled."""
     from vkgl.lang.compiler import compile_file
+
+    (body,) = compile_file(str(STDLIB / "bodies" / f"{stem}.vkg")).bodies.values()
+    return body
+
+
+def _explore_stdlib_body(stem: str) -> Any:
     from vkgl.sim.explore import explore
 
-    block = compile_file(str(STDLIB / "bodies" / "block.vkg")).bodies["Block"]
-    pushes = block.explores[0]
-    assert pushes.name == "pushes" and pushes.contacts is not None
-    one_face = pushes.model_copy(update={"contacts": pushes.contacts.model_copy(update={"faces": ["-x"]})})
-    return explore(block.model_copy(update={"explores": [one_face]}), jobs=2)
+    return explore(stdlib_body_of(stem), jobs=2)
+
+
+def trials_of(trials: Any, indices: list[int]) -> Any:
+    """The trials `indices` of a dataset, as a dataset of their own (padded to the longest of them, as `explore`
+    pads a dataset to its longest trial)."""
+    from vkgl.formats.trials import Trials
+
+    longest = max(trials.samples(i) for i in indices)
+    timed = {key: getattr(trials, key)[indices, :longest] for key in ("t", "T_ro", "T_ow")}
+    return Trials(
+        trials.body, **timed, **{key: getattr(trials, key)[indices] for key in ("contact", "force", "ok", "reason")}
+    )
+
+
+@pytest.fixture(scope="session")
+def block_pushes() -> Any:
+    """The stdlib Block pushed toward +x at the 9 points of its -x face, 2 s each: those trials of its `pushes`
+    exploration (`stdlib_explored("block")`, as `vkgc learn` explores it). tests/sim/test_explore.py checks the
+    trials, tests/infer/test_ending.py what inference makes of how they ended."""
+    from vkgl.sim.policy import plan_trials
+
+    specs = plan_trials(stdlib_body_of("block"))
+    minus_x = [s.index for s in specs if s.policy == "pushes" and s.contact[0] < 0]
+    assert len(minus_x) == 9 and all(s.duration == 2.0 for s in specs if s.index in minus_x)
+    return trials_of(explored_stdlib_body("block"), minus_x)
 
 
 @pytest.fixture(scope="session")
 def stick_trials() -> Any:
     """The stdlib Stick explored as `vkgl.explore(stick, jobs=2)` does (its whole `wield` grid, 26 trials of 1 s,
-    seed 0): tests/sim/test_explore.py checks the trials, and tests/test_docs_api.py's page, which learns and
-    explores this body with these arguments, is given them. 2 to 3 CPU-s of physics, once per run."""
-    return _made_once("stick_trials", _explore_the_stick)
-
-
-def _explore_the_stick() -> Any:
-    from vkgl.api import explore
-    from vkgl.lang.compiler import compile_file
-
-    return explore(compile_file(str(STDLIB / "bodies" / "stick.vkg")).bodies["Stick"], jobs=2)
+    seed 0; `stdlib_explored("stick")`): tests/sim/test_explore.py checks the trials, and tests/test_docs_api.py's
+    page, which learns and explores this body with these arguments, is given them."""
+    return explored_stdlib_body("stick")
 
 
 def _made_once(name: str, make: Callable[[], Any]) -> Any:
