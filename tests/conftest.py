@@ -51,7 +51,7 @@ EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
 SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers, load 6 to 8)
-    "tests/infer/test_learn.py",  # 60: learns the whole stdlib (its explorations, 40, are `stdlib_explored`'s)
+    "tests/infer/test_learn.py",  # 74: learns the whole stdlib, making `stdlib_explored`'s explorations (40 of it)
     "tests/execute/test_closed_loop.py",  # 66; 58 when test_animate.py carried out a_push_recorded
     "tests/scenarios/tools/test_generated_execution.py",  # 44
     "tests/scenarios/goals/test_tall_bodies.py",  # 42
