@@ -51,7 +51,7 @@ EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
 SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers, load 6 to 8)
-    "tests/infer/test_learn.py",  # 80: learns the whole stdlib, in 2 processes
+    "tests/infer/test_learn.py",  # 74: learns the whole stdlib, making `stdlib_explored`'s explorations (40 of it)
     "tests/execute/test_closed_loop.py",  # 66; 58 when test_animate.py carried out a_push_recorded
     "tests/scenarios/tools/test_generated_execution.py",  # 44
     "tests/scenarios/goals/test_tall_bodies.py",  # 42
@@ -62,8 +62,6 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/scenarios/tools/test_contact_chain.py",  # 27
     "tests/test_docs_api.py",  # 16 (2026-11-28); 25 to 30 while its moved-start example waited out a 30 s timeout
     "tests/sim/test_ray_runner.py",  # 7 in this process, and Ray's own processes (not its children): 59 s wall
-    "tests/sim/test_explore.py",  # 16 with block_pushes (the first file to ask), 18 with stick_trials too; else 8
-    "tests/cli/test_startup_imports.py",  # 17: 15 fresh Python processes
     "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 16
     "tests/sim/test_interrupt.py",  # 16
     "tests/lang/syntax/test_printer.py",  # 15
@@ -73,27 +71,28 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/scenarios/goals/test_open_slides.py",  # 12
     "tests/execute/test_disturbed.py",  # 11
     "tests/bench/test_generated_plans.py",  # 11
-    "tests/infer/test_ending.py",  # 4; 11 when it makes block_pushes (tests/sim/test_explore.py asks first)
     "tests/execute/test_animate.py",  # 3; 10 when it carries out a_push_recorded (the first of the two files asks)
     "tests/cli/test_execute_cli.py",  # 10
     "tests/scenarios/goals/test_drawer_and_door.py",  # 10
     "tests/scenarios/tools/test_side_approach.py",  # 10
     "tests/scenarios/tools/test_long_stick.py",  # 10
     "tests/formats/test_plan_format.py",  # 9
+    "tests/cli/test_startup_imports.py",  # 9: 11 fresh Python processes (15 until 2026-11-28)
     "tests/lang/checks/test_checks_rays.py",  # 9
     "tests/cli/test_hash_seed.py",  # 8
     "tests/plan/result/test_picture.py",  # 8
     "tests/scenarios/tools/test_hook_drawer.py",  # 8
     "tests/plan/search/bounds/test_bound.py",  # 8
-    "tests/sim/test_explore_errors.py",  # 7
     "tests/sim/test_furniture.py",  # 7 (18 while it asked DART for two names per contact and step)
     "tests/test_docs_samples.py",  # 7 when it makes a_push_executed (the first of two files to ask); else 2
     "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 7
     "tests/plan/arm/test_contact_chains.py",  # 7
     "tests/lang/checks/test_checks_solids.py",  # 6
+    "tests/sim/test_explore.py",  # 6 once `stdlib_explored` has the Block and the Stick (test_learn.py makes them)
     "tests/execute/grip/test_grip.py",  # 6
     "tests/cli/test_execution_progress.py",  # 0; 5 when it makes a_push_executed
     "tests/plan/task_space/test_slides.py",  # 5
+    "tests/infer/test_ending.py",  # 3; 13 when it explores the Drawer before test_learn.py does
 ]
 """The test files that take longest, slowest first: every file of 5 CPU-seconds or more on a loaded machine (the
 others take 0 to 4).
@@ -191,37 +190,70 @@ def _execute_a_push_on_a_terminal() -> tuple[int, str, str]:
 
 
 @pytest.fixture(scope="session")
-def block_pushes() -> Any:
-    """The stdlib Block pushed toward +x at the 9 points of its -x face, 2 s each (its `pushes` exploration, that
-    face alone), in DART on 2 processes: the `vkg-trials/1` dataset. tests/sim/test_explore.py checks the trials,
-    tests/infer/test_ending.py what inference makes of how they ended: 8 CPU-s of physics, once per run."""
-    return _made_once("block_pushes", _push_the_blocks_minus_x_face)
+def stdlib_explored() -> Callable[[str], Any]:
+    """`stdlib_explored(stem)`: the body of stdlib/bodies/<stem>.vkg explored as `vkgc learn` explores it (every
+    `explore` block, seed 0; on 2 processes, which gives the same bytes as any other number), once per run
+    (`explored_stdlib_body`). tests/infer/test_learn.py learns the whole stdlib from these (the Block alone is 27
+    CPU-s of physics); `block_pushes`, `stick_trials` and tests/infer/test_ending.py take trials of them."""
+    return explored_stdlib_body
 
 
-def _push_the_blocks_minus_x_face() -> Any:
+_EXPLORED: dict[str, Any] = {}
+
+
+def explored_stdlib_body(stem: str) -> Any:
+    """stdlib/bodies/<stem>.vkg's body explored as `vkgc learn` explores it, the `vkg-trials/1` dataset: made once in
+    this pytest-xdist run (`_made_once`) and kept in this process."""
+    if stem not in _EXPLORED:
+        _EXPLORED[stem] = _made_once(f"explored-{stem}", lambda: _explore_stdlib_body(stem))
+    return _EXPLORED[stem]
+
+
+def stdlib_body_of(stem: str) -> Any:
+    """The body of stdlib/bodies/<stem>.vkg, compiled."""
     from vkgl.lang.compiler import compile_file
+
+    (body,) = compile_file(str(STDLIB / "bodies" / f"{stem}.vkg")).bodies.values()
+    return body
+
+
+def _explore_stdlib_body(stem: str) -> Any:
     from vkgl.sim.explore import explore
 
-    block = compile_file(str(STDLIB / "bodies" / "block.vkg")).bodies["Block"]
-    pushes = block.explores[0]
-    assert pushes.name == "pushes" and pushes.contacts is not None
-    one_face = pushes.model_copy(update={"contacts": pushes.contacts.model_copy(update={"faces": ["-x"]})})
-    return explore(block.model_copy(update={"explores": [one_face]}), jobs=2)
+    return explore(stdlib_body_of(stem), jobs=2)
+
+
+def trials_of(trials: Any, indices: list[int]) -> Any:
+    """The trials `indices` of a dataset, as a dataset of their own (padded to the longest of them, as `explore`
+    pads a dataset to its longest trial)."""
+    from vkgl.formats.trials import Trials
+
+    longest = max(trials.samples(i) for i in indices)
+    timed = {key: getattr(trials, key)[indices, :longest] for key in ("t", "T_ro", "T_ow")}
+    return Trials(
+        trials.body, **timed, **{key: getattr(trials, key)[indices] for key in ("contact", "force", "ok", "reason")}
+    )
+
+
+@pytest.fixture(scope="session")
+def block_pushes() -> Any:
+    """The stdlib Block pushed toward +x at the 9 points of its -x face, 2 s each: those trials of its `pushes`
+    exploration (`stdlib_explored("block")`, as `vkgc learn` explores it). tests/sim/test_explore.py checks the
+    trials, tests/infer/test_ending.py what inference makes of how they ended."""
+    from vkgl.sim.policy import plan_trials
+
+    specs = plan_trials(stdlib_body_of("block"))
+    minus_x = [s.index for s in specs if s.policy == "pushes" and s.contact[0] < 0]
+    assert len(minus_x) == 9 and all(s.duration == 2.0 for s in specs if s.index in minus_x)
+    return trials_of(explored_stdlib_body("block"), minus_x)
 
 
 @pytest.fixture(scope="session")
 def stick_trials() -> Any:
     """The stdlib Stick explored as `vkgl.explore(stick, jobs=2)` does (its whole `wield` grid, 26 trials of 1 s,
-    seed 0): tests/sim/test_explore.py checks the trials, and tests/test_docs_api.py's page, which learns and
-    explores this body with these arguments, is given them. 2 to 3 CPU-s of physics, once per run."""
-    return _made_once("stick_trials", _explore_the_stick)
-
-
-def _explore_the_stick() -> Any:
-    from vkgl.api import explore
-    from vkgl.lang.compiler import compile_file
-
-    return explore(compile_file(str(STDLIB / "bodies" / "stick.vkg")).bodies["Stick"], jobs=2)
+    seed 0; `stdlib_explored("stick")`): tests/sim/test_explore.py checks the trials, and tests/test_docs_api.py's
+    page, which learns and explores this body with these arguments, is given them."""
+    return explored_stdlib_body("stick")
 
 
 def _made_once(name: str, make: Callable[[], Any]) -> Any:

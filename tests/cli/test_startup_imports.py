@@ -52,11 +52,17 @@ LSP = (
 
 
 @pytest.fixture(scope="module")
-def checked_once(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A cache folder as one `vkgc check` of TASK leaves it (DART has seen the arm's URDF): made once, copied."""
+def first_check(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, set[str]]:
+    """The first `vkgc check` of TASK, with an empty cache folder: that folder as it leaves it (DART has seen the
+    arm's URDF; made once, copied by the tests that start from it) and the heavy packages it imported."""
     cache = tmp_path_factory.mktemp("checked-once")
-    _heavy_modules(CHECK, cache)
-    return cache
+    return cache, _heavy_modules(CHECK, cache)
+
+
+@pytest.fixture
+def checked_once(first_check: tuple[Path, set[str]]) -> Path:
+    """A cache folder as one `vkgc check` of TASK leaves it (DART has seen the arm's URDF)."""
+    return first_check[0]
 
 
 def _copy_of(cache: Path, tmp_path: Path) -> Path:
@@ -64,10 +70,10 @@ def _copy_of(cache: Path, tmp_path: Path) -> Path:
     return Path(shutil.copytree(cache, tmp_path / "cache"))
 
 
-def test_check_imports_no_back_end_once_the_urdf_is_known(tmp_path: Path) -> None:
-    first = _heavy_modules(CHECK, tmp_path)
+def test_check_imports_no_back_end_once_the_urdf_is_known(first_check: tuple[Path, set[str]], tmp_path: Path) -> None:
+    cache, first = first_check
     assert first <= {"dartpy"}, f"a first `vkgc check` imported {sorted(first)}"  # DART loads the URDF once
-    assert _heavy_modules(CHECK, tmp_path) == set()
+    assert _heavy_modules(CHECK, _copy_of(cache, tmp_path)) == set()
 
 
 @pytest.mark.parametrize("code", [FMT, LSP], ids=["fmt", "lsp"])
@@ -99,10 +105,12 @@ def test_check_imports_no_numpy(checked_once: Path, tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("task", ["g_open_drawer", "p_knob_drawer", "k_region_goal"])
-def test_check_of_a_drawer_or_a_region_goal_imports_no_trimesh_nor_scipy(task: str, tmp_path: Path) -> None:
+def test_check_of_a_drawer_or_a_region_goal_imports_no_trimesh_nor_scipy(
+    task: str, checked_once: Path, tmp_path: Path
+) -> None:
     """trimesh (with SciPy) was two thirds of a `vkgc check` of a drawer or a door: the check of contact
     points and contact frames (E415) finds them on plain-Python triangles (vkgl.lang.checks.geometry.rays).
-    A region goal's fit (E453) is a 2-variable linear program, solved exactly without SciPy's `linprog`."""
+    A region goal's fit (E453) is a 2-variable linear program, solved exactly without SciPy's `linprog`.
+    The task's first check (its own modules not yet parsed nor kept), once DART has seen the arm's URDF."""
     check = f"from vkgl.cli import main; assert main(['check', {str(EXAMPLES / 'tasks' / f'{task}.vkg')!r}]) == 0"
-    _heavy_modules(check, tmp_path)  # DART loads the arm's URDF once
-    assert _heavy_modules(check, tmp_path, ("trimesh", *HEAVY)) == set()
+    assert _heavy_modules(check, _copy_of(checked_once, tmp_path), ("trimesh", *HEAVY)) == set()

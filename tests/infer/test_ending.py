@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import trials_of
 
 from vkgl.infer.ending import END_WINDOW, MOVING_RATIO, motion_ending
 from vkgl.infer.library import infer_library
@@ -43,12 +44,12 @@ def test_a_trial_too_short_to_tell_has_no_ending() -> None:
     assert motion_ending(t, 0.03 * t) is None
 
 
-def _learned(body_name: str, keep) -> dict:
-    """Explore the stdlib body's trials that `keep` selects (DART), infer, and return its affordances by name."""
-    body = compile_file(str(BODIES / f"{body_name.lower()}.vkg")).bodies[body_name]
-    specs = [s for s in plan_trials(body) if keep(s)]
-    trials = assemble(body.name, specs, [run_trial(s, 0) for s in specs])
-    return _by_name(infer_library(trials, body_use=f"stdlib.bodies.{body_name.lower()}", header="test"))
+def _learned(stem: str, keep, stdlib_explored) -> dict:
+    """The stdlib body's trials that `keep` selects, of its exploration as `vkgc learn` explores it (in DART, once
+    per run: `stdlib_explored`, tests/conftest.py), inferred: its affordances by name."""
+    body = compile_file(str(BODIES / f"{stem}.vkg")).body()
+    trials = trials_of(stdlib_explored(stem), [s.index for s in plan_trials(body) if keep(s)])
+    return _by_name(infer_library(trials, body_use=f"stdlib.bodies.{stem}", header="test"))
 
 
 def _by_name(result) -> dict:
@@ -56,10 +57,12 @@ def _by_name(result) -> dict:
     return {g.name: (g, a) for g, a in zip(result.groups, result.module.decls[0].affordances)}  # type: ignore[union-attr]
 
 
-def test_a_drawer_pulled_to_its_stop_gives_a_bounded_range() -> None:
+def test_a_drawer_pulled_to_its_stop_gives_a_bounded_range(stdlib_explored) -> None:
     # the pull at the handle from the closed end: 30 cm in 8.6 s, then 1.4 s against the stop
     found = _learned(
-        "Drawer", lambda s: s.policy == "pull" and s.joint_start == 0.0 and s.label.startswith("pull at handle")
+        "drawer",
+        lambda s: s.policy == "pull" and s.joint_start == 0.0 and s.label.startswith("pull at handle"),
+        stdlib_explored,
     )
     group, affordance = found["pull_center_px"]
     assert isinstance(affordance.motion, PrismaticC) and not affordance.motion.range.open
