@@ -8,7 +8,8 @@ import pytest
 from conftest import vkg_files
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from strategies import PATH, UNITS, modules
+from module_strategies import modules
+from strategies import PATH, UNITS
 
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.units import to_si
