@@ -64,7 +64,40 @@ def rotvec_matrices(rotvecs: np.ndarray) -> np.ndarray:
     import numpy as np
 
     rows = np.asarray(rotvecs, dtype=float).reshape(-1, 3).tolist()
-    return np.array([rotvec_matrix(*row) for row in rows], dtype=float).reshape(-1, 3, 3)
+    try:
+        flat = _rotvec_entries(rows)
+    except ValueError:  # an infinite angle (`math.sin` raises): row by row, which gives NaN as SciPy does
+        return np.array([rotvec_matrix(*row) for row in rows], dtype=float).reshape(-1, 3, 3)
+    return np.array(flat, dtype=float).reshape(-1, 3, 3)
+
+
+def _rotvec_entries(rows: list[list[float]]) -> list[float]:
+    """The entries of `rotvec_matrix` of each row, row-major, one after the other: the same operations inlined
+    (the task-space optimiser's rollouts ask for hundreds of thousands). Raises ValueError at an infinite angle."""
+    sin, cos, sqrt = math.sin, math.cos, math.sqrt
+    flat: list[float] = []
+    for x0, y0, z0 in rows:
+        angle = sqrt(x0 * x0 + y0 * y0 + z0 * z0)
+        if angle <= _SMALL_ANGLE:
+            squared = angle * angle
+            scale = 0.5 - squared / 48 + squared * squared / 3840
+        else:
+            scale = sin(angle / 2) / angle
+        x, y, z, w = x0 * scale, y0 * scale, z0 * scale, cos(angle / 2)
+        x2, y2, z2, w2 = x * x, y * y, z * z, w * w
+        xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
+        flat += (
+            x2 - y2 - z2 + w2,
+            2 * (xy - zw),
+            2 * (xz + yw),
+            2 * (xy + zw),
+            -x2 + y2 - z2 + w2,
+            2 * (yz - xw),
+            2 * (xz - yw),
+            2 * (yz + xw),
+            -x2 - y2 + z2 + w2,
+        )
+    return flat
 
 
 def matrix_rotvec(matrix: np.ndarray) -> np.ndarray:

@@ -163,6 +163,24 @@ def test_the_reach_of_many_points_is_each_points_reach(problem, xy, height, plan
     np.testing.assert_allclose(reach_violations(problem, points), each, rtol=0, atol=1e-12)
 
 
+def test_affine_positions_are_remembered_as_computed(problem) -> None:
+    from vkgl.plan.task_space import slides
+
+    for seq in _moving(problem)[:40]:
+        own = [i for i, (_, e) in enumerate(seq.variables) if e.body == "block"]
+        motions = {i: problem.affordance("block", seq.variables[i][1].affordance).motion for i in own}
+        turns = [i for i in own if isinstance(motions[i], RevoluteC)]
+        slides_ = [i for i in own if i not in turns]
+        angles = np.linspace(0.0, 1.0, 7 * len(turns)).reshape(7, len(turns)) if turns else np.zeros((1, 0))
+        first = slides.affine_positions(problem, seq, "block", turns, slides_, angles)
+        slides._AFFINE.clear()
+        fresh = slides.affine_positions(problem, seq, "block", turns, slides_, angles)
+        again = slides.affine_positions(problem, seq, "block", turns, slides_, angles)
+        assert again[0] is fresh[0]  # remembered
+        for a, b in zip(first, fresh):
+            assert np.array_equal(a, b)
+
+
 def test_remembered_body_constraints_give_the_numbers_computed_afresh(problem) -> None:
     from vkgl.plan.task_space.constraints.values import constraint_values
 

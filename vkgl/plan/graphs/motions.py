@@ -75,12 +75,18 @@ def _motion_matrices(constraint: object, values: np.ndarray, shift: np.ndarray |
     m[:, 3, 3] = 1.0
     if center is None:  # prismatic (or anything that does not move: axis zero)
         m[:, 0, 0] = m[:, 1, 1] = m[:, 2, 2] = 1.0
-        m[:, :3, 3] = np.outer(values, axis)
+        m[:, :3, 3] = _outer(values, axis)
         return m
-    rotations = rotvec_matrices(np.outer(values, axis))
+    rotations = rotvec_matrices(_outer(values, axis))
     m[:, :3, :3] = rotations
     m[:, :3, 3] = center - rotations @ center
     return m
+
+
+def _outer(values: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """`np.outer(values, axis)`, the same products, without its dispatch (a rollout asks for it at every mode)."""
+    column = np.asarray(values)
+    return column[:, None] * axis if column.ndim == 1 and axis.ndim == 1 else np.outer(values, axis)
 
 
 _AXES: dict[int, tuple[object, np.ndarray, np.ndarray | None]] = {}

@@ -108,7 +108,7 @@ class _Evaluator:
     def evaluate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(goal residuals scaled by their tolerances, constraint values <= 0 when satisfied)."""
         key = x.tobytes()
-        if not np.isfinite(x).all():  # SLSQP can step to NaN on a degenerate problem: make that point bad
+        if not all(map(math.isfinite, x.tolist())):  # SLSQP can step to NaN on a degenerate problem: make it bad
             ok = self.evaluate(np.zeros_like(x))
             return np.full_like(ok[0], 1e6), np.full_like(ok[1], 1.0)
         if key not in self._memo:
@@ -148,6 +148,10 @@ class _Evaluator:
 def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray:
     """Each goal's position error (per component), yaw error and joint coordinate error, divided by its tolerance;
     for a region goal, how far the footprint passes each edge of the region (0 inside: an inequality)."""
+    if len(problem.goals) == 1 and _position_only(problem.goals[0]):  # the usual goal, without the list's steps
+        goal = problem.goals[0]
+        assert goal.position is not None
+        return (final[goal.body][: len(goal.position), 3] - goal.position) / goal.tol_position  # type: ignore[no-any-return]
     out: list[float] = []
     for goal in problem.goals:
         pose = final[goal.body]
@@ -160,6 +164,11 @@ def goal_residuals(problem: Problem, final: dict[str, np.ndarray]) -> np.ndarray
         if goal.region is not None:  # an inequality: only the part of the footprint outside an edge counts
             out.extend(np.maximum(goal.region_excess(pose), 0.0) / goal.tol_position)
     return np.asarray(out, dtype=float)
+
+
+def _position_only(goal: GoalSpec) -> bool:
+    """Whether `goal` asks for a position alone (no heading, joint coordinate or region)."""
+    return goal.position is not None and goal.yaw is None and goal.opening is None and goal.region is None
 
 
 def goal_holds(

@@ -16,6 +16,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from vkgl.plan.graphs.graph import Engagement
 from vkgl.plan.graphs.members import pivot_travel
 from vkgl.plan.graphs.motions import motion_matrices, unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, value_bounds
@@ -172,19 +173,55 @@ def affine_positions(
     the body by v times a turned by the motions before it (n x 3 and n x 3 x s). `matrices` gives a turn's
     motion matrices at many angles (`motion_matrices` by default, whose numbers the optimiser's starts keep).
     """
+    own = tuple(
+        (e, turns.index(i) if i in turns else -1 if i in slides else -2)
+        for i, (_, e) in enumerate(seq.variables)
+        if e.body == body
+    )
+    key = (id(problem), body, own, id(matrices), angles.shape, np.asarray(angles, dtype=float).tobytes())
+    kept = _AFFINE.get(key)
+    if kept is not None and kept[0] is problem and kept[1] is matrices:
+        return kept[2], kept[3]
+    origins, stacked = _affine_positions(problem, body, own, angles, matrices)
+    origins.flags.writeable = stacked.flags.writeable = False
+    global _affine_bytes
+    if _affine_bytes > _AFFINE_BYTES:
+        _AFFINE.clear()
+        _affine_bytes = 0
+    _AFFINE[key] = (problem, matrices, origins, stacked)
+    _affine_bytes += origins.nbytes + stacked.nbytes + len(key[-1])
+    return origins, stacked
+
+
+_AFFINE: dict[tuple[object, ...], tuple[Problem, object, np.ndarray, np.ndarray]] = {}
+_affine_bytes = 0
+_AFFINE_BYTES = 32 << 20
+"""`affine_positions` answers kept (then forgotten all at once past this many bytes), by the goal body's own
+motions (their engagements and roles, in mode order) and the angles: the search checks many sequences whose goal
+body moves the same way (they differ in what the hand and the tools do besides), and a scan of 241 x 241 rows costs
+milliseconds. The problem and the matrices' function are kept, so that their ids stay their own."""
+
+
+def _affine_positions(
+    problem: Problem,
+    body: str,
+    own: tuple[tuple[Engagement, int], ...],
+    angles: np.ndarray,
+    matrices: Callable[[object, np.ndarray], np.ndarray],
+) -> tuple[np.ndarray, np.ndarray]:
+    """`affine_positions` of the body's `own` motions (engagement, and the turn's column of `angles`, -1 for a
+    slide, -2 for neither), computed."""
     n = len(angles)
     pose = np.broadcast_to(problem.bodies[body].rest, (n, 4, 4)).copy()
     columns = []
-    for i, (_, e) in enumerate(seq.variables):
-        if e.body != body:
-            continue
+    for e, role in own:
         motion = problem.affordance(e.body, e.affordance).motion
-        if i in turns:
-            pose = pose @ matrices(motion, angles[:, turns.index(i)])
-        elif i in slides:
+        if role >= 0:
+            pose = pose @ matrices(motion, angles[:, role])
+        elif role == -1:
             columns.append(pose[:, :3, :3] @ unit_axis_and_center(motion)[0])
     stacked = np.stack(columns, axis=2) if columns else np.zeros((n, 3, 0))
-    return pose[:, :3, 3], stacked
+    return pose[:, :3, 3].copy(), stacked  # a copy: the poses' other entries are not kept with it
 
 
 SCREEN = 1e-9

@@ -38,8 +38,10 @@ def _stay_constraints(problem: Problem, name: str, pose: np.ndarray) -> list[flo
     out: list[float] = []
     if body.on_table and problem.table_center is not None:
         corners = body.outline @ pose[:3, :3].T + pose[:3, 3]
-        offset = np.abs(corners[:, :2] - problem.table_center) - problem.table_size / 2  # type: ignore[operator]
-        out.extend(float(v) for v in offset.max(axis=0))
+        # the farthest corner per axis, then the half size off it: subtracting a constant keeps the order of
+        # the rounded numbers, so this is the largest of the corners' overhangs to the last bit, in fewer steps
+        farthest = np.maximum.reduce(np.abs(corners[:, :2] - problem.table_center), axis=0)
+        out.extend((farthest - problem.table_size / 2).tolist())  # type: ignore[operator]
     if body.joint_limits is not None and body.joint_axis is not None:
         lower, upper = body.joint_limits
         state = body.joint_state(pose)
