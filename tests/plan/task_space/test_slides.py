@@ -181,6 +181,25 @@ def test_affine_positions_are_remembered_as_computed(problem) -> None:
             assert np.array_equal(a, b)
 
 
+def test_remembered_affine_positions_keep_no_dropped_problem_alive(problem) -> None:
+    """The cache is one for every problem (its cap bounds them all) and names each problem weakly: a copy of
+    the problem remembered and then dropped is freed, and its entries are not served to another problem."""
+    import gc
+    import weakref
+
+    from vkgl.plan.task_space import slides
+
+    seq = next(s for s in _moving(problem) if any(e.body == "block" for _, e in s.variables))
+    own = [i for i, (_, e) in enumerate(seq.variables) if e.body == "block"]
+    copy = replace(problem)
+    slides.affine_positions(copy, seq, "block", [], own, np.zeros((1, 0)))
+    dropped = weakref.ref(copy)
+    del copy
+    gc.collect()
+    assert dropped() is None
+    assert any(entry[0]() is None for entry in slides._AFFINE.values())  # its entry stays (until the cap), dead
+
+
 def test_remembered_body_constraints_give_the_numbers_computed_afresh(problem) -> None:
     from vkgl.plan.task_space.constraints.values import constraint_values
 

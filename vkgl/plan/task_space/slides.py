@@ -12,6 +12,7 @@ optimisation, that a goal which leaves the heading free cannot be met.
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Callable
 
 import numpy as np
@@ -180,7 +181,7 @@ def affine_positions(
     )
     key = (id(problem), body, own, id(matrices), angles.shape, np.asarray(angles, dtype=float).tobytes())
     kept = _AFFINE.get(key)
-    if kept is not None and kept[0] is problem and kept[1] is matrices:
+    if kept is not None and kept[0]() is problem and kept[1] is matrices:
         return kept[2], kept[3]
     origins, stacked = _affine_positions(problem, body, own, angles, matrices)
     origins.flags.writeable = stacked.flags.writeable = False
@@ -188,18 +189,20 @@ def affine_positions(
     if _affine_bytes > _AFFINE_BYTES:
         _AFFINE.clear()
         _affine_bytes = 0
-    _AFFINE[key] = (problem, matrices, origins, stacked)
+    _AFFINE[key] = (weakref.ref(problem), matrices, origins, stacked)
     _affine_bytes += origins.nbytes + stacked.nbytes + len(key[-1])
     return origins, stacked
 
 
-_AFFINE: dict[tuple[object, ...], tuple[Problem, object, np.ndarray, np.ndarray]] = {}
+_AFFINE: dict[tuple[object, ...], tuple[weakref.ref[Problem], object, np.ndarray, np.ndarray]] = {}
 _affine_bytes = 0
 _AFFINE_BYTES = 32 << 20
 """`affine_positions` answers kept (then forgotten all at once past this many bytes), by the goal body's own
 motions (their engagements and roles, in mode order) and the angles: the search checks many sequences whose goal
 body moves the same way (they differ in what the hand and the tools do besides), and a scan of 241 x 241 rows costs
-milliseconds. The problem and the matrices' function are kept, so that their ids stay their own."""
+milliseconds. One cache for every problem, so that its cap bounds them all (the clear-first walk keeps dozens of
+problems alive at once); an entry names its problem weakly (a problem solved and dropped is not kept alive by it:
+its id may then be another's, and the dead reference tells them apart) and keeps the matrices' function."""
 
 
 def _affine_positions(
