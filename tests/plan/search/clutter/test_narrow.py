@@ -243,3 +243,36 @@ def test_the_first_plan_clearing_the_bodies_the_closest_miss_failed_on_goes_on_a
         (4, pytest.approx(clear_first.THEN_FIRST * 898.0)),
     ]
     assert not walk.eager and [depth for depth, _ in calls[3:]] == [4]  # the second round: the second plan only
+
+
+def test_the_narrow_walk_takes_a_push_of_the_blocker_alone_on_a_later_side_before_a_longer_plan_on_the_first(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Both sides are reached by one slide of block2; the left (first in order) has only a plan of 4 graphs
+    (the goal body pushed back, a tool grasped), the right a push of block2 alone (2 graphs): every such side is
+    first tried one contact deep (`FIRST_TRY` each), and the right's push is the narrow walk's plan, not searched
+    again; the left's whole sub-problem is not searched (gen20_026 of the physical bench)."""
+    left, right = replace(LEFT, slide=0.3), replace(RIGHT, slide=0.4)
+    monkeypatch.setattr(clear_first, "way_sides", lambda *args, **kwargs: [left, right])
+    monkeypatch.setattr(clear_first, "far_move_tools", lambda *args: None)
+    calls: list[tuple[str, int, float]] = []
+    longer, push = _prefix(4, frozenset({"block", "block2"})), _prefix(2, frozenset({"block2"}))
+
+    def clear(walk: object, goal: object, blocker: str, side: object, root: Sequence, pinned: object, budget: float,
+              *, rolled: bool = False, along: bool = False, depth: int = 5) -> SearchResult:  # fmt: skip
+        calls.append((side.words, depth, budget))  # type: ignore[attr-defined]
+        plans = {("left", 5): longer, ("right", 5): push, ("right", 2): push}
+        found = plans.get((side.words, depth))  # type: ignore[attr-defined]
+        if found is None:
+            return SearchResult("infeasible", "", SearchStats())
+        return SearchResult("solved", "", SearchStats(), sequence=found, task=TaskSolution(np.zeros(0), []))
+
+    monkeypatch.setattr(clear_first._Walk, "_clear", clear)
+    problem = _problem(tmp_path)
+    walk = clear_first._Walk(problem, math.inf, False, SearchStats(), 900.0, narrow=True)
+    prefixes = [item for item in walk.prefixes([(problem.goals[0], "block2")], Sequence()) if item]
+    assert [(prefix, [name for name, _ in cleared]) for prefix, _, cleared in prefixes] == [(push, ["block2"])]
+    assert prefixes[0][2][0][1] is right
+    assert [(words, depth) for words, depth, _ in calls] == [("left", 2), ("right", 2)]
+    assert calls[0][2] == pytest.approx(clear_first.FIRST_TRY * 900.0)
+    assert list(walk.narrowed) == [("block2", "right", ())]

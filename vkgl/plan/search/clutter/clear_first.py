@@ -24,9 +24,9 @@ more, one past the default `max_depth`, and the search cannot afford the level o
 **Narrow first.** The walk first goes over the way's blockers with a narrow sub-problem per side (`NARROW_SHARE`):
 each goal body slides only along its own way, every body is slid, not turned, and moved at most once
 (`only_moving(along=True)`; a blocker its plan before moved already is left to the goal's values, not cleared
-again): its plans leave the goal body on its line, where the plan after needs no move back, and the searches for
-the goals after those that left every goal body where it lies go on at once, unless one body alone is in the way
-or bodies in a path wait (`_wide_first`). Then the bodies the closest miss of the search before failed on alone, in
+again; the sides one push of it alone clears come first, `_Walk._one_contact`): its plans leave the goal body on its
+line, where the plan after needs no move back, and the searches for the goals after those that left every goal
+body where it lies go on at once, unless one body alone is in the way or bodies in a path wait (`_wide_first`). Then the bodies the closest miss of the search before failed on alone, in
 a tool's or the hand's path (`met_last`; the goals' search after the first plan that clears them and leaves the
 goal bodies where they lie goes on at once, `_Walk.eager`), then the wide walk.
 
@@ -64,12 +64,13 @@ import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 
-import numpy as np
-
 from vkgl.plan.graphs.graph import Action
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
+from vkgl.plan.search.clutter.blocking import blocked
+from vkgl.plan.search.clutter.blocking import blocking_bodies as _blocking
+from vkgl.plan.search.clutter.blocking import proven_depth as _proven
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import moved_before as _moves
@@ -79,7 +80,6 @@ from vkgl.plan.search.clutter.waiting import Cleared
 from vkgl.plan.search.clutter.waiting import Waiting as _Waiting
 from vkgl.plan.search.clutter.words import closest as _closest
 from vkgl.plan.search.clutter.words import side_words as _side_words
-from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import Paused, SearchResult, search
 from vkgl.plan.search.stats import SearchStats, add_stats
 from vkgl.plan.task_space.clearing import Side, way_sides
@@ -136,15 +136,6 @@ def work_budget(problem: Problem) -> float:
     """The work (units of `SearchStats.work_done`) a blocked task's searches may spend in all: its timeout's
     worth, `WORK_PER_SECOND` units a second."""
     return problem.timeout * WORK_PER_SECOND
-
-
-def blocked(problem: Problem) -> bool:
-    """Whether `clear_first` could try anything: a body lies across a goal body's straight way (not clear of its
-    corridor) and some sequence could reach the goal (the bound at G0 is finite)."""
-    for goal, blocker in _blocking(problem):
-        if min((side.distance for side in way_sides(problem, goal, blocker, motions=False)), default=0.0) > 0.0:
-            return not math.isinf(Bound(problem)(start_sequence(problem)))
-    return False
 
 
 def clear_first(
@@ -278,25 +269,6 @@ _NOTHING = Cleared(None, "")
 """What `_clear_then_solve` returns when nothing lies in the way."""
 
 
-def _blocking(problem: Problem) -> list[tuple[GoalSpec, str]]:
-    """Each body in a goal body's way once, with that goal, nearest the goal body first."""
-    seen: set[str] = set()
-    out = []
-    for goal, name in InTheWay(problem).blocking:
-        if name not in seen:
-            seen.add(name)
-            out.append((goal, name))
-    rest = {name: b.rest[:2, 3] for name, b in problem.bodies.items()}
-    return sorted(out, key=lambda pair: float(np.linalg.norm(rest[pair[1]] - rest[pair[0].body])))
-
-
-def _proven(problem: Problem, before: SearchResult) -> int:
-    """The most graphs a plan could have that the search `before` proved there is none of."""
-    if before.status == "infeasible":
-        return problem.max_depth
-    return max(1, math.ceil(before.stats.level) - 1)  # every sequence of fewer graphs than its level was checked
-
-
 _Prefix = tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]
 """A plan that clears the way: its sequence, its motion values, the blockers and the sides they were cleared to."""
 
@@ -386,10 +358,16 @@ class _Walk:
         if optional:
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
         moved = False  # some side's plan moved it; the narrow walk: with `NARROW_SHARE`, up to the first plan
-        for side in sides if self.narrow else ():
+        quick = self._one_contact(goal, blocker, sides, root, pinned) if self.narrow else None
+        order = sides if quick is None else [quick[0], *(side for side in sides if side is not quick[0])]
+        for side in order if self.narrow else ():
             if self.spent():
                 return
-            found = self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
+            found = (
+                quick[1]
+                if quick is not None and side is quick[0]
+                else self._clear(goal, blocker, side, root, pinned, NARROW_SHARE * self.left, rolled=False, along=True)
+            )
             if found.status == "solved":  # (the other sides' plans are the wide walk's: each costs a search after)
                 moved = True
                 self.narrowed[(blocker, side.words, root.actions)] = found
@@ -427,6 +405,25 @@ class _Walk:
         if not moved and not optional and not self.spent():  # no plan moves it: the others cleared, it is left
             yield from (item for item in self.prefixes(rest, root, pinned) if item is None or item[2] or root.depth > 1)
 
+    def _one_contact(
+        self, goal: GoalSpec, blocker: str, sides: list[Side], root: Sequence, pinned: tuple[float, ...]
+    ) -> tuple[Side, SearchResult] | None:
+        """The first of `sides` that one contact more than `root` clears `blocker` to in the narrow sub-problem,
+        with its plan (None: none). The narrow walk takes the first side with a plan: one of five graphs (the goal
+        body pushed back, a tool grasped) must not hide another side's push of the blocker alone (gen20_026,
+        docs/planning.md). Only the sides one motion of the blocker reaches, with `FIRST_TRY` each at most."""
+        for side in sides:
+            if not (math.isfinite(side.slide) or side.turn):
+                continue
+            if self.spent():
+                return None
+            found = self._clear(
+                goal, blocker, side, root, pinned, FIRST_TRY * self.left, rolled=False, along=True, depth=2
+            )
+            if found.status == "solved":
+                return side, found
+        return None
+
     def _way_sides(self, goal: GoalSpec, blocker: str) -> list[Side]:
         """`way_sides` of `blocker` in `goal`'s way, widened for the tools that carry the goal body: made once per
         walk (they depend on neither the root nor the walk's round; each costs a few hundred ms of trying the
@@ -448,16 +445,18 @@ class _Walk:
         *,
         rolled: bool,
         along: bool = False,
+        depth: int = CLEAR_DEPTH,
     ) -> SearchResult:
         """The search for a plan that clears `blocker` to `side` from `root` with `budget` units (`rolled`: also by a
-        rolled hook; `along`: the narrow try): solved (with its sequence), proven infeasible (logged) or "timeout"."""
-        key = (blocker, side.words, root.actions, pinned, rolled, along)
+        rolled hook; `along`: the narrow try) and `depth` graphs at most (`root` counted as one): solved (with its
+        sequence), proven infeasible (logged, at `CLEAR_DEPTH`) or "timeout"."""
+        key = (blocker, side.words, root.actions, pinned, rolled, along, depth)
         if key not in self.subs:  # a side tried again (its second round) goes on where its first try stopped
             moving, still = only_moving(self.problem, goal, blocker, side, root, along=along, bound=self.bound)
             sub = replace(
                 with_rolled_members(moving, blocker) if rolled else moving,
                 goals=[side_goal(self.problem, goal, blocker, side)],
-                max_depth=root.depth - 1 + CLEAR_DEPTH,
+                max_depth=root.depth - 1 + depth,
                 pinned=pinned,
             )
             self.subs[key] = (sub, still, Paused())
@@ -465,6 +464,8 @@ class _Walk:
         found = self.search(sub, root, budget, still=still, paused=paused)
         if found.status == "solved" and found.sequence is not None:
             return found
+        if found.status != "timeout" and depth < CLEAR_DEPTH:
+            return replace(found, status="infeasible", sequence=None)  # a shallow try proves nothing of the side
         if found.status != "timeout":
             words = f"no plan of at most {sub.max_depth} graphs{_closest(found)}"
             narrow = " (the goal body on its line, each body slid once)" if along else ""
