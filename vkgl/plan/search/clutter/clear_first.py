@@ -26,9 +26,10 @@ each goal body slides only along its own way, every body is slid, not turned, an
 (`only_moving(along=True)`; a blocker its plan before moved already is left to the goal's values, not cleared
 again; the sides one push of it alone clears come first, `_Walk._one_contact`): its plans leave the goal body on its
 line, where the plan after needs no move back, and the searches for the goals after those that left every goal
-body where it lies go on at once, unless one body alone is in the way or bodies in a path wait (`_wide_first`). Then the bodies the closest miss of the search before failed on alone, in
-a tool's or the hand's path (`met_last`; the goals' search after the first plan that clears them and leaves the
-goal bodies where they lie goes on at once, `_Walk.eager`), then the wide walk.
+body where it lies go on at once, unless one body alone is in the way or bodies in a path wait (`_wide_first`).
+Then the bodies the closest miss of the search before failed on alone, in a tool's or the hand's path (`met_last`;
+the goals' search after the first plan that clears them and leaves the goal bodies where they lie goes on at once,
+`_Walk.eager`), then the wide walk.
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
