@@ -409,10 +409,9 @@ class _Walk:
     def _one_contact(
         self, goal: GoalSpec, blocker: str, sides: list[Side], root: Sequence, pinned: tuple[float, ...]
     ) -> tuple[Side, SearchResult] | None:
-        """The first of `sides` that one contact more than `root` clears `blocker` to in the narrow sub-problem,
-        with its plan (None: none). The narrow walk takes the first side with a plan: one of five graphs (the goal
-        body pushed back, a tool grasped) must not hide another side's push of the blocker alone (gen20_026,
-        docs/planning.md). Only the sides one motion of the blocker reaches, with `FIRST_TRY` each at most."""
+        """The first of `sides` one motion of `blocker` reaches that one contact more than `root` clears it to in
+        the narrow sub-problem (`FIRST_TRY` each), with its plan; None: none. A longer plan on a side tried first
+        (a tool grasped) must not hide another side's push of the blocker alone (docs/planning.md, gen20_026)."""
         for side in sides:
             if not (math.isfinite(side.slide) or side.turn):
                 continue
