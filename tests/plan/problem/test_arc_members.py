@@ -114,4 +114,3 @@ def test_a_heading_free_goal_off_the_push_line_is_one_push_at_depth_two(tmp_path
     assert [s.affordance for s in plan.steps] == ["Block.push_center_px@-1.82cm"]
     assert plan.final is not None
     assert np.linalg.norm(np.asarray(plan.final["it"])[:2, 3] - (0.60, 0.04)) <= 0.01
-
