@@ -2,11 +2,10 @@
 
 `family along DIR from LO to HI UNIT [drift VEC] [sigma Q]` (docs/language.md,
 "Families") lets the contact be the action's pose moved by `s * DIR` for any
-offset `s` in [LO, HI].
-`at_offset(affordance, s)` is that member as a plain affordance (no family):
-its action moved along the face; a slide unchanged, or with an `arc` the turn
-a push off the centre makes (`vkgl.lang.ir.arcs`); a turn about its pivot moved
-by `s * drift`. Offset 0 is the affordance itself.
+offset `s` in [LO, HI]. `at_offset(affordance, s)` is that member as a plain
+affordance (no family): its action moved along the face; a slide unchanged, or
+with an `arc` the turn a push off the centre makes (`vkgl.lang.ir.arcs`); a
+turn about its pivot moved by `s * drift`. Offset 0 is the affordance itself.
 """
 
 from __future__ import annotations

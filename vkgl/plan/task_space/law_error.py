@@ -92,7 +92,7 @@ def holds_arc(problem: Problem, engagement: Engagement, offset: float) -> bool:
     return (
         inner <= outer
         and _rate_at_most(arc, inner) <= planned - spread
-        and _rate_at_least(arc, outer) >= (planned + spread)
+        and _rate_at_least(arc, outer) >= planned + spread
     )
 
 
