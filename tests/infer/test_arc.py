@@ -14,9 +14,11 @@ from vkgl.formats.trials import Trials
 from vkgl.infer.faces.arc import ArcFit, fit_arc
 from vkgl.infer.select import EdgeInference
 from vkgl.infer.trial import TrialInference
-from vkgl.lang.ir.families import at_offset
+from vkgl.lang.ir.arcs import law_known
+from vkgl.lang.ir.families import arc_beyond, at_offset, find_member, member_name
 from vkgl.lang.ir.nodes import AffordanceSet, RevoluteC
 from vkgl.lang.syntax.parser import parse_module
+from vkgl.lang.syntax.quantities import family_text
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -208,3 +210,36 @@ def test_the_stdlib_blocks_law_predicts_a_dart_push_at_a_contact_exploration_nev
     predicted = _turned(centre, angle)
     assert np.linalg.norm(predicted[:2, 3] - seen[:2]) < 0.005  # m
     assert abs(math.degrees(math.atan2(predicted[1, 0], predicted[0, 0]) - seen[2])) < 1.0  # deg
+
+
+def test_pushes_that_pivot_about_one_place_hold_the_law_only_from_the_innermost_push() -> None:
+    # CrateT's explored pushes (2.67 to 10.67 cm off its +x face's centre) all turned it about its far corner:
+    # r = lever**2 / |d| + bias fits them with bias at the corner and a small lever (2.13 cm), whose term is 13 % of
+    # the innermost push's pivot distance. Nearer the centre DART turned it 13 to 14 deg slower over 10 cm than that
+    # law: the law holds from the innermost push out (`beyond`). The Block's pushes show the pivot come in (its
+    # term is 55 % at 2.22 cm) and its law holds up to the centre (held out within 1.13 deg there).
+    crate = _fit(0.0213, 0.1139, 0.1595, (0.0, 0.0267, -0.0267, 0.0533, -0.0533, 0.08, -0.08, 0.1067, -0.1067))
+    assert crate is not None and crate.beyond == pytest.approx(0.0267)
+    assert crate.sigma == pytest.approx(0.0, abs=1e-6)  # what sigma cannot see: the pushes agree with the law
+    block = _fit(0.0485, 0.0862, 0.0729, (0.0, 0.0222, -0.0222, 0.0444, -0.0444, 0.0667, -0.0667, 0.0889, -0.0889))
+    assert block is not None and block.beyond == 0.0
+
+
+BEYOND = ARC.replace("ahead 7.3 cm sigma", "ahead 7.3 cm beyond 2.67 cm sigma")
+
+
+def test_a_law_measured_beyond_an_offset_does_not_know_its_members_turn_nearer_the_centre() -> None:
+    slide = next(d for d in parse_module(BEYOND, "block.vkg").decls if isinstance(d, AffordanceSet)).affordances[0]
+    assert slide.family is not None and slide.family.arc is not None
+    assert family_text(slide.family).endswith("ahead 7.3 cm beyond 2.67 cm sigma 0.86deg")
+    assert arc_beyond(slide) == pytest.approx(0.0267)
+    arc = slide.family.arc
+    assert [law_known(arc, s) for s in (0.0, 0.0024, -0.0075, 0.0266, -0.0267, 0.0888)] == [
+        True, False, False, False, True, True
+    ]  # fmt: skip
+    # its members are still members (a flat contact that reaches the centre and 2.67 cm holds their arcs)
+    member = find_member([slide], member_name(slide.name, 0.0075))
+    assert member is not None and isinstance(member.motion, RevoluteC)
+    plain = next(d for d in parse_module(ARC, "block.vkg").decls if isinstance(d, AffordanceSet)).affordances[0]
+    assert plain.family is not None and plain.family.arc is not None
+    assert arc_beyond(plain) == 0.0 and law_known(plain.family.arc, 0.0024)

@@ -404,8 +404,12 @@ def _family_ir(f: FamilyFit) -> Family:
 
 
 def _arc_ir(arc: ArcFit) -> Arc:
-    """The arc law rounded to 0.01 cm."""
-    return Arc(lever=_centimetres(arc.lever), bias=_centimetres(arc.bias), ahead=_centimetres(arc.ahead))
+    """The arc law rounded to 0.01 cm; its `beyond` outwards (never nearer the centre than the push it names)."""
+    beyond = None
+    if arc.beyond > 0.0:
+        shown = math.ceil(round(100.0 * arc.beyond * 100.0, 6)) / 100.0
+        beyond = Quantity(value=_si(shown, 2, "cm"), unit="cm")
+    return Arc(lever=_centimetres(arc.lever), bias=_centimetres(arc.bias), ahead=_centimetres(arc.ahead), beyond=beyond)
 
 
 def _centimetres(metres: float) -> Quantity:

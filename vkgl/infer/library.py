@@ -28,9 +28,10 @@ from vkgl.infer.trial import TrialInference, infer_trials
 from vkgl.lang.ir.nodes import Affordance, AffordanceSet, Module, Ref, Use
 from vkgl.lang.syntax.printer import print_module
 
-INFERENCE_REVISION = 2
+INFERENCE_REVISION = 3
 """Bumped when inference writes other affordances from the same trials, so that caches of learned modules keyed
-on it are learned again (2: a body whose pose ended off its start is not `fixed`, docs/inference.md). Not bumped
+on it are learned again (2: a body whose pose ended off its start is not `fixed`, docs/inference.md; 3: an arc law
+whose pushes never showed its pivot come in holds `beyond` its innermost push, `vkgl.infer.faces.arc`). Not bumped
 when only noisy trials can come out otherwise: on a simulated trial, the only kind learned modules come from, the
 end window's median position and mean orientation (`select.end_offset`) give the distance the median of its samples'
 distances gave, and the angle to 0.02 deg (docs/inference.md, "Did the body move?")."""

@@ -129,3 +129,33 @@ def test_a_point_contacts_margin_is_twice_the_laws_error_about_the_contact_where
     contact = (trace.end["block"] @ block.action("block", name))[:2, 3]
     assert position == pytest.approx(heading * np.linalg.norm(trace.end["block"][:2, 3] - contact))
     assert point_margins(block, "block", "push_center_px", motion, trace.end["block"]) == {}
+
+
+def test_crate_t_near_its_centre_is_promised_by_a_flat_contact_that_spans_its_laws_gap_and_by_no_point(tmp_path):
+    """CrateT's law (`slide_steps` 5, the +x face the hook pulls) holds beyond 2.67 cm: its explored pushes all
+    turned it about its far corner, and 0.24 to 2 cm off its centre DART turned it 3.7 to 14 deg less over 10 cm
+    than the law, whose sigma is 0.34 deg. There a point (the turned hand) promises nothing; the rolled hook, whose
+    cross-piece reaches the centre and past 2.67 cm, holds the arc (gen2_047 of the physical bench: such a pull 86
+    deg ends 0.03 cm from its goal in DART). From 2.67 cm out the point keeps twice the law's sigma, as before."""
+    target = generated_tasks.Placement("target", "CrateT", 0.85, -0.3, 0.0)
+    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec("gap", 1, 0, (target, *tools), (0.75, -0.2, None), "far-pull", False, 0.22)
+    steps = generated_tasks.WIDE_SLIDE_STEPS
+    library = generated_tasks.fixture_library(("CrateT",), slide_steps=steps)
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "gap", library, slide_steps=steps))
+    problem = build_problem(program, program.tasks["gap"])
+    arc, sigma, _ = arc_law(problem, "target", "push_center_nx@-0.60cm")
+    assert arc.beyond is not None and arc.beyond.value == pytest.approx(0.0267)
+    rolled = "push_center_nx@-0.60cm/over+45deg+6.00cm"
+    assert holds_arc(problem, Engagement("hook.tip", "target", rolled), -0.006)
+    assert not holds_arc(problem, Engagement("arm.fingertip", "target", "push_center_nx@-0.60cm"), -0.006)
+    for name, promised in (("push_center_nx@-0.60cm", False), ("push_center_nx@-4.98cm", True)):
+        seq = _sequence(problem, Action("add", Engagement("arm.fingertip", "target", name)))
+        trace = rollout(problem, seq, np.array([0.3]))[-1]
+        motion = (trace.start["target"], trace.end["target"])
+        _, heading = point_margins(problem, "target", name, motion, trace.end["target"])["target"]
+        offset = member_offset(name)[1]
+        if promised:
+            assert heading == pytest.approx(POINT_SIGMAS * sigma * 0.3 * arc_lever_arm(arc, offset) / 0.10)
+        else:
+            assert heading == pytest.approx(POINT_SIGMAS * math.pi)  # half a turn: no goal is promised by it

@@ -21,7 +21,16 @@ affordances), from the body's pose at the start and at the end of each trial:
 - the uncertainty is leave-one-out: each off-centre push (the slides among
   them) is predicted from a law fitted on the others, the turn it makes over
   its own travel against the turn DART made, scaled to 10 cm of travel;
-  `sigma` is the RMS of those errors (None when no push can be left out).
+  `sigma` is the RMS of those errors (None when no push can be left out);
+- where the law holds: from the centre to the innermost explored push the law
+  interpolates between the slide (the pivot at infinity) and that push, which
+  only its `lever**2 / |d|` term shapes. When that term makes up less than
+  `SEEN` of the innermost push's pivot distance, the pushes pivoted about one
+  place (a tall crate's far corner) and never showed how the pivot comes in
+  from the slide's infinity: the law holds from that push out (`beyond`),
+  where its sigma was measured (CrateT: 14 deg wrong over 10 cm 0.75 cm off its
+  centre, 0.34 deg at its explored pushes; docs/inference.md, "Arcs"); nearer
+  the centre the planner does not know its members' turn.
 
 The law is symmetric in d: a body pushed at -d turns the other way about the
 mirrored pivot (the faces of the explored bodies are symmetric; the
@@ -44,6 +53,10 @@ _TURNED = math.radians(1.0)  # a push that turned less than this gives no pivot 
 _SAME_FACE = 0.005  # m: a push this far off the face plane (or the contact's height) is another face's
 _SAME_OFFSET = 1e-3  # m: |d| values closer than this are one offset of the fit
 _UPRIGHT = math.cos(math.radians(5.0))  # a turn whose axis leans more from the face's normal axis is no arc
+SEEN = 1.0 / 3.0
+"""The least share of the innermost explored push's pivot distance that the law's `lever**2 / |d|` term must make
+up for the law to hold nearer the centre than that push (`ArcFit.beyond`): the explored bodies' laws make 54 to 95 %
+(the Block's 55 %, held out within 1.13 deg near its centre), CrateT's 13 to 23 % (held out 14 deg wrong)."""
 CHECK_TRAVEL = SIGMA_TRAVEL  # m: sigma is the turn's error over this much of the contact's travel
 
 
@@ -51,7 +64,8 @@ CHECK_TRAVEL = SIGMA_TRAVEL  # m: sigma is the turn's error over this much of th
 class ArcFit:
     """A face's arc law (m): `lever`, `bias`, `ahead`; offsets `lower..upper` (m) of the pushes it was fitted on;
     `sigma` the RMS leave-one-out error of the turn over 10 cm of travel (rad), None when nothing could be left
-    out; `pushes` how many pushes it rests on."""
+    out; `pushes` how many pushes it rests on; `beyond` the offset (m, from the centre) where the law starts to
+    hold, 0 when it holds up to the centre (`SEEN`)."""
 
     lever: float
     bias: float
@@ -60,6 +74,7 @@ class ArcFit:
     upper: float
     sigma: float | None
     pushes: int
+    beyond: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -98,6 +113,7 @@ def fit_arc(trials: Trials, members: list[TrialInference], kept: TrialInference,
         upper=max(max(offsets), 0.0),
         sigma=_leave_one_out(used),
         pushes=len(used),
+        beyond=_holds_from(law, used),
     )
 
 
@@ -202,6 +218,18 @@ def _fit(pushes: list[_Push]) -> tuple[float, float, float] | None:
     if square <= 0.0:
         return None  # the pivot would come closer as the push moves in: not an arc law
     return math.sqrt(square), bias, ahead
+
+
+def _holds_from(law: tuple[float, float, float], pushes: list[_Push]) -> float:
+    """The offset (m) from which the law holds: 0 when its `lever**2 / |d|` term makes up `SEEN` or more of the
+    pivot's distance at the innermost off-centre push, that push's offset otherwise (the module's docstring)."""
+    offsets = [abs(p.d) for p in pushes if abs(p.d) >= _SAME_OFFSET]
+    if not offsets:
+        return 0.0
+    lever, bias, _ = law
+    innermost = min(offsets)
+    curve = lever * lever / innermost
+    return 0.0 if curve >= SEEN * (curve + bias) else innermost
 
 
 def _distinct_offsets(pushes: list[_Push]) -> int:

@@ -151,3 +151,12 @@ def _check_arc(family: ir.Family, motion: ir.PrismaticC | ir.RevoluteC, ctx: Che
             where,
             "the pivot lies beyond the centre line over the whole band: raise `bias`, widen `lever` or narrow the band",
         )
+    beyond = arc.beyond
+    if beyond is not None and beyond.value == beyond.value and not 0 < beyond.value <= farthest:
+        ctx.error(
+            codes.FAMILY_BAD_ARC,
+            f"an arc's `beyond` lies off the centre inside the band, got {shown(beyond)} (the band reaches "
+            f"{farthest * 100:.3g} cm)",
+            ctx.narrow(family.span, r"\b(beyond\s+\S+(?:\s+(?:m|cm|mm)\b)?)"),
+            "`beyond` is the offset nearest the centre where the law holds, e.g. `beyond 2.67 cm`",
+        )

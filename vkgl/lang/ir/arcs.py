@@ -12,7 +12,8 @@ in that travel, `open` when the slide's is (the body was still moving when explo
 on turning, as a pushed slide goes on sliding). At s = 0 the member is the slide itself (the pivot is at infinity).
 
 The family's `sigma` (an angle) is the law's RMS error in the turn over `SIGMA_TRAVEL` (10 cm) of the contact's
-travel: a member turned by t is uncertain by sigma * t * hypot(...) / 10 cm (`arc_turn_error`).
+travel: a member turned by t is uncertain by sigma * t * hypot(...) / 10 cm (`arc_turn_error`). With `beyond D`
+that holds for |s| >= D only: nearer the centre (but at 0) the turn is not known (`law_known`).
 """
 
 from __future__ import annotations
@@ -28,6 +29,19 @@ def arc_radius(arc: Arc, offset: float) -> float:
     if offset == 0.0:
         return math.inf
     return arc.lever.value**2 / abs(offset) + arc.bias.value
+
+
+def law_beyond(arc: Arc) -> float:
+    """The offset (m, from the centre) from which the law was measured (`beyond`); 0: up to the centre."""
+    return 0.0 if arc.beyond is None else float(arc.beyond.value)
+
+
+def law_known(arc: Arc, offset: float) -> bool:
+    """Whether the law's turn at `offset` (m) is known: at the centre (the slide) and from `beyond` out. Between
+    them the explored pushes never showed how the pivot comes in from the slide's infinity (CrateT turned 13 deg
+    slower over 10 cm than its law there): the member's turn is only known to lie between the slide's (none) and
+    the turn at `beyond`, the turn growing with the offset."""
+    return offset == 0.0 or abs(offset) >= law_beyond(arc) - 1e-9
 
 
 SIGMA_TRAVEL = 0.10

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 
-from vkgl.lang.ir.arcs import arc_motion, unit
+from vkgl.lang.ir.arcs import arc_motion, law_beyond, unit
 from vkgl.lang.ir.nodes import Affordance, FixedC, PrismaticC, RevoluteC
 from vkgl.lang.ir.values import Vector
 
@@ -22,6 +22,14 @@ def offset_bounds(affordance: Affordance) -> tuple[float, float]:
     """The offsets (m) its contact may take: the family's band, or (0, 0) for a point affordance."""
     family = affordance.family
     return (0.0, 0.0) if family is None else (float(family.lower.value), float(family.upper.value))
+
+
+def arc_beyond(affordance: Affordance) -> float:
+    """The offset (m, from the centre) from which its family's arc law was measured (`arc ... beyond Q`): nearer
+    the centre its members' turn is not known (`vkgl.lang.ir.arcs.law_known`); 0 when the law holds over the whole
+    band (or there is no arc)."""
+    family = affordance.family
+    return 0.0 if family is None or family.arc is None else law_beyond(family.arc)
 
 
 def at_offset(affordance: Affordance, offset: float) -> Affordance:

@@ -209,8 +209,8 @@ def range_text(r: MotionRange | None) -> str:
 
 
 def family_text(f: Family) -> str:
-    """`family along V from LO to HI UNIT [drift V] [arc lever Q bias Q ahead Q] [sigma Q]` (one unit written once
-    when both bounds have it)."""
+    """`family along V from LO to HI UNIT [drift V] [arc lever Q bias Q ahead Q [beyond Q]] [sigma Q]` (one unit
+    written once when both bounds have it)."""
     lower = format_scaled(f.lower.value, f.lower.unit) if f.lower.unit == f.upper.unit else None
     text = f"family along {vector_text(f.along)} from {lower if lower is not None else quantity_text(f.lower)}"
     text += f" to {quantity_text(f.upper)}"
@@ -219,6 +219,8 @@ def family_text(f: Family) -> str:
     if f.arc is not None:
         a = f.arc
         text += f" arc lever {quantity_text(a.lever)} bias {quantity_text(a.bias)} ahead {quantity_text(a.ahead)}"
+        if a.beyond is not None:
+            text += f" beyond {quantity_text(a.beyond)}"
     return text if f.sigma is None else text + " sigma " + quantity_text(f.sigma)
 
 

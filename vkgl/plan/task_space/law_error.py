@@ -15,6 +15,13 @@ than the law's 76 deg (sigma 0.53 deg over 10 cm, 31 cm of travel: 1.6 deg), its
 face, and a plan that ended 0.78 cm from its goal (tolerance 1 cm) missed it by 1.07 cm. A plan is a promise, so
 an accepted solution keeps such errors inside each goal body's tolerance (`feasible.goal_holds`, `margins`).
 
+A family whose law holds `beyond` an offset (`arc ... beyond D`, docs/language.md) does not know how fast its
+members nearer the centre turn, only that it is between none (the slide at the centre) and the law's turn at `D`.
+A flat contact holds such a member's arc when it reaches both where the body surely turns slower and where it
+surely turns faster (the centre, or past `D`); any other contact, a point's among them, promises nothing there
+(`UNKNOWN_TURN`): CrateT's members 0.24 to 2 cm off its centre turned 3.7 to 14 deg less over 10 cm in DART than
+its law, whose sigma (0.34 deg) was measured from 2.67 cm out.
+
 The tool carries its contact along the planned path (the executor tracks it to 0.02 cm): what the law gets wrong
 is how fast the body turns about that contact. A turn error `e` about the contact `c` at the end of the member's
 motion moves the body's final position by `e * |p - c|` (to first order; later motions are the body's own, so they
@@ -27,7 +34,7 @@ import math
 
 import numpy as np
 
-from vkgl.lang.ir.arcs import SIGMA_TRAVEL, arc_lever_arm, arc_turn_error
+from vkgl.lang.ir.arcs import SIGMA_TRAVEL, arc_lever_arm, arc_turn_error, law_beyond, law_known
 from vkgl.lang.ir.families import is_straight_member, member_offset, over_pose
 from vkgl.lang.ir.nodes import Arc
 from vkgl.plan.graphs.graph import Engagement
@@ -82,13 +89,44 @@ def holds_arc(problem: Problem, engagement: Engagement, offset: float) -> bool:
     inner = max(offset + low, float(slide.family.lower.value), float(face.min()))
     outer = min(offset + high, float(slide.family.upper.value), float(face.max()))
     planned, spread = _rate(arc, offset), sigma / SIGMA_TRAVEL
-    return inner <= outer and _rate(arc, inner) <= planned - spread and _rate(arc, outer) >= planned + spread
+    return (
+        inner <= outer
+        and _rate_at_most(arc, inner) <= planned - spread
+        and _rate_at_least(arc, outer) >= planned + spread
+    )
 
 
 def _rate(arc: Arc, offset: float) -> float:
     """The law's turn per metre of the contact's travel at `offset` (signed: the sense of a push at `offset`;
     increasing with the offset, 0 at the centre)."""
     return 0.0 if offset == 0.0 else math.copysign(1.0 / arc_lever_arm(arc, offset), offset)
+
+
+def _rate_at_most(arc: Arc, offset: float) -> float:
+    """The most the body may turn per metre at `offset`: the law's rate where it is known (`law_known`), else the
+    rate at the nearest known offset above it (the centre's 0, or the law's at `beyond`): the turn grows with the
+    offset."""
+    if law_known(arc, offset):
+        return _rate(arc, offset)
+    return 0.0 if offset < 0.0 else _rate(arc, law_beyond(arc))
+
+
+def _rate_at_least(arc: Arc, offset: float) -> float:
+    """The least the body may turn per metre at `offset` (`_rate_at_most`'s mirror: the nearest known offset
+    below it)."""
+    return -_rate_at_most(arc, -offset)
+
+
+def _turn_error(arc: Arc, sigma: float, offset: float, turn: float) -> float:
+    """The law's error (rad) in the turn `turn` of its member at `offset`: `arc_turn_error` where the law is known,
+    else `UNKNOWN_TURN`."""
+    return arc_turn_error(arc, sigma, offset, turn) if law_known(arc, offset) else UNKNOWN_TURN
+
+
+UNKNOWN_TURN = math.pi
+"""rad: the error of a member's turn where its law is not known (nearer the centre than its `beyond`,
+`vkgl.lang.ir.arcs.law_known`) and its contact does not hold the planned arc: anything up to half a turn, so that
+no goal is promised by it (CrateT's law there turned 13 to 14 deg faster over 10 cm than DART)."""
 
 
 def _flat_span(problem: Problem, engagement: Engagement, along: np.ndarray) -> tuple[float, float]:
@@ -141,7 +179,7 @@ def law_margins(
             change = live.get(e, 0.0) if arc_seed(problem, e.body, e.affordance) is not None else 0.0
             if holds_arc(problem, e, own + change):
                 continue
-            error = arc_turn_error(arc, sigma, own + change, value)
+            error = _turn_error(arc, sigma, own + change, value)
             contact = trace.end[e.body] @ action_at(problem, e.body, e.affordance, change)[:, 3]
             turns.setdefault(e.body, []).append((contact[:2], error))
     final = traces[-1].end
@@ -170,7 +208,7 @@ def point_margins(
     arc, sigma, offset = law
     start, end = motion
     turn = float(np.linalg.norm(screw_motion(start, end).rotvec))
-    error = POINT_SIGMAS * arc_turn_error(arc, sigma, offset, turn)
+    error = POINT_SIGMAS * _turn_error(arc, sigma, offset, turn)
     contact = end @ problem.action(body, name)[:, 3]
     return {body: (error * float(np.linalg.norm(final[:2, 3] - contact[:2])), error)}
 

@@ -45,8 +45,10 @@ class FamilyBuilder(ValueReader):
         return "drift", self.to_vector(children[0], "number", (3,), "a family's drift")
 
     def family_arc(self, meta: Any, children: list[RawQ]) -> tuple[str, ir.Arc]:
-        lever, bias, ahead = (self.to_quantity(raw, "length") for raw in children)
-        return "arc", new_node(ir.Arc, lever=lever, bias=bias, ahead=ahead, span=self.span(meta))
+        lever, bias, ahead, *beyond = (self.to_quantity(raw, "length") for raw in children)
+        return "arc", new_node(
+            ir.Arc, lever=lever, bias=bias, ahead=ahead, beyond=beyond[0] if beyond else None, span=self.span(meta)
+        )
 
     def family_sigma(self, meta: Any, children: list[RawQ]) -> tuple[str, ir.Quantity]:
         raw = children[0]
