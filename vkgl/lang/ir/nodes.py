@@ -252,10 +252,8 @@ class Evidence(Node):
 
 
 class Arc(Node):
-    """`arc lever Q bias Q ahead Q [beyond Q]` (m) in a slide's family: pushed at `s` off the centre, the body turns
-    about a pivot `ahead` along the push and `lever**2 / |s| + bias` across it (`vkgl.lang.ir.arcs`;
-    docs/language.md). `beyond`: the law holds for `|s|` from it out only (the family has no member nearer the
-    centre but the centre's slide itself); None: over the whole band."""
+    """`arc lever Q bias Q ahead Q [beyond Q]` (m): pushed at `s` off the centre, the body turns about a pivot `ahead`
+    along the push and `lever**2 / |s| + bias` across it (`vkgl.lang.ir.arcs`), for `|s| >= beyond` only if set."""
 
     lever: Quantity
     bias: Quantity
