@@ -53,9 +53,10 @@ JOINT_CLEARANCE = JOINT_LIFT  # m a jointed body is lifted so that it hangs on i
 PHYSICS_REVISION = "vkgl-physics/2 (ODE contacts, NSGS Coulomb friction cone, 1 ms)"
 EXECUTION_SOLVER_TOLERANCE = 1e-4
 """The residual at which the friction-cone solver stops its sweeps in the execution world (exploration's worlds keep
-DART's 1e-5). A block pushed on the table never reaches 1e-5 within the solver's 100 sweeps (its four corner
-contacts share the weight in no unique way, and Gauss-Seidel wanders among the shares), so every step of a push
-ran all 100: 1.3 ms a step, 90 % of an execution's CPU. At 1e-4 a push step takes 0.34 ms, and the executed
+DART's 1e-5). A block pushed on the table does not reach 1e-5 within the solver's 100 sweeps (a cap of 50 or 25
+changes where it ends, by a micrometre; probably its four corner contacts share the weight in no unique way and
+Gauss-Seidel wanders among the shares): 1.3 ms a push step, two thirds of task a's execution CPU. At 1e-4 a push
+step takes 0.34 ms, and the executed
 bodies end within 0.06 mm and 0.005 deg of where they end at 1e-5 (docs/execution.md, "The contact solver's
 tolerance"). Exploration keeps 1e-5: there the looser stop moves the stdlib Block's learned turn family (its
 lever by 0.1 mm, its bias by 0.6 mm, printed), and what it learns must stay byte for byte the same."""
