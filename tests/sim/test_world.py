@@ -78,3 +78,29 @@ def test_reversed_joint_limits_are_an_input_error() -> None:
 @pytest.mark.parametrize("name", sorted(HANDMADE))
 def test_the_handmade_test_bodies_are_the_stdlib_bodies(name: str) -> None:
     assert stdlib_body(name) == HANDMADE[name]()
+
+
+def _slid_block(tolerance: float | None) -> np.ndarray:
+    """Where the stdlib Block ends after sliding from 0.5 m/s at a heading of 30 deg until friction stops it (2.5 cm),
+    its four corners on the table (a slide is where the friction-cone solver's sweeps run longest)."""
+    world = sim_world.new_world(tolerance=tolerance)
+    sim_world.add_table(world)
+    skeleton, node = sim_world.add_body(
+        world, "block", stdlib_body("Block"), sim_world.translation(np.array([0, 0, 0.025]))
+    )
+    settle(world, 0.05)
+    velocities = np.zeros(6)
+    velocities[3:5] = 0.5 * np.cos(np.pi / 6), 0.5 * np.sin(np.pi / 6)  # a free joint's linear part, in the body frame
+    skeleton.setVelocities(velocities)
+    settle(world, 0.2)
+    return node.getWorldTransform().matrix()
+
+
+def test_the_execution_solver_tolerance_slides_a_block_as_far_as_dart_s_default() -> None:
+    """The execution world's looser stop of the solver's sweeps (vkgl.sim.world.EXECUTION_SOLVER_TOLERANCE) moves
+    a sliding body by hundredths of a millimetre, nothing a goal tolerance sees."""
+    default = _slid_block(None)
+    loose = _slid_block(sim_world.EXECUTION_SOLVER_TOLERANCE)
+    assert np.linalg.norm(default[:3, 3]) > 0.02  # it really slid (0.5 m/s against a friction of 0.5 g)
+    assert np.linalg.norm(default[:3, 3] - loose[:3, 3]) < 1e-4
+    assert np.abs(default[:3, :3] - loose[:3, :3]).max() < 1e-3

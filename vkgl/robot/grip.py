@@ -88,6 +88,15 @@ class Grip:
             return float("inf") if tangential > 0.0 or twist > 0.0 else 0.0
         return float(np.hypot(tangential / self.max_force, twist / self.max_torque))
 
+    def usages(self, forces: np.ndarray, torques: np.ndarray) -> np.ndarray:
+        """`usage` of each row of `forces` and `torques` (k x 3 each), at once: the grip's watch asks it for
+        every physics step of a control period."""
+        tangential = np.hypot(forces[:, 0], forces[:, 2])
+        twist = np.abs(torques[:, 1])
+        if self.max_force <= 0.0:
+            return np.where((tangential > 0.0) | (twist > 0.0), np.inf, 0.0)
+        return np.asarray(np.hypot(tangential / self.max_force, twist / self.max_torque), dtype=float)
+
     def text(self) -> str:
         """`2 x 70 N at mu 0.50: 70.0 N, 0.47 N m`."""
         return (

@@ -33,7 +33,7 @@ puts none. The contacts' normal forces are determinate.
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -67,6 +67,7 @@ class _Held:
     jointed: bool = False  # a body on a physical joint held by its handle
     broken: str = ""  # why the grip broke, once it has
     raised: bool = False  # the failure has been raised
+    objects: dict[Any, bool] = field(default_factory=dict)  # collision object -> on the tool? (`_on_tool`)
 
 
 class GripWatch:
@@ -132,12 +133,11 @@ class GripWatch:
             self._torques.append(moment)
             return
         com = h.node.getCOM()
-        shapes = h.shapes
-        for contact in result.getContacts():  # about 14 a step, 2 of them on the tool: see `shape_ids`
+        for contact in result.getContacts():  # about 14 a step, 2 of them on the tool: see `_on_tool`
             sign = 0.0
-            if contact.collisionObject1.getShape().getID() in shapes:
+            if _on_tool(h, contact.collisionObject1):
                 sign = 1.0  # DART's contact force acts on the first object, its opposite on the second
-            elif contact.collisionObject2.getShape().getID() in shapes:
+            elif _on_tool(h, contact.collisionObject2):
                 sign = -1.0
             if sign:
                 normal = np.asarray(contact.normal, dtype=float)
@@ -186,12 +186,15 @@ class GripWatch:
         lever = h.node.getCOM() - hand[:3, 3]  # from the grip to the centre of mass
         # a handle's body: its joint carries its weight and its inertia is in the force already stored
         inertial = np.zeros(3) if h.jointed else h.mass * (acceleration - np.asarray(GRAVITY))
-        for contact_force, contact_torque in zip(self._forces, self._torques, strict=True):
+        if self._forces:  # the period's steps at once (a loop over them cost a third of a hook pull's watch)
             # what the grip must exert on the tool: m a minus everything else acting on it (contacts, weight);
             # its moment about the grip balances the contacts' about the centre of mass (the tool turns slowly)
-            force = inertial - contact_force
-            torque = -contact_torque + (np.zeros(3) if h.jointed else _cross(lever, force))
-            self._window.append((h.grip.usage(rotation @ force, rotation @ torque), force, torque))
+            forces = inertial - np.array(self._forces)
+            torques = -np.array(self._torques)
+            if not h.jointed:
+                torques += _cross_rows(lever, forces)
+            usages = h.grip.usages(forces @ rotation.T, torques @ rotation.T)
+            self._window.extend(zip(usages.tolist(), forces, torques, strict=True))
         self._reset_period()
         if not self._window:
             return
@@ -233,6 +236,18 @@ class GripWatch:
         self._torques = []
 
 
+def _on_tool(h: _Held, collision_object: Any) -> bool:
+    """Whether a contact's collision object is one of the held tool's shapes: by its shape's id the first time it
+    is met in this hold, then by the object itself. dartpy hands back the same Python object for a DART collision
+    object while one is alive (`h.objects` keeps them alive), and looking that up costs a third of asking for its
+    shape (a new wrapper every call: `getShape` is most of the watch's time). The objects of the world's collision
+    group live as long as their shape nodes, and no skeleton comes or goes while a tool is held."""
+    on = h.objects.get(collision_object)
+    if on is None:
+        on = h.objects[collision_object] = int(collision_object.getShape().getID()) in h.shapes
+    return on
+
+
 def shape_ids(node: Any) -> frozenset[int]:
     """The ids of the shapes of body node `node` (DART's `Shape.getID`, drawn from a counter: unique, never
     reused): a contact is on the node when the shape of one of its collision objects has one of them. The watch
@@ -245,6 +260,14 @@ def shape_ids(node: Any) -> frozenset[int]:
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """a x b for two 3-vectors (numpy's cross costs 0.25 ms a call, every physics step)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
+def _cross_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a x b for a 3-vector `a` and each row of `b` (k x 3), without numpy's `cross` (its axis handling cost
+    more than the products)."""
+    return np.stack(
+        [a[1] * b[:, 2] - a[2] * b[:, 1], a[2] * b[:, 0] - a[0] * b[:, 2], a[0] * b[:, 1] - a[1] * b[:, 0]], axis=1
+    )
 
 
 __all__ = ["GripSlipped", "GripWatch"]
