@@ -44,21 +44,22 @@ def test_a_point_turned_about_a_pivot_travels_its_arc(bench: ModuleType) -> None
 
 
 def test_a_held_out_push_is_read_where_its_contact_has_travelled_as_far_as_the_laws(bench: ModuleType) -> None:
-    """CubeM 3.3 cm off its centre (bench numbers, 2026-11-28): the law's pivot (4.0, -10.5) cm, DART's 1.6 cm farther
-    across and turning 7 % slower per travel. Read where both centres have moved 10 cm, the law's faster turn counts
-    twice (the farther pivot also moves the centre farther per degree): 7.2 deg; where the contact has travelled as far
-    as the law's (what its sigma, and the planner's margin, are scaled by), only the rate's error: 3.4 deg."""
+    """Like CubeM 3.3 cm off its centre (bench_arc_law, 2026-11-28: 7.16 deg at the centre's 10 cm, 3.44 deg at the
+    contact's travel): the law's pivot (4.0, -10.5) cm, DART's 1.6 cm farther across, so per travel of the contact
+    DART turns 7 % slower. Read where both centres have moved 10 cm, the law's faster turn counts twice (its nearer
+    pivot also moves the centre less per degree); read where the contact has travelled as far as the law's (what
+    sigma, and the planner's margin, are scaled by), only the rate's error: 7 % of the law's 53 deg."""
     point = np.array([-0.06, 0.033])
     law_pivot, dart_pivot = np.array([0.04, -0.105]), np.array([0.04, -0.121])
     law = _turned(law_pivot, -math.radians(53.1))
     law_travel = bench.contact_travel(law, point)
-    rate = 0.93 * math.radians(53.1) / law_travel  # DART's turn per metre of the contact's travel
-    track = np.array([_turned(dart_pivot, -rate * travel) for travel in np.linspace(0.0, 0.25, 2501)])
+    track = np.array([_turned(dart_pivot, -turn) for turn in np.linspace(0.0, 1.5, 3001)])
     own = bench.at_contact_travel(track, point, law_travel)
     assert bench.contact_travel(own, point) == pytest.approx(law_travel, abs=2e-4)
+    slower = 1.0 - float(np.linalg.norm(point - law_pivot) / np.linalg.norm(point - dart_pivot))
     at_travel = abs(math.degrees(law[2] - own[2]))
-    chord = np.linalg.norm(law[:2])
-    at_chord = abs(math.degrees(law[2] - track[int(np.searchsorted(np.linalg.norm(track[:, :2], axis=1), chord))][2]))
-    assert at_travel == pytest.approx(0.07 * 53.1, abs=0.1)
+    assert at_travel == pytest.approx(slower * 53.1, abs=0.1)
+    centre = np.linalg.norm(track[:, :2], axis=1)
+    at_chord = abs(math.degrees(law[2] - track[int(np.searchsorted(centre, np.linalg.norm(law[:2])))][2]))
     assert at_chord > 1.5 * at_travel
     assert np.array_equal(bench.at_contact_travel(track, point, 10.0), track[-1])  # never that far: the last pose
