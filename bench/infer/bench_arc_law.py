@@ -43,11 +43,13 @@ from bench_arc_push import arc_end, at_travel, body_of, push  # noqa: E402
 
 import vkgl  # noqa: E402
 from vkgl.formats.trials import Trials  # noqa: E402
+from vkgl.lang.ir.arcs import arc_turn_error  # noqa: E402
 from vkgl.lang.ir.families import arc_beyond, at_offset  # noqa: E402
 from vkgl.lang.ir.nodes import Affordance, AffordanceSet, Body, RevoluteC  # noqa: E402
 
 HELD = (0.003, 0.0075, 0.015, 0.033)  # m along +y on the -x face: between the grid's points (none is one)
 CHECK = 0.10  # m of the centre's travel where the prediction is compared
+SIGMAS: list[tuple[float, bool]] = []  # (error in the law's sigmas at the contact's travel, promised)
 CACHE = Path(__file__).resolve().parents[1] / ".cache" / "arc_law"
 
 
@@ -106,17 +108,26 @@ def measure(
         + f"; leave-one-out sigma {sigma}"
     )
     print(f"  {'offset':>7} {'pivot':>16} {'DART after 10 cm':>24} {'predicted':>24} {'error':>14}")
-    kept, errors = 0, []
+    kept, errors, sigmas = 0, [], SIGMAS
     whole = slide.model_copy(
         update={"family": family.model_copy(update={"arc": arc.model_copy(update={"beyond": None})})}
     )
     for offset in held:
+        if not family.lower.value <= offset <= family.upper.value:
+            print(f"  {100 * offset:5.2f}cm outside the family's band: not checked")
+            continue
         promised = not 0.0 < abs(offset) < beyond
         member = at_offset(slide if promised else whole, offset)  # the law's member (no member where it fails)
         along = float(family.along.values[1])  # the family's offsets run along +y (px) or -y (nx)
-        seen = at_travel(push(body, along * offset, seed, face=1.0 if face == "nx" else -1.0), CHECK)
+        sign = 1.0 if face == "nx" else -1.0
+        track = push(body, along * offset, seed, face=sign)
+        seen = at_travel(track, CHECK)
         guess = predicted(member, float(np.linalg.norm(seen[:2])))
         miss = (100 * float(np.linalg.norm(guess[:2] - seen[:2])), abs(math.degrees(guess[2] - seen[2])))
+        point = np.array([sign * half_of(body), along * offset])  # the pushed point of the face (body frame)
+        travel, own = contact_travel(guess, point), at_contact_travel(track, point, contact_travel(guess, point))
+        bound = arc_turn_error(arc, family.sigma.value, offset, float(guess[2])) if family.sigma else math.nan
+        sigmas.append((abs(guess[2] - own[2]) / bound, promised))
         if promised:
             errors.append(miss)
             kept += miss[0] <= 1.0 and miss[1] <= 2.0
@@ -126,7 +137,34 @@ def measure(
             f"{_pose(guess):>24} {miss[0]:5.2f}cm {miss[1]:4.2f}d" + ("" if promised else " (no member: not promised)"),
             flush=True,
         )
+        print(
+            f"          at the contact's travel ({100 * travel:.1f} cm): DART {math.degrees(own[2]):+6.2f}d, "
+            f"error {math.degrees(abs(guess[2] - own[2])):.2f}d = {sigmas[-1][0]:.2f} of the law's sigma over it "
+            f"({math.degrees(bound):.2f}d)"
+        )
     return kept, len(errors), errors
+
+
+def half_of(body: Body) -> float:
+    """Half the body's size along x (m): the pushed faces' distance from its centre."""
+    return float(body.shape.size.array()[0]) / 2.0  # type: ignore[union-attr]
+
+
+def contact_travel(pose: np.ndarray, point: np.ndarray) -> float:
+    """How far (m, along its arc) the body point `point` (body frame at the start) moves to reach `pose`: the travel
+    the law's sigma is scaled by (`vkgl.lang.ir.arcs.arc_turn_error`; the tool carries its contact that far)."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    moved = np.array([[c, -s], [s, c]]) @ point + pose[:2]
+    half = abs(pose[2]) / 2.0
+    return float(np.linalg.norm(moved - point)) * (1.0 if half < 1e-9 else half / math.sin(half))
+
+
+def at_contact_travel(track: np.ndarray, point: np.ndarray, travel: float) -> np.ndarray:
+    """The first pose of `track` whose body point `point` has moved `travel` (the last one if it never does)."""
+    for pose in track:
+        if contact_travel(pose, point) >= travel:
+            return pose
+    return track[-1]
 
 
 GOALS = ((0.10, -10.0), (0.12, 15.0), (0.15, -20.0), (0.13, 12.0))  # bench_heading.py's (dx m, dyaw deg)
@@ -220,6 +258,12 @@ def main(argv: list[str] | None = None) -> int:
         f"\nheld-out pushes within 1 cm and 2 deg over 10 cm: {kept} of {checked} (worst {worst[0]:.2f} cm, "
         f"{worst[1]:.2f} deg)"
     )
+    promised = [r for r, p in SIGMAS if p]
+    if promised:
+        print(
+            f"at the contact's travel, within 2 of the law's sigmas: {sum(r <= 2.0 for r in promised)} of "
+            f"{len(promised)} (worst {max(promised):.2f})"
+        )
     return 0
 
 
