@@ -51,50 +51,48 @@ EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
 SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-27, 2 workers, load 6 to 8)
-    # files that carry plans out in DART measured again on 2026-11-28 (one process, load 8 to 10) after the execution
-    # world's contact solver stopped at a looser residual (docs/execution.md, "The contact solver's tolerance")
     "tests/infer/test_learn.py",  # 74: learns the whole stdlib, making `stdlib_explored`'s explorations (40 of it)
+    "tests/execute/test_closed_loop.py",  # 62
+    "tests/plan/geometry/test_geometry_check.py",  # 42
+    "tests/scenarios/goals/test_tall_bodies.py",  # 41
+    "tests/scenarios/tools/test_generated_execution.py",  # 38
     "tests/test_tooling.py",  # 36: mypy of a fresh clone (Ray not followed)
+    "tests/scenarios/tools/test_wide_pulls.py",  # 33
     "tests/lang/test_robustness.py",  # 30
-    "tests/plan/geometry/test_geometry_check.py",  # 28 (42 before the solver's tolerance)
-    "tests/execute/test_closed_loop.py",  # 28 (62)
-    "tests/scenarios/goals/test_tall_bodies.py",  # 20 (41)
-    "tests/scenarios/tools/test_generated_execution.py",  # 17 (38)
-    "tests/test_docs_api.py",  # 15 (18); 25 to 30 while its moved-start example waited out a 30 s timeout
-    "tests/sim/test_ray_runner.py",  # 7 in this process, and Ray's own processes (not its children): 59 s wall
+    "tests/scenarios/tools/test_contact_chain.py",  # 24
+    "tests/test_docs_api.py",  # 18; 25 to 30 while its moved-start example waited out a 30 s timeout
     "tests/sim/test_interrupt.py",  # 16
     "tests/lang/syntax/test_printer.py",  # 15
-    "tests/scenarios/tools/test_wide_pulls.py",  # 13 (33)
+    "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 15
+    "tests/execute/test_resolving.py",  # 13
+    "tests/scenarios/tools/test_stick_clears_blocker.py",  # 12
     "tests/bench/test_generated_plans.py",  # 11
     "tests/scenarios/goals/test_drawer_and_door.py",  # 11 (9: the drawer and door converge either way)
-    "tests/scenarios/tools/test_contact_chain.py",  # 9 (24)
+    "tests/execute/test_disturbed.py",  # 11
+    "tests/scenarios/goals/test_arc_push.py",  # 11
+    "tests/scenarios/goals/test_open_slides.py",  # 10
     "tests/formats/test_plan_format.py",  # 9
     "tests/cli/test_startup_imports.py",  # 9: 11 fresh Python processes (15 until 2026-11-28)
     "tests/lang/checks/test_checks_rays.py",  # 9
     "tests/sim/test_furniture.py",  # 9 (18 while it asked DART for two names per contact and step)
-    "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 8 (15)
-    "tests/scenarios/tools/test_side_approach.py",  # 8 (9)
-    "tests/scenarios/tools/test_stick_clears_blocker.py",  # 8 (12)
+    "tests/scenarios/tools/test_side_approach.py",  # 9
+    "tests/scenarios/tools/test_long_stick.py",  # 9
+    "tests/cli/test_execute_cli.py",  # 9
     "tests/cli/test_hash_seed.py",  # 8
     "tests/plan/result/test_picture.py",  # 8
     "tests/plan/search/bounds/test_bound.py",  # 8
+    "tests/sim/test_ray_runner.py",  # 7 in this process, and Ray's own processes (not its children): 59 s wall
     "tests/test_docs_samples.py",  # 7 when it makes a_push_executed (the first of two files to ask); else 2
     "tests/plan/arm/test_contact_chains.py",  # 7
-    "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 6 (7)
+    "tests/scenarios/goals/test_handle_grasps_in_dart.py",  # 7
     "tests/lang/checks/test_checks_solids.py",  # 6
     "tests/sim/test_explore.py",  # 6 once `stdlib_explored` has the Block and the Stick (test_learn.py makes them)
-    "tests/execute/test_resolving.py",  # 6 (13)
+    "tests/scenarios/tools/test_hook_drawer.py",  # 6
     "tests/plan/task_space/test_slides.py",  # 5
-    "tests/execute/grip/test_grip.py",  # 5 (5)
-    "tests/scenarios/tools/test_hook_drawer.py",  # 5 (6)
-    "tests/execute/test_disturbed.py",  # 5 (11)
-    "tests/scenarios/goals/test_arc_push.py",  # 4 (11)
-    "tests/scenarios/tools/test_long_stick.py",  # 4 (9)
-    "tests/scenarios/goals/test_open_slides.py",  # 4 (10)
-    "tests/cli/test_execute_cli.py",  # 4 (9)
+    "tests/execute/grip/test_grip.py",  # 5
+    "tests/infer/test_ending.py",  # 3; 13 when it explores the Drawer before test_learn.py does
     "tests/execute/test_animate.py",  # 2; carrying out a_push_recorded: 10 before the solver's tolerance, ~half now
     "tests/cli/test_execution_progress.py",  # 0; making a_push_executed: 5 before the solver's tolerance, ~half now
-    "tests/infer/test_ending.py",  # 3; 13 when it explores the Drawer before test_learn.py does
 ]
 """The test files that take longest, slowest first: every file of 5 CPU-seconds or more on a loaded machine (the
 others take 0 to 4).

@@ -1,14 +1,14 @@
-"""Benchmark: what one DART step of plan execution costs, at DART's solver tolerance and at execution's.
+"""Benchmark: what one DART step of plan execution costs, at DART's solver tolerance and at a looser one.
 
     python bench/sim/bench_step.py [TASK ...]      (default: the example tasks a, c, d, g, h)
 
 Solves each example task (examples/tasks/TASK.vkg) and carries its plan out twice, open loop: once with the
-friction-cone solver stopping its sweeps at DART's residual (1e-5, exploration's) and once at
-`vkgl.sim.world.EXECUTION_SOLVER_TOLERANCE` (what `vkgc execute` uses). Prints one Markdown table: the physics
-steps, the CPU seconds of the whole execution (`time.process_time`: IK, the grip's watch and the rest included),
-the CPU per step all in, and how far every body ends from where it ends at DART's tolerance (the largest over the
-scene's bodies, position and heading), with the goals' errors at both (docs/execution.md, "The contact solver's
-tolerance").
+friction-cone solver stopping its sweeps at DART's residual (1e-5, what every world uses) and once at `LOOSER`
+(tried for `vkgl.sim.world.EXECUTION_SOLVER_TOLERANCE`, not taken: docs/execution.md). Prints one Markdown table:
+the physics steps, the CPU seconds of the whole execution (`time.process_time`: IK, the grip's watch and the rest
+included), the CPU per step all in, and how far every body ends from where it ends at DART's tolerance (the largest
+over the scene's bodies, position and heading), with the goals' errors at both (docs/execution.md, "The contact
+solver's tolerance").
 """
 
 from __future__ import annotations
@@ -22,7 +22,8 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parents[2]
 TASKS = ("a_push", "c_hook_pull", "d_rotate_push", "g_open_drawer", "h_close_door")
-DART_TOLERANCE = 1e-5  # DART's default: exploration's
+DART_TOLERANCE = 1e-5  # DART's default: every world's
+LOOSER = 1e-4  # the stop tried for execution
 
 
 def _yaw(pose: np.ndarray) -> float:
@@ -61,10 +62,9 @@ def _goal_errors(report) -> str:
 
 def main(tasks: list[str]) -> None:
     import vkgl
-    from vkgl.sim.world import EXECUTION_SOLVER_TOLERANCE
 
     print(
-        f"| task | steps | CPU s at {DART_TOLERANCE:g} | at {EXECUTION_SOLVER_TOLERANCE:g} | ms per step "
+        f"| task | steps | CPU s at {DART_TOLERANCE:g} | at {LOOSER:g} | ms per step "
         "| bodies moved by (largest) | goal errors, mm (before; after) | status |"
     )
     print("|---|---:|---:|---:|---|---|---|---|")
@@ -72,7 +72,7 @@ def main(tasks: list[str]) -> None:
         program = vkgl.compile(str(REPO / "examples" / "tasks" / f"{task}.vkg"))
         plan = vkgl.solve(program, task)
         before, cpu_before, steps = execute_at(program, task, plan, DART_TOLERANCE)
-        after, cpu_after, steps_after = execute_at(program, task, plan, EXECUTION_SOLVER_TOLERANCE)
+        after, cpu_after, steps_after = execute_at(program, task, plan, LOOSER)
         moved = max(np.linalg.norm(after.final[b][:3, 3] - before.final[b][:3, 3]) for b in before.final)
         turned = max(
             abs((math.degrees(_yaw(after.final[b]) - _yaw(before.final[b])) + 180) % 360 - 180) for b in before.final

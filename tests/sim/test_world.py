@@ -96,11 +96,12 @@ def _slid_block(tolerance: float | None) -> np.ndarray:
     return node.getWorldTransform().matrix()
 
 
-def test_the_execution_solver_tolerance_slides_a_block_as_far_as_dart_s_default() -> None:
-    """The execution world's looser stop of the solver's sweeps (vkgl.sim.world.EXECUTION_SOLVER_TOLERANCE) moves
-    a sliding body by hundredths of a millimetre, nothing a goal tolerance sees."""
+def test_a_looser_stop_of_the_solver_slides_a_block_as_far_as_dart_s_default() -> None:
+    """`new_world(tolerance=)` stops the solver's sweeps where asked: at 1e-4 a straight slide ends within hundredths
+    of a millimetre of DART's 1e-5 (bench/sim/bench_step.py; a crate turned about its arc did not, so every world
+    keeps DART's: vkgl.sim.world.EXECUTION_SOLVER_TOLERANCE)."""
     default = _slid_block(None)
-    loose = _slid_block(sim_world.EXECUTION_SOLVER_TOLERANCE)
+    loose = _slid_block(1e-4)
     assert np.linalg.norm(default[:3, 3]) > 0.02  # it really slid (0.5 m/s against a friction of 0.5 g)
     assert np.linalg.norm(default[:3, 3] - loose[:3, 3]) < 1e-4
     assert np.abs(default[:3, :3] - loose[:3, :3]).max() < 1e-3

@@ -40,8 +40,7 @@ class SceneWorld:
         self.scene = scene
         self.types: dict[str, Body] = {sb.name: program.bodies[sb.type.name] for sb in scene.bodies}
         self.table_z = table_top(scene)
-        # the physics exploration learned the models in; the contact solver stops at a residual that costs a
-        # quarter of the CPU and moves the executed bodies by hundredths of a millimetre (vkgl.sim.world)
+        # the physics exploration learned the models in (its solver's stop too: vkgl.sim.world)
         self.world = sim_world.new_world(TIME_STEP, tolerance=sim_world.EXECUTION_SOLVER_TOLERANCE)
         self.table = sim_world.add_table(self.world, scene.table)[1] if scene.table is not None else None
         self.nodes: dict[str, tuple[Any, Any]] = {}
