@@ -84,13 +84,7 @@ def test_a_crate_pulled_at_its_far_faces_edge_is_no_promise_when_the_law_may_mis
     (`@+13.33cm`) ends 0.78 cm from the goal by the law (tolerance 1 cm), after a 76 deg turn. In DART the crate
     turned 1.54 deg less, its contact sliding 0.5 cm along the face, and missed the goal by 1.07 cm: the family's
     sigma (0.53 deg over 10 cm) over the 31 cm pull says 1.6 deg and 0.45 cm. The task space refuses it."""
-    target = generated_tasks.Placement("target", "CrateM", 0.892, -0.362, -30.0)
-    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
-    spec = generated_tasks.TaskSpec("edge", 1, 0, (target, *tools), (0.751, -0.199, None), "far-pull", False, 0.22)
-    steps = generated_tasks.WIDE_SLIDE_STEPS
-    library = generated_tasks.fixture_library(("CrateM",), slide_steps=steps)
-    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "edge", library, slide_steps=steps))
-    problem = build_problem(program, program.tasks["edge"])
+    problem = _wide_fixture_problem(tmp_path, "edge", ("CrateM", 0.892, -0.362, -30.0), (0.751, -0.199))
     member = "push_center_nx@+13.33cm"
     assert member in [a.name for a in problem.bodies["target"].affordances]  # offered: its arc passes nearest
     seq = _sequence(
@@ -137,13 +131,7 @@ def test_crate_t_near_its_centre_is_promised_by_a_flat_contact_that_spans_its_la
     than the law, whose sigma is 0.34 deg. There a point (the turned hand) promises nothing; the rolled hook, whose
     cross-piece reaches the centre and past 2.67 cm, holds the arc (gen2_047 of the physical bench: such a pull 86
     deg ends 0.03 cm from its goal in DART). From 2.67 cm out the point keeps twice the law's sigma, as before."""
-    target = generated_tasks.Placement("target", "CrateT", 0.85, -0.3, 0.0)
-    tools = tuple(generated_tasks.Placement(n, t.name, x, y, a) for n, t, x, y, a in generated_tasks.TOOLS)
-    spec = generated_tasks.TaskSpec("gap", 1, 0, (target, *tools), (0.75, -0.2, None), "far-pull", False, 0.22)
-    steps = generated_tasks.WIDE_SLIDE_STEPS
-    library = generated_tasks.fixture_library(("CrateT",), slide_steps=steps)
-    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / "gap", library, slide_steps=steps))
-    problem = build_problem(program, program.tasks["gap"])
+    problem = _wide_fixture_problem(tmp_path, "gap", ("CrateT", 0.85, -0.3, 0.0), (0.75, -0.2))
     arc, sigma, _ = arc_law(problem, "target", "push_center_nx@-0.60cm")
     assert arc.beyond is not None and arc.beyond.value == pytest.approx(0.0267)
     rolled = "push_center_nx@-0.60cm/over+45deg+6.00cm"
@@ -159,3 +147,16 @@ def test_crate_t_near_its_centre_is_promised_by_a_flat_contact_that_spans_its_la
             assert heading == pytest.approx(POINT_SIGMAS * sigma * 0.3 * arc_lever_arm(arc, offset) / 0.10)
         else:
             assert heading == pytest.approx(POINT_SIGMAS * math.pi)  # half a turn: no goal is promised by it
+
+
+def _wide_fixture_problem(tmp_path, name: str, target: tuple[str, float, float, float], goal: tuple[float, float]):
+    """The problem of a far pull of `target` (type, x, y, yaw deg) to `goal` (m) among the stdlib tools, the body
+    learned as bench_wide_pulls learns it (`WIDE_SLIDE_STEPS`, a test fixture)."""
+    body, x, y, yaw = target
+    placed = generated_tasks.Placement("target", body, x, y, yaw)
+    tools = tuple(generated_tasks.Placement(n, t.name, tx, ty, a) for n, t, tx, ty, a in generated_tasks.TOOLS)
+    spec = generated_tasks.TaskSpec(name, 1, 0, (placed, *tools), (*goal, None), "far-pull", False, 0.22)
+    steps = generated_tasks.WIDE_SLIDE_STEPS
+    library = generated_tasks.fixture_library((body,), slide_steps=steps)
+    program = vkgl.compile(generated_tasks.write_task(spec, tmp_path / name, library, slide_steps=steps))
+    return build_problem(program, program.tasks[name])
