@@ -21,7 +21,8 @@ from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.problem.avoid import Avoid
 from vkgl.plan.problem.problem import Problem, build_problem
 from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
-from vkgl.plan.search.clutter.clear_first import SEARCH_SHARE, blocked, clear_first, work_budget
+from vkgl.plan.search.clutter.blocking import blocked
+from vkgl.plan.search.clutter.clear_first import SEARCH_SHARE, clear_first, work_budget
 from vkgl.plan.search.clutter.still import search_moving_less
 from vkgl.plan.search.search import SearchResult
 from vkgl.plan.search.stats import SearchStats

@@ -14,7 +14,7 @@ import vkgl
 from vkgl.lang.ir.families import over_pose
 from vkgl.plan.problem.over import MAX_BESIDE_ROLL
 from vkgl.plan.problem.problem import Problem, build_problem
-from vkgl.plan.search.clutter.clear_first import _blocking
+from vkgl.plan.search.clutter.blocking import blocking_bodies
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import with_rolled_members
 from vkgl.plan.search.clutter.side_problem import only_moving as _only_moving
@@ -77,7 +77,7 @@ def test_a_body_off_the_table_or_without_tools_gets_none(cube_before_slab: Probl
 def test_the_hook_rolled_over_the_slab_clears_the_cube_off_its_side(cube_before_slab: Problem) -> None:
     """Off the slab's left side the only pull puts the hook's shaft 12 cm toward the slab: lying flat (or at the
     least roll) it passes through the slab's top; rolled 45 deg over it, one pull clears the cube there."""
-    goal, blocker = _blocking(cube_before_slab)[0]
+    goal, blocker = blocking_bodies(cube_before_slab)[0]
     sides = way_sides(cube_before_slab, goal, blocker, tools=far_move_tools(cube_before_slab, goal))
     left = next(side for side in sides if side.words == "left")
     moving, still = _only_moving(cube_before_slab, goal, blocker, left)

@@ -69,9 +69,7 @@ from vkgl.plan.graphs.graph import Action
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
-from vkgl.plan.search.clutter.blocking import blocked
-from vkgl.plan.search.clutter.blocking import blocking_bodies as _blocking
-from vkgl.plan.search.clutter.blocking import proven_depth as _proven
+from vkgl.plan.search.clutter.blocking import blocking_bodies, proven_depth
 from vkgl.plan.search.clutter.clear_tools import far_move_tools
 from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import moved_before as _moves
@@ -148,11 +146,11 @@ def clear_first(
     of any length reaches the goal). `before` is the search that ended without a plan; the counters of every
     search tried here are added to its."""
     start = start_sequence(problem)
-    blocking = _blocking(problem)
+    blocking = blocking_bodies(problem)
     bound = Bound(problem)
     if not blocking or math.isinf(bound(start)):
         return None
-    proven = _proven(problem, before)
+    proven = proven_depth(problem, before)
     paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
     walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True, bound=bound)
     held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
@@ -493,7 +491,6 @@ __all__ = [
     "SEARCH_SHARE",
     "WORK_PER_SECOND",
     "Cleared",
-    "blocked",
     "clear_first",
     "side_goal",
     "work_budget",
