@@ -5,6 +5,7 @@ A missing tool is a failure (the test extra installs them), never a skip.
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -33,8 +34,40 @@ def test_ruff_format_is_clean() -> None:
 
 
 def test_mypy_finds_nothing() -> None:
+    """mypy as a developer runs it: its cache in the checkout's .mypy_cache (mypy's default), none in a fresh clone
+    (36 CPU-s there; a few on the next run, where mypy checks again every module whose source changed)."""
     result = _run(sys.executable, "-m", "mypy", "vkgl")
     assert result.returncode == 0, result.stdout[-3000:]
+
+
+WRAP = '    """`angle` wrapped into [-pi, pi)."""\n'
+INJECTED = "    turns: int = angle / (2 * math.pi)  # a float\n"
+"""In place of WRAP, the function's docstring: one line for one, so that no definition after it moves."""
+
+
+def test_mypy_finds_a_type_error_in_vkgl_with_the_cache_it_made(tmp_path: Path) -> None:
+    """The run above must be able to fail: the same command on vkgl with a float put into an `int` in
+    `wrap_angle` of vkgl/se3.py, which every stage imports (mypy's `--shadow-file` reads that text for the file;
+    the checkout is untouched). It starts from a copy of the cache the run above left in the checkout (a fresh
+    clone has none, and this file's tests run in order on one worker), so it also shows that the cache hides no
+    error in a module changed since the cache was made. A local variable on a line of its own leaves the module's
+    interface as it was: mypy checks that module again, not the ones that import it (under a CPU-second; a new
+    function, or any line that moves the definitions below it, changes the interface, and mypy checks every
+    importer again: 6 CPU-s)."""
+    cache = tmp_path / "mypy_cache"
+    if (REPO / ".mypy_cache").is_dir():
+        shutil.copytree(REPO / ".mypy_cache", cache)
+    module = REPO / "vkgl" / "se3.py"
+    text = module.read_text(encoding="utf-8")
+    assert text.count(WRAP) == 1, "wrap_angle's docstring moved: inject the error elsewhere"
+    line = text[: text.index(WRAP)].count("\n") + 1
+    broken = tmp_path / "se3.py"
+    broken.write_text(text.replace(WRAP, INJECTED), encoding="utf-8")
+    shadow = ("--cache-dir", str(cache), "--shadow-file", str(module), str(broken))
+    result = _run(sys.executable, "-m", "mypy", "vkgl", *shadow)
+    assert result.returncode == 1, result.stdout[-3000:]
+    assert f"vkgl/se3.py:{line}: error: Incompatible types in assignment" in result.stdout, result.stdout[-3000:]
+    assert "Found 1 error in 1 file" in result.stdout, result.stdout[-3000:]
 
 
 def test_no_module_is_over_500_lines() -> None:

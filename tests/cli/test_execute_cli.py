@@ -41,8 +41,9 @@ def test_a_negative_max_replans_is_an_input_error(capsys):
 
 
 def test_an_execution_that_misses_the_goal_exits_5(tmp_path, capsys):
-    # Task (a) with a goal tolerance of 0.1 mm: the planner meets it kinematically, but a
-    # real push in physics lands a fraction of a millimetre off, so the execution misses.
+    # Task (a)'s scene with a goal 5 cm ahead of the block, within 0.1 mm: the planner meets it kinematically, but
+    # a real push in physics lands a fraction of a millimetre off (0.2 mm), so the execution misses. (Task (a)'s own
+    # 15 cm push misses by as much, for 2.6 CPU-s more of physics.)
     task = tmp_path / "tight.vkg"
     task.write_text(
         f'use "{(EXAMPLES / "scenes" / "tabletop.vkg").as_posix()}"\n'
@@ -50,7 +51,7 @@ def test_an_execution_that_misses_the_goal_exits_5(tmp_path, capsys):
         "use stdlib.tools\n"
         "task tight {\n"
         "    scene tabletop\n"
-        "    goal block at (0.60, 0.0) m yaw 0deg within 0.01 cm, 3 deg\n"
+        "    goal block at (0.50, 0.0) m yaw 0deg within 0.01 cm, 3 deg\n"
         "}\n",
         encoding="utf-8",
     )
