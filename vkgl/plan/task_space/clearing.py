@@ -289,7 +289,7 @@ def way_sides(
     base = problem.arm.base[:2, 3]
     pulled = np.linalg.norm(np.asarray(goal.position[:2], dtype=float) - base) < np.linalg.norm(start - base)
     sides = []
-    reach = _movers_reach(problem, goal.body, u)
+    reach = movers_reach(problem, goal.body, u)
     for words, out, across in (("left", normal, True), ("right", -normal, True), ("beyond the goal", u, False)):
         # beside the way, a tool moving the goal body sweeps past its footprint (a hook's bar); beyond the goal
         # lies its shaft's projection, rising to the hand (the arm's side of a pull, tried last): not widened
@@ -309,7 +309,7 @@ TOWARDS = math.cos(math.radians(45.0))
 for its tool to count in `_overhang`: the slides that can carry the body towards its goal."""
 
 
-def _movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
+def movers_reach(problem: Problem, body: str, u: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """For each tool frame that can enact a slide of `body` towards its goal (along `u` within `TOWARDS`), its
     tool and the footprints (k x 2) of `body` at rest and of the tool enacting that slide there: the tools that
     may sweep the goal body's way."""
@@ -336,7 +336,7 @@ def _overhang(
     reach: list[tuple[str, np.ndarray, np.ndarray]], out: np.ndarray, tools: frozenset[str] | None = None
 ) -> float:
     """How far past the goal body's footprint, in direction `out`, a tool that moves it reaches (m, the largest
-    over `_movers_reach`; 0 with none): the tool sweeps that much beside the goal body's corridor, so a blocker
+    over `movers_reach`; 0 with none): the tool sweeps that much beside the goal body's corridor, so a blocker
     cleared to that side must lie that much farther out. With `tools`, the least over those tools of each one's
     largest (0 when none of them moves the body towards its goal): the side is left free for one of them."""
     per_tool: dict[str, float] = {}
@@ -386,6 +386,7 @@ __all__ = [
     "clearing_value",
     "corridors",
     "footprint",
+    "movers_reach",
     "polygon_distance",
     "way_corridor",
     "way_sides",

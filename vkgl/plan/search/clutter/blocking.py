@@ -10,6 +10,7 @@ import numpy as np
 from vkgl.plan.graphs.rollout import start_sequence
 from vkgl.plan.problem.problem import GoalSpec, Problem
 from vkgl.plan.search.bounds.bound import Bound
+from vkgl.plan.search.clutter.tool_sweep import swept_bodies
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.search import SearchResult
 from vkgl.plan.task_space.clearing import way_sides
@@ -17,11 +18,14 @@ from vkgl.plan.task_space.clearing import way_sides
 
 def blocked(problem: Problem) -> bool:
     """Whether `clear_first` could try anything: a body lies across a goal body's straight way (not clear of its
-    corridor) and some sequence could reach the goal (the bound at G0 is finite)."""
-    for goal, blocker in blocking_bodies(problem):
+    corridor), or, with none in any goal body's way, in the path of the tool that alone can carry a goal body
+    (`tool_sweep.swept_bodies`); and some sequence could reach the goal (the bound at G0 is finite)."""
+    bound = Bound(problem)
+    way = blocking_bodies(problem)
+    for goal, blocker in way:
         if min((side.distance for side in way_sides(problem, goal, blocker, motions=False)), default=0.0) > 0.0:
-            return not math.isinf(Bound(problem)(start_sequence(problem)))
-    return False
+            return not math.isinf(bound(start_sequence(problem)))
+    return not way and bool(swept_bodies(problem, bound)) and not math.isinf(bound(start_sequence(problem)))
 
 
 def blocking_bodies(problem: Problem) -> list[tuple[GoalSpec, str]]:

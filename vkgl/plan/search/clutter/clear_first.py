@@ -12,9 +12,8 @@ more, one past the default `max_depth`, and the search cannot afford the level o
    blocker's own affordances reaches first, then the nearest). It is searched like any problem, to at most
    `CLEAR_DEPTH` graphs (G0, a tool's grasp, the push that clears it, one more), and its plan passes every
    check a plan passes. Several blockers are cleared in turn, each sub-problem starting where the one before
-   ended (one that plan already moved is first left to the goals' search, its values free: `_moves`); one that
-   no plan moves is left where it lies, the others cleared (the blocker may lie where no plan
-   meets it, as behind the goal body's start: the search after says).
+   ended (one that plan already moved is first left to the goals' search, its values free: `_moves`); one that no
+   plan moves is left where it lies, the others cleared (it may lie where no plan meets it: the search after says).
 2. **Then solve.** The original problem is searched again from that plan (`search(..., root=prefix)`): every
    sequence extends it, with up to `max_depth - 1` graphs more, so the tool the prefix holds is still in hand
    and its contact still in force. The plan found is one graph sequence like any other: its motion values are
@@ -29,7 +28,9 @@ line, where the plan after needs no move back, and the searches for the goals af
 body where it lies go on at once, unless one body alone is in the way or bodies in a path wait (`_wide_first`).
 Then the bodies the closest miss of the search before failed on alone, in a tool's or the hand's path (`met_last`;
 the goals' search after the first plan that clears them and leaves the goal bodies where they lie goes on at once,
-`_Walk.eager`), then the wide walk.
+`_Walk.eager`), then the wide walk. With nothing in any goal body's way, the bodies in the path of the tool that
+alone carries a goal body (`tool_sweep.swept_bodies`) are the walk's blockers: cleared first, not left where they
+lie (`_Walk.optional`), each slid out of the tool's sweep (`tool_path.path_sides`).
 
 Sides and blockers are tried in turn (a depth-first walk) until a plan is found or the work budget is spent. The
 search for the goals after each clearing plan first gets a small budget (`THEN_FIRST`); those that spend it wait
@@ -40,22 +41,20 @@ was tried first. A search tried again (a goals' search, a side's) goes on where 
 try's work done twice.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout and of the work budget,
-whichever it spends first (on a machine fast enough the count ends it, the same everywhere; under heavy load the
-clock, and the clearing keeps its time); what is tried here gets the rest of the task's work budget
-(`work_budget`: its timeout's worth, in units of `SearchStats.work_done`), shared by counted work, not by the
-time left: the same clearing then ends the same way on any machine and under any load, and the deadline stays
-the wall-clock guard. Each side of a blocker is first searched with a small budget (`FIRST_TRY`: a push that
-clears it is found with a few units), and only the sides that spent it are searched again with a share of what
-is left (`CLEAR_SHARE`); the search for the goals after a clearing plan gets most of what is left (`THEN_SHARE`)
-(docs/planning.md, "Clear first, then solve", says why the search before keeps the clock's cut too).
+whichever it spends first (fast enough, the count ends it, the same everywhere; under heavy load the clock, and the
+clearing keeps its time); what is tried here gets the rest of the task's work budget (`work_budget`: its timeout's
+worth, in units of `SearchStats.work_done`), shared by counted work, not by the time left: the same clearing ends
+the same way on any machine and under any load, the deadline the wall-clock guard. Each side of a blocker is first
+searched with a small budget (`FIRST_TRY`: a push that clears it is found with a few units), only the sides that
+spent it again with a share of what is left (`CLEAR_SHARE`); the search for the goals after a clearing plan gets
+most of what is left (`THEN_SHARE`) (docs/planning.md, "Clear first, then solve": why the clock's cut too).
 
 **Shortest or not.** The search before proved that no plan of at most `proven` graphs exists (every sequence
 of `max_depth` graphs when it ended without a plan, those of fewer than its level when the time ran out). A plan
 of `proven + 1` graphs found here is therefore a shortest one; a deeper one may not be (a plan that clears no
 blocker, or clears it otherwise, might be shorter) and its words say "not proven shortest".
 
-Where the bound says that no sequence of any length reaches the goal, nothing here is tried: the answer stays
-immediate.
+Where the bound says that no sequence of any length reaches the goal, nothing is tried: the answer stays immediate.
 """
 
 from __future__ import annotations
@@ -64,6 +63,8 @@ import math
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
+
+import numpy as np
 
 from vkgl.plan.graphs.graph import Action
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
@@ -75,6 +76,7 @@ from vkgl.plan.search.clutter.rolled import rolls, with_rolled_members
 from vkgl.plan.search.clutter.side_problem import moved_before as _moves
 from vkgl.plan.search.clutter.side_problem import only_moving, side_goal
 from vkgl.plan.search.clutter.tool_path import met_last, path_blockers, path_sides
+from vkgl.plan.search.clutter.tool_sweep import swept_bodies
 from vkgl.plan.search.clutter.waiting import Cleared
 from vkgl.plan.search.clutter.waiting import Waiting as _Waiting
 from vkgl.plan.search.clutter.words import closest as _closest
@@ -94,8 +96,7 @@ tried cheaply first, and only those that spent it are tried again (`CLEAR_SHARE`
 
 CLEAR_SHARE = 0.25
 """The least part of the work left that one search for a plan clearing a blocker to one side may spend in the
-second round (with `k` sides still to try, `1 / (k + 1)` when that is more): it must leave work for the other sides
-and for the goal."""
+second round (with `k` sides still to try, `1 / (k + 1)` if more): it must leave work for the other sides and goal."""
 
 THEN_SHARE = 0.8
 """The part of the work left that the search for the goals after a plan clearing the way may spend in its second
@@ -110,25 +111,22 @@ tasks); those that spend it are searched again with `THEN_SHARE` once every side
 NARROW_SHARE = 1 / 3
 """The part of the work left that the narrow try at clearing a blocker to one side may spend (module docstring):
 on the physical bench's gen3_033 it finds the Stick's clearing that leaves the crate on its line with 206 units
-(the whole space: 1,146, after one that pushed the crate aside with 307); narrow sides no plan reaches are
-proven so with about 100."""
+(the whole space: 1,146, after one that pushed the crate aside with 307); sides no plan reaches: about 100."""
 
 MAX_DEPTH = 12
 """The deepest plan tried (the CLI's `--max-depth` limit)."""
 
-
 SEARCH_SHARE = 0.5
 """The part of the timeout and of the work budget (`work_budget`) the search itself gets when a body lies in a
-goal body's way (`blocked`), whichever it spends first: the rest of the work budget is left for clearing it first
-when the search times out. On the physical bench the tasks with a body in the way that the search solves take
-at most a third of the 20 s timeout and 645 units (docs/physical_bench.md)."""
+goal body's way or a tool's path (`blocked`), whichever it spends first: the rest of the work budget is left for
+clearing it first when the search times out. On the physical bench the tasks with a body in the way that the
+search solves take at most a third of the 20 s timeout and 645 units (docs/physical_bench.md)."""
 
 WORK_PER_SECOND = 80.0
 """Work units (`SearchStats.work_done`: about one task-space optimisation each) that one second of the timeout
-buys for a blocked task's clearing (`work_budget`): on the physical bench's blocked tasks
-(`bench/plan/bench_blocked.py`)
-one core does 65 to 150 units a second, about 100 on most, so that the clearing's half of a 20 s timeout (800
-units) is spent before the deadline ends anything on most tasks."""
+buys for a blocked task's clearing (`work_budget`): on the physical bench's blocked tasks (`bench/plan/
+bench_blocked.py`) one core does 65 to 150 units a second, about 100 on most, so that the clearing's half of a 20 s
+timeout (800 units) is spent before the deadline ends anything on most tasks."""
 
 
 def work_budget(problem: Problem) -> float:
@@ -148,11 +146,15 @@ def clear_first(
     start = start_sequence(problem)
     blocking = blocking_bodies(problem)
     bound = Bound(problem)
-    if not blocking or math.isinf(bound(start)):
+    swept = {} if blocking else swept_bodies(problem, bound)  # in a tool's path, nothing in a way (`tool_sweep`)
+    if not (blocking or swept) or math.isinf(bound(start)):
         return None
     proven = proven_depth(problem, before)
-    paths = path_blockers(problem, before.stats)  # bodies in a tool's or the hand's path (`clutter.tool_path`)
+    paths = {**dict.fromkeys(swept, 0.0), **path_blockers(problem, before.stats)}  # (`clutter.tool_path`)
+    first = blocking[0][0] if blocking else next(iter(swept.values())).goal
+    goals = {name: swept[name].goal if name in swept else first for name in paths}  # whose tool's path each is in
     walk = _Walk(problem, deadline, progress, before.stats, budget, paths=paths, narrow=True, bound=bound)
+    walk.sweeps = {name: s.sweeps for name, s in swept.items()}
     held: list[_Waiting] = []  # the narrow walk's searches for the goals that spent their first try
     found = _clear_then_solve(walk, blocking, start, proven, held)  # first the narrow walk (`NARROW_SHARE`)
     if found is not None and found is not _NOTHING:
@@ -160,11 +162,11 @@ def clear_first(
     walk.narrow, found = False, None
     if last := met_last(problem, paths, before.stats):  # the closest miss failed on them: cleared alone first
         walk.eager = True
-        found = _clear_then_solve(walk, [(blocking[0][0], name) for name in last], start, proven, held)
+        found = _clear_then_solve(walk, [(goals[name], name) for name in last], start, proven, held)
         walk.eager = False
     if found is None or found is _NOTHING:  # then the way's blockers, and the bodies in a path after them (left
-        walk.optional = frozenset(paths)  # where they lie first: the plans the walk found before stay first)
-        found = _clear_then_solve(walk, blocking + [(blocking[0][0], name) for name in paths], start, proven, held)
+        walk.optional = frozenset(paths) - set(swept)  # where they lie first: the plans the walk found before first)
+        found = _clear_then_solve(walk, blocking + [(goals[name], name) for name in paths], start, proven, held)
     if found is _NOTHING:
         return None  # every body in the way lies clear of the straight way already: nothing to search anew
     if found is not None:
@@ -267,7 +269,6 @@ def _then_again(walk: _Walk, waiting: list[_Waiting], proven: int) -> Cleared | 
 _NOTHING = Cleared(None, "")
 """What `_clear_then_solve` returns when nothing lies in the way."""
 
-
 _Prefix = tuple[Sequence, tuple[float, ...], list[tuple[str, Side]]]
 """A plan that clears the way: its sequence, its motion values, the blockers and the sides they were cleared to."""
 
@@ -284,6 +285,7 @@ class _Walk:
     left: float
     log: list[str] = field(default_factory=list)
     paths: dict[str, float] = field(default_factory=dict)  # bodies in a tool's or the hand's path: how deep met
+    sweeps: dict[str, tuple[np.ndarray, ...]] = field(default_factory=dict)  # the tools' sweeps they lie in
     optional: frozenset[str] = frozenset()  # those of `paths` the walk leaves where they lie first
     narrow: bool = False  # the narrow walk: each blocker's sides with `only_moving`'s `along` only
     seen: set[tuple[tuple[Action, ...], tuple[tuple[str, str], ...]]] = field(default_factory=set)  # prefixes
@@ -342,7 +344,7 @@ class _Walk:
             yield from self.prefixes(rest, root, pinned)  # (its sub-problem keeps only the slides, not the root's)
             return
         sides = (
-            path_sides(self.problem, goal, blocker, self.paths[blocker])
+            path_sides(self.problem, goal, blocker, self.paths[blocker], self.sweeps.get(blocker, ()))
             if blocker in self.paths and not self.narrow
             else self._way_sides(goal, blocker)
         )

@@ -35,6 +35,7 @@ import numpy as np
 from vkgl.plan.graphs.motions import rest_axis
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, Problem
+from vkgl.plan.search.clutter.tool_sweep import exit_slide
 from vkgl.plan.search.ordering import InTheWay
 from vkgl.plan.search.stats import SearchStats, closest_bodies, closest_miss
 from vkgl.plan.task_space.clearing import SIDE_TOLERANCE, Side, footprint
@@ -101,31 +102,39 @@ def met_last(problem: Problem, paths: dict[str, float], stats: SearchStats) -> d
     return {name: depth for name, depth in paths.items() if name in named}
 
 
-def path_sides(problem: Problem, goal: GoalSpec, blocker: str, depth: float) -> list[Side]:
+def path_sides(
+    problem: Problem, goal: GoalSpec, blocker: str, depth: float, sweeps: tuple[np.ndarray, ...] = ()
+) -> list[Side]:
     """The sides `blocker`, met `depth` deep, may be slid to out of a tool's or the hand's path: one per direction
     of its own slides (affordances slid the same way share one), `depth + PATH_STEP` along it, away from the
-    arm's work first (`_away_from_work`)."""
-    step = depth + PATH_STEP
+    arm's work first (`_away_from_work`). With `sweeps` (a tool's path known from geometry, `tool_sweep`), each
+    direction's slide is at least the one that leaves them all (`exit_slide`; a direction none of its slides
+    leaves them by has no side)."""
     body = problem.bodies[blocker]
     shape = footprint(problem, blocker, body.rest)
     away = _away_from_work(problem, goal, body.rest[:2, 3])
-    groups: list[tuple[np.ndarray, list[str]]] = []
+    groups: list[tuple[np.ndarray, list[tuple[str, float]]]] = []  # (axis, its affordances and longest slides)
     for affordance in body.affordances:
-        if affordance.motion.type != "prismatic" or value_bounds(affordance.motion)[1] < step:
+        if affordance.motion.type != "prismatic":
             continue
         axis = rest_axis(body.rest, affordance.motion)
         norm = float(np.linalg.norm(axis))
         if norm < 1e-9:
             continue
-        axis = axis / norm
-        for known, names in groups:
+        axis, mover = axis / norm, (affordance.name, value_bounds(affordance.motion)[1])
+        for known, movers in groups:
             if float(known @ axis) >= SAME_AXIS:
-                names.append(affordance.name)
+                movers.append(mover)
                 break
         else:
-            groups.append((axis, [affordance.name]))
+            groups.append((axis, [mover]))
     sides: list[tuple[float, Side]] = []
-    for axis, names in groups:
+    for axis, movers in groups:
+        leaves = exit_slide(shape, axis, sweeps, max(m for _, m in movers)) if sweeps else 0.0
+        step = max(depth + PATH_STEP, leaves) if leaves is not None else math.inf
+        names = [name for name, longest in movers if longest >= step]
+        if not names:
+            continue
         edge = float(np.min(shape @ axis)) + step + SIDE_TOLERANCE
         words = f"slid {step * 100:.1f} cm along ({axis[0]:+.2f}, {axis[1]:+.2f}), out of a tool's or the hand's path"
         side = PathSide(words, np.array([-axis[0], -axis[1], -edge]), step, slide=step, movers=tuple(names))
