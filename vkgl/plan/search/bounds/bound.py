@@ -97,6 +97,15 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    the extension lets go of it (a REMOVE) and grasps a tool another way (an
    ADD), two actions on tools (none on a goal body: they add up), instead of
    the one grasp; and when every grasp of every tool is wrong: never (`inf`).
+   **Contact by contact** (`goal_reach.wrong_ends`): the same proof for one
+   moving affordance `a` of `b` alone. When the robot's own effector cannot
+   hold `a`'s contact with `b` anywhere its goal accepts, or no frame of a
+   tool held by a grasp can, a last mode of `seq` on `b` by that effector
+   (that tool held so) on `a` cannot be the last that moves `b`: `m_b >= 1`,
+   though other contacts of the hand (or of that grasp) may end it there. On
+   the physical bench's far pushes most contacts are such (gen21_009: 19 of 20
+   of the hand's, 105 of the 160 of 8 tool grasps). Not with a tool of two frames
+   (the hand may follow the other frame's contact).
 
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
@@ -122,8 +131,9 @@ from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import Sequence, value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.search.bounds.goal_reach import ends_beyond_the_hand
+from vkgl.plan.search.bounds.goal_reach import End, ends_beyond_the_hand, wrong_ends
 from vkgl.plan.search.bounds.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
+from vkgl.plan.search.bounds.one_mode import missing_movers
 from vkgl.plan.search.bounds.region_need import region_modes
 from vkgl.plan.task_space.feasible import goal_holds
 from vkgl.plan.task_space.reach.workspace import unreachable
@@ -147,6 +157,8 @@ class BodyNeed:
     beyond_why: str = ""  # part 6's reason, with the reach's numbers
     pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
     wrong_grasps: frozenset[tuple[str, str]] = frozenset()  # part 6: (tool, grasp) that cannot end it there either
+    wrong_ends: frozenset[End] = frozenset()  # part 6 contact by contact: (tool, grasp, mover) that cannot end it
+    misses: frozenset[str] = frozenset()  # part 7: movers whose one mode from rest cannot end it there
 
 
 class Bound:
@@ -219,18 +231,24 @@ class Bound:
         still = need.modes - turns - slides
         if need.pose is not None:
             still = max(still, need.pose.left(slides, turns))
-        if need.ends_by_tool and last is not None and self._cannot_end(need, last, seq.graphs[when]):
+        if turns + slides == 1 and last is not None and last.affordance in need.misses:
+            still = max(still, 1)  # part 7: moved once, from rest, by a contact that cannot end it there
+        if last is not None and self._cannot_end(need, last, seq.graphs[when]):
             still = max(still, 1)  # part 6: what moved it last cannot where its goal is: it moves again
         return still
 
     def _cannot_end(self, need: BodyNeed, engagement: Engagement, graph: KGraph) -> bool:
         """Part 6: whether `engagement` (in force in `graph`) cannot hold `need.body` where its goal is: the hand's
-        own, or a tool's frame with the tool held by a grasp in `need.wrong_grasps`."""
+        own when no contact of it can, a tool's frame with the tool held by a grasp in `need.wrong_grasps`, or
+        that effector (and grasp) on that affordance in `need.wrong_ends`."""
         tool = self.problem.effector(engagement.effector).tool
         if tool is None:
-            return True
+            return need.ends_by_tool or (None, None, engagement.affordance) in need.wrong_ends
         held = graph.engaging(tool)
-        return held is not None and (tool, held.affordance) in need.wrong_grasps
+        if held is None:
+            return False
+        by = (tool, held.affordance)
+        return (need.ends_by_tool and by in need.wrong_grasps) or (*by, engagement.affordance) in need.wrong_ends
 
     def _carries(self, seq: Sequence) -> int:
         """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does
@@ -274,15 +292,36 @@ def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
             continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes (part 5)
         movers = _movers(body)
         modes, why, pose = _goal_modes(problem, body, goal, movers)
+        misses = missing_movers(problem, body, goal, movers)
+        if modes == 1 and misses and misses == {m.name for m in movers}:
+            modes, why = 2.0, _no_one_mode_words(body, goal)  # part 7: no one mode from rest ends it there
         kept = out.get(goal.body)
         beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept.beyond_why if kept is not None else "")
         if kept is None or modes > kept.modes:
             kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
         wrong = _wrong_grasps(problem, body, goal, movers, tools) if beyond else frozenset()
+        ends = wrong_ends(problem, body, goal, movers) if len(tools) == len(_frames(problem)) else frozenset()
         out[goal.body] = replace(
-            kept, ends_by_tool=bool(beyond), beyond_why=beyond or "", wrong_grasps=kept.wrong_grasps | wrong
+            kept,
+            ends_by_tool=bool(beyond),
+            beyond_why=beyond or "",
+            wrong_grasps=kept.wrong_grasps | wrong,
+            wrong_ends=kept.wrong_ends | ends,
+            misses=kept.misses | misses,
         )
     return list(out.values())
+
+
+def _no_one_mode_words(body: PlanBody, goal: GoalSpec) -> str:
+    return (
+        f"no one contact moves {body.name} from where it rests to its goal (within "
+        f"{goal.tol_position * 100:.1f} cm wanted), whatever its value and offset: at least 2 contacts"
+    )
+
+
+def _frames(problem: Problem) -> list[str]:
+    """The tool frames' tools, one per frame (a tool with two frames is named twice)."""
+    return [e.tool for e in problem.effectors if e.tool is not None]
 
 
 def _wrong_grasps(

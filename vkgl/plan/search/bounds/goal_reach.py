@@ -59,7 +59,7 @@ def ends_beyond_the_hand(
     With `chain` (the hand's pose in the frame of the effector that enacts the contact: a tool frame's inverse
     times the grasp by which the hand holds the tool, `rollout.hand_chain`), the same for that tool frame held
     by that grasp: the hand is then at `pose @ action(s) @ chain`."""
-    if goal.position is None or not movers or not _level_movers(body, movers):
+    if goal.position is None or not movers or not level_movers(body, movers):
         return None
     heading = _heading_change(body, goal)
     if heading is None:
@@ -71,7 +71,7 @@ def ends_beyond_the_hand(
     return f"wherever its goal accepts {body.name}, the hand at any of its contacts would be {words}"
 
 
-def _level_movers(body: PlanBody, movers: list[Affordance]) -> bool:
+def level_movers(body: PlanBody, movers: list[Affordance]) -> bool:
     """Whether every mover keeps the body level at its height: slides along horizontal axes, turns about vertical
     ones (in the world, at rest: a turn about a vertical axis keeps the other axes horizontal or vertical)."""
     rotation = body.rest[:3, :3]
@@ -146,4 +146,29 @@ def _contact_beyond(
     return None
 
 
-__all__ = ["ends_beyond_the_hand"]
+End = tuple[str | None, str | None, str]
+"""(tool or None for the robot's own effector, the grasp by which the hand holds that tool or None, mover)."""
+
+
+def wrong_ends(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> frozenset[End]:
+    """Each effector and mover that cannot end `body` where `goal` accepts it: `(None, None, mover)` when the
+    robot's own effector cannot hold that mover's contact there in reach, `(tool, grasp, mover)` when no frame
+    of `tool` held by `grasp` can (`ends_beyond_the_hand` of that one mover, through each chain). The proof is
+    the module's, for one mover: the last mode that moves the body is some effector's mode of some mover, with
+    the hand in reach at its end and the body where the goal accepts it."""
+    out: set[End] = set()
+    for mover in movers:
+        if ends_beyond_the_hand(problem, body, goal, [mover]):
+            out.add((None, None, mover.name))
+        for tool in sorted({e.tool for e in problem.effectors if e.tool is not None}):
+            frames = [e for e in problem.effectors if e.tool == tool]
+            for grasp in problem.bodies[tool].affordances:
+                if grasp.motion.type != "free":
+                    continue
+                chains = [e.frame_inverse @ problem.action(tool, grasp.name) for e in frames]
+                if all(ends_beyond_the_hand(problem, body, goal, [mover], chain) for chain in chains):
+                    out.add((tool, grasp.name, mover.name))
+    return frozenset(out)
+
+
+__all__ = ["End", "ends_beyond_the_hand", "wrong_ends"]
