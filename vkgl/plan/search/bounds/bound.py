@@ -103,9 +103,17 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    tool held by a grasp can, a last mode of `seq` on `b` by that effector
    (that tool held so) on `a` cannot be the last that moves `b`: `m_b >= 1`,
    though other contacts of the hand (or of that grasp) may end it there. On
-   the physical bench's far pushes most contacts are such (gen21_009: 19 of 20
-   of the hand's, 105 of the 160 of 8 tool grasps). Not with a tool of two frames
-   (the hand may follow the other frame's contact).
+   the physical bench's far pushes most contacts are such (gen21_009: 19 of
+   the hand's 20; 105 of the 160 pairs of a tool's grasp and a contact). Not
+   with a tool of two frames (the hand may follow the other frame's contact).
+
+7. **One mode from rest.** A sequence that has moved `b` in one mode only, by
+   affordance `a`, leaves it where that mode from rest put it (nothing else
+   moves it, part 1). When no value and no contact offset of `a` puts `b`
+   within its goal's tolerances from rest (`vkgl.plan.search.bounds.one_mode`,
+   whose docstring proves it on its grid), `seq` cannot end there: `m_b >= 1`.
+   When that holds for every `a`, `N_b >= 2` (part 1). Counted with part 2's
+   `m_b` (the larger), so the other parts apply unchanged.
 
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
