@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 from task_makers.block_problems import FAMILY, STICK, block_problem
 from test_bound import _assert_the_bound_never_exceeds_the_true_remaining_depth, _children, _remaining
@@ -140,3 +140,56 @@ def test_a_contact_said_to_miss_never_ends_the_body_at_the_goal_in_one_mode(tmp_
                 values = rng.uniform(low, high, 8)
                 for motion in member_motions(problem, engagement, offset, values):
                     assert not goal_holds(problem, {"block": block.rest @ motion}), (name, offset)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(
+    x=st.sampled_from([0.45, 0.6, 0.7]),
+    gx=st.floats(0.7, 0.95),
+    gy=st.floats(-0.1, 0.1),
+    yaw=st.sampled_from([None, -20]),
+    family=st.booleans(),
+    seed=st.integers(0, 99),
+)
+def test_an_effector_said_to_miss_in_one_mode_leaves_the_hand_out_of_reach_wherever_it_ends_it(
+    tmp_path, x, gx, gy, yaw, family, seed
+):
+    # part 7 with the hand: one mode from rest that ends the block at its goal has a hand sample out of reach
+    from vkgl.plan.graphs.graph import Engagement, KGraph
+    from vkgl.plan.graphs.members import contact_band
+    from vkgl.plan.graphs.motions import member_motions
+    from vkgl.plan.graphs.rollout import hand_chain, value_bounds
+    from vkgl.plan.task_space.feasible import TASK_SAMPLES, goal_holds
+
+    problem = block_problem(
+        tmp_path,
+        x=x,
+        gx=round(gx, 3),
+        gy=round(gy, 3),
+        yaw="" if yaw is None else f" yaw {yaw}deg",
+        slide=30,
+        turn=25,
+        stick=STICK,
+        family=FAMILY if family else "",
+    )
+    rng = np.random.default_rng(seed)
+    block = problem.bodies["block"]
+    checked = 0
+    for need in Bound(problem).needs:
+        for tool, grasp, mover in need.missed_ends:
+            effector = problem.robot_effector.name if tool is None else "stick.tip"
+            graph = KGraph(() if tool is None else (Engagement(problem.robot_effector.name, tool, grasp),))
+            engagement = Engagement(effector, "block", mover)
+            low, high = value_bounds(problem.affordance("block", mover).motion)
+            band = contact_band(problem, "block", mover)
+            for _ in range(20):  # offsets at random, values on a fine grid: those that end it at its goal
+                offset = float(rng.uniform(*band)) if band[1] > band[0] else 0.0
+                ends = block.rest @ member_motions(problem, engagement, offset, np.linspace(low, high, 2001))
+                chain = hand_chain(problem, graph, engagement, offset)
+                assert chain is not None
+                for value in np.linspace(low, high, 2001)[[goal_holds(problem, {"block": e}) for e in ends]]:
+                    checked += 1
+                    samples = np.linspace(0.0, float(value), TASK_SAMPLES)
+                    hands = block.rest @ member_motions(problem, engagement, offset, samples) @ chain[0]
+                    assert any(unreachable(problem, hand) is not None for hand in hands), (tool, grasp, mover, value)
+    note(f"{checked} values that end the block at its goal checked")

@@ -150,30 +150,12 @@ End = tuple[str | None, str | None, str]
 """(tool or None for the robot's own effector, the grasp by which the hand holds that tool or None, mover)."""
 
 
-_ENDS: dict[int, tuple[tuple[object, ...], frozenset[End]]] = {}
-"""`wrong_ends` by the goal's identity, with what it was found for (the clear-first walk's searches share goals)."""
-
-
 def wrong_ends(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> frozenset[End]:
     """Each effector and mover that cannot end `body` where `goal` accepts it: `(None, None, mover)` when the
     robot's own effector cannot hold that mover's contact there in reach, `(tool, grasp, mover)` when no frame
     of `tool` held by `grasp` can (`ends_beyond_the_hand` of that one mover, through each chain). The proof is
     the module's, for one mover: the last mode that moves the body is some effector's mode of some mover, with
-    the hand in reach at its end and the body where the goal accepts it. Kept per goal, body, movers, effectors
-    tools and arm (the same objects)."""
-    tools = [problem.bodies[e.tool] for e in problem.effectors if e.tool is not None]
-    inputs = (goal, body, problem.arm, *problem.effectors, *tools, *movers)
-    kept = _ENDS.get(id(goal))
-    if kept is not None and len(kept[0]) == len(inputs) and all(a is b for a, b in zip(kept[0], inputs, strict=True)):
-        return kept[1]
-    if len(_ENDS) > 256:
-        _ENDS.clear()
-    found = _wrong_ends(problem, body, goal, movers)
-    _ENDS[id(goal)] = (inputs, found)  # the inputs kept, so that their ids stay their own
-    return found
-
-
-def _wrong_ends(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> frozenset[End]:
+    the hand in reach at its end and the body where the goal accepts it."""
     out: set[End] = set()
     for mover in movers:
         if ends_beyond_the_hand(problem, body, goal, [mover]):
