@@ -112,8 +112,14 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    moves it, part 1). When no value and no contact offset of `a` puts `b`
    within its goal's tolerances from rest (`vkgl.plan.search.bounds.one_mode`,
    whose docstring proves it on its grid), `seq` cannot end there: `m_b >= 1`.
-   When that holds for every `a`, `N_b >= 2` (part 1). Counted with part 2's
-   `m_b` (the larger), so the other parts apply unchanged.
+   When that holds for every `a`, `N_b >= 2` (part 1). The same with the hand:
+   when that mode, enacted by the robot's own effector (or by a tool held by a
+   given grasp, which jumps to its contact whatever it did before), ends `b`
+   there only with a hand sample of the mode out of the arm's reach
+   (`one_mode.missing_ends`), `seq` cannot end there either. Counted with
+   part 2's `m_b` (the larger), so the other parts apply unchanged. What each
+   goal body needs of parts 1, 4, 6 and 7 is found once per problem
+   (`vkgl.plan.search.bounds.needs`).
 
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
