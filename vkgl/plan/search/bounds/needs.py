@@ -48,11 +48,12 @@ _NEEDS: dict[tuple[int, ...], tuple[tuple[object, ...], list[BodyNeed]]] = {}
 
 
 def body_needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
-    """`_needs`, kept for the same goals, bodies, effectors, arm and table (the objects, kept with it so that their
-    ids stay their own)."""
+    """`_needs`, kept for the same goals, goal bodies, tools, effectors, arm and table (the objects, kept with it so
+    that their ids stay their own): a search that keeps other bodies still (`clutter.still.kept_still`) reuses it."""
     inputs = (
         *problem.goals,
-        *problem.bodies.values(),
+        *(problem.bodies.get(g.body) for g in problem.goals),  # what it reads of the bodies: the goal bodies',
+        *(problem.bodies[e.tool] for e in problem.effectors if e.tool is not None),  # and the tools'
         *problem.effectors,
         problem.arm,
         problem.table_center,
