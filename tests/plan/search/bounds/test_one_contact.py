@@ -26,8 +26,8 @@ def test_a_contact_the_hand_cannot_hold_at_the_goal_does_not_end_it_there(tmp_pa
     problem = block_problem(tmp_path, x=0.6, gx=gx, gy=0, yaw=yaw, slide=30, turn=25, stick=STICK)
     bound = Bound(problem)
     (need,) = bound.needs
-    assert not need.ends_by_tool and (None, None, wrong) in need.wrong_ends
-    assert {m for tool, _, m in need.wrong_ends if tool is None} == {wrong}
+    assert not need.ends_by_tool and need.cannot_end((None, None, wrong))
+    assert {m for tool, _, m in need.ends_that_cannot() if tool is None} == {wrong}
     root = start_sequence(problem)
     pushed = next(
         c
@@ -61,7 +61,7 @@ def test_a_contact_called_wrong_has_every_hand_pose_at_the_goal_out_of_reach(tmp
     )
     goal, block = problem.goals[0], problem.bodies["block"]
     rng = np.random.default_rng(seed)
-    for tool, grasp, mover in Bound(problem).needs[0].wrong_ends if Bound(problem).needs else ():
+    for tool, grasp, mover in Bound(problem).needs[0].ends_that_cannot() if Bound(problem).needs else ():
         effector = problem.robot_effector.name if tool is None else "stick.tip"
         graph = KGraph(() if tool is None else (Engagement(problem.robot_effector.name, tool, grasp),))
         chain = hand_chain(problem, graph, Engagement(effector, "block", mover))

@@ -237,12 +237,12 @@ class Bound:
         that effector (and grasp) on that affordance in `need.wrong_ends`."""
         tool = self.problem.effector(engagement.effector).tool
         if tool is None:
-            return need.ends_by_tool or (None, None, engagement.affordance) in need.wrong_ends
+            return need.ends_by_tool or need.cannot_end((None, None, engagement.affordance))
         held = graph.engaging(tool)
         if held is None:
             return False
         by = (tool, held.affordance)
-        return (need.ends_by_tool and by in need.wrong_grasps) or (*by, engagement.affordance) in need.wrong_ends
+        return (need.ends_by_tool and by in need.wrong_grasps) or need.cannot_end((*by, engagement.affordance))
 
     def _carries(self, seq: Sequence) -> int:
         """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does

@@ -156,19 +156,45 @@ def wrong_ends(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Af
     of `tool` held by `grasp` can (`ends_beyond_the_hand` of that one mover, through each chain). The proof is
     the module's, for one mover: the last mode that moves the body is some effector's mode of some mover, with
     the hand in reach at its end and the body where the goal accepts it."""
-    out: set[End] = set()
-    for mover in movers:
-        if ends_beyond_the_hand(problem, body, goal, [mover]):
-            out.add((None, None, mover.name))
-        for tool in sorted({e.tool for e in problem.effectors if e.tool is not None}):
-            frames = [e for e in problem.effectors if e.tool == tool]
-            for grasp in problem.bodies[tool].affordances:
-                if grasp.motion.type != "free":
-                    continue
-                chains = [e.frame_inverse @ problem.action(tool, grasp.name) for e in frames]
-                if all(ends_beyond_the_hand(problem, body, goal, [mover], chain) for chain in chains):
-                    out.add((tool, grasp.name, mover.name))
-    return frozenset(out)
+    return WrongEnds(problem, body, goal, movers).every()
 
 
-__all__ = ["End", "ends_beyond_the_hand", "wrong_ends"]
+class WrongEnds:
+    """`wrong_ends`, found end by end when asked (`end in self`) and kept: a search asks about the few effectors,
+    grasps and contacts its sequences end with, and each costs a grid of headings and offsets."""
+
+    def __init__(self, problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> None:
+        self.problem, self.body, self.goal = problem, body, goal
+        self.movers = {m.name: m for m in movers}
+        self.known: dict[object, bool] = {}
+
+    def __contains__(self, end: object) -> bool:
+        """Whether `end` (tool or None, grasp or None, mover) cannot end the body where the goal accepts it."""
+        known = self.known.get(end)
+        if known is None:
+            known = self.known[end] = self._wrong(end)
+        return known
+
+    def every(self) -> frozenset[End]:
+        """Every end that cannot (each effector, each grasp of a tool, each mover)."""
+        grasps: list[tuple[str | None, str | None]] = [(None, None)]
+        for tool in sorted({e.tool for e in self.problem.effectors if e.tool is not None}):
+            grasps += [(tool, a.name) for a in self.problem.bodies[tool].affordances if a.motion.type == "free"]
+        return frozenset((t, g, m) for t, g in grasps for m in self.movers if (t, g, m) in self)
+
+    def _wrong(self, end: object) -> bool:
+        assert isinstance(end, tuple) and len(end) == 3
+        tool, grasp, name = end
+        mover = self.movers.get(name)
+        if mover is None:
+            return False
+        if tool is None:
+            return bool(ends_beyond_the_hand(self.problem, self.body, self.goal, [mover]))
+        frames = [e for e in self.problem.effectors if e.tool == tool]
+        chains = [e.frame_inverse @ self.problem.action(tool, grasp) for e in frames]
+        return bool(chains) and all(
+            ends_beyond_the_hand(self.problem, self.body, self.goal, [mover], chain) for chain in chains
+        )
+
+
+__all__ = ["End", "WrongEnds", "ends_beyond_the_hand", "wrong_ends"]

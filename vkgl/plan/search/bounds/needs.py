@@ -12,7 +12,7 @@ from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.motions import unit_axis_and_center
 from vkgl.plan.graphs.rollout import value_bounds
 from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.search.bounds.goal_reach import End, ends_beyond_the_hand, wrong_ends
+from vkgl.plan.search.bounds.goal_reach import End, WrongEnds, ends_beyond_the_hand
 from vkgl.plan.search.bounds.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
 from vkgl.plan.search.bounds.one_mode import missing_ends, missing_movers
 from vkgl.plan.search.bounds.region_need import region_modes
@@ -38,9 +38,18 @@ class BodyNeed:
     beyond_why: str = ""  # part 6's reason, with the reach's numbers
     pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
     wrong_grasps: frozenset[tuple[str, str]] = frozenset()  # part 6: (tool, grasp) that cannot end it there either
-    wrong_ends: frozenset[End] = frozenset()  # part 6 contact by contact: (tool, grasp, mover) that cannot end it
+    wrong_ends: tuple[WrongEnds, ...] = ()  # part 6 contact by contact, per goal: (tool, grasp, mover) that cannot
     misses: frozenset[str] = frozenset()  # part 7: movers whose one mode from rest cannot end it there
     missed_ends: frozenset[End] = frozenset()  # part 7: (tool, grasp, mover) that cannot, the hand in reach
+
+    def cannot_end(self, end: End) -> bool:
+        """Part 6 contact by contact: whether `end` (tool or None, grasp or None, mover) cannot end the body where
+        a goal of it accepts it."""
+        return any(end in wrong for wrong in self.wrong_ends)
+
+    def ends_that_cannot(self) -> frozenset[End]:
+        """Every such end (what `cannot_end` says yes to)."""
+        return frozenset().union(*(wrong.every() for wrong in self.wrong_ends))
 
 
 _NEEDS: dict[tuple[int, ...], tuple[tuple[object, ...], list[BodyNeed]]] = {}
@@ -88,13 +97,13 @@ def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
         if kept is None or modes > kept.modes:
             kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
         wrong = _wrong_grasps(problem, body, goal, movers, tools) if beyond else frozenset()
-        ends = wrong_ends(problem, body, goal, movers) if len(tools) == len(_frames(problem)) else frozenset()
+        ends = (WrongEnds(problem, body, goal, movers),) if len(tools) == len(_frames(problem)) else ()
         out[goal.body] = replace(
             kept,
             ends_by_tool=bool(beyond),
             beyond_why=beyond or "",
             wrong_grasps=kept.wrong_grasps | wrong,
-            wrong_ends=kept.wrong_ends | ends,
+            wrong_ends=kept.wrong_ends + ends,
             misses=kept.misses | misses,
             missed_ends=kept.missed_ends | missed,
         )
