@@ -79,7 +79,7 @@ def test_checks_come_in_the_order_of_expanding_each_sequence_at_once(tmp_path, m
 
 def test_within_a_level_the_sequences_that_moved_the_body_in_the_way_are_checked_first(tmp_path, monkeypatch):
     # one push of the block, or the other Block pushed first: 1 or 3 actions
-    problem = block_to(tmp_path, 0.8, False, False, 4, IN_THE_WAY, yaw="", slide=30)
+    problem = block_to(tmp_path, 0.8, False, False, 4, IN_THE_WAY, yaw="", slide=30, gy=0.0)
     checked = _checked_by_search(problem, monkeypatch)
     levels = sorted({len(c) for c in checked})
     assert levels and any(any("on other" in a for a in c) for c in checked)

@@ -44,7 +44,7 @@ def _moves_other(sequence: tuple[str, ...]) -> bool:
 
 
 def _problem(tmp_path, depth: int = 4) -> Problem:
-    return block_to(tmp_path, 0.8, False, False, depth, WITHIN_REACH, yaw="", slide=30)
+    return block_to(tmp_path, 0.8, False, False, depth, WITHIN_REACH, yaw="", slide=30, gy=0.0)
 
 
 def test_a_body_aside_of_every_way_is_kept_still_one_in_the_way_and_tools_never(tmp_path):

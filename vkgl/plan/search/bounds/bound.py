@@ -97,6 +97,29 @@ extension of `seq` within the search's space adds. Its parts, per goal body `b`:
    the extension lets go of it (a REMOVE) and grasps a tool another way (an
    ADD), two actions on tools (none on a goal body: they add up), instead of
    the one grasp; and when every grasp of every tool is wrong: never (`inf`).
+   **Contact by contact** (`goal_reach.wrong_ends`): the same proof for one
+   moving affordance `a` of `b` alone. When the robot's own effector cannot
+   hold `a`'s contact with `b` anywhere its goal accepts, or no frame of a
+   tool held by a grasp can, a last mode of `seq` on `b` by that effector
+   (that tool held so) on `a` cannot be the last that moves `b`: `m_b >= 1`,
+   though other contacts of the hand (or of that grasp) may end it there. On
+   the physical bench's far pushes most contacts are such (gen21_009: 19 of
+   the hand's 20; 105 of the 160 pairs of a tool's grasp and a contact). Not
+   with a tool of two frames (the hand may follow the other frame's contact).
+
+7. **One mode from rest.** A sequence that has moved `b` in one mode only, by
+   affordance `a`, leaves it where that mode from rest put it (nothing else
+   moves it, part 1). When no value and no contact offset of `a` puts `b`
+   within its goal's tolerances from rest (`vkgl.plan.search.bounds.one_mode`,
+   whose docstring proves it on its grid), `seq` cannot end there: `m_b >= 1`.
+   When that holds for every `a`, `N_b >= 2` (part 1). The same with the hand:
+   when that mode, enacted by the robot's own effector (or by a tool held by a
+   given grasp, which jumps to its contact whatever it did before), ends `b`
+   there only with a hand sample of the mode out of the arm's reach
+   (`one_mode.missing_ends`), `seq` cannot end there either. Counted with
+   part 2's `m_b` (the larger), so the other parts apply unchanged. What each
+   goal body needs of parts 1, 4, 6 and 7 is found once per problem
+   (`vkgl.plan.search.bounds.needs`).
 
 Each part counts actions that every feasible extension must contain, and parts
 that add up count disjoint actions, so the bound never exceeds the true
@@ -112,41 +135,13 @@ against exhaustive breadth-first search).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
 
-import numpy as np
-
-from vkgl.lang.ir.nodes import Affordance
 from vkgl.plan.graphs.carry import carriable
 from vkgl.plan.graphs.graph import Engagement, KGraph, is_held, motion_type
-from vkgl.plan.graphs.motions import unit_axis_and_center
-from vkgl.plan.graphs.rollout import Sequence, value_bounds
-from vkgl.plan.problem.problem import GoalSpec, PlanBody, Problem
-from vkgl.plan.search.bounds.goal_reach import ends_beyond_the_hand
-from vkgl.plan.search.bounds.motions import SLACK, PoseNeed, fewest_modes, pose_need, translation, vertical
-from vkgl.plan.search.bounds.region_need import region_modes
+from vkgl.plan.graphs.rollout import Sequence
+from vkgl.plan.problem.problem import Problem
+from vkgl.plan.search.bounds.needs import MOVING, BodyNeed, body_needs
 from vkgl.plan.task_space.feasible import goal_holds
-from vkgl.plan.task_space.reach.workspace import unreachable
-from vkgl.se3 import wrap_angle, yaw_of
-
-_SLACK = SLACK  # `motions.SLACK`: rounding room
-
-_MOVING = ("prismatic", "revolute")
-
-
-@dataclass(frozen=True)
-class BodyNeed:
-    """What a goal body needs from its start, fixed per problem: `modes` (moving modes in all, `inf`: never) and
-    `why` (the words that explain it, with the numbers), and whether only a tool can move it (`needs_tool`)."""
-
-    body: str
-    modes: float
-    why: str
-    needs_tool: bool
-    ends_by_tool: bool = False  # part 6: the hand cannot hold any of its contacts where its goal puts it
-    beyond_why: str = ""  # part 6's reason, with the reach's numbers
-    pose: PoseNeed | None = None  # part 2: what slides and turns must still cover, given those made
-    wrong_grasps: frozenset[tuple[str, str]] = frozenset()  # part 6: (tool, grasp) that cannot end it there either
 
 
 class Bound:
@@ -157,7 +152,7 @@ class Bound:
         tools = [e.tool for e in problem.effectors if e.tool is not None]
         self.tools = frozenset(tools)
         self.two_frames = any(tools.count(t) > 1 for t in self.tools)
-        self.needs = [need for need in _needs(problem, self.tools) if need.modes > 0]
+        self.needs = [need for need in body_needs(problem, self.tools) if need.modes > 0]
         self.grasps = frozenset(
             (tool, a.name) for tool in self.tools for a in problem.bodies[tool].affordances if a.motion.type == "free"
         )
@@ -178,7 +173,7 @@ class Bound:
             if math.isinf(still):
                 return math.inf
             engaged = graph.engaging(need.body)
-            moving = engaged is not None and motion_type(self.problem, engaged) in _MOVING
+            moving = engaged is not None and motion_type(self.problem, engaged) in MOVING
             remaining = max(remaining, still)
             if self.two_frames:
                 actions += 0 if moving else (2 if engaged is not None else 1)
@@ -219,18 +214,35 @@ class Bound:
         still = need.modes - turns - slides
         if need.pose is not None:
             still = max(still, need.pose.left(slides, turns))
-        if need.ends_by_tool and last is not None and self._cannot_end(need, last, seq.graphs[when]):
+        if turns + slides == 1 and last is not None and self._missed(need, last, seq.graphs[when]):
+            still = max(still, 1)  # part 7: moved once, from rest, by a contact that cannot end it there
+        if last is not None and self._cannot_end(need, last, seq.graphs[when]):
             still = max(still, 1)  # part 6: what moved it last cannot where its goal is: it moves again
         return still
 
-    def _cannot_end(self, need: BodyNeed, engagement: Engagement, graph: KGraph) -> bool:
-        """Part 6: whether `engagement` (in force in `graph`) cannot hold `need.body` where its goal is: the hand's
-        own, or a tool's frame with the tool held by a grasp in `need.wrong_grasps`."""
+    def _missed(self, need: BodyNeed, engagement: Engagement, graph: KGraph) -> bool:
+        """Part 7: whether one mode of `engagement` (in force in `graph`) from rest cannot end `need.body` at its goal
+        (its contact, or that effector, a tool held by its grasp then, with the hand in reach)."""
+        if engagement.affordance in need.misses:
+            return True
         tool = self.problem.effector(engagement.effector).tool
         if tool is None:
-            return True
+            return (None, None, engagement.affordance) in need.missed_ends
         held = graph.engaging(tool)
-        return held is not None and (tool, held.affordance) in need.wrong_grasps
+        return held is not None and (tool, held.affordance, engagement.affordance) in need.missed_ends
+
+    def _cannot_end(self, need: BodyNeed, engagement: Engagement, graph: KGraph) -> bool:
+        """Part 6: whether `engagement` (in force in `graph`) cannot hold `need.body` where its goal is: the hand's
+        own when no contact of it can, a tool's frame with the tool held by a grasp in `need.wrong_grasps`, or
+        that effector (and grasp) on that affordance in `need.wrong_ends`."""
+        tool = self.problem.effector(engagement.effector).tool
+        if tool is None:
+            return need.ends_by_tool or need.cannot_end((None, None, engagement.affordance))
+        held = graph.engaging(tool)
+        if held is None:
+            return False
+        by = (tool, held.affordance)
+        return (need.ends_by_tool and by in need.wrong_grasps) or need.cannot_end((*by, engagement.affordance))
 
     def _carries(self, seq: Sequence) -> int:
         """Part 5: one action for each body the hand can carry that nothing has moved yet and whose goal does
@@ -263,187 +275,3 @@ def _carriable_goal(problem: Problem, body: str, tools: frozenset[str]) -> bool:
     return (
         body not in tools and carriable(problem, body) and any(a.motion.type == "free" for a in plan_body.affordances)
     )
-
-
-def _needs(problem: Problem, tools: frozenset[str]) -> list[BodyNeed]:
-    """Per goal body, the moving modes its goals need (the largest over its goals) and whether only a tool can."""
-    out: dict[str, BodyNeed] = {}
-    for goal in problem.goals:
-        body = problem.bodies[goal.body]
-        if goal.body in tools or any(a.motion.type == "free" for a in body.affordances):
-            continue  # carried in the hand, or put down where it was let go: no bound on how far one step goes (part 5)
-        movers = _movers(body)
-        modes, why, pose = _goal_modes(problem, body, goal, movers)
-        kept = out.get(goal.body)
-        beyond = ends_beyond_the_hand(problem, body, goal, movers) or (kept.beyond_why if kept is not None else "")
-        if kept is None or modes > kept.modes:
-            kept = BodyNeed(goal.body, modes, why, _needs_tool(problem, body, movers), pose=pose)
-        wrong = _wrong_grasps(problem, body, goal, movers, tools) if beyond else frozenset()
-        out[goal.body] = replace(
-            kept, ends_by_tool=bool(beyond), beyond_why=beyond or "", wrong_grasps=kept.wrong_grasps | wrong
-        )
-    return list(out.values())
-
-
-def _wrong_grasps(
-    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance], tools: frozenset[str]
-) -> frozenset[tuple[str, str]]:
-    """Part 6: the (tool, grasp) pairs with which no frame of the tool can hold a mover's contact of `body`
-    anywhere `goal` accepts (the hand out of reach, `goal_reach.ends_beyond_the_hand` through the tool)."""
-    out = set()
-    for tool in sorted(tools):
-        frames = [e for e in problem.effectors if e.tool == tool]
-        for grasp in problem.bodies[tool].affordances:
-            if grasp.motion.type != "free":
-                continue
-            chains = [e.frame_inverse @ problem.action(tool, grasp.name) for e in frames]
-            if all(ends_beyond_the_hand(problem, body, goal, movers, chain) for chain in chains):
-                out.add((tool, grasp.name))
-    return frozenset(out)
-
-
-def _movers(body: PlanBody) -> list[Affordance]:
-    """The affordances that can move `body` (only its physical joint's type, if it has one)."""
-    return [a for a in body.affordances if a.motion.type in _MOVING and (body.joint in (None, a.motion.type))]
-
-
-def _goal_modes(
-    problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]
-) -> tuple[float, str, PoseNeed | None]:
-    """The moving modes `goal` needs at least (part 1 of the module's docstring), why in words, and what its
-    position and heading need of slides and turns (None when neither is off)."""
-    parts: list[tuple[float, str]] = [(0.0, "")]
-    pose = pose_need(body, goal, movers)
-    if goal.region is not None:  # part 1 for a region: its footprint's farthest point (`region_need`)
-        modes, why, pose = region_modes(problem, body, goal, movers)
-        parts.append((modes, why))
-    rest = body.rest
-    kind = body.type.name
-    far: _Gap | None = None
-    if goal.position is not None:
-        far = _Gap(float(np.linalg.norm(rest[: len(goal.position), 3] - goal.position)), goal.tol_position, "cm")
-        if far.needed > _SLACK:
-            step, name = max(((translation(a, body.affordances), a.name) for a in movers), default=(0.0, ""))
-            parts.append(far.modes(step, f"{body.name} is", f"{kind}.{name} moves it"))
-            off = _off_its_line(rest, goal, movers)
-            if off is not None and off - goal.tol_position > _SLACK:
-                parts.append((math.inf, _off_line_words(body, movers, _Gap(off, goal.tol_position, "cm"))))
-    if goal.yaw is not None:
-        turn = _Gap(abs(wrap_angle(yaw_of(rest) - goal.yaw)), goal.tol_yaw, "deg")
-        if turn.needed > _SLACK:
-            turners = [a for a in movers if a.motion.type == "revolute"]
-            level = all(vertical(rest, a) for a in turners)  # else one turn may tilt the others' axes
-            turns = [(value_bounds(a.motion)[1] if level else math.pi, a.name) for a in turners]
-            if not turns:
-                parts.append((math.inf, _no_turn(body, turn)))
-            else:
-                step, name = max(turns)
-                parts.append(turn.modes(step, f"{body.name}'s heading is", f"{kind}.{name} turns it"))
-                if far is not None and far.needed > _SLACK and pose is not None:
-                    parts.append(_slides_and_turns(body, pose, far, turn))
-    if goal.opening is not None and body.joint is not None:
-        unit = "cm" if body.joint == "prismatic" else "deg"
-        opening = _Gap(abs(body.start_state - goal.opening), goal.tol_opening, unit)
-        if opening.needed > _SLACK:
-            if body.joint == "prismatic":
-                step, name = max(((value_bounds(a.motion)[1], a.name) for a in movers), default=(0.0, ""))
-                span = f"from {opening.words(body.start_state)} to {opening.words(goal.opening)}"
-                parts.append(opening.modes(step, f"{body.name}'s opening ({span}) is", f"{kind}.{name} opens it"))
-            else:
-                parts.append((1.0, ""))
-    modes, why = max(parts, key=lambda p: p[0])
-    return modes, why, pose
-
-
-def _slides_and_turns(body: PlanBody, pose: PoseNeed, far: _Gap, turn: _Gap) -> tuple[float, str]:
-    """The moving modes a goal needs that is both far and turned (part 1): a slide keeps the heading, a turn
-    changes it by at most `pose.turn` and moves the origin by at most its chord, so the modes are at least
-    `fewest_modes` of the largest slide and the largest chord."""
-    slide, chord = pose.slide, pose.chord
-    modes = fewest_modes(pose.distance, pose.heading, slide, pose.turn, chord)
-    if modes <= 1 or math.isinf(modes):
-        return modes, ""
-    return modes, (
-        f"{body.name} is {far.words(far.distance)} from its goal and its heading {turn.words(turn.distance)} from "
-        f"the goal's (within {far.words(far.tolerance)}, {turn.words(turn.tolerance)} wanted); a slide of "
-        f"{body.type.name} moves it at most {far.words(slide)} and keeps its heading, a turn moves it at most "
-        f"{far.words(chord)}: at least {modes:g} contacts"
-    )
-
-
-@dataclass(frozen=True)
-class _Gap:
-    """How far a goal is (`distance`, m or rad), its tolerance, and the unit its words use."""
-
-    distance: float
-    tolerance: float
-    unit: str
-
-    @property
-    def needed(self) -> float:
-        """What the motions must cover at least (triangle inequality)."""
-        return self.distance - self.tolerance
-
-    def words(self, value: float) -> str:
-        """`value` in the gap's unit: "27.6 cm", "35.0 deg"."""
-        scale = 100.0 if self.unit == "cm" else 180.0 / math.pi
-        return f"{value * scale:.1f} {self.unit}"
-
-    def modes(self, step: float, subject: str, mover: str) -> tuple[float, str]:
-        """`ceil(needed / step)` moving modes and the words: "block is 27.6 cm from its goal (within 1.0 cm
-        wanted) and Block.push_px moves it at most 8.0 cm per contact: at least 4 contacts"."""
-        where = f"{subject} {self.words(self.distance)} from its goal (within {self.words(self.tolerance)} wanted)"
-        if step <= 0:
-            return math.inf, f"{where} and nothing moves it"
-        modes = max(1, math.ceil(self.needed / step - _SLACK))
-        if modes == 1:
-            return 1.0, ""  # one contact: nothing worth saying
-        return float(modes), f"{where} and {mover} at most {self.words(step)} per contact: at least {modes} contacts"
-
-
-def _no_turn(body: PlanBody, gap: _Gap) -> str:
-    names = ", ".join(a.name for a in body.affordances) or "none"
-    return (
-        f"{body.name}'s heading is {gap.words(gap.distance)} from its goal (within {gap.words(gap.tolerance)} "
-        f"wanted) and no affordance of {body.type.name} turns it ({names}): no sequence of any length reaches "
-        f"that heading"
-    )
-
-
-def _off_its_line(rest: np.ndarray, goal: GoalSpec, movers: list[Affordance]) -> float | None:
-    """How far the goal position lies from the one line a body that only slides along one axis can be on (m), or
-    None when its motions span more than a line (a turn, or slides along two axes).
-
-    Slides keep the heading, and only a body's own affordances move it, so a body whose every moving
-    affordance slides along one axis of its frame keeps its origin on the world line through where it rests
-    along that axis, whatever the sequence."""
-    if not movers or any(a.motion.type != "prismatic" for a in movers):
-        return None
-    axes = [unit_axis_and_center(a.motion)[0] for a in movers]
-    if any(abs(float(np.dot(axes[0], other))) < 1.0 - 1e-9 for other in axes[1:]):
-        return None
-    assert goal.position is not None
-    dims = len(goal.position)
-    origin, direction = rest[:dims, 3], (rest[:3, :3] @ axes[0])[:dims]
-    offset = np.asarray(goal.position, dtype=float) - origin
-    length = float(np.linalg.norm(direction))
-    if length < 1e-9:  # a vertical slide: the position in these dimensions never changes
-        return float(np.linalg.norm(offset))
-    along = direction / length
-    return float(np.linalg.norm(offset - np.dot(offset, along) * along))
-
-
-def _off_line_words(body: PlanBody, movers: list[Affordance], gap: _Gap) -> str:
-    names = ", ".join(a.name for a in movers)
-    return (
-        f"{body.name}'s goal position lies {gap.words(gap.distance)} off the line it slides on (within "
-        f"{gap.words(gap.tolerance)} wanted), and every affordance of {body.type.name} that moves it slides it "
-        f"along that line ({names}): no sequence of any length reaches that position"
-    )
-
-
-def _needs_tool(problem: Problem, body: PlanBody, movers: list[Affordance]) -> bool:
-    """Whether the hand itself reaches none of `body`'s moving contacts where it rests (part 4)."""
-    if not movers:
-        return False
-    return all(unreachable(problem, body.rest @ problem.action(body.name, a.name)) is not None for a in movers)

@@ -59,7 +59,7 @@ def ends_beyond_the_hand(
     With `chain` (the hand's pose in the frame of the effector that enacts the contact: a tool frame's inverse
     times the grasp by which the hand holds the tool, `rollout.hand_chain`), the same for that tool frame held
     by that grasp: the hand is then at `pose @ action(s) @ chain`."""
-    if goal.position is None or not movers or not _level_movers(body, movers):
+    if goal.position is None or not movers or not level_movers(body, movers):
         return None
     heading = _heading_change(body, goal)
     if heading is None:
@@ -71,7 +71,7 @@ def ends_beyond_the_hand(
     return f"wherever its goal accepts {body.name}, the hand at any of its contacts would be {words}"
 
 
-def _level_movers(body: PlanBody, movers: list[Affordance]) -> bool:
+def level_movers(body: PlanBody, movers: list[Affordance]) -> bool:
     """Whether every mover keeps the body level at its height: slides along horizontal axes, turns about vertical
     ones (in the world, at rest: a turn about a vertical axis keeps the other axes horizontal or vertical)."""
     rotation = body.rest[:3, :3]
@@ -146,4 +146,55 @@ def _contact_beyond(
     return None
 
 
-__all__ = ["ends_beyond_the_hand"]
+End = tuple[str | None, str | None, str]
+"""(tool or None for the robot's own effector, the grasp by which the hand holds that tool or None, mover)."""
+
+
+def wrong_ends(problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> frozenset[End]:
+    """Each effector and mover that cannot end `body` where `goal` accepts it: `(None, None, mover)` when the
+    robot's own effector cannot hold that mover's contact there in reach, `(tool, grasp, mover)` when no frame
+    of `tool` held by `grasp` can (`ends_beyond_the_hand` of that one mover, through each chain). The proof is
+    the module's, for one mover: the last mode that moves the body is some effector's mode of some mover, with
+    the hand in reach at its end and the body where the goal accepts it."""
+    return WrongEnds(problem, body, goal, movers).every()
+
+
+class WrongEnds:
+    """`wrong_ends`, found end by end when asked (`end in self`) and kept: a search asks about the few effectors,
+    grasps and contacts its sequences end with, and each costs a grid of headings and offsets."""
+
+    def __init__(self, problem: Problem, body: PlanBody, goal: GoalSpec, movers: list[Affordance]) -> None:
+        self.problem, self.body, self.goal = problem, body, goal
+        self.movers = {m.name: m for m in movers}
+        self.known: dict[object, bool] = {}
+
+    def __contains__(self, end: object) -> bool:
+        """Whether `end` (tool or None, grasp or None, mover) cannot end the body where the goal accepts it."""
+        known = self.known.get(end)
+        if known is None:
+            known = self.known[end] = self._wrong(end)
+        return known
+
+    def every(self) -> frozenset[End]:
+        """Every end that cannot (each effector, each grasp of a tool, each mover)."""
+        grasps: list[tuple[str | None, str | None]] = [(None, None)]
+        for tool in sorted({e.tool for e in self.problem.effectors if e.tool is not None}):
+            grasps += [(tool, a.name) for a in self.problem.bodies[tool].affordances if a.motion.type == "free"]
+        return frozenset((t, g, m) for t, g in grasps for m in self.movers if (t, g, m) in self)
+
+    def _wrong(self, end: object) -> bool:
+        assert isinstance(end, tuple) and len(end) == 3
+        tool, grasp, name = end
+        mover = self.movers.get(name)
+        if mover is None:
+            return False
+        if tool is None:
+            return bool(ends_beyond_the_hand(self.problem, self.body, self.goal, [mover]))
+        frames = [e for e in self.problem.effectors if e.tool == tool]
+        chains = [e.frame_inverse @ self.problem.action(tool, grasp) for e in frames]
+        return bool(chains) and all(
+            ends_beyond_the_hand(self.problem, self.body, self.goal, [mover], chain) for chain in chains
+        )
+
+
+__all__ = ["End", "WrongEnds", "ends_beyond_the_hand", "wrong_ends"]
