@@ -67,6 +67,24 @@ def block_problem(tmp_path: Path, **fields: object) -> Problem:
 STICK = "    stick : Stick on table at (0.3, -0.4) m yaw 0deg\n"
 
 
+def drawn_block_problem(
+    tmp_path: Path, *, x: float, gx: float, gy: float, yaw: int | None, stick: str = "", family: bool = False
+) -> Problem:
+    """`block_problem` for a property test's draw: the goal's position rounded to the millimetre, a heading in
+    degrees or none, the 30 cm slide and 25 deg turn, with `STICK` or no tool, the turn's family or none."""
+    return block_problem(
+        tmp_path,
+        x=x,
+        gx=round(gx, 3),
+        gy=round(gy, 3),
+        yaw="" if yaw is None else f" yaw {yaw}deg",
+        slide=30,
+        turn=25,
+        stick=stick,
+        family=FAMILY if family else "",
+    )
+
+
 def labels(problem: Problem, seq: Sequence) -> tuple[str, ...]:
     return tuple(a.label(problem) for a in seq.actions)
 

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from task_makers.block_problems import DEPTH, FAMILY, GRASP, PROGRAM, block_problem
+from task_makers.block_problems import DEPTH, FAMILY, GRASP, PROGRAM, block_problem, drawn_block_problem
 
 import vkgl
 from vkgl.lang.compiler import compile_file
@@ -224,17 +224,7 @@ def test_a_goal_called_beyond_the_hand_has_every_hand_contact_out_of_reach(tmp_p
     from vkgl.plan.graphs.members import action_at
     from vkgl.se3 import yaw_of
 
-    problem = block_problem(
-        tmp_path,
-        x=0.45,
-        gx=round(gx, 3),
-        gy=round(gy, 3),
-        yaw="" if yaw is None else f" yaw {yaw}deg",
-        slide=30,
-        turn=25,
-        stick="",
-        family=FAMILY if family else "",
-    )
+    problem = drawn_block_problem(tmp_path, x=0.45, gx=gx, gy=gy, yaw=yaw, family=family)
     if not any(need.ends_by_tool for need in Bound(problem).needs):
         return
     goal, block = problem.goals[0], problem.bodies["block"]

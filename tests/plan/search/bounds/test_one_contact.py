@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
-from task_makers.block_problems import FAMILY, STICK, block_problem
+from task_makers.block_problems import STICK, block_problem, drawn_block_problem
 from test_bound import _assert_the_bound_never_exceeds_the_true_remaining_depth, _children, _remaining
 
 from vkgl.plan.graphs.rollout import Sequence, start_sequence
@@ -49,16 +49,7 @@ def test_a_contact_called_wrong_has_every_hand_pose_at_the_goal_out_of_reach(tmp
     from vkgl.plan.graphs.rollout import hand_chain
     from vkgl.se3 import yaw_of
 
-    problem = block_problem(
-        tmp_path,
-        x=0.6,
-        gx=round(gx, 3),
-        gy=round(gy, 3),
-        yaw="" if yaw is None else f" yaw {yaw}deg",
-        slide=30,
-        turn=25,
-        stick=STICK,
-    )
+    problem = drawn_block_problem(tmp_path, x=0.6, gx=gx, gy=gy, yaw=yaw, stick=STICK)
     goal, block = problem.goals[0], problem.bodies["block"]
     rng = np.random.default_rng(seed)
     for tool, grasp, mover in Bound(problem).needs[0].ends_that_cannot() if Bound(problem).needs else ():
@@ -117,17 +108,7 @@ def test_a_contact_said_to_miss_never_ends_the_body_at_the_goal_in_one_mode(tmp_
     from vkgl.plan.graphs.rollout import value_bounds
     from vkgl.plan.task_space.feasible import goal_holds
 
-    problem = block_problem(
-        tmp_path,
-        x=0.45,
-        gx=round(gx, 3),
-        gy=round(gy, 3),
-        yaw="" if yaw is None else f" yaw {yaw}deg",
-        slide=30,
-        turn=25,
-        stick="",
-        family=FAMILY if family else "",
-    )
+    problem = drawn_block_problem(tmp_path, x=0.45, gx=gx, gy=gy, yaw=yaw, family=family)
     rng = np.random.default_rng(seed)
     block = problem.bodies["block"]
     for need in Bound(problem).needs:
@@ -161,17 +142,7 @@ def test_an_effector_said_to_miss_in_one_mode_leaves_the_hand_out_of_reach_where
     from vkgl.plan.graphs.rollout import hand_chain, value_bounds
     from vkgl.plan.task_space.feasible import TASK_SAMPLES, goal_holds
 
-    problem = block_problem(
-        tmp_path,
-        x=x,
-        gx=round(gx, 3),
-        gy=round(gy, 3),
-        yaw="" if yaw is None else f" yaw {yaw}deg",
-        slide=30,
-        turn=25,
-        stick=STICK,
-        family=FAMILY if family else "",
-    )
+    problem = drawn_block_problem(tmp_path, x=x, gx=gx, gy=gy, yaw=yaw, stick=STICK, family=family)
     rng = np.random.default_rng(seed)
     block = problem.bodies["block"]
     checked = 0
