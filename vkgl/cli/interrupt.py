@@ -17,11 +17,12 @@ from __future__ import annotations
 import os
 import signal
 import sys
+import time
 from types import FrameType
 
 from vkgl.cli.exit_codes import EXIT_INTERRUPTED, EXIT_TERMINATED
 
-_GRACE = 0.5  # s a worker is given to end after SIGTERM before it is killed
+_GRACE = 0.5  # s the workers are given to end after SIGTERM before they are killed
 
 
 def install() -> None:
@@ -41,11 +42,15 @@ def on_interrupt(signum: int, frame: FrameType | None) -> None:
     children = active_children() if callable(active_children) else []
     for child in children:
         child.terminate()
+    # one grace for all of them, not one each: two workers busy in a long DART step took 2 s in turn
+    deadline = time.monotonic() + _GRACE
     for child in children:
-        child.join(_GRACE)
-        if child.is_alive():
-            child.kill()
-            child.join(_GRACE)  # reaped: a killed child left unreaped lingers as a zombie in its process group
+        child.join(max(0.0, deadline - time.monotonic()))
+    stuck = [child for child in children if child.is_alive()]
+    for child in stuck:
+        child.kill()
+    for child in stuck:
+        child.join(_GRACE)  # reaped: a killed child left unreaped lingers as a zombie in its process group
     discard_temporaries()
     try:
         sys.stdout.flush()
