@@ -33,6 +33,7 @@ tilted hand is judged at its own point less `wrist_lever` times its z axis's hor
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -133,8 +134,8 @@ def missing_ends(
         if mover.name in misses:
             continue
         for end, effector, chain in _chains(problem, mover):
-            engagement = Engagement(effector, body.name, mover.name)
-            if not _ends_with_hand(problem, body, goal, mover, engagement, chain):
+            mode = _Mode(problem, body, goal, mover, Engagement(effector, body.name, mover.name), chain)
+            if not mode.ends_with_hand():
                 out.add(end)
     return frozenset(out)
 
@@ -152,37 +153,35 @@ def _chains(problem: Problem, mover: Affordance) -> list[tuple[End, str, np.ndar
     return out
 
 
-def _ends_with_hand(
-    problem: Problem,
-    body: PlanBody,
-    goal: GoalSpec,
-    mover: Affordance,
-    engagement: Engagement,
-    tool_chain: np.ndarray | None,
-) -> bool:
-    """Whether some value and offset of one mode of `engagement` from rest may end `body` at `goal` with every hand
-    sample in reach (True when not decided)."""
-    band = slide_band(problem, engagement) or contact_band(problem, body.name, mover.name)
-    offsets = np.linspace(band[0], band[1], OFFSETS) if band[1] > band[0] else np.zeros(1)
-    for i, offset in enumerate(offsets):
-        upper = float(offsets[i + 1]) if i + 1 < len(offsets) else float(offset)
-        if _ends_at(problem, body, goal, mover, engagement, tool_chain, float(offset), upper):
-            return True
-    return False
+@dataclass(frozen=True)
+class _Mode:
+    """One mode from rest of `mover` on `body`, enacted by `engagement`'s effector (the hand in the tool frame's
+    frame `tool_chain`, or None for the robot's own effector), judged against `goal`."""
+
+    problem: Problem
+    body: PlanBody
+    goal: GoalSpec
+    mover: Affordance
+    engagement: Engagement
+    tool_chain: np.ndarray | None
+
+    def ends_with_hand(self) -> bool:
+        """Whether some value and offset of the mode may end the body at its goal with every hand sample in reach
+        (True when not decided)."""
+        band = slide_band(self.problem, self.engagement) or contact_band(self.problem, self.body.name, self.mover.name)
+        offsets = np.linspace(band[0], band[1], OFFSETS) if band[1] > band[0] else np.zeros(1)
+        for i, offset in enumerate(offsets):
+            upper = float(offsets[i + 1]) if i + 1 < len(offsets) else float(offset)
+            if _ends_at(self, float(offset), upper):
+                return True
+        return False
 
 
-def _ends_at(
-    problem: Problem,
-    body: PlanBody,
-    goal: GoalSpec,
-    mover: Affordance,
-    engagement: Engagement,
-    tool_chain: np.ndarray | None,
-    offset: float,
-    upper: float,
-) -> bool:
-    """`_ends_with_hand` for the offsets in [`offset`, `upper`] (the sample `offset` stands for them). The mode is
-    a slide along a level axis or a turn about a vertical one (`level_movers`): its poses are computed in the plane."""
+def _ends_at(mode: _Mode, offset: float, upper: float) -> bool:
+    """`_Mode.ends_with_hand` for the offsets in [`offset`, `upper`] (the sample `offset` stands for them). The mode
+    is a slide along a level axis or a turn about a vertical one (`level_movers`): its poses are computed in the
+    plane."""
+    problem, body, goal, mover, tool_chain = mode.problem, mode.body, mode.goal, mode.mover, mode.tool_chain
     assert goal.position is not None
     low, high = value_bounds(mover.motion)
     axis, center = unit_axis_and_center(mover.motion)
