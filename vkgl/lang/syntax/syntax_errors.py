@@ -123,9 +123,30 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
         notes = (f"the `{{` at {path}:{opened[0]}:{opened[1]} is never closed: add `}}` before this declaration",)
     elif token.type == "NAME" and (close := did_you_mean(str(token), _expected_keywords(parser, _expected(exc)))):
         notes = (close,)  # `mas 0.8 kg`: a misspelled keyword
+    elif _union_part_without_pose(exc):
+        notes = (UNION_PART_NOTE,)
     return codes.UNEXPECTED_TOKEN.diagnostic(
         f"unexpected {got}; expected {_words(parser, _expected(exc))}", span, *notes
     )
+
+
+UNION_PART_NOTE = (
+    "every part of a `union` is placed in the union's frame: write `at (x, y, z) UNIT` after the shape before "
+    "this (`box (10, 20, 4) cm at (-10, 15, 0) cm`)"
+)
+
+
+def _union_part_without_pose(exc: UnexpectedToken) -> bool:
+    """Whether the parser stopped inside a `union { ... }` waiting only for a part's `at POSE`.
+
+    A `union` token stays on the parser's stack while its braces are open, and inside them only a part's
+    shape is ever followed by `at` alone. The bare "expected `at`" points at what follows the shape (often
+    the union's `}`), not at the part that lacks its pose, so the note says which statement that is.
+    """
+    state = getattr(getattr(exc, "interactive_parser", None), "parser_state", None)
+    stack = getattr(state, "value_stack", None) or []
+    inside = any(isinstance(v, Token) and v.type == "UNION" for v in stack)
+    return inside and _expected(exc) == {"AT"}
 
 
 def _expected_keywords(parser: Lark, expected: set[str]) -> list[str]:
