@@ -19,6 +19,7 @@ from vkgl.lang.diagnostics.codes import CODES
 # Modules of tests/lang/golden/lib/ that a case uses, shown under it (by the case's file name).
 HELPERS = {
     "E201_wrong_dimension": ["lib/scene.vkg"],
+    "E201_angle_as_position_tolerance": ["lib/scene.vkg"],
     "E201_joint_goal_of_the_wrong_kind": ["lib/kitchen.vkg"],
     "E202_joint_goal_without_a_unit": ["lib/kitchen.vkg"],
     "E306_goal_not_in_scene": ["lib/scene.vkg"],
