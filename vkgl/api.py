@@ -434,10 +434,9 @@ def _check_out_folder(folder: Path) -> None:
 
 def _default_out_dir(body_file: Path) -> Path:
     """`affordances/` beside a `bodies/` folder (the stdlib layout), else inside the body file's folder."""
-    parent = body_file.resolve().parent
-    if parent.name == "bodies":
-        return parent.parent / "affordances"
-    return parent / "affordances"
+    from vkgl.lang.checks.learn_hint import default_learn_folder
+
+    return default_learn_folder(body_file)
 
 
 def _task(program: Program, task: str | Task | None) -> Task:

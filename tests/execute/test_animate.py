@@ -4,6 +4,8 @@ and the effector's trace shows those moves, in their phase's style.
 
 from __future__ import annotations
 
+import ast
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -12,6 +14,7 @@ from PIL import Image
 
 from vkgl.execute.animate import animate, trace_group, trace_lines
 from vkgl.execute.scene_world import FRAME_PERIOD
+from vkgl.figure_colors import BODY_COLORS, body_color
 from vkgl.motion.picture_paths import effector_track
 from vkgl.robot import Arm
 
@@ -76,3 +79,20 @@ def test_the_animation_is_the_same_bytes_every_time(recorded, tmp_path) -> None:
     _, report, _ = recorded
     first = animate(report, tmp_path / "1.gif", max_frames=12).read_bytes()
     assert animate(report, tmp_path / "2.gif", max_frames=12).read_bytes() == first
+
+
+def test_bodies_take_the_one_palette_in_scene_order_and_wrap_around() -> None:
+    assert [body_color(k) for k in range(3)] == list(BODY_COLORS[:3])
+    assert body_color(len(BODY_COLORS)) == BODY_COLORS[0]
+    assert len(set(BODY_COLORS)) == len(BODY_COLORS) and "tab:red" not in BODY_COLORS  # red is the plan's goals'
+
+
+@pytest.mark.parametrize("module", ["vkgl/plan/result/picture.py", "vkgl/execute/animate.py"])
+def test_the_plans_picture_and_the_animation_colour_bodies_alike(module: str) -> None:
+    # Each had a palette of its own: the hook of a scene with a block, a stick and a hook was purple in the
+    # plan's picture and red in the animation.
+    tree = ast.parse((Path(__file__).resolve().parents[2] / module).read_text(encoding="utf-8"))
+    imported = {alias.name for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) for alias in node.names}
+    assert "body_color" in imported
+    colours = [node for node in ast.walk(tree) if isinstance(node, ast.Constant) and str(node.value).startswith("tab:")]
+    assert not colours, f"{module} names palette colours of its own"

@@ -26,6 +26,7 @@ from scipy.spatial import ConvexHull
 from vkgl.atomic import writing
 from vkgl.errors import InputError
 from vkgl.execute.gif import write_gif
+from vkgl.figure_colors import body_color
 from vkgl.figure_text import fit_lines
 from vkgl.formats.execution_report import ExecutionReport, joint_value_text
 from vkgl.lang.ir.geometry import shape_mesh
@@ -35,7 +36,6 @@ from vkgl.motion.picture_paths import PHASE_STYLES
 MAX_FRAMES = 240  # longer executions are sped up to keep the file small
 FPS = 20
 _TITLE_ROOM = 0.95  # of the figure's width a line of the title may span
-COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]
 TRACE_SECONDS = 4.0
 """s of simulated time: how much of the effector's path trails behind it."""
 
@@ -101,7 +101,7 @@ def animate(report: ExecutionReport, path: str | Path, *, max_frames: int = MAX_
     real_patches: dict[str, list[Polygon]] = {}
     ghost_patches: dict[str, list[Polygon]] = {}
     for k, name in enumerate(frames.bodies):
-        color = COLORS[k % len(COLORS)]
+        color = body_color(k)
         real_patches[name] = [
             Polygon(o, closed=True, fc=color, ec="black", lw=0.8, alpha=0.75, label=name if i == 0 else None)
             for i, o in enumerate(outlines[name])

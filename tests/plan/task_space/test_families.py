@@ -95,3 +95,19 @@ def test_other_contacts_pin_the_turn_at_its_bands_far_end(problem, monkeypatch):
         names = [a.engagement.affordance for a in solution.sequence.actions]
         assert names[0] == names[1] == f"turn_px_left@+{far * 100:.2f}cm" and names[2] == "push_center_px"
         assert len(solution.values) == len(solution.sequence.variables) == 2
+
+
+def test_other_contacts_pin_only_the_offsets_of_a_sequence_that_also_carries(compiled):
+    # A re-solve after a carried body fell (`vkgc solve --replan`) asked for other contacts of a sequence with a
+    # family's offset and a carry; the carry's three placement values follow the offsets among the bounds and
+    # were pinned as offsets too (a ValueError, exit 4).
+    program = compiled("n_pick_place")
+    problem = build_problem(program, program.task())
+    turn = Engagement("arm.fingertip", "middle", "turn_px_left")
+    grasp = Engagement("arm.fingertip", "cube", "grasp_top")
+    seq = _sequence(problem, Action("add", turn), Action("remove", turn), Action("add", grasp), Action("remove", grasp))
+    assert len(seq.offsets) == 1 and seq.carries
+    lower, _ = bounds(problem, seq, offsets=True)
+    assert len(lower) == len(seq.variables) + 1 + 3  # motions, the offset, the carry's dx, dy, dyaw
+    found = list(other_contacts(problem, seq, deadline=float("inf")))
+    assert all(isinstance(f, TaskSolution) for f in found)

@@ -267,7 +267,7 @@ def _check_tasks_can_move(program: Program, ctx: CheckContext) -> None:
                 codes.NOTHING_CAN_MOVE,
                 f"no affordance of `{kind}` is imported, so nothing can move `{goal.body.name}`",
                 goal.body.span,
-                affordance_hint(program.bodies[kind]),
+                affordance_hint(program.bodies[kind], goal.body.span.file if goal.body.span else None),
             )
 
 

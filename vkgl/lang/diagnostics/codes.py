@@ -20,7 +20,9 @@ UNEXPECTED_TOKEN = _code(
         "The parser met a word or symbol that cannot come here. The message lists, in words, what could; the "
         "caret is on the first thing it could not read. Common causes: `=` after `mass` (write `mass 0.5 "
         "kg`), a missing `}` or a misspelt keyword. When a keyword such as `goal` was swallowed as a name "
-        "(`scene goal ...` with the scene's name left out), a note says so."
+        "(`scene goal ...` with the scene's name left out), a note says so; so it does when a statement lacks "
+        "its `at POSE` (a part of a `union`, the table, a robot, a body on the table: the caret is then on what "
+        "follows that statement)."
     ),
 )
 UNEXPECTED_CHARACTER = _code(

@@ -117,7 +117,8 @@ NOTHING_CAN_MOVE = _code(
     (
         "A warning (exit 0): a task's goal body has no affordance in the compilation, so no plan can move it."
         " `use` its affordance module (`use stdlib.affordances.block`) or learn one with `vkgc learn`; for a"
-        " body the stdlib has no affordances for, the note gives the `vkgc learn` command for the body's file."
+        " body the stdlib has no affordances for, the note gives the `use` of the module `vkgc learn` already"
+        " wrote for the body's file (where it writes without `-o`), else the `vkgc learn` command for that file."
     ),
 )
 TOOL_WITHOUT_CORRESPONDENCE = _code(

@@ -19,6 +19,7 @@ from vkgl.lang.diagnostics.codes import CODES
 # Modules of tests/lang/golden/lib/ that a case uses, shown under it (by the case's file name).
 HELPERS = {
     "E201_wrong_dimension": ["lib/scene.vkg"],
+    "E201_angle_as_position_tolerance": ["lib/scene.vkg"],
     "E201_joint_goal_of_the_wrong_kind": ["lib/kitchen.vkg"],
     "E202_joint_goal_without_a_unit": ["lib/kitchen.vkg"],
     "E306_goal_not_in_scene": ["lib/scene.vkg"],
@@ -27,6 +28,7 @@ HELPERS = {
     "E424_goal_in_robot_base": ["lib/scene.vkg"],
     "E441_no_joint_to_open": ["lib/kitchen.vkg"],
     "W601_nothing_can_move": ["lib/scene.vkg"],
+    "W601_own_body_learned": ["lib/bodies/bracket.vkg", "lib/affordances/bracket.vkg"],
     "W604_joint_goal_past_the_limit": ["lib/kitchen.vkg"],
     "E502_import_cycle": ["lib/cycle_back.vkg"],
     "W603_local_stdlib_shadows": ["stdlib/tools.vkg"],

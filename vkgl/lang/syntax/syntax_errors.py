@@ -123,9 +123,43 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
         notes = (f"the `{{` at {path}:{opened[0]}:{opened[1]} is never closed: add `}}` before this declaration",)
     elif token.type == "NAME" and (close := did_you_mean(str(token), _expected_keywords(parser, _expected(exc)))):
         notes = (close,)  # `mas 0.8 kg`: a misspelled keyword
+    elif missing := _missing_at(exc):
+        notes = (missing,)
     return codes.UNEXPECTED_TOKEN.diagnostic(
         f"unexpected {got}; expected {_words(parser, _expected(exc))}", span, *notes
     )
+
+
+MISSING_AT_NOTES = {
+    "UNION": "every part of a `union` is placed in the union's frame: write `at (x, y, z) UNIT` after the shape "
+    "before this (`box (10, 20, 4) cm at (-10, 15, 0) cm`)",
+    "TABLE_SIZE": "a table is placed by the centre of its top: `table size (1.6, 1.2) m at (0.5, 0, 0) m`",
+    "ON_TABLE": "a body on the table is placed at its (x, y) position: `block : Block on table at (0.45, 0) m`",
+    "ROBOT": "a robot is placed at its base's pose: `robot arm : Panda at (0, 0, 0) m`",
+}
+"""The note for an `at POSE` left out, by what the parser was reading: the bare "expected `at`" points at what
+follows (often the next line's statement or a `}`), not at the statement that lacks its pose."""
+
+
+def _missing_at(exc: UnexpectedToken) -> str | None:
+    """The note for a statement that lacks its `at POSE`, when the parser waits for `at` alone; else None.
+
+    A `union` token stays on the parser's stack while its braces are open, and inside them only a part's shape is
+    followed by `at` alone; outside a union, the statement is the one whose tokens end the stack.
+    """
+    if _expected(exc) != {"AT"}:
+        return None
+    state = getattr(getattr(exc, "interactive_parser", None), "parser_state", None)
+    types = [getattr(v, "type", None) for v in getattr(state, "value_stack", None) or []]
+    if "UNION" in types:
+        return MISSING_AT_NOTES["UNION"]
+    if "SIZE" in types[-3:] and "TABLE" in types[-3:]:
+        return MISSING_AT_NOTES["TABLE_SIZE"]
+    if types[-2:] == ["ON", "TABLE"]:
+        return MISSING_AT_NOTES["ON_TABLE"]
+    if "ROBOT" in types[-4:]:
+        return MISSING_AT_NOTES["ROBOT"]
+    return None
 
 
 def _expected_keywords(parser: Lark, expected: set[str]) -> list[str]:

@@ -23,10 +23,10 @@ from typing import Any
 import numpy as np
 
 from vkgl.errors import InputError
+from vkgl.figure_colors import body_color
 from vkgl.figure_text import fit_lines
 from vkgl.motion.picture_paths import draw_tracks, legend_handles, step_tracks
 
-_COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 _COLUMN_WIDTH = 3.6  # inches per mode
 _TITLE_ROOM = 0.92  # of a column's (or the figure's) width a title's line may span: a gap between neighbours
 _EDGE_STYLE = {"fixed": "solid", "prismatic": "dashed", "revolute": "dashdot", "free": "dotted"}
@@ -89,7 +89,7 @@ def plan_figure(plan: Any) -> Any:
         squeeze=False,
         gridspec_kw={"height_ratios": rows},
     )
-    colors = {name: _COLORS[i % len(_COLORS)] for i, name in enumerate(plan.start)}
+    colors = {name: body_color(i) for i, name in enumerate(plan.start)}
     for k, (title, start, end, hand) in enumerate(modes):
         _draw_scene(axes[0][k], plan, start, end, hand, colors, outlines, limits)
         draw_tracks(axes[0][k], tracks[k], (0, 1), step=k)

@@ -27,8 +27,9 @@ def other_contacts(
     """The solution of `seq` (if any) with each family's contact pinned at its band's end farthest from the written
     contact: the largest move along the face, tried once (each try costs the arm's checks again)."""
     lower, upper = bounds(problem, seq, offsets=True)
-    n = len(seq.variables)
-    pinned = np.where(np.abs(upper[n:]) >= np.abs(lower[n:]), upper[n:], lower[n:])
+    # The values are the motions, then the offsets, then each carry's placement (dx, dy, dyaw): only the offsets.
+    band = slice(len(seq.variables), len(seq.variables) + len(seq.offsets))
+    pinned = np.where(np.abs(upper[band]) >= np.abs(lower[band]), upper[band], lower[band])
     if time.perf_counter() > deadline or not np.any(pinned):
         return
     found = task_space(problem, seq, deadline, counters, offsets=pinned)

@@ -18,6 +18,12 @@ from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.regions import KeepOut, Region
 from vkgl.lang.syntax.values import Item, RawQ, RawVec, ValueReader, new_node
 
+POSITION_TOLERANCE_NOTE = (
+    "`within` gives the position's tolerance first, then the heading's: `within 1 cm, 3 deg` "
+    "(a goal without a tolerance uses 1 cm and 3 deg)"
+)
+"""E201's note for an angle where a goal's position tolerance stands (`within 3 deg` meant for the yaw alone)."""
+
 
 class RegionBuilder(ValueReader):
     """The IR of regions and region goals; one method per grammar rule, as in `Builder`."""
@@ -73,7 +79,7 @@ class RegionBuilder(ValueReader):
             region=place if isinstance(place, Region) else None,
             region_ref=place if isinstance(place, ir.Ref) else None,
             yaw=yaw,
-            tol_position=self.to_quantity(tolerances[0], "length") if tolerances else None,
+            tol_position=self.to_quantity(tolerances[0], "length", POSITION_TOLERANCE_NOTE) if tolerances else None,
             tol_yaw=self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None,
             span=self.span(meta),
         )

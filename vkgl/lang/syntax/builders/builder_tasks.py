@@ -16,7 +16,7 @@ from lark import Token
 from vkgl.lang.diagnostics import codes
 from vkgl.lang.ir import nodes as ir
 from vkgl.lang.ir.units import ARTICLE_NAME, dimension_of
-from vkgl.lang.syntax.builders.builder_regions import RegionBuilder
+from vkgl.lang.syntax.builders.builder_regions import POSITION_TOLERANCE_NOTE, RegionBuilder
 from vkgl.lang.syntax.values import INVALID, Item, RawQ, new_node
 
 OPENING_UNITS = "a length (`cm`) for a prismatic joint, an angle (`deg`) for a revolute one"
@@ -60,7 +60,7 @@ class TaskBuilder(RegionBuilder):
         rest = children[2:]
         yaw = self.to_quantity(rest.pop(0), "angle") if rest and isinstance(rest[0], RawQ) else None
         tolerances: list[RawQ] = rest[0] if rest else []
-        tol_position = self.to_quantity(tolerances[0], "length") if tolerances else None
+        tol_position = self.to_quantity(tolerances[0], "length", POSITION_TOLERANCE_NOTE) if tolerances else None
         tol_yaw = self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None
         return new_node(
             ir.Goal,
@@ -101,7 +101,7 @@ class TaskBuilder(RegionBuilder):
             moved_by=self.to_vector(vector, "length", (2, 3), "a displacement"),
             moved_in=parts.get("in"),
             turned_by=self.to_quantity(turned, "angle") if turned is not None else None,
-            tol_position=self.to_quantity(tolerances[0], "length") if tolerances else None,
+            tol_position=self.to_quantity(tolerances[0], "length", POSITION_TOLERANCE_NOTE) if tolerances else None,
             tol_yaw=self.to_quantity(tolerances[1], "angle") if len(tolerances) > 1 else None,
             span=self.span(meta),
         )
