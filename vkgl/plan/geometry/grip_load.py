@@ -18,6 +18,8 @@ distance from a hinge (`resistance`): a hook pulling the stdlib drawer (1.5 N,
 4 N s/m) uses a few per cent of the grip, a stiff slide of 100 N is never
 pushed with a held tool. A tool never holds a body by a grasp
 (`graphs.graph.tool_enacts`), so every load a held tool meets is a push's.
+A body the hand carries that is no tool loads the grip with its own weight at its centre of mass
+(`carry_rejection`).
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ from vkgl.motion.arm_collision import Held
 from vkgl.plan.geometry.grip_words import Slip, Strain, slip_advice, slip_why
 from vkgl.plan.graphs.graph import Engagement, KGraph
 from vkgl.plan.graphs.rollout import ModeTrace
-from vkgl.plan.problem.hulls import kept_width
+from vkgl.plan.problem.hulls import kept_centre, kept_width
 from vkgl.plan.problem.over import tool_parts
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.problem.rejection import Kind, Rejection
@@ -73,7 +75,8 @@ HINGE_LEVER = 0.01
 
 def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndarray, tool: str) -> Rejection | None:
     """Why the grip on `tool` (held by the hand at joints `q` at the start of the mode) would give way under a
-    push the mode makes with it, or None. The rejection says which load decides (the push, or the tool's weight
+    push the mode makes with it, or, a body that is no tool, under its own weight as the hand carries it
+    (`carry_rejection`), or None. The rejection says which load decides (the push, or the tool's weight
     alone), against which limit, by how much, and (`Rejection.advice`) what the task's author can change."""
     robot = problem.robot_effector.name
     holding = next((e for e in graph.engaged if e.body == tool and e.effector == robot), None)
@@ -82,10 +85,11 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
     too_wide = width_rejection(problem, tool, holding.affordance)
     if too_wide is not None:
         return too_wide
-    for e in graph.engaged:
+    pushes = [e for e in graph.engaged if problem.effector(e.effector).tool == tool and trace.values.get(e, 0.0) > 0.0]
+    if not pushes and not _is_tool(problem, tool):
+        return carry_rejection(problem, tool, holding.affordance, trace.start[tool], trace.end[tool], problem.arm.fk(q))
+    for e in pushes:
         spec = problem.effector(e.effector)
-        if spec.tool != tool or trace.values.get(e, 0.0) <= 0.0:
-            continue
         move = (holding.affordance, e, trace.start[tool], trace.end[tool], q)
         pushed, weight = _strain(problem, *move, PUSH_FACTOR), _strain(problem, *move, 0.0)
         if pushed is None or weight is None:
@@ -101,6 +105,73 @@ def grip_rejection(problem: Problem, graph: KGraph, trace: ModeTrace, q: np.ndar
                 advice=slip_advice(slip),
             )
     return None
+
+
+def carry_rejection(
+    problem: Problem, body: str, grasp: str, start: np.ndarray, end: np.ndarray, hand: np.ndarray
+) -> Rejection | None:
+    """Why the grip on `body` (held by its affordance `grasp`, the hand's effector at world pose `hand` while the
+    body is at `start`) would give way under the body's own weight as the hand carries it to `end`, or None.
+
+    The body's weight acts at its centre of mass, not at its frame's origin: an L-shaped body grasped on its long
+    leg, 5 cm from its centre of mass, was planned into the hand and carried (0.6 kg, 2 x 20 N at mu 0.5: its
+    weight twists the grip by 0.32 N m where the pads hold 0.13 N m); in DART the grip broke as the hand lifted
+    it. The hand's tilt changes with the carry, so the load is judged where it starts and where it ends."""
+    in_hand = np.linalg.inv(hand) @ start
+    grip = grip_for(problem.affordance(body, grasp).action, problem.bodies[body].type.friction)
+    mass = float(problem.bodies[body].type.mass.value)
+    centre = _centre_of_mass(problem, body)
+    worst: tuple[float, np.ndarray, np.ndarray, np.ndarray] | None = None
+    for pose in (start, end):
+        effector = pose @ np.linalg.inv(in_hand)
+        at = (pose @ np.append(centre, 1.0))[:3]
+        load, torque = push_load(effector, at, np.array([1.0, 0.0, 0.0]), 0.0, at, mass)
+        usage = grip.usage(load, torque)
+        if worst is None or usage > worst[0]:
+            worst = (usage, load, torque, at - effector[:3, 3])
+    assert worst is not None
+    usage, load, torque, lever = worst
+    if usage * GRIP_MARGIN <= 1.0:
+        return None
+    kind = problem.bodies[body].type.name
+    twisted = abs(float(torque[1])) / grip.max_torque >= float(np.hypot(load[0], load[2])) / grip.max_force
+    if twisted:
+        what = f"twists the grip by {abs(float(torque[1])):.2f} N m about the fingers' axis, where the pads hold "
+        what += f"{grip.max_torque:.2f} N m"
+    else:
+        what = f"loads the grip with {float(np.hypot(load[0], load[2])):.1f} N in the pads' plane, where they hold "
+        what += f"{grip.max_force:.1f} N"
+    return Rejection(
+        Kind.GRIP,
+        f"{body} would slip in the hand as it is carried: its own weight ({mass:.2f} kg, its centre of mass "
+        f"{float(np.linalg.norm(lever)) * 100:.1f} cm from the fingers) {what} ({kind} held by `{grasp}`: "
+        f"{grip.text()}): {usage:.0%} of the grip, {usage * GRIP_MARGIN:.1f} times the {1.0 / GRIP_MARGIN:.0%} a "
+        "plan may use",
+        usage * GRIP_MARGIN - 1.0,
+        advice=f"for the grip to hold {body}: a grasp nearer its centre of mass, a lighter {kind} (`mass` {mass:g} "
+        "kg), a grasp that presses harder (`force`), or more friction",
+    )
+
+
+def _is_tool(problem: Problem, body: str) -> bool:
+    """Whether `body` is a tool of the problem (an effector's frame is on it): a tool's weight is judged with
+    each push it makes (`_strain`)."""
+    return any(spec.tool == body for spec in problem.effectors)
+
+
+_CENTRES: dict[bytes, np.ndarray] = {}
+"""The centres of mass found in this process, by the shape's parts' vertices."""
+
+
+def _centre_of_mass(problem: Problem, body: str) -> np.ndarray:
+    """`body`'s centre of mass in its frame (m): its mesh's, at a uniform density (as the world's mass
+    properties, `vkgl.sim.world.mass_properties`), kept in the cache folder (`hulls.kept_centre`)."""
+    body_type = problem.bodies[body].type
+    points = np.concatenate([np.asarray(part, dtype=float).ravel() for part in tool_parts(body_type.shape)])
+    key = points.tobytes()
+    if key not in _CENTRES:
+        _CENTRES[key] = kept_centre(points, lambda: np.asarray(body_mesh(body_type).center_mass, dtype=float))
+    return _CENTRES[key]
 
 
 def hand_opening(urdf: str) -> float:
@@ -314,6 +385,7 @@ __all__ = [
     "JOINT_PUSH_SPEED",
     "PEAK_RATIO",
     "PUSH_FACTOR",
+    "carry_rejection",
     "grip_rejection",
     "held",
     "push_usage",

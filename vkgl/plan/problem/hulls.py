@@ -189,4 +189,13 @@ def kept_width(points: np.ndarray, compute: Callable[[], float]) -> float:
     return float(_kept("width", points, lambda: float(compute()), lambda kept: type(kept) is float))
 
 
-__all__ = ["hull_vertices", "kept_width", "outline_corners"]
+def kept_centre(points: np.ndarray, compute: Callable[[], np.ndarray]) -> np.ndarray:
+    """`compute()`, a body's centre of mass (its frame, m) that `points` determine (its shape's parts' vertices,
+    flattened), kept in the cache folder like a hull: it is measured on the body's mesh (trimesh), which a solve
+    that reads it back need not import."""
+    points = np.ascontiguousarray(points, dtype=float)
+    kept = _kept("centre", points, lambda: [float(x) for x in compute()], lambda value: _points([value]))
+    return np.asarray(kept, dtype=float)
+
+
+__all__ = ["hull_vertices", "kept_centre", "kept_width", "outline_corners"]
