@@ -3,6 +3,7 @@ motion, and known again only after a prefix that leaves its body and tool where 
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -82,12 +83,13 @@ def test_a_tool_that_pushed_another_body_first_is_where_its_last_push_puts_it(tm
     alone = labelled_sequence(problem, WIELD, STICK_PUSH)
     after_other = labelled_sequence(problem, WIELD, STICK_OTHER, STICK_OTHER_OFF, STICK_PUSH)
     assert last_motion_key(problem, alone) == last_motion_key(problem, after_other) is not None
-    last_alone = rollout(problem, alone, np.array([0.05]))[-1]
-    last_after = rollout(problem, after_other, np.array([0.03, 0.05]))[-1]  # `other` pushed 3 cm first
-    for name in ("stick", "block"):
-        assert np.allclose(last_alone.start[name], last_after.start[name], atol=1e-9)
-        assert np.allclose(last_alone.end[name], last_after.end[name], atol=1e-9)
-    assert all(np.allclose(a, b, atol=1e-9) for a, b in zip(last_alone.hand, last_after.hand, strict=True))
+    for first, last in itertools.product((0.0, 0.03, 0.1), (0.0, 0.05, 0.1)):  # `other` pushed first, then the block
+        last_alone = rollout(problem, alone, np.array([last]))[-1]
+        last_after = rollout(problem, after_other, np.array([first, last]))[-1]
+        for name in ("stick", "block"):
+            assert np.allclose(last_alone.start[name], last_after.start[name], atol=1e-9)
+            assert np.allclose(last_alone.end[name], last_after.end[name], atol=1e-9)
+        assert all(np.allclose(a, b, atol=1e-9) for a, b in zip(last_alone.hand, last_after.hand, strict=True))
     through = Rejection(Kind.COLLISION, "stick would pass through far", 0.02, bodies=frozenset({"stick", "far"}))
     for rejection in (OUT_OF_REACH, through):
         memo = LastMotion()
