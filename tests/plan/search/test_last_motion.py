@@ -3,10 +3,13 @@ motion, and known again only after a prefix that leaves its body and tool where 
 
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
+import numpy as np
 from task_makers.block_problems import IN_THE_WAY, block_to, labelled_sequence
 
+from vkgl.plan.graphs.rollout import rollout
 from vkgl.plan.problem.rejection import Kind, Rejection
 from vkgl.plan.search.last_motion import LastMotion, last_motion_key
 
@@ -64,3 +67,45 @@ def test_bodies_passing_through_one_another_are_known_while_the_body_named_has_n
     far = ("add Block.push_px on far with arm.fingertip", "remove Block.push_px on far with arm.fingertip")
     assert memo.known(problem, labelled_sequence(problem, *far, PUSH)) is through
     assert memo.known(problem, labelled_sequence(problem, OTHER, OTHER_OFF, PUSH)) is None
+
+
+WIELD = "add Stick.wield on stick with arm.fingertip"
+STICK_PUSH = "add Block.push_px on block with stick.tip"
+STICK_PUSH_OFF = "remove Block.push_px on block with stick.tip"
+STICK_OTHER = "add Block.push_px on other with stick.tip"
+STICK_OTHER_OFF = "remove Block.push_px on other with stick.tip"
+
+
+def test_a_tool_that_pushed_another_body_first_is_where_its_last_push_puts_it(tmp_path: Path) -> None:
+    """The stick in the hand pushed `other`, then jumps to the block: its last push is the same as from the wield
+    alone (the same key, and known), the stick named by the failure included; not when the block itself moved."""
+    problem = block_to(tmp_path, 0.66, stick=True, grasp=False, depth=8, other=IN_THE_WAY)
+    alone = labelled_sequence(problem, WIELD, STICK_PUSH)
+    after_other = labelled_sequence(problem, WIELD, STICK_OTHER, STICK_OTHER_OFF, STICK_PUSH)
+    assert last_motion_key(problem, alone) == last_motion_key(problem, after_other) is not None
+    for first, last in itertools.product((0.0, 0.03, 0.1), (0.0, 0.05, 0.1)):  # `other` pushed first, then the block
+        last_alone = rollout(problem, alone, np.array([last]))[-1]
+        last_after = rollout(problem, after_other, np.array([first, last]))[-1]
+        for name in ("stick", "block"):
+            assert np.allclose(last_alone.start[name], last_after.start[name], atol=1e-9)
+            assert np.allclose(last_alone.end[name], last_after.end[name], atol=1e-9)
+        assert all(np.allclose(a, b, atol=1e-9) for a, b in zip(last_alone.hand, last_after.hand, strict=True))
+    through = Rejection(Kind.COLLISION, "stick would pass through far", 0.02, bodies=frozenset({"stick", "far"}))
+    for rejection in (OUT_OF_REACH, through):
+        memo = LastMotion()
+        memo.remember(problem, alone, rejection)
+        assert memo.known(problem, after_other) is rejection
+    pushed_block = labelled_sequence(problem, WIELD, STICK_PUSH, STICK_PUSH_OFF, STICK_PUSH)
+    assert last_motion_key(problem, pushed_block) is None
+    assert memo.known(problem, pushed_block) is None
+
+
+def test_a_tool_moved_with_the_body_that_failed_is_not_forgiven(tmp_path: Path) -> None:
+    """The failure names `other`, which the stick pushed before: not known."""
+    problem = block_to(tmp_path, 0.66, stick=True, grasp=False, depth=8, other=IN_THE_WAY)
+    memo = LastMotion()
+    through = Rejection(Kind.COLLISION, "stick would pass through other", 0.02, bodies=frozenset({"stick", "other"}))
+    memo.remember(problem, labelled_sequence(problem, WIELD, STICK_PUSH), through)
+    after_other = labelled_sequence(problem, WIELD, STICK_OTHER, STICK_OTHER_OFF, STICK_PUSH)
+    assert last_motion_key(problem, after_other) is not None
+    assert memo.known(problem, after_other) is None
