@@ -50,24 +50,23 @@ REPO = Path(__file__).resolve().parent.parent
 EXAMPLES = REPO / "examples"
 STDLIB = REPO / "stdlib"
 
-SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-28, 2 workers, load 6 to 8)
+SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses (2026-11-28, 2 workers, load 5 to 9)
     "tests/infer/test_learn.py",  # 73: learns the whole stdlib, making `stdlib_explored`'s explorations (45 of it)
-    "tests/execute/test_closed_loop.py",  # 61
-    "tests/plan/geometry/test_geometry_check.py",  # 46: 13 of it the search proving a push through block2 is no plan
-    "tests/scenarios/goals/test_tall_bodies.py",  # 42
+    "tests/execute/test_closed_loop.py",  # 45 (62 while its closed-loop tests pushed 15 cm, not 5)
     "tests/test_tooling.py",  # 39: mypy of a fresh clone (Ray not followed); 2 once the checkout has .mypy_cache
     "tests/scenarios/tools/test_generated_execution.py",  # 39
+    "tests/plan/geometry/test_geometry_check.py",  # 35: 7 of it the search proving block2 in the way is no plan
     "tests/scenarios/tools/test_wide_pulls.py",  # 34
     "tests/lang/test_robustness.py",  # 29
-    "tests/scenarios/tools/test_contact_chain.py",  # 25
+    "tests/scenarios/goals/test_tall_bodies.py",  # 24 (41 while every height was carried out in DART)
     "tests/sim/test_interrupt.py",  # 19
     "tests/scenarios/goals/test_goal_forms_in_dart.py",  # 15
     "tests/execute/test_resolving.py",  # 14
     "tests/lang/syntax/test_printer.py",  # 13
     "tests/cli/test_startup_imports.py",  # 13: 11 fresh Python processes (15 until 2026-11-28)
+    "tests/scenarios/tools/test_contact_chain.py",  # 13
     "tests/test_docs_api.py",  # 12; 25 to 30 while its moved-start example waited out a 30 s timeout
     "tests/bench/test_generated_plans.py",  # 12
-    "tests/scenarios/goals/test_arc_push.py",  # 12
     "tests/scenarios/goals/test_drawer_and_door.py",  # 11 (9: the drawer and door converge either way)
     "tests/scenarios/tools/test_stick_clears_blocker.py",  # 11
     "tests/scenarios/goals/test_open_slides.py",  # 10
@@ -86,6 +85,7 @@ SLOWEST_FIRST = [  # CPU-seconds of each file's tests, fixtures and subprocesses
     "tests/sim/test_furniture.py",  # 7 (18 while it asked DART for two names per contact and step)
     "tests/scenarios/tools/test_side_approach.py",  # 7
     "tests/scenarios/tools/test_hook_drawer.py",  # 7
+    "tests/scenarios/goals/test_arc_push.py",  # 7
     "tests/sim/test_explore.py",  # 6 once `stdlib_explored` has the Block and the Stick (test_learn.py makes them)
     "tests/plan/task_space/test_slides.py",  # 6
     "tests/execute/grip/test_grip.py",  # 6

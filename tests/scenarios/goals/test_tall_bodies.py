@@ -4,7 +4,8 @@ Before the arm's paths were planned, the hand came down from above onto a
 point just behind the contact, and its fingers touched any body taller than
 about 6 cm on the way. Here each crate has hand-written affordances (a
 pushed face and the opposite one), the planner plans the transit and the
-straight approach, and the plan is carried out open loop in physics.
+straight approach, and the plan of each way the hand meets a crate is carried out open loop in
+physics (`CARRIED_OUT`).
 
 Pushes start 0.45 m from the arm's base and move the crate 10 cm away from
 it. A pull (`push_center_nx`) touches the crate's far face and draws it 10 cm
@@ -99,6 +100,11 @@ PUSHES = [("push", h, 0.45, 0.55) for h in (5, 10, 20, 30)]
 PULLS = [("pull", h, 0.52, 0.42) for h in (5, 10, 20)] + [("pull", h, 0.38, 0.28) for h in (10, 20, 30)]
 SLANTED = {(10, 0.52), (20, 0.52)}
 """Pulls whose stand-off is above and behind the contact (no room to back off level at the edge of the reach)."""
+CARRIED_OUT = {("push", 5, 0.45), ("push", 30, 0.45), ("pull", 5, 0.52), ("pull", 20, 0.52), ("pull", 30, 0.38)}
+"""The moves also carried out in DART: one of each way the hand meets a crate (a push with the hand upright, one
+leaned back from the tallest face; a pull at the edge of the reach with the hand upright, one slanted in and leaned
+outward; a pull near the base under the forearm). Every move is planned and its approach checked; the other five
+repeat a way in DART at another height (2 to 4 CPU-s each: the bench, bench/physical, carries out the breadth)."""
 
 
 @pytest.mark.parametrize(("how", "height_cm", "start", "goal"), PUSHES + PULLS)
@@ -119,8 +125,9 @@ def test_a_crate_is_moved_to_its_goal_in_physics(tmp_path, how, height_cm, start
         assert last[2, 2] < 0.95
     if how == "pull" and height_cm >= 10:  # behind a tall crate the hand leans outward: the wrist stays outside it
         assert last[0, 2] > 0.5
-    report = vkgl.execute(program, "move_crate", plan.document())
-    assert report.status == "reached", report.reason
+    if (how, height_cm, start) in CARRIED_OUT:
+        report = vkgl.execute(program, "move_crate", plan.document())
+        assert report.status == "reached", report.reason
 
 
 @pytest.mark.parametrize("start", [0.44, 0.52])

@@ -17,8 +17,6 @@ that followed touched it.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 from conftest import EXAMPLES
@@ -53,25 +51,6 @@ def test_the_plan_lets_go_of_a_tool_where_it_touched(hook_then_hand):
     assert np.allclose(push.path[0].joints[0], release.q_end)
 
 
-def test_a_hook_pull_ends_in_the_planned_configuration(monkeypatch):
-    program = compile_file(str(EXAMPLES / "tasks" / "c_hook_pull.vkg"))
-    plan = vkgl.solve(program, "c_hook_pull")
-    ends: list[tuple[np.ndarray, np.ndarray]] = []
-    push = steps_module.StepKinds._push
-
-    def recorded(self, step, label, **options):
-        push(self, step, label, **options)
-        ends.append((self.sim.arm.q.copy(), np.asarray(step.q_end)))
-
-    monkeypatch.setattr(steps_module.StepKinds, "_push", recorded)
-    report = vkgl.execute(program, "c_hook_pull", plan.document())
-    assert report.status == "reached", report.reason
-    assert len(ends) == 1 and plan.steps[1].contact is not None
-    real, planned = ends[0]
-    # following the chain ends on q_end to 1e-14 rad; tracking by IK from the real joints drifted 1.5e-3 rad here
-    assert np.abs(real - planned).max() < 1e-4
-
-
 # The far block pulled 15 cm with the hook, the hook let go of where it pulled, then a second block pushed 10 cm
 # with the fingertip: the hand lifts out of the hook's grip and transits past it.
 PULL_THEN_PUSH = """
@@ -98,8 +77,11 @@ task pull_then_push {
 """
 
 
-def test_a_hook_let_go_of_after_its_pull_stays_where_the_plan_puts_it(tmp_path: Path):
-    task = tmp_path / "pull_then_push.vkg"
+@pytest.fixture(scope="module")
+def pulled_then_pushed(tmp_path_factory: pytest.TempPathFactory):
+    """PULL_THEN_PUSH's scripted plan carried out in DART (read by two tests): the plan, the report, and for each
+    contact step the arm's joints where the executor ended it and the plan's `q_end`."""
+    task = tmp_path_factory.mktemp("contact_chain") / "pull_then_push.vkg"
     task.write_text(PULL_THEN_PUSH)
     program = compile_file(str(task))
     script = [
@@ -110,7 +92,31 @@ def test_a_hook_let_go_of_after_its_pull_stays_where_the_plan_puts_it(tmp_path: 
         "add Block.push_center_px near arm.fingertip 0.10",
     ]
     plan = scripted_plan(program, "pull_then_push", script)
-    report = vkgl.execute(program, "pull_then_push", plan)
+    ends: list[tuple[np.ndarray, np.ndarray]] = []
+    push = steps_module.StepKinds._push
+
+    def recorded(self, step, label, **options):
+        push(self, step, label, **options)
+        ends.append((self.sim.arm.q.copy(), np.asarray(step.q_end)))
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(steps_module.StepKinds, "_push", recorded)
+        report = vkgl.execute(program, "pull_then_push", plan)
+    return plan, report, ends
+
+
+def test_a_hook_pull_ends_in_the_planned_configuration(pulled_then_pushed):
+    plan, report, ends = pulled_then_pushed
+    assert report.status == "reached", report.reason
+    assert len(ends) == 2 and plan.steps[1].contact is not None and plan.steps[1].effector == "hook.tip"
+    real, planned = ends[0]  # where the hook's pull ended
+    # following the chain ends on q_end to 1e-14 rad; tracking by IK from the real joints drifted 1.5e-3 rad (on
+    # the planner's plan of task (c))
+    assert np.abs(real - planned).max() < 1e-4
+
+
+def test_a_hook_let_go_of_after_its_pull_stays_where_the_plan_puts_it(pulled_then_pushed):
+    plan, report, _ = pulled_then_pushed
     # before: "the fingertip touched hook on its planned way through free space", the hook 4.6 cm up and 10 deg tilted
     assert report.status == "reached", report.reason
     planned, real = plan.steps[-1].poses_end["hook"], report.final["hook"]
