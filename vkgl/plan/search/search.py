@@ -68,6 +68,7 @@ def search(
     budget: float | None = None,
     still: frozenset[str] = frozenset(),
     paused: Paused | None = None,
+    pause_at: float | None = None,
 ) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
@@ -86,7 +87,11 @@ def search(
     `paused` (none by default): where the search stops when it spends its `budget`, kept to go on from: called
     again with the same `paused`, `problem` and `root` and a larger budget, it goes on from the sequence it
     stopped at, the budget counting the work of both runs (`SearchStats` go on too): the same search, checks and
-    result as one started anew with the larger budget, without the work done again (`Paused`).
+    result as one started anew with the larger budget, without the work done again (`Paused`). `pause_at` (none
+    by default): a cut on the clock that ends the search as its budget does, between two checks: the first
+    sequence taken from the queue after it is queued again and the search kept in `paused` (each check still runs
+    to `deadline`, so none is cut short): the first search of a blocked task, given back the time the clear-first
+    walk left (`vkgl.plan.solve`).
     """
     run = paused.take(problem, root) if paused is not None else None
     if run is None:
@@ -102,8 +107,8 @@ def search(
         while frontier:
             entry = heapq.heappop(frontier)
             stats.level, _, path, seq, checked = entry
-            if time.perf_counter() > deadline or (budget is not None and stats.work_done() > budget):
-                if paused is not None and time.perf_counter() <= deadline:  # ended by its budget alone
+            if _cut(deadline, budget, pause_at, stats):
+                if paused is not None and time.perf_counter() <= deadline:  # ended by its budget or pause alone
                     heapq.heappush(frontier, entry)  # (its key is unique: the queue's order is as it was)
                     paused.keep(run)
                 return SearchResult("timeout", timeout_reason(problem, stats, budget), stats)
@@ -134,6 +139,13 @@ def search(
     return SearchResult("infeasible", infeasible_reason(problem, stats, order.bound), stats)
 
 
+def _cut(deadline: float, budget: float | None, pause_at: float | None, stats: SearchStats) -> bool:
+    """Whether the search ends before its next sequence: the deadline, its work budget or its pause has passed."""
+    now = time.perf_counter()
+    spent = budget is not None and stats.work_done() > budget
+    return now > deadline or spent or (pause_at is not None and now > pause_at)
+
+
 class _Run:
     """What one search holds while it runs: its counters, queue, checks and order (kept by `Paused`)."""
 
@@ -156,7 +168,9 @@ class Paused:
     """A search that spent its budget, kept to go on from (`search(paused=)`): the clear-first walk searches a
     side, or the goals after a clearing plan, with a small budget first and again with a larger one
     (`vkgl.plan.search.clutter.clear_first`); started anew, the second search would first redo every check of
-    the first (on the physical bench's gen3_023, 75 of the 205 units that find its plan).
+    the first (on the physical bench's gen3_023, 75 of the 205 units that find its plan). The first search of a
+    blocked task is kept at its pause (`search(pause_at=)`) and goes on when the walk leaves time
+    (`vkgl.plan.solve`).
 
     Nothing is kept of a search that ended otherwise: solved, proven infeasible, or stopped by its deadline (a
     check the deadline cut short may have rejected what it had no time to try)."""
@@ -173,6 +187,10 @@ class Paused:
         run that goes on is kept again only if its budget stops it again."""
         run, self._run = self._run, None
         return run if run is not None and run.searched(problem, root) else None
+
+    def holds(self, problem: Problem, root: Sequence | None = None) -> bool:
+        """Whether `search` would go on from a run kept here (`take`) for `problem` from `root`."""
+        return self._run is not None and self._run.searched(problem, root)
 
     def stats(self, problem: Problem, root: Sequence | None) -> SearchStats | None:
         """A copy of the counters of the run kept, if `search` would go on from it (`take`), as they stand: a
