@@ -69,6 +69,49 @@ def test_a_search_its_pause_stopped_goes_on_to_the_same_end_as_one_never_paused(
     assert _counts(went_on.stats) == _counts(whole.stats)
 
 
+def test_a_check_its_pause_cut_short_is_made_again_when_the_search_goes_on(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The pause passes while the check that finds the plan runs (the clock jumps past it as that check starts):
+    the check is cut short as by a deadline and the search pauses, "timeout", not "no plan"; gone on, it makes
+    that check again first and ends with the plan of a search never paused, having made the same sequences."""
+    import vkgl.plan.search.search as search_module
+
+    problem = _problem()
+    calls: list[int] = []
+    real_check, real_clock = search_module.check, time.perf_counter
+
+    def counted(*args: object, **more: object) -> object:
+        calls.append(1)
+        return real_check(*args, **more)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(search_module, "check", counted)
+    far = real_clock() + 1e6
+    whole = search(problem, deadline=far)
+    assert whole.status == "solved" and whole.sequence is not None
+    last = len(calls)  # the check that finds the plan
+    calls.clear()
+    jumped: list[bool] = []
+
+    def jumping(*args: object, **more: object) -> object:
+        calls.append(1)
+        if len(calls) == last:
+            jumped.append(True)  # the pause passes as this check starts
+        return real_check(*args, **more)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(search_module, "check", jumping)
+    monkeypatch.setattr(time, "perf_counter", lambda: real_clock() + (1e4 if jumped else 0.0))
+    paused = Paused()
+    first = search(problem, deadline=far + 1e4, pause_at=real_clock() + 1e3, paused=paused)
+    assert first.status == "timeout" and paused.holds(problem)
+    went_on = search(problem, deadline=far + 1e4, paused=paused)
+    assert went_on.status == "solved" and went_on.sequence is not None
+    assert went_on.sequence.actions == whole.sequence.actions
+    assert (went_on.stats.sequences, went_on.stats.graphs_expanded) == (
+        whole.stats.sequences,
+        whole.stats.graphs_expanded,
+    )
+    assert went_on.stats.task_space_checks == whole.stats.task_space_checks + 1  # (the one cut short, made again)
+
+
 def test_the_time_the_walk_leaves_goes_back_to_the_first_search(monkeypatch: pytest.MonkeyPatch) -> None:
     """`vkgl.solve` of a blocked task whose first search pauses at once (a share of 0) and whose walk finds
     nothing: the first search goes on where it paused and finds the plan a search with the whole time finds (the
