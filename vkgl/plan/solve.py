@@ -24,7 +24,7 @@ from vkgl.plan.result.plan import Plan, PlanStep, graph_edges, robot_entry
 from vkgl.plan.search.clutter.blocking import blocked
 from vkgl.plan.search.clutter.clear_first import SEARCH_SHARE, clear_first, work_budget
 from vkgl.plan.search.clutter.still import search_moving_less
-from vkgl.plan.search.search import SearchResult
+from vkgl.plan.search.search import Paused, SearchResult
 from vkgl.plan.search.stats import SearchStats
 
 
@@ -57,34 +57,46 @@ def solve(
     if why is not None:
         return _plan(problem, SearchResult("infeasible", why, SearchStats()), started)
     way = blocked(problem)  # a body in a goal body's way: part of the time is kept for clearing it first
+    paused = Paused() if way else None  # where the first search stops, to go on with the time the walk leaves
     result, searched = search_moving_less(  # bodies in no goal body's way kept still until a sequence meets one
         problem,
-        deadline=started + SEARCH_SHARE * problem.timeout if way else deadline,
+        deadline=deadline,
         progress=progress,
         budget=SEARCH_SHARE * work_budget(problem) if way else None,  # (the count ends it the same everywhere)
+        pause_at=started + SEARCH_SHARE * problem.timeout if way else None,
+        paused=paused,
     )
-    if (
-        way
-        and result.status != "solved"
-        and (
-            cleared := clear_first(
-                searched,
-                result,
-                deadline=deadline,
-                budget=(1.0 - SEARCH_SHARE) * work_budget(problem),
-                progress=progress,
-            )
+    if way and result.status != "solved":
+        cleared = clear_first(
+            searched,
+            result,
+            deadline=deadline,
+            budget=(1.0 - SEARCH_SHARE) * work_budget(problem),
+            progress=progress,
         )
-    ):
-        if cleared.result is not None:
+        if cleared is not None and cleared.result is not None:
             result = replace(cleared.result, reason=cleared.words)
         else:
-            result = replace(result, reason=f"{result.reason}\n{cleared.words}")
+            result = _given_back(problem, result, paused, deadline, progress)
+            if cleared is not None and result.status != "solved":  # (a plan found then is the search's own)
+                result = replace(result, reason=f"{result.reason}\n{cleared.words}")
     if result.status == "infeasible" and (hint := _unusable_tools_hint(problem)):
         result = replace(result, reason=f"{result.reason}\n{hint}")
     if result.status == "infeasible" and (tips := _tipping_hint(problem)):
         result = replace(result, reason=f"{result.reason}\n{tips}")
     return _plan(problem, result, started)
+
+
+def _given_back(
+    problem: Problem, before: SearchResult, paused: Paused | None, deadline: float, progress: bool
+) -> SearchResult:
+    """The first search of a blocked task gone on from where its share stopped it, until `deadline`, when the
+    clear-first walk found no plan and left time (`before` when that search ended otherwise: it proved no plan,
+    or nothing is left): a task ends at its timeout, not when the walk gives up (docs/planning.md, "The time the
+    walk leaves")."""
+    if paused is None or not paused.holds(problem) or time.perf_counter() >= deadline:
+        return before
+    return search_moving_less(problem, deadline=deadline, progress=progress, paused=paused)[0]
 
 
 def _tipping_hint(problem: Problem) -> str:

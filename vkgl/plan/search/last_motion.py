@@ -68,6 +68,12 @@ class LastMotion:
             return None
         return found
 
+    def forget_after(self, count: int) -> None:
+        """Forget the failures remembered after the first `count` (those of a check the clock cut short: they
+        may be the clock's, `search`'s pause)."""
+        for key in list(self.seen)[count:]:
+            del self.seen[key]
+
     def remember(self, problem: Problem, seq: Sequence, rejection: Rejection) -> None:
         """Remember `rejection` of `seq` when `seq`'s last mode is its only motion and the failure is the hand out
         of reach or bodies passing through one another (the bodies' check: the caller knows which check made it)."""

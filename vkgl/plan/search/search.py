@@ -68,6 +68,7 @@ def search(
     budget: float | None = None,
     still: frozenset[str] = frozenset(),
     paused: Paused | None = None,
+    pause_at: float | None = None,
 ) -> SearchResult:
     """Best-first search for the shortest feasible graph sequence of `problem` (at most `max_depth` graphs).
 
@@ -86,7 +87,11 @@ def search(
     `paused` (none by default): where the search stops when it spends its `budget`, kept to go on from: called
     again with the same `paused`, `problem` and `root` and a larger budget, it goes on from the sequence it
     stopped at, the budget counting the work of both runs (`SearchStats` go on too): the same search, checks and
-    result as one started anew with the larger budget, without the work done again (`Paused`).
+    result as one started anew with the larger budget, without the work done again (`Paused`). `pause_at` (none
+    by default): a cut on the clock that ends the search as its budget does, kept in `paused`: the checks end
+    there too (as with a deadline at `pause_at`: a check is not run past it), and one it cut short is made again
+    first when the search goes on (`_check_once`): the first search of a blocked task, given back the time the
+    clear-first walk left (`vkgl.plan.solve`).
     """
     run = paused.take(problem, root) if paused is not None else None
     if run is None:
@@ -96,21 +101,29 @@ def search(
                 "infeasible", "", run.stats
             )
         _push(problem, run.frontier, run.root, (), run.order, run.stats)
-    stats, frontier, withheld, order, checks = run.stats, run.frontier, run.withheld, run.order, run.checks
+    stats, frontier, withheld, order = run.stats, run.frontier, run.withheld, run.order
+    by = deadline if pause_at is None else min(deadline, pause_at)  # the checks' deadline (`_check_once`)
     reporter = Progress(progress)
     try:
+        if run.recheck is not None:  # the check its pause cut short: made again first, as it comes first
+            seq, run.recheck = run.recheck, None
+            found = _check_once(problem, run, seq, by, pause_at)
+            if found is not None:
+                return found
+            for parent, at, met in withheld.bring_back(stats):
+                _expand(problem, frontier, parent, at, order, stats, withheld.bodies, only=met)
         while frontier:
             entry = heapq.heappop(frontier)
             stats.level, _, path, seq, checked = entry
-            if time.perf_counter() > deadline or (budget is not None and stats.work_done() > budget):
-                if paused is not None and time.perf_counter() <= deadline:  # ended by its budget alone
+            if _cut(deadline, budget, pause_at, stats):
+                if paused is not None and time.perf_counter() <= deadline:  # ended by its budget or pause alone
                     heapq.heappush(frontier, entry)  # (its key is unique: the queue's order is as it was)
                     paused.keep(run)
                 return SearchResult("timeout", timeout_reason(problem, stats, budget), stats)
             if checked:
                 pass  # queued again for its expansion only (`_Entry`)
             elif seq.actions and stats.level == seq.depth and _moves_goal_body(problem, seq):
-                found = check(problem, seq, stats, deadline, checks)
+                found = _check_once(problem, run, seq, by, pause_at)
                 if found is not None:
                     return found
                 for parent, at, met in withheld.bring_back(stats):  # contacts on a body just met
@@ -129,9 +142,30 @@ def search(
             withheld.expanded(seq, path)
     finally:
         reporter.done()
-    if time.perf_counter() > deadline:
+    if run.recheck is not None and paused is not None and time.perf_counter() <= deadline:
+        paused.keep(run)  # (its last check cut short by the pause: no proof of no plan)
+    if time.perf_counter() > deadline or run.recheck is not None:
         return SearchResult("timeout", timeout_reason(problem, stats), stats)
     return SearchResult("infeasible", infeasible_reason(problem, stats, order.bound), stats)
+
+
+def _check_once(problem: Problem, run: _Run, seq: Sequence, by: float, pause_at: float | None) -> SearchResult | None:
+    """`check` of `seq` until `by`. One that the pause (`search(pause_at=)`) cut short without a plan may have
+    rejected what it had no time to try: it is kept to be made again when the search goes on (`_Run.recheck`),
+    and the failures of last motions it remembered are forgotten (`LastMotion.forget_after`)."""
+    known = len(run.checks.last_motion.seen)
+    found = check(problem, seq, run.stats, by, run.checks)
+    if found is None and pause_at is not None and time.perf_counter() > pause_at:
+        run.recheck = seq
+        run.checks.last_motion.forget_after(known)
+    return found
+
+
+def _cut(deadline: float, budget: float | None, pause_at: float | None, stats: SearchStats) -> bool:
+    """Whether the search ends before its next sequence: the deadline, its work budget or its pause has passed."""
+    now = time.perf_counter()
+    spent = budget is not None and stats.work_done() > budget
+    return now > deadline or spent or (pause_at is not None and now > pause_at)
 
 
 class _Run:
@@ -146,6 +180,7 @@ class _Run:
         self.checks = Checks(geometry, ArmPathPlanner(problem, geometry), self.stats.arm_hits)
         self.order = _Order(Bound(problem), InTheWay(problem))
         self.frontier: list[_Entry] = []
+        self.recheck: Sequence | None = None  # a check its pause cut short (`_check_once`)
 
     def searched(self, problem: Problem, root: Sequence | None) -> bool:
         """Whether this run searches `problem` from `root` (the same objects; no `root`: G0)."""
@@ -156,10 +191,13 @@ class Paused:
     """A search that spent its budget, kept to go on from (`search(paused=)`): the clear-first walk searches a
     side, or the goals after a clearing plan, with a small budget first and again with a larger one
     (`vkgl.plan.search.clutter.clear_first`); started anew, the second search would first redo every check of
-    the first (on the physical bench's gen3_023, 75 of the 205 units that find its plan).
+    the first (on the physical bench's gen3_023, 75 of the 205 units that find its plan). The first search of a
+    blocked task is kept at its pause (`search(pause_at=)`) and goes on when the walk leaves time
+    (`vkgl.plan.solve`).
 
     Nothing is kept of a search that ended otherwise: solved, proven infeasible, or stopped by its deadline (a
-    check the deadline cut short may have rejected what it had no time to try)."""
+    check the deadline cut short may have rejected what it had no time to try; one its pause cut short is made
+    again, `_check_once`)."""
 
     def __init__(self) -> None:
         self._run: _Run | None = None
@@ -173,6 +211,10 @@ class Paused:
         run that goes on is kept again only if its budget stops it again."""
         run, self._run = self._run, None
         return run if run is not None and run.searched(problem, root) else None
+
+    def holds(self, problem: Problem, root: Sequence | None = None) -> bool:
+        """Whether `search` would go on from a run kept here (`take`) for `problem` from `root`."""
+        return self._run is not None and self._run.searched(problem, root)
 
     def stats(self, problem: Problem, root: Sequence | None) -> SearchStats | None:
         """A copy of the counters of the run kept, if `search` would go on from it (`take`), as they stand: a

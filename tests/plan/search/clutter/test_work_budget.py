@@ -9,6 +9,7 @@ import time
 from copy import deepcopy
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -114,28 +115,31 @@ def test_a_search_its_budget_stopped_goes_on_to_the_same_end_as_one_started_with
 def test_the_search_before_clearing_gets_half_the_work_budget_and_half_the_clock(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """`vkgl.solve` with a body in the way: the search before the clearing ends at half the task's work budget
-    or at half its timeout, whichever comes first (the count ends it the same on any machine fast enough); with
-    none in the way it has the whole timeout and no budget."""
+    """`vkgl.solve` with a body in the way: the search before the clearing pauses at half the task's work budget
+    or at half its timeout, whichever comes first (the count ends it the same on any machine fast enough; each
+    check runs to the task's deadline, `search(pause_at=)`); with none in the way it has the whole timeout, no
+    budget and no pause."""
     import vkgl.plan.solve as solve_module
     from vkgl.plan.search.clutter.clear_first import SEARCH_SHARE
 
-    calls: list[tuple[float, float | None]] = []
+    calls: list[tuple[float, float | None, float | None]] = []
     original = solve_module.search_moving_less
 
     def recording(
-        problem: Problem, *, deadline: float, progress: bool = False, budget: float | None = None
+        problem: Problem, *, deadline: float, budget: float | None = None, pause_at: float | None = None, **more: Any
     ) -> tuple[SearchResult, Problem]:
-        calls.append((deadline - time.perf_counter(), budget))
-        return original(problem, deadline=deadline, progress=progress, budget=budget)
+        now = time.perf_counter()
+        calls.append((deadline - now, budget, None if pause_at is None else pause_at - now))
+        return original(problem, deadline=deadline, budget=budget, pause_at=pause_at, **more)
 
     monkeypatch.setattr(solve_module, "search_moving_less", recording)
     program = vkgl.compile_source(BLOCKED, "budget.vkg", base_dir=_HERE)
     vkgl.solve(program, "through", timeout=10.0)
     clear = BLOCKED.replace("block2 : Block on table at (0.62, 0) m", "block2 : Block on table at (0.45, 0.3) m")
     vkgl.solve(vkgl.compile_source(clear, "clear.vkg", base_dir=_HERE), "through", timeout=10.0)
-    (blocked_left, blocked_budget), (clear_left, clear_budget) = calls
+    (blocked_left, blocked_budget, blocked_pause), (clear_left, clear_budget, clear_pause) = calls
     timed = build_problem(program, program.tasks["through"], timeout=10.0)
     assert blocked_budget == pytest.approx(SEARCH_SHARE * work_budget(timed))
-    assert SEARCH_SHARE * 10.0 - 1.0 < blocked_left <= SEARCH_SHARE * 10.0
-    assert clear_budget is None and 10.0 - 1.0 < clear_left <= 10.0
+    assert blocked_pause is not None and SEARCH_SHARE * 10.0 - 1.0 < blocked_pause <= SEARCH_SHARE * 10.0
+    assert 10.0 - 1.0 < blocked_left <= 10.0  # (its checks run to the task's deadline)
+    assert clear_budget is None and clear_pause is None and 10.0 - 1.0 < clear_left <= 10.0

@@ -42,7 +42,8 @@ try's work done twice.
 
 **Counted work, not seconds.** The search before gets `SEARCH_SHARE` of the timeout and of the work budget,
 whichever it spends first (fast enough, the count ends it, the same everywhere; under heavy load the clock, and the
-clearing keeps its time); what is tried here gets the rest of the task's work budget (`work_budget`: its timeout's
+clearing keeps its time; it pauses there, and goes on with what time is left when this finds no plan:
+`vkgl.plan.solve`); what is tried here gets the rest of the task's work budget (`work_budget`: its timeout's
 worth, in units of `SearchStats.work_done`), shared by counted work, not by the time left: the same clearing ends
 the same way on any machine and under any load, the deadline the wall-clock guard. Each side of a blocker is first
 searched with a small budget (`FIRST_TRY`: a push that clears it is found with a few units), only the sides that

@@ -34,7 +34,7 @@ from dataclasses import replace
 
 from vkgl.plan.problem.problem import Problem
 from vkgl.plan.search.ordering import InTheWay
-from vkgl.plan.search.search import SearchResult, search
+from vkgl.plan.search.search import Paused, SearchResult, search
 
 
 def still_bodies(problem: Problem) -> frozenset[str]:
@@ -59,13 +59,23 @@ def kept_still(problem: Problem, names: frozenset[str]) -> Problem:
 
 
 def search_moving_less(
-    problem: Problem, *, deadline: float, progress: bool = False, budget: float | None = None
+    problem: Problem,
+    *,
+    deadline: float,
+    progress: bool = False,
+    budget: float | None = None,
+    pause_at: float | None = None,
+    paused: Paused | None = None,
 ) -> tuple[SearchResult, Problem]:
     """The search of `problem` with the bodies in no goal body's way kept still until a rejected sequence meets
     them (see the module's docstring), and the problem it searched with those it never met kept still for good.
-    `budget`: the work it may do (`search`'s), none by default."""
+    `budget`, `pause_at`, `paused`: `search`'s (none by default); called again with the same `problem` and
+    `paused` that its budget or pause stopped, it goes on where it stopped (`vkgl.plan.solve`: the time the
+    clear-first walk leaves given back)."""
     still = still_bodies(problem)
-    result = search(problem, deadline=deadline, progress=progress, still=still, budget=budget)
+    result = search(
+        problem, deadline=deadline, progress=progress, still=still, budget=budget, pause_at=pause_at, paused=paused
+    )
     left = still - result.stats.met
     if result.status == "infeasible" and left and not result.stats.cut_at_start:  # (the bound cut G0: none matters)
         result = replace(result, reason=f"{result.reason}\n{still_words(left)}")
