@@ -131,3 +131,26 @@ def labelled_sequence(problem: Problem, *labels: str) -> Sequence:
         action = next(a for a in successors(problem, seq.graphs[-1], seq.last) if a.label(problem) == label)
         seq, _ = extend(problem, seq, action)
     return seq
+
+
+def block_across_the_way(max_depth: int) -> str:
+    """The source of task `through`: a Block to be pushed 30 cm on, a second Block lying across its way (the search
+    finds the plan that pushes block2 aside first at 4 graphs), searched to `max_depth` graphs, a 60 s timeout."""
+    return f"""
+use stdlib.robots.panda
+use stdlib.bodies.block
+use stdlib.affordances.block
+
+scene cluttered {{
+    table size (1.6, 1.2) m at (0.5, 0, 0) m
+    robot arm : Panda at (0, 0, 0) m
+    block : Block on table at (0.45, 0) m yaw 0deg
+    block2 : Block on table at (0.62, 0) m yaw 90deg
+}}
+
+task through {{
+    scene cluttered
+    goal block at (0.75, 0) m within 1 cm
+    search {{ max_depth {max_depth}  timeout 60 s }}
+}}
+"""

@@ -52,15 +52,20 @@ def learned_module(body_file: Path, body_name: str) -> Path:
     return default_learn_folder(body_file) / f"{body_name.lower()}.vkg"
 
 
-def _is_learned(path: Path) -> bool:
-    """Whether `path` is a regular file that `vkgc learn` generated (its first line says so)."""
+def file_begins_with(path: Path, mark: str) -> bool:
+    """Whether `path` is a regular file whose first line begins with `mark`; False if it cannot be read."""
     try:
         if not path.is_file():
             return False
         with path.open(encoding="utf-8", errors="replace") as stream:
-            return stream.readline(len(LEARNED_MARK) + 1).startswith(LEARNED_MARK)
+            return stream.readline(len(mark) + 1).startswith(mark)
     except OSError:
         return False
+
+
+def _is_learned(path: Path) -> bool:
+    """Whether `path` is a regular file that `vkgc learn` generated (its first line says so)."""
+    return file_begins_with(path, LEARNED_MARK)
 
 
 def _use_of(module: Path, user_file: str | None) -> str:

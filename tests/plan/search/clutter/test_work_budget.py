@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from task_makers.block_problems import block_across_the_way
 
 import vkgl
 from vkgl.plan.problem.problem import Problem, build_problem
@@ -21,24 +22,7 @@ from vkgl.plan.search.stats import SearchStats, add_stats
 
 _HERE = Path(__file__).resolve().parent
 
-BLOCKED = """
-use stdlib.robots.panda
-use stdlib.bodies.block
-use stdlib.affordances.block
-
-scene cluttered {
-    table size (1.6, 1.2) m at (0.5, 0, 0) m
-    robot arm : Panda at (0, 0, 0) m
-    block : Block on table at (0.45, 0) m yaw 0deg
-    block2 : Block on table at (0.62, 0) m yaw 90deg
-}
-
-task through {
-    scene cluttered
-    goal block at (0.75, 0) m within 1 cm
-    search { max_depth 3  timeout 60 s }
-}
-"""
+BLOCKED = block_across_the_way(max_depth=3)
 
 
 def _problem() -> Problem:
