@@ -125,6 +125,8 @@ def _unexpected_token(parser: Lark, exc: UnexpectedToken, text: str, path: str) 
         notes = (close,)  # `mas 0.8 kg`: a misspelled keyword
     elif missing := _missing_at(exc):
         notes = (missing,)
+    elif heading := _heading_word(exc):
+        notes = (heading,)
     return codes.UNEXPECTED_TOKEN.diagnostic(
         f"unexpected {got}; expected {_words(parser, _expected(exc))}", span, *notes
     )
@@ -160,6 +162,22 @@ def _missing_at(exc: UnexpectedToken) -> str | None:
     if "ROBOT" in types[-4:]:
         return MISSING_AT_NOTES["ROBOT"]
     return None
+
+
+HEADING_WORDS = frozenset({"rotated", "rotation", "rotate", "heading", "angle", "orientation", "theta", "turned"})
+"""Words a newcomer writes for a body's heading (`at (0.4, 0) m rotated 30deg`): the parser reads the word as the
+name of the next scene body and stops at the angle after it, asking for that body's `:`."""
+
+
+def _heading_word(exc: UnexpectedToken) -> str | None:
+    """The note for a heading written with a word the language does not have (one of `HEADING_WORDS`: the name
+    unexpected where `yaw` could stand, or the name just read), else None."""
+    state = getattr(getattr(exc, "interactive_parser", None), "parser_state", None)
+    stack = getattr(state, "value_stack", None) or []
+    word = exc.token if exc.token.type == "NAME" and "YAW" in _expected(exc) else (stack[-1] if stack else None)
+    if getattr(word, "type", None) != "NAME" or str(word).lower() not in HEADING_WORDS:
+        return None
+    return f"a heading is written `yaw ANGLE` after the position, not `{word} ...`: `at (0.4, 0) m yaw 30deg`"
 
 
 def _expected_keywords(parser: Lark, expected: set[str]) -> list[str]:
